@@ -1,0 +1,223 @@
+/*
+ * The bridge: the one namespace (`window.scratchworld`) through which Python drives the editor.
+ *
+ * Python only ever runs `scratchworld.call(name, args)` with JSON arguments and gets back a JSON
+ * envelope `{ok: true, value}` or `{ok: false, error: {kind, message}}`, so no JavaScript is ever
+ * assembled from strings on the Python side and every failure arrives as data, not as a
+ * Playwright exception whose text would have to be parsed.
+ */
+(function () {
+  'use strict';
+
+  let vm = null;
+  let store = null;
+  let projectLoads = 0;
+
+  // Results larger than this are refused rather than shipped across the protocol.
+  const MAX_RESULT_CHARS = 2 * 1024 * 1024;
+
+  class BridgeFailure extends Error {
+    constructor(kind, message) {
+      super(message);
+      this.kind = kind;
+    }
+  }
+
+  function describe(reason) {
+    if (reason instanceof Error) return `${reason.name}: ${reason.message}`;
+    if (typeof reason === 'string') return reason;
+    try {
+      return JSON.stringify(reason).slice(0, 2000);
+    } catch (e) {
+      return String(reason);
+    }
+  }
+
+  function requireVm() {
+    if (!vm) throw new BridgeFailure('editor_not_ready', 'the editor has not handed over its VM yet');
+    return vm;
+  }
+
+  function rendererName(renderer) {
+    try {
+      const gl = renderer.gl;
+      const info = gl.getExtension('WEBGL_debug_renderer_info');
+      return String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+    } catch (e) {
+      return null;
+    }
+  }
+
+  // The palette's flyout holds rendered blocks only once Blockly has drawn the workspace.
+  function workspaceRendered() {
+    return !!document.querySelector('.blocklyFlyout .blocklyBlockCanvas > g');
+  }
+
+  // Ready for use, apart from the renderer, which Python checks separately to fail with a
+  // specific error instead of waiting for something that will never come.
+  function settled() {
+    return !!vm && projectLoads >= 1 && workspaceRendered();
+  }
+
+  function status() {
+    const renderer = vm ? vm.renderer : null;
+    const canvas = renderer && renderer.gl ? renderer.gl.canvas : null;
+    return {
+      vm: !!vm,
+      workspace: workspaceRendered(),
+      projectLoads: projectLoads,
+      renderer: !!renderer,
+      rendererName: renderer ? rendererName(renderer) : null,
+      stageCanvas: canvas ? [canvas.width, canvas.height] : null,
+      loadingState: store ? String(store.getState().scratchGui.projectState.loadingState) : null,
+    };
+  }
+
+  function decodeBase64(text) {
+    if (typeof text !== 'string') throw new BridgeFailure('bad_request', 'sb3Base64 must be a string');
+    if (Uint8Array.fromBase64) return Uint8Array.fromBase64(text);
+    const raw = atob(text);
+    const bytes = new Uint8Array(raw.length);
+    for (let i = 0; i < raw.length; i++) bytes[i] = raw.charCodeAt(i);
+    return bytes;
+  }
+
+  function encodeBase64(bytes) {
+    if (bytes.toBase64) return bytes.toBase64();
+    let raw = '';
+    for (let i = 0; i < bytes.length; i += 0x8000) {
+      raw += String.fromCharCode.apply(null, bytes.subarray(i, i + 0x8000));
+    }
+    return btoa(raw);
+  }
+
+  async function loadProject(args) {
+    const theVm = requireVm();
+    const bytes = decodeBase64(args.sb3Base64);
+    try {
+      await theVm.loadProject(bytes.buffer);
+    } catch (reason) {
+      throw new BridgeFailure('project_invalid', `the VM refused the project: ${describe(reason)}`);
+    }
+    return {targets: theVm.runtime.targets.filter(t => t.isOriginal).map(t => t.getName())};
+  }
+
+  async function saveProject() {
+    const blob = await requireVm().saveProjectSb3();
+    const bytes = new Uint8Array(await blob.arrayBuffer());
+    return {sb3Base64: encodeBase64(bytes), size: bytes.length};
+  }
+
+  // CommonJS-style module: the source sees `module`, `exports` and a `require` that only knows
+  // the suite's helper module (upstream scripts reach it as a global, some may require it).
+  function loadModule(source, name, helper) {
+    if (typeof source !== 'string') throw new BridgeFailure('bad_request', `${name}: source must be a string`);
+    const module = {exports: {}};
+    const require = (id) => {
+      if (helper && /(^|\/)evaluation_utils(\.js)?$|(^|\/)helper(\.js)?$/.test(id)) return helper;
+      throw new Error(`require('${id}') is not available to evaluation scripts`);
+    };
+    let factory;
+    try {
+      factory = new Function('module', 'exports', 'require', `${source}\n//# sourceURL=${encodeURI(name)}`);
+    } catch (reason) {
+      throw new BridgeFailure('script_invalid', `${name} does not parse: ${describe(reason)}`);
+    }
+    try {
+      factory(module, module.exports, require);
+    } catch (reason) {
+      throw new BridgeFailure('script_invalid', `${name} threw while loading: ${describe(reason)}`);
+    }
+    return module.exports;
+  }
+
+  // Turns whatever a script returned into JSON text: cycles and functions are dropped, not fatal.
+  function toJson(value) {
+    const seen = new WeakSet();
+    let text;
+    try {
+      text = JSON.stringify(value === undefined ? null : value, (key, item) => {
+        if (typeof item === 'function' || typeof item === 'symbol') return undefined;
+        if (typeof item === 'bigint') return Number(item);
+        if (item && typeof item === 'object') {
+          if (seen.has(item)) return '[circular]';
+          seen.add(item);
+        }
+        return item;
+      });
+    } catch (reason) {
+      throw new BridgeFailure('result_invalid', `the result cannot be serialised: ${describe(reason)}`);
+    }
+    if (text.length > MAX_RESULT_CHARS) {
+      throw new BridgeFailure('result_invalid', `the result is ${text.length} characters long (limit ${MAX_RESULT_CHARS})`);
+    }
+    return text;
+  }
+
+  async function evaluate(args) {
+    const theVm = requireVm();
+    const timeoutMs = Number(args.timeoutMs);
+    if (!(timeoutMs > 0)) throw new BridgeFailure('bad_request', 'timeoutMs must be a positive number');
+    const helperGlobal = args.helperGlobal || 'EvaluationUtils';
+    if (!/^[A-Za-z_$][\w$]*$/.test(helperGlobal)) {
+      throw new BridgeFailure('bad_request', 'helperGlobal must be a JavaScript identifier');
+    }
+    let helper = null;
+    if (args.helperSource != null) {
+      helper = loadModule(args.helperSource, args.helperName || 'helper.js', null);
+      window[helperGlobal] = helper;
+    }
+    const scriptName = args.scriptName || 'evaluation.js';
+    const run = loadModule(args.scriptSource, scriptName, helper);
+    if (typeof run !== 'function') {
+      throw new BridgeFailure('script_invalid', `${scriptName} must set module.exports to a function, got ${typeof run}`);
+    }
+    const cleanup = () => theVm.runtime.stopAll();
+    const TIMED_OUT = {};
+    let timer = null;
+    const timedOut = new Promise((resolve) => {
+      timer = setTimeout(() => resolve(TIMED_OUT), timeoutMs);
+    });
+    const started = performance.now();
+    let outcome;
+    try {
+      outcome = await Promise.race([Promise.resolve().then(() => run(theVm, args.config || {}, cleanup)), timedOut]);
+    } catch (reason) {
+      throw new BridgeFailure('script_error', `${scriptName} failed: ${describe(reason)}`);
+    } finally {
+      clearTimeout(timer);
+      try { theVm.runtime.stopAll(); } catch (e) { /* the verdict is already decided */ }
+    }
+    if (outcome === TIMED_OUT) {
+      throw new BridgeFailure('script_timeout', `${scriptName} did not finish within ${timeoutMs / 1000} s`);
+    }
+    return {resultJson: toJson(outcome), durationMs: performance.now() - started};
+  }
+
+  const api = {status, loadProject, saveProject, evaluate};
+
+  async function call(name, args) {
+    try {
+      if (!Object.prototype.hasOwnProperty.call(api, name)) {
+        throw new BridgeFailure('bad_request', `unknown bridge function ${JSON.stringify(name)}`);
+      }
+      return {ok: true, value: await api[name](args || {})};
+    } catch (reason) {
+      const kind = reason instanceof BridgeFailure ? reason.kind : 'bridge_error';
+      return {ok: false, error: {kind: kind, message: reason instanceof BridgeFailure ? reason.message : describe(reason)}};
+    }
+  }
+
+  // Read-only so that an evaluation script cannot replace the bridge Python relies on.
+  Object.defineProperty(window, 'scratchworld', {
+    value: Object.freeze({
+      call: call,
+      settled: settled,
+      attachVm: (theVm) => { vm = theVm; },
+      attachStore: (theStore) => { store = theStore; },
+      noteProjectLoaded: () => { projectLoads += 1; },
+    }),
+    writable: false,
+    configurable: false,
+  });
+})();

@@ -1,0 +1,38 @@
+"""scratchworld_dist: the driver side of the ScratchWorld batch evaluator."""
+
+from scratchworld_dist._errors import (
+    BridgeError,
+    ChromiumNotFoundError,
+    EditorBundleMissingError,
+    EditorCrashedError,
+    EditorError,
+    EditorNotReadyError,
+    ProjectFormatError,
+    RendererUnavailableError,
+    ScratchWorldError,
+    SuiteError,
+    TaskNotFoundError,
+)
+from scratchworld_dist._validation import ProjectCheck, TaskValidation, validate_tasks
+from scratchworld_dist.suites import Suite, Task, TaskCategory, load_suite
+
+__all__ = [
+    "BridgeError",
+    "ChromiumNotFoundError",
+    "EditorBundleMissingError",
+    "EditorCrashedError",
+    "EditorError",
+    "EditorNotReadyError",
+    "ProjectCheck",
+    "ProjectFormatError",
+    "RendererUnavailableError",
+    "ScratchWorldError",
+    "Suite",
+    "SuiteError",
+    "Task",
+    "TaskCategory",
+    "TaskNotFoundError",
+    "TaskValidation",
+    "load_suite",
+    "validate_tasks",
+]

@@ -1,0 +1,116 @@
+"""Suite validation: every golden must pass, every debug initial must fail.
+
+A task is adversarially valid when its golden project passes all tests and its initial project
+does not (for debug tasks the initial must fail; for the others, passing every test from the
+start would make the task meaningless, so it is flagged too).
+"""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Callable
+from typing import Literal
+
+from pydantic import BaseModel
+
+from scratchworld_dist.suites import Task
+from workers import BrowserConfig, BrowserSession, EvalResult, Evaluator
+
+Which = Literal["golden", "initial"]
+
+
+class ProjectCheck(BaseModel):
+    """One project of a task, evaluated."""
+
+    success: bool
+    passed: int
+    total: int
+    psr: float
+    error: str | None
+    """``kind: message`` when the evaluation produced no report."""
+    wall_s: float
+
+    @classmethod
+    def of(cls, result: EvalResult) -> ProjectCheck:
+        return cls(
+            success=result.success,
+            passed=result.passed,
+            total=result.total,
+            psr=result.psr,
+            error=f"{result.error.kind}: {result.error.message}" if result.error else None,
+            wall_s=round(result.timings.total_s, 3),
+        )
+
+
+class TaskValidation(BaseModel):
+    """The validation row of one task."""
+
+    task_id: str
+    category: str
+    golden: ProjectCheck | None
+    """None when the suite has no golden for the task."""
+    initial: ProjectCheck
+
+    def failures(self) -> list[str]:
+        """Reasons that make the suite invalid."""
+        reasons = []
+        if self.golden is not None and not self.golden.success:
+            reasons.append("golden does not pass")
+        if self.category == "debug" and self.initial.success:
+            reasons.append("debug initial already passes")
+        return reasons
+
+    def warnings(self) -> list[str]:
+        reasons = []
+        if self.golden is None:
+            reasons.append("no golden project")
+        if self.category != "debug" and self.initial.success:
+            reasons.append("initial already passes every test")
+        return reasons
+
+
+async def validate_tasks(
+    tasks: list[Task],
+    *,
+    parallel: int = 1,
+    browser: BrowserConfig | None = None,
+    on_evaluated: Callable[[Task, Which, EvalResult], None] | None = None,
+) -> list[TaskValidation]:
+    """Evaluate each task's golden and initial project, ``parallel`` editors at a time."""
+    if parallel < 1:
+        raise ValueError("parallel must be at least 1")
+    slots = asyncio.Semaphore(parallel)
+    async with BrowserSession(browser) as session:
+        evaluator = Evaluator(session)
+
+        async def run(task: Task, which: Which) -> EvalResult | None:
+            path = task.golden_project if which == "golden" else task.initial_project
+            if path is None:
+                return None
+            spec = task.evaluation_spec()
+            project = path.read_bytes()
+            async with slots:
+                result = await evaluator.evaluate(project, spec)
+            if on_evaluated is not None:
+                on_evaluated(task, which, result)
+            return result
+
+        async with asyncio.TaskGroup() as group:
+            pending = [
+                (task, group.create_task(run(task, "golden")), group.create_task(run(task, "initial")))
+                for task in tasks
+            ]
+
+    rows = []
+    for task, golden, initial in pending:
+        golden_result, initial_result = golden.result(), initial.result()
+        assert initial_result is not None
+        rows.append(
+            TaskValidation(
+                task_id=task.id,
+                category=task.category,
+                golden=ProjectCheck.of(golden_result) if golden_result else None,
+                initial=ProjectCheck.of(initial_result),
+            )
+        )
+    return rows

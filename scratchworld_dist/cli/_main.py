@@ -1,0 +1,44 @@
+"""Entry point: the command group and the one place user errors become one-line messages."""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from scratchworld_dist._errors import ScratchWorldError
+from scratchworld_dist.cli._evaluate import evaluate_command
+from scratchworld_dist.cli._gui import gui_command
+from scratchworld_dist.cli._validate import validate_command
+
+EXIT_USER_ERROR = 2
+EXIT_INTERRUPTED = 130
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+def cli() -> None:
+    """Evaluate GUI agents on ScratchWorld tasks in the Scratch 3 editor."""
+
+
+cli.add_command(validate_command)
+cli.add_command(evaluate_command)
+cli.add_command(gui_command)
+
+
+def main() -> None:
+    """Run the CLI; our errors print as ``error: ...`` without a traceback."""
+    try:
+        # Outside standalone mode click returns the exit code of ``Exit`` instead of raising.
+        code = cli(standalone_mode=False)
+    except click.ClickException as exc:
+        exc.show()
+        sys.exit(exc.exit_code)
+    except click.exceptions.Abort:
+        sys.exit(EXIT_INTERRUPTED)
+    except KeyboardInterrupt:
+        click.echo("interrupted", err=True)
+        sys.exit(EXIT_INTERRUPTED)
+    except ScratchWorldError as exc:
+        click.echo(f"error: {exc}", err=True)
+        sys.exit(EXIT_USER_ERROR)
+    sys.exit(code if isinstance(code, int) else 0)

@@ -1,0 +1,70 @@
+"""``scratchworld validate``: goldens must pass, debug initials must fail."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+from pathlib import Path
+
+import click
+from rich.console import Console
+from rich.table import Table
+
+from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
+from scratchworld_dist.suites import Task, load_suite
+from workers import EvalResult
+
+EXIT_INVALID = 1
+
+
+def _cell(check: ProjectCheck | None) -> str:
+    if check is None:
+        return "-"
+    if check.error:
+        return f"[red]error[/red] {check.error.split(':', 1)[0]}"
+    colour = "green" if check.success else "yellow"
+    return f"[{colour}]{check.passed}/{check.total}[/{colour}] ({check.wall_s:.1f}s)"
+
+
+def render_table(rows: list[TaskValidation]) -> Table:
+    table = Table("task", "category", "golden", "initial", "verdict")
+    for row in rows:
+        failures, warnings = row.failures(), row.warnings()
+        verdict = "[red]" + "; ".join(failures) + "[/red]" if failures else "ok"
+        if warnings:
+            verdict += " [yellow](" + "; ".join(warnings) + ")[/yellow]"
+        table.add_row(row.task_id, row.category, _cell(row.golden), _cell(row.initial), verdict)
+    return table
+
+
+@click.command("validate")
+@click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
+@click.option("--tasks", "task_ids", help="Comma-separated task ids (default: all).")
+@click.option("--task-list", help="Upstream task list, e.g. all_tasks or 15_tasks.")
+@click.option("--parallel", type=click.IntRange(min=1), default=1, show_default=True, help="Editors at a time.")
+@click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the rows as JSON.")
+def validate_command(
+    suite_dir: Path, task_ids: str | None, task_list: str | None, parallel: int, json_file: Path | None
+) -> None:
+    """Evaluate every task's golden and initial project in SUITE_DIR.
+
+    Exits 1 when a golden fails or a debug initial passes.
+    """
+    suite = load_suite(suite_dir, task_list=task_list)
+    tasks = suite.select(ids=[t.strip() for t in task_ids.split(",") if t.strip()] if task_ids else None)
+    console = Console(stderr=True)
+    console.print(f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s)")
+
+    def progress(task: Task, which: Which, result: EvalResult) -> None:
+        outcome = result.error.kind if result.error else f"{result.passed}/{result.total}"
+        console.print(f"  {task.id} {which}: {outcome} in {result.timings.total_s:.1f}s")
+
+    rows = asyncio.run(validate_tasks(tasks, parallel=parallel, on_evaluated=progress))
+    Console().print(render_table(rows))
+    if json_file is not None:
+        json_file.write_text(json.dumps([row.model_dump() for row in rows], indent=2) + "\n", encoding="utf-8")
+    invalid = [row for row in rows if row.failures()]
+    if invalid:
+        console.print(f"[red]{len(invalid)} of {len(rows)} task(s) invalid[/red]")
+        raise click.exceptions.Exit(EXIT_INVALID)
+    console.print(f"all {len(rows)} task(s) valid")

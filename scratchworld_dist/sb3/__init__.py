@@ -1,0 +1,29 @@
+"""Reading and building Scratch 3 project files (.sb3)."""
+
+from scratchworld_dist.sb3._builder import (
+    Block,
+    Costume,
+    Project,
+    Target,
+    backdrop_costume,
+    block,
+    circle_costume,
+    list_contents,
+    rect_costume,
+    variable,
+)
+from scratchworld_dist.sb3._reader import read_project_json
+
+__all__ = [
+    "Block",
+    "Costume",
+    "Project",
+    "Target",
+    "backdrop_costume",
+    "block",
+    "circle_costume",
+    "list_contents",
+    "read_project_json",
+    "rect_costume",
+    "variable",
+]

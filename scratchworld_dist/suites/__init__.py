@@ -1,0 +1,21 @@
+"""Task suites: our own format and upstream ScratchWorld clones, behind one interface."""
+
+from scratchworld_dist.suites._detect import LOADERS, SuiteLoader, load_suite
+from scratchworld_dist.suites._native import NativeSuiteLoader
+from scratchworld_dist.suites._task import CATEGORIES, Suite, SuiteKind, Task, TaskCategory
+from scratchworld_dist.suites._upstream import UPSTREAM_TIMEOUT_S, UpstreamSuiteLoader, find_golden
+
+__all__ = [
+    "CATEGORIES",
+    "LOADERS",
+    "UPSTREAM_TIMEOUT_S",
+    "NativeSuiteLoader",
+    "Suite",
+    "SuiteKind",
+    "SuiteLoader",
+    "Task",
+    "TaskCategory",
+    "UpstreamSuiteLoader",
+    "find_golden",
+    "load_suite",
+]

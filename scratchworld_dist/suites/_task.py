@@ -1,0 +1,101 @@
+"""A task and a suite of tasks, whatever layout they were loaded from."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Literal, get_args
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from scratchworld_dist._errors import SuiteError, TaskNotFoundError
+from workers import EvaluationSpec
+
+TaskCategory = Literal["create", "debug", "extend", "compute"]
+CATEGORIES: tuple[TaskCategory, ...] = get_args(TaskCategory)
+
+SuiteKind = Literal["scratchworld_dist", "upstream"]
+
+
+class Task(BaseModel):
+    """One benchmark task: what the agent is told, where it starts, and how it is judged."""
+
+    model_config = ConfigDict(frozen=True)
+
+    id: str
+    """Unique within its suite (upstream: the task file's stem)."""
+
+    category: TaskCategory
+    """create, debug, extend or compute."""
+
+    instruction: str
+    """The only text the agent sees about the task."""
+
+    description: str = ""
+    """A note for people reading results; never shown to the agent."""
+
+    initial_project: Path
+    """The .sb3 the agent starts from."""
+
+    golden_project: Path | None = None
+    """A reference solution, when the suite has one."""
+
+    evaluation_script: Path
+    """CommonJS module exporting ``async (vm, config, cleanup) => result``."""
+
+    helper_script: Path | None = None
+    """The suite's helper module, installed as ``helper_global`` before the script runs."""
+
+    helper_global: str = "EvaluationUtils"
+    """Global name of the helper module's exports."""
+
+    timeout_s: float = Field(gt=0)
+    """Hard limit for one evaluation of this task."""
+
+    def evaluation_spec(self) -> EvaluationSpec:
+        """The script and helper sources, read now, ready to send to a worker."""
+        return EvaluationSpec(
+            script_name=self.evaluation_script.name,
+            script_source=_read_text(self.evaluation_script),
+            helper_name=self.helper_script.name if self.helper_script else None,
+            helper_source=_read_text(self.helper_script) if self.helper_script else None,
+            helper_global=self.helper_global,
+            timeout_s=self.timeout_s,
+        )
+
+
+def _read_text(path: Path) -> str:
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SuiteError(f"cannot read the script: {exc}", path) from exc
+
+
+class Suite(BaseModel):
+    """The tasks found in one folder, in a stable order (category, then id)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    name: str
+    kind: SuiteKind
+    root: Path
+    tasks: tuple[Task, ...]
+
+    def task(self, task_id: str) -> Task:
+        for task in self.tasks:
+            if task.id == task_id:
+                return task
+        raise TaskNotFoundError(f"no task {task_id!r} in suite {self.name} ({self.root})")
+
+    def select(self, ids: list[str] | None = None, categories: list[str] | None = None) -> list[Task]:
+        """Tasks by id (every id must exist) and/or category, in suite order."""
+        for category in categories or []:
+            if category not in CATEGORIES:
+                raise SuiteError(f"unknown category {category!r}; categories are {', '.join(CATEGORIES)}")
+        chosen = {self.task(task_id).id for task_id in ids} if ids else None
+        return [
+            t for t in self.tasks if (chosen is None or t.id in chosen) and (not categories or t.category in categories)
+        ]
+
+
+def sort_tasks(tasks: list[Task]) -> tuple[Task, ...]:
+    return tuple(sorted(tasks, key=lambda t: (CATEGORIES.index(t.category), t.id)))

@@ -1,0 +1,167 @@
+"""One Chromium per worker process; every editor gets a fresh browser context.
+
+A fresh context is the isolation unit: nothing a previous project did (VM state, globals,
+storage, mouse history) can reach the next one. The editor is served from 127.0.0.1 and every
+other host name fails to resolve inside Chromium, so the sprite library's CDN requests fail at
+once instead of slowing or breaking a session.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import enum
+import os
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from pathlib import Path
+from types import TracebackType
+
+from playwright.async_api import Browser, Playwright, async_playwright
+from playwright.async_api import Error as PlaywrightError
+from pydantic import BaseModel, ConfigDict, Field
+
+from scratchworld_dist._errors import ChromiumNotFoundError, EditorCrashedError, EditorError
+from workers._editor import Editor
+from workers._editor_server import EditorAssets, EditorServer
+
+DEFAULT_CHROMIUM = Path("/usr/bin/chromium")
+
+CHROMIUM_ARGS: tuple[str, ...] = (
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    # Without it the editor logs ~100 AudioContext warnings per page.
+    "--autoplay-policy=no-user-gesture-required",
+    # Offline here: every host but the loopback editor server fails to resolve, immediately.
+    "--host-resolver-rules=MAP * ~NOTFOUND , EXCLUDE 127.0.0.1",
+)
+
+
+def default_chromium() -> Path:
+    override = os.environ.get("SCRATCHWORLD_CHROMIUM")
+    return Path(override) if override else DEFAULT_CHROMIUM
+
+
+class BrowserConfig(BaseModel):
+    """How a worker's Chromium is launched and how long an editor may take to get ready."""
+
+    model_config = ConfigDict(frozen=True)
+
+    executable_path: Path = Field(default_factory=default_chromium)
+    """Chromium binary (Debian's package; Playwright's own browser download fails here)."""
+
+    extra_args: tuple[str, ...] = ()
+    """Flags appended to ``CHROMIUM_ARGS``."""
+
+    viewport: tuple[int, int] = (1280, 720)
+    """Page size in CSS pixels; the benchmark's coordinates assume 1280x720."""
+
+    ready_timeout_s: float = Field(default=60.0, gt=0)
+    """Upper bound for a fresh editor to become ready."""
+
+
+class _State(enum.Enum):
+    UNOPENED = "unopened"
+    OPEN = "open"
+    CLOSED = "closed"
+
+
+class BrowserSession:
+    """Owns Playwright, one Chromium and the editor server for as long as it is open."""
+
+    def __init__(self, config: BrowserConfig | None = None, assets: EditorAssets | None = None) -> None:
+        self.config = config or BrowserConfig()
+        self._assets = assets
+        self._state = _State.UNOPENED
+        self._server: EditorServer | None = None
+        self._playwright: Playwright | None = None
+        self._browser: Browser | None = None
+
+    @property
+    def editor_url(self) -> str:
+        if self._server is None:
+            raise RuntimeError("the browser session is not open")
+        return self._server.url
+
+    async def start(self) -> BrowserSession:
+        if self._state is not _State.UNOPENED:
+            raise RuntimeError(f"a browser session cannot be started when {self._state.value}")
+        executable = self.config.executable_path
+        if not executable.is_file():
+            raise ChromiumNotFoundError(
+                f"Chromium not found at {executable}: install Debian's `chromium` package "
+                "(the README's install command does) or set SCRATCHWORLD_CHROMIUM"
+            )
+        self._state = _State.OPEN
+        try:
+            self._server = EditorServer(self._assets or EditorAssets()).start()
+            self._playwright = await async_playwright().start()
+            self._browser = await self._playwright.chromium.launch(
+                executable_path=str(executable),
+                headless=True,
+                args=[*CHROMIUM_ARGS, *self.config.extra_args],
+            )
+        except PlaywrightError as exc:
+            await self.close()
+            raise EditorError(f"Chromium at {executable} failed to start: {exc.message}") from exc
+        except BaseException:
+            await self.close()
+            raise
+        return self
+
+    async def open_editor(self) -> Editor:
+        """A fresh context with a ready editor; the caller closes it."""
+        if self._browser is None or self._state is not _State.OPEN:
+            raise RuntimeError("the browser session is not open")
+        if not self._browser.is_connected():
+            raise EditorCrashedError("the browser has disconnected")
+        width, height = self.config.viewport
+        try:
+            context = await self._browser.new_context(
+                viewport={"width": width, "height": height}, device_scale_factor=1
+            )
+            page = await context.new_page()
+        except PlaywrightError as exc:
+            raise EditorCrashedError(f"could not open a browser context: {exc.message}") from exc
+        editor = Editor(context, page)
+        try:
+            await editor.open(self.editor_url, self.config.ready_timeout_s)
+        except BaseException:
+            await editor.close()
+            raise
+        return editor
+
+    @asynccontextmanager
+    async def editor(self) -> AsyncIterator[Editor]:
+        """A ready editor in a fresh context, closed on exit."""
+        editor = await self.open_editor()
+        try:
+            yield editor
+        finally:
+            await editor.close()
+
+    async def close(self) -> None:
+        self._state = _State.CLOSED
+        browser, playwright, server = self._browser, self._playwright, self._server
+        self._browser = self._playwright = self._server = None
+        if browser is not None:
+            with contextlib.suppress(PlaywrightError):  # already gone
+                await browser.close()
+        if playwright is not None:
+            await playwright.stop()
+        if server is not None:
+            await asyncio.to_thread(server.stop)
+
+    async def __aenter__(self) -> BrowserSession:
+        return await self.start()
+
+    async def __aexit__(
+        self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
+    ) -> None:
+        await self.close()

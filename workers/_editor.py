@@ -1,0 +1,145 @@
+"""One open editor page and the bridge calls Python makes into it.
+
+Every call goes through the same constant JavaScript, ``scratchworld.call(name, args)``, with
+JSON arguments; the page answers with an envelope that becomes a value or a ``BridgeError``.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import base64
+import contextlib
+import time
+from typing import Any
+
+from playwright.async_api import BrowserContext, Page
+from playwright.async_api import Error as PlaywrightError
+from pydantic import BaseModel, ConfigDict, JsonValue
+from pydantic.alias_generators import to_camel
+
+from scratchworld_dist._errors import (
+    BridgeError,
+    EditorCrashedError,
+    EditorNotReadyError,
+    RendererUnavailableError,
+)
+
+_CALL = "([name, args]) => window.scratchworld.call(name, args)"
+_SETTLED = "() => !!(window.scratchworld && window.scratchworld.settled())"
+
+CONSOLE_LINE_LIMIT = 400
+"""Console lines kept per page; the editor itself is chatty at start-up."""
+
+CLOSE_TIMEOUT_S = 15.0
+
+
+class EditorStatus(BaseModel):
+    """What the bridge reports about the page; ready means VM, workspace and project exist."""
+
+    model_config = ConfigDict(alias_generator=to_camel, populate_by_name=True)
+
+    vm: bool
+    workspace: bool
+    project_loads: int
+    renderer: bool
+    renderer_name: str | None
+    stage_canvas: tuple[int, int] | None
+    loading_state: str | None
+
+    def missing(self) -> list[str]:
+        parts = {"VM": self.vm, "rendered workspace": self.workspace, "default project": self.project_loads >= 1}
+        return [name for name, present in parts.items() if not present]
+
+
+class _Envelope(BaseModel):
+    ok: bool
+    value: JsonValue = None
+    error: dict[str, str] | None = None
+
+
+class Editor:
+    """A Scratch editor in its own browser context; close it to free the context."""
+
+    def __init__(self, context: BrowserContext, page: Page) -> None:
+        self.context = context
+        self.page = page
+        self.console: list[str] = []
+        self.ready_s: float | None = None
+        """Seconds from navigation to a ready editor, once ``open`` succeeded."""
+        self.page_errors: list[str] = []
+        self._crashed = False
+        page.on("console", self._on_console)
+        page.on("pageerror", lambda exc: self.page_errors.append(str(exc)))
+        page.on("crash", self._on_crash)
+
+    def _on_console(self, message: Any) -> None:
+        if len(self.console) < CONSOLE_LINE_LIMIT:
+            self.console.append(f"{message.type}: {message.text}")
+
+    def _on_crash(self, _page: Page) -> None:
+        self._crashed = True
+
+    async def call(self, name: str, args: dict[str, Any] | None = None) -> JsonValue:
+        """Invoke a bridge function; raise ``BridgeError`` when the page reports a failure."""
+        try:
+            raw = await self.page.evaluate(_CALL, [name, args or {}])
+        except PlaywrightError as exc:
+            what = "crashed" if self._crashed else "went away"
+            raise EditorCrashedError(f"the editor page {what} during {name}: {exc.message}") from exc
+        envelope = _Envelope.model_validate(raw)
+        if not envelope.ok:
+            error = envelope.error or {}
+            raise BridgeError(error.get("kind", "bridge_error"), error.get("message", "no message"))
+        return envelope.value
+
+    async def open(self, url: str, timeout_s: float) -> EditorStatus:
+        """Navigate to the editor and wait (bounded) until it is ready; fail loudly otherwise."""
+        started = time.monotonic()
+        deadline = started + timeout_s
+        try:
+            await self.page.goto(url, wait_until="domcontentloaded", timeout=timeout_s * 1000)
+            remaining = max(deadline - time.monotonic(), 0.1)
+            await self.page.wait_for_function(_SETTLED, timeout=remaining * 1000, polling=50)
+        except PlaywrightError as exc:
+            raise EditorNotReadyError(await self._not_ready_reason(timeout_s, exc)) from exc
+        status = await self.status()
+        if not status.renderer:
+            raise RendererUnavailableError(
+                "the editor has no WebGL renderer (vm.renderer is null): touching, colour sensing and "
+                "edge bounce would silently fail; Chromium needs a software GL (SwiftShader), so do not "
+                "pass --disable-software-rasterizer"
+            )
+        self.ready_s = time.monotonic() - started
+        return status
+
+    async def _not_ready_reason(self, timeout_s: float, exc: PlaywrightError) -> str:
+        reason = f"the editor was not ready after {timeout_s:.0f} s"
+        try:
+            status = await self.status()
+            reason += f"; still missing: {', '.join(status.missing()) or 'nothing'}"
+        except Exception:
+            reason += f" ({exc.message.splitlines()[0]})"
+        if self.page_errors:
+            reason += f"; page errors: {' | '.join(self.page_errors[:3])}"
+        return reason
+
+    async def status(self) -> EditorStatus:
+        return EditorStatus.model_validate(await self.call("status"))
+
+    async def load_project(self, sb3: bytes) -> list[str]:
+        """Load project bytes into the VM; return the names of its targets."""
+        value = await self.call("loadProject", {"sb3Base64": base64.b64encode(sb3).decode("ascii")})
+        assert isinstance(value, dict)
+        return [str(name) for name in value["targets"]]  # type: ignore[union-attr]
+
+    async def save_project(self) -> bytes:
+        """The current project as .sb3 bytes, as the editor would save it."""
+        value = await self.call("saveProject")
+        assert isinstance(value, dict)
+        return base64.b64decode(str(value["sb3Base64"]))
+
+    async def close(self) -> None:
+        """Close the context, even when its page is stuck in a busy loop."""
+        # A browser that is gone or wedged is noticed by the session on its next use.
+        with contextlib.suppress(PlaywrightError, TimeoutError):
+            await asyncio.wait_for(self.context.close(), CLOSE_TIMEOUT_S)

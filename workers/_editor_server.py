@@ -1,0 +1,127 @@
+"""A static file server for the editor, bound to 127.0.0.1 only.
+
+The bundle's webpack ``publicPath`` is ``/``, so its ``chunks/``, ``static/`` and ``libraries/``
+must sit at the web root next to our ``index.html`` and ``bridge.js``. A threaded stdlib server
+in the worker process does that with no extra dependency; Playwright routing was the
+alternative, but it pipes every response body through Python (see benchmarks/editor_startup.py).
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from functools import cached_property
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from types import TracebackType
+from typing import BinaryIO
+from urllib.parse import unquote, urlsplit
+
+from scratchworld_dist._errors import EditorBundleMissingError
+
+BUNDLE_PACKAGE = "@scratch/scratch-gui-standalone"
+BUNDLE_FILE = "scratch-gui-standalone.js"
+# Files of ours that shadow the bundle's web root.
+OWN_FILES = ("index.html", "bridge.js")
+
+
+def default_gui_dir() -> Path:
+    """The repository's ``scratch-gui/`` folder, or ``SCRATCHWORLD_GUI_DIR`` when set."""
+    override = os.environ.get("SCRATCHWORLD_GUI_DIR")
+    return Path(override) if override else Path(__file__).resolve().parents[1] / "scratch-gui"
+
+
+class EditorAssets:
+    """Where the editor's files are on disk; checked once so a missing install fails early."""
+
+    def __init__(self, gui_dir: Path | None = None) -> None:
+        self.gui_dir = (gui_dir or default_gui_dir()).resolve()
+        self.dist_dir = self.gui_dir / "node_modules" / BUNDLE_PACKAGE / "dist"
+        for name in OWN_FILES:
+            if not (self.gui_dir / name).is_file():
+                raise EditorBundleMissingError(f"{self.gui_dir / name} is missing (it ships with the repository)")
+        if not (self.dist_dir / BUNDLE_FILE).is_file():
+            raise EditorBundleMissingError(
+                f"the Scratch editor bundle is not installed: {self.dist_dir / BUNDLE_FILE} is missing; "
+                f"run `npm ci --ignore-scripts` in {self.gui_dir} (the README's install command does it)"
+            )
+
+    def resolve(self, url_path: str) -> Path | None:
+        """Map a request path to a file, refusing anything outside the two roots."""
+        relative = unquote(urlsplit(url_path).path).lstrip("/") or "index.html"
+        root = self.gui_dir if relative in OWN_FILES else self.dist_dir
+        candidate = (root / relative).resolve()
+        if not candidate.is_relative_to(root) or not candidate.is_file():
+            return None
+        return candidate
+
+
+class _Handler(SimpleHTTPRequestHandler):
+    assets: EditorAssets
+
+    def send_head(self) -> BinaryIO | None:  # type: ignore[override]
+        if self.assets.resolve(self.path) is None:
+            self.send_error(404)
+            return None
+        return super().send_head()
+
+    def translate_path(self, path: str) -> str:
+        return str(self.assets.resolve(path))
+
+    def list_directory(self, path: str | os.PathLike[str]) -> None:
+        self.send_error(404)
+
+    def end_headers(self) -> None:
+        self.send_header("Cache-Control", "max-age=86400")
+        super().end_headers()
+
+    def log_message(self, format: str, *args: object) -> None:
+        """Requests are not worth a log line each."""
+
+
+class EditorServer:
+    """Serves the editor on an ephemeral 127.0.0.1 port from a daemon thread."""
+
+    def __init__(self, assets: EditorAssets | None = None, port: int = 0) -> None:
+        self.assets = assets or EditorAssets()
+        self._port = port
+        self._httpd: ThreadingHTTPServer | None = None
+        self._thread: threading.Thread | None = None
+
+    @cached_property
+    def _handler(self) -> type[_Handler]:
+        return type("EditorRequestHandler", (_Handler,), {"assets": self.assets})
+
+    @property
+    def url(self) -> str:
+        if self._httpd is None:
+            raise RuntimeError("the editor server is not running")
+        host, port = self._httpd.server_address[:2]
+        return f"http://{host}:{port}/index.html"
+
+    def start(self) -> EditorServer:
+        if self._httpd is not None:
+            raise RuntimeError("the editor server is already running")
+        self._httpd = ThreadingHTTPServer(("127.0.0.1", self._port), self._handler)
+        self._httpd.daemon_threads = True
+        self._thread = threading.Thread(target=self._httpd.serve_forever, name="editor-server", daemon=True)
+        self._thread.start()
+        return self
+
+    def stop(self) -> None:
+        if self._httpd is None:
+            return
+        self._httpd.shutdown()
+        self._httpd.server_close()
+        if self._thread is not None:
+            self._thread.join()
+        self._httpd = None
+        self._thread = None
+
+    def __enter__(self) -> EditorServer:
+        return self.start()
+
+    def __exit__(
+        self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: TracebackType | None
+    ) -> None:
+        self.stop()

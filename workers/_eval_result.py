@@ -1,0 +1,121 @@
+"""What an evaluation produces: per-test verdicts, counts, timings, or a classified error."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, JsonValue
+
+EvalErrorKind = Literal[
+    "project_invalid",  # the project is not a loadable .sb3 (corrupt zip, bad project.json)
+    "script_invalid",  # the evaluation script or helper does not parse or exports no function
+    "script_error",  # the script threw or rejected while testing the project
+    "script_timeout",  # the script exceeded its hard timeout (hung or too slow) and was killed
+    "result_invalid",  # the script returned something that is not a test report
+    "editor_failure",  # the browser or editor broke: infrastructure, not the project's fault
+]
+
+VERDICT_ERROR_KINDS: frozenset[EvalErrorKind] = frozenset({"script_error", "script_timeout"})
+"""Errors that upstream ScratchWorld scores as a failed project (PSR 0) rather than dropping."""
+
+
+class EvalError(BaseModel):
+    """Why an evaluation produced no regular test report."""
+
+    model_config = ConfigDict(frozen=True)
+
+    kind: EvalErrorKind
+    """Stable class of the failure."""
+
+    message: str
+    """Human-readable cause, naming the script or file involved."""
+
+
+class TestVerdict(BaseModel):
+    """One unit test of an evaluation script."""
+
+    __test__ = False  # not a pytest test class, despite the name
+
+    name: str
+    """The test's name as the script reports it."""
+
+    passed: bool
+    """Whether the test passed."""
+
+    error: str | None = None
+    """The script's own error text for this test, if any."""
+
+    duration_ms: float | None = None
+    """How long the script says the test took."""
+
+    timed_out: bool | None = None
+    """Whether the script says the test hit its own timeout."""
+
+    meta: JsonValue = None
+    """Anything else the script attached to the test, kept as JSON."""
+
+
+class EvalTimings(BaseModel):
+    """Wall-clock seconds spent in each phase."""
+
+    editor_ready_s: float | None = None
+    """Fresh editor page until ready (None when a ready editor was reused)."""
+
+    project_load_s: float | None = None
+    """Loading the project into the VM."""
+
+    script_s: float | None = None
+    """Running the evaluation script."""
+
+    total_s: float = 0.0
+    """Everything, from request to result."""
+
+
+class EvalResult(BaseModel):
+    """The verdict on one project for one task, exactly as the benchmark scores it.
+
+    ``success`` is all tests passed; ``psr`` is the fraction of tests passed. With an ``error``
+    the counts are zero and no test list exists.
+    """
+
+    success: bool
+    """All tests passed (and there was at least one)."""
+
+    passed: int = Field(ge=0)
+    """Number of tests passed."""
+
+    total: int = Field(ge=0)
+    """Number of tests run."""
+
+    psr: float = Field(ge=0.0, le=1.0)
+    """Partial success rate: passed / total (0 when total is 0)."""
+
+    tests: list[TestVerdict] = Field(default_factory=list)
+    """Per-test verdicts in the order the script reported them."""
+
+    error: EvalError | None = None
+    """Set when no regular report could be produced."""
+
+    warnings: list[str] = Field(default_factory=list)
+    """Oddities that did not prevent a verdict (e.g. counts that disagree with details)."""
+
+    console: list[str] = Field(default_factory=list)
+    """Console output of the page during the evaluation (bounded)."""
+
+    timings: EvalTimings = Field(default_factory=EvalTimings)
+    """Where the time went."""
+
+    @classmethod
+    def failure(
+        cls, kind: EvalErrorKind, message: str, *, console: list[str] | None = None, timings: EvalTimings | None = None
+    ) -> EvalResult:
+        """A result that carries an error and no test report."""
+        return cls(
+            success=False,
+            passed=0,
+            total=0,
+            psr=0.0,
+            error=EvalError(kind=kind, message=message),
+            console=console or [],
+            timings=timings or EvalTimings(),
+        )
