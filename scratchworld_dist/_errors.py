@@ -15,6 +15,9 @@ translated at the edge with ``raise ... from exc`` so callers catch one family::
     │   └── EditorCrashedError      the page or browser died while in use
     └── BridgeError                 the page refused a bridge call (carries the page's kind)
 
+The root and the editor errors live in ``workers._errors`` (the worker side imports nothing
+from the driver side); the suite errors are the driver's own.
+
 Evaluation never raises for a bad project or a bad script: those become an ``EvalResult``
 with an error (a failed sample is a row, not an exception).
 """
@@ -23,9 +26,31 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from workers._errors import (
+    BridgeError,
+    ChromiumNotFoundError,
+    EditorBundleMissingError,
+    EditorCrashedError,
+    EditorError,
+    EditorNotReadyError,
+    ProjectFormatError,
+    RendererUnavailableError,
+    ScratchWorldError,
+)
 
-class ScratchWorldError(Exception):
-    """Root of every error raised on purpose by scratchworld_dist and its workers."""
+__all__ = [
+    "BridgeError",
+    "ChromiumNotFoundError",
+    "EditorBundleMissingError",
+    "EditorCrashedError",
+    "EditorError",
+    "EditorNotReadyError",
+    "ProjectFormatError",
+    "RendererUnavailableError",
+    "ScratchWorldError",
+    "SuiteError",
+    "TaskNotFoundError",
+]
 
 
 class SuiteError(ScratchWorldError):
@@ -38,40 +63,3 @@ class SuiteError(ScratchWorldError):
 
 class TaskNotFoundError(SuiteError):
     """A requested task id is not part of the suite."""
-
-
-class ProjectFormatError(ScratchWorldError):
-    """Bytes that cannot be a Scratch 3 project: not a zip, no project.json, bad JSON."""
-
-
-class EditorError(ScratchWorldError):
-    """The editor could not be started, made ready, or kept alive."""
-
-
-class ChromiumNotFoundError(EditorError):
-    """The Chromium executable is missing."""
-
-
-class EditorBundleMissingError(EditorError):
-    """The prebuilt Scratch GUI bundle from npm is not installed."""
-
-
-class EditorNotReadyError(EditorError):
-    """The editor page did not become ready within its bounded wait."""
-
-
-class RendererUnavailableError(EditorError):
-    """The VM has no WebGL renderer, so touching and colour sensing would silently fail."""
-
-
-class EditorCrashedError(EditorError):
-    """The page, its context or the browser went away while in use."""
-
-
-class BridgeError(ScratchWorldError):
-    """The in-page bridge answered a call with an error envelope."""
-
-    def __init__(self, kind: str, message: str) -> None:
-        super().__init__(f"{kind}: {message}")
-        self.kind = kind
-        self.detail = message

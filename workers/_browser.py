@@ -21,9 +21,9 @@ from playwright.async_api import Browser, Playwright, async_playwright
 from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel, ConfigDict, Field
 
-from scratchworld_dist._errors import ChromiumNotFoundError, EditorCrashedError, EditorError
 from workers._editor import Editor
 from workers._editor_server import EditorAssets, EditorServer
+from workers._errors import ChromiumNotFoundError, EditorCrashedError, EditorError
 
 DEFAULT_CHROMIUM = Path("/usr/bin/chromium")
 

@@ -17,7 +17,7 @@ from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel, ConfigDict, JsonValue
 from pydantic.alias_generators import to_camel
 
-from scratchworld_dist._errors import (
+from workers._errors import (
     BridgeError,
     EditorCrashedError,
     EditorNotReadyError,

@@ -17,7 +17,7 @@ from types import TracebackType
 from typing import BinaryIO
 from urllib.parse import unquote, urlsplit
 
-from scratchworld_dist._errors import EditorBundleMissingError
+from workers._errors import EditorBundleMissingError
 
 BUNDLE_PACKAGE = "@scratch/scratch-gui-standalone"
 BUNDLE_FILE = "scratch-gui-standalone.js"

@@ -14,12 +14,12 @@ import time
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
-from scratchworld_dist._errors import BridgeError, EditorError, ProjectFormatError
-from scratchworld_dist.sb3 import read_project_json
 from workers._browser import BrowserSession
 from workers._editor import Editor
+from workers._errors import BridgeError, EditorError, ProjectFormatError
 from workers._eval_result import EvalErrorKind, EvalResult, EvalTimings
 from workers._report import ReportError, parse_report
+from workers._sb3_reader import read_project_json
 
 KILL_GRACE_S = 5.0
 """Extra time past the in-page timeout before the page itself is killed (a synchronous hang)."""

@@ -12,7 +12,7 @@ from scratchworld_dist.sb3._builder import (
     rect_costume,
     variable,
 )
-from scratchworld_dist.sb3._reader import read_project_json
+from workers._sb3_reader import read_project_json
 
 __all__ = [
     "Block",

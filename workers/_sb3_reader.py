@@ -7,7 +7,7 @@ import json
 import zipfile
 from typing import Any
 
-from scratchworld_dist._errors import ProjectFormatError
+from workers._errors import ProjectFormatError
 
 
 def read_project_json(data: bytes) -> dict[str, Any]:

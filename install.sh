@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs everything scratchworld_dist needs on a Debian machine, idempotently:
+#   - Debian's chromium (Playwright's own browser download does not work here) and Node.js/npm,
+#   - a Python 3.11 virtualenv in .venv with the package and its dev tools,
+#   - the Scratch editor bundle from npm (scratch-gui/node_modules, pinned by package-lock.json).
+# Safe to re-run: steps that are already done are skipped.
+set -euo pipefail
+cd "$(dirname "$0")"
+
+say() { printf '[install] %s\n' "$*"; }
+as_root() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
+
+apt_packages=()
+[ -x /usr/bin/chromium ] || apt_packages+=(chromium)
+command -v npm >/dev/null 2>&1 || apt_packages+=(nodejs npm)
+command -v python3.11 >/dev/null 2>&1 || python3 -c 'import sys; assert sys.version_info[:2] == (3, 11)' 2>/dev/null \
+  || apt_packages+=(python3.11 python3.11-venv)
+if [ ${#apt_packages[@]} -gt 0 ]; then
+  say "apt-get install ${apt_packages[*]}"
+  as_root apt-get update -qq
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${apt_packages[@]}" >/dev/null
+fi
+
+python_bin=$(command -v python3.11 || command -v python3)
+if [ ! -x .venv/bin/python ]; then
+  say "creating .venv with $python_bin"
+  "$python_bin" -m venv .venv
+fi
+# Reinstall only when the project's metadata changed since the last install.
+stamp=.venv/.installed-$(sha256sum pyproject.toml | cut -c1-16)
+if [ ! -f "$stamp" ]; then
+  say "pip install -e .[dev]"
+  .venv/bin/python -m pip install -q --upgrade pip
+  .venv/bin/python -m pip install -q -e ".[dev]"
+  rm -f .venv/.installed-* && touch "$stamp"
+fi
+
+bundle=scratch-gui/node_modules/@scratch/scratch-gui-standalone/dist/scratch-gui-standalone.js
+lock_stamp=scratch-gui/node_modules/.installed-$(sha256sum scratch-gui/package-lock.json | cut -c1-16)
+if [ ! -f "$bundle" ] || [ ! -f "$lock_stamp" ]; then
+  say "npm ci (the Scratch editor bundle)"
+  (cd scratch-gui && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+  touch "$lock_stamp"
+fi
+say "done: chromium $(/usr/bin/chromium --version 2>/dev/null | awk '{print $2}'), $(.venv/bin/python --version)"

@@ -1,0 +1,54 @@
+"""Shared fixtures: one real Chromium for the whole run, project and suite builders."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import AsyncIterator
+from pathlib import Path
+
+import pytest
+
+from workers import BrowserSession, Evaluator
+
+REPO = Path(__file__).resolve().parents[1]
+SUITE_DIR = REPO / "tasks"
+UPSTREAM_DIR = Path(os.environ.get("SCRATCHWORLD_UPSTREAM_DATA", REPO.parent / "shared" / "scratchworld-upstream"))
+DATA = Path(__file__).resolve().parent / "data"
+
+
+@pytest.fixture(scope="session")
+async def session() -> AsyncIterator[BrowserSession]:
+    """One browser for every test that needs an editor (each editor still gets a fresh context)."""
+    async with BrowserSession() as browser:
+        yield browser
+
+
+@pytest.fixture(scope="session")
+def evaluator(session: BrowserSession) -> Evaluator:
+    return Evaluator(session)
+
+
+@pytest.fixture
+def upstream_dir() -> Path:
+    """The upstream benchmark's data (tasks and projects, no scripts); skip when absent."""
+    if not (UPSTREAM_DIR / "tasks").is_dir():
+        pytest.skip(f"upstream data not found at {UPSTREAM_DIR}")
+    return UPSTREAM_DIR
+
+
+@pytest.fixture
+def upstream_clone(tmp_path: Path, upstream_dir: Path) -> Path:
+    """A clone-shaped folder: upstream tasks and projects (symlinked) plus scripts written here."""
+    clone = tmp_path / "ScratchWorld"
+    (clone / "scratch-gui").mkdir(parents=True)
+    (clone / "scratch-gui" / "static").symlink_to(upstream_dir / "scratch-gui" / "static")
+    shutil.copytree(upstream_dir / "tasks", clone / "tasks")
+    scripts = clone / "scratch-bench-api" / "api" / "evaluation_scripts"
+    shutil.copytree(DATA / "upstream_scripts", scripts)
+    # Every task without a script of ours gets one that only checks the project loaded.
+    for task_file in (clone / "tasks").glob("*/*.json"):
+        script = scripts / f"{task_file.stem}.js"
+        if not script.exists():
+            script.write_text((DATA / "loads_only.js").read_text())
+    return clone

@@ -1,0 +1,136 @@
+"""The browser session and the editor page: readiness, loud failures, offline, the bridge."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from pathlib import Path
+
+import pytest
+
+from scratchworld_dist import (
+    BridgeError,
+    ChromiumNotFoundError,
+    EditorNotReadyError,
+    RendererUnavailableError,
+)
+from scratchworld_dist.sb3 import Project, block, circle_costume, read_project_json
+from tests.projects import counter_project
+from workers import BrowserConfig, BrowserSession, EditorAssets, EvaluationSpec, Evaluator
+
+
+async def test_ready_editor_has_vm_workspace_and_swiftshader(session: BrowserSession) -> None:
+    async with session.editor() as editor:
+        status = await editor.status()
+        assert status.vm and status.workspace and status.project_loads >= 1
+        assert status.renderer and "SwiftShader" in (status.renderer_name or "")
+        assert status.stage_canvas == (480, 360)
+        assert editor.ready_s is not None and editor.ready_s < 60
+        assert editor.page.viewport_size == {"width": 1280, "height": 720}
+
+
+async def test_missing_chromium_is_named(tmp_path: Path) -> None:
+    session = BrowserSession(BrowserConfig(executable_path=tmp_path / "chromium"))
+    with pytest.raises(ChromiumNotFoundError, match=str(tmp_path / "chromium")):
+        await session.start()
+
+
+async def test_without_webgl_the_editor_fails_loudly() -> None:
+    config = BrowserConfig(extra_args=("--disable-software-rasterizer",))
+    async with BrowserSession(config) as session:
+        with pytest.raises(RendererUnavailableError, match="no WebGL renderer"):
+            await session.open_editor()
+
+
+async def test_a_page_that_never_gets_ready_times_out_with_the_cause(tmp_path: Path) -> None:
+    real = EditorAssets()
+    (tmp_path / "bridge.js").write_bytes((real.gui_dir / "bridge.js").read_bytes())
+    # The bridge loads, the editor bundle never does.
+    (tmp_path / "index.html").write_text('<!DOCTYPE html><script src="bridge.js"></script><p>no editor</p>')
+    (tmp_path / "node_modules").symlink_to(real.gui_dir / "node_modules")
+    config = BrowserConfig(ready_timeout_s=2)
+    async with BrowserSession(config, EditorAssets(tmp_path)) as session:
+        started = time.monotonic()
+        with pytest.raises(EditorNotReadyError, match="still missing: VM, rendered workspace, default project"):
+            await session.open_editor()
+        assert time.monotonic() - started < 15
+
+
+async def test_cdn_requests_fail_at_once_and_do_not_break_the_editor(session: BrowserSession) -> None:
+    async with session.editor() as editor:
+        failed: list[str] = []
+        finished: list[str] = []
+        enough = asyncio.Event()
+
+        def on_failed(request) -> None:
+            if "cdn.assets.scratch.mit.edu" in request.url:
+                failed.append(request.failure or "")
+                if len(failed) >= 100:
+                    enough.set()
+
+        editor.page.on("requestfailed", on_failed)
+        editor.page.on("requestfinished", lambda r: finished.append(r.url) if "scratch.mit.edu" in r.url else None)
+        started = time.monotonic()
+        await editor.page.click('button[aria-label="Choose a Sprite"]')  # opens the sprite library
+        await asyncio.wait_for(enough.wait(), 20)
+        assert time.monotonic() - started < 10
+        assert set(failed) == {"net::ERR_NAME_NOT_RESOLVED"}
+        assert finished == []
+        assert (await editor.status()).vm  # still answering
+
+
+async def test_load_and_save_round_trip(session: BrowserSession) -> None:
+    async with session.editor() as editor:
+        assert await editor.load_project(counter_project("Counter").to_sb3()) == ["Stage", "Counter"]
+        saved = read_project_json(await editor.save_project())
+        assert [t["name"] for t in saved["targets"]] == ["Stage", "Counter"]
+        opcodes = {b["opcode"] for b in saved["targets"][1]["blocks"].values() if isinstance(b, dict)}
+        assert {"event_whenflagclicked", "control_repeat", "looks_say"} <= opcodes
+
+
+HOSTILE = [
+    "'); window.pwned = true; ('",
+    '"; window.pwned = true; "',
+    "</script><script>window.pwned = true</script>",
+    "${window.pwned = true}",
+    "\\'); window.pwned = true; //",
+]
+
+
+async def test_strings_cannot_break_out_of_javascript(session: BrowserSession) -> None:
+    project = Project()
+    for index, name in enumerate(HOSTILE):
+        project.sprite(name, costume=circle_costume("c", 5, "#000"), x=index)
+    script = (
+        "module.exports = async (vm, config) => ({details: [{name: config.label, passed: "
+        "typeof window.pwned === 'undefined', meta: {names: vm.runtime.targets.map(t => t.getName())}}]})"
+    )
+    spec = EvaluationSpec(script_name="x.js", script_source=script, timeout_s=10, config={"label": HOSTILE[0]})
+    result = await Evaluator(session).evaluate(project.to_sb3(), spec)
+    assert result.error is None, result.error
+    assert result.tests[0].name == HOSTILE[0]
+    assert result.tests[0].passed  # nothing was executed from the strings
+    assert result.tests[0].meta == {"names": ["Stage", *HOSTILE]}
+
+
+async def test_bridge_rejects_unknown_functions_and_bad_arguments(session: BrowserSession) -> None:
+    async with session.editor() as editor:
+        with pytest.raises(BridgeError) as caught:
+            await editor.call("eval", {"code": "1"})
+        assert caught.value.kind == "bad_request"
+        with pytest.raises(BridgeError) as caught:
+            await editor.call("loadProject", {"sb3Base64": 42})
+        assert caught.value.kind == "bad_request"
+
+
+async def test_scripts_cannot_replace_the_bridge(session: BrowserSession) -> None:
+    script = (
+        "module.exports = async () => { try { window.scratchworld = null; } catch (e) {} "
+        "return {details: [{name: 'bridge intact', passed: window.scratchworld !== null}]}; }"
+    )
+    project = Project()
+    project.sprite("S", costume=circle_costume("c", 5, "#000")).script(block("event_whenflagclicked"))
+    result = await Evaluator(session).evaluate(
+        project.to_sb3(), EvaluationSpec(script_name="x.js", script_source=script, timeout_s=10)
+    )
+    assert result.success, result

@@ -1,0 +1,109 @@
+"""The command line, run as a user would run it."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+from scratchworld_dist.sb3 import read_project_json
+from tests.conftest import REPO, SUITE_DIR
+
+SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))
+
+
+def run(*args: str, timeout: float = 600) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([SCRATCHWORLD, *args], capture_output=True, text=True, timeout=timeout, cwd=REPO)
+
+
+def test_validate_our_suite_is_green(tmp_path: Path) -> None:
+    """The main job: every golden passes, every initial falls short, JSON as documented."""
+    out = tmp_path / "validate.json"
+    done = run("validate", str(SUITE_DIR), "--parallel", "2", "--json", str(out))
+    assert done.returncode == 0, done.stdout + done.stderr
+    rows = json.loads(out.read_text())
+    assert len(rows) >= 12
+    for row in rows:
+        assert set(row) == {"task_id", "category", "golden", "initial"}
+        assert set(row["golden"]) == {"success", "passed", "total", "psr", "error", "wall_s"}
+        assert row["golden"]["success"] and row["golden"]["error"] is None, row
+        assert row["initial"]["psr"] < 1, row
+        if row["category"] == "debug":
+            assert not row["initial"]["success"], row
+    assert "all" in done.stderr and "valid" in done.stderr
+
+
+def test_validate_exits_1_when_a_golden_fails(tmp_path: Path) -> None:
+    suite = tmp_path / "suite"
+    (suite / "compute").mkdir(parents=True)
+    for name in ("suite.json", "harness.js"):
+        (suite / name).write_bytes((SUITE_DIR / name).read_bytes())
+    task = suite / "compute" / "swapped"
+    task.mkdir()
+    source = SUITE_DIR / "compute" / "sum_two_numbers"
+    for name in ("task.json", "evaluate.js"):
+        (task / name).write_bytes((source / name).read_bytes())
+    # The golden is the unsolved starter: validation must refuse the task.
+    (task / "golden.sb3").write_bytes((source / "initial.sb3").read_bytes())
+    (task / "initial.sb3").write_bytes((source / "initial.sb3").read_bytes())
+    out = tmp_path / "v.json"
+    done = run("validate", str(suite), "--json", str(out))
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "golden does not pass" in done.stdout
+    assert json.loads(out.read_text())[0]["golden"]["success"] is False
+
+
+def test_evaluate_exit_codes_and_json(tmp_path: Path) -> None:
+    task = SUITE_DIR / "compute" / "sum_two_numbers"
+    out = tmp_path / "result.json"
+    golden = run("evaluate", str(SUITE_DIR), "sum_two_numbers", str(task / "golden.sb3"), "--json", str(out))
+    assert golden.returncode == 0, golden.stderr
+    assert json.loads(out.read_text())["passed"] == 3
+    initial = run("evaluate", str(SUITE_DIR), "sum_two_numbers", str(task / "initial.sb3"))
+    assert initial.returncode == 1
+    corrupt = tmp_path / "corrupt.sb3"
+    corrupt.write_bytes(b"PK\x03\x04 not really")
+    broken = run("evaluate", str(SUITE_DIR), "sum_two_numbers", str(corrupt))
+    assert broken.returncode == 3
+    assert "project_invalid" in broken.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (("validate", "/nonexistent/suite"), "error: /nonexistent/suite: no such directory"),
+        (("validate", str(SUITE_DIR), "--tasks", "nope"), "error: no task 'nope'"),
+        (("evaluate", str(SUITE_DIR), "nope", str(SUITE_DIR / "suite.json")), "error: no task 'nope'"),
+    ],
+)
+def test_user_errors_are_one_line(args: tuple[str, ...], message: str) -> None:
+    done = run(*args)
+    assert done.returncode == 2
+    assert done.stderr.startswith(message)
+    assert "Traceback" not in done.stderr
+
+
+def test_gui_serves_the_editor_on_loopback() -> None:
+    with subprocess.Popen([SCRATCHWORLD, "gui", "--port", "0"], stdout=subprocess.PIPE, text=True, cwd=REPO) as process:
+        try:
+            assert process.stdout is not None
+            line = process.stdout.readline()
+            url = line.rsplit(" at ", 1)[1].strip()
+            assert url.startswith("http://127.0.0.1:")
+            with urllib.request.urlopen(url, timeout=10) as response:
+                assert b"scratchworld.attachVm" in response.read()
+        finally:
+            process.terminate()
+
+
+def test_committed_projects_are_what_their_sources_build() -> None:
+    done = subprocess.run(
+        [sys.executable, str(SUITE_DIR / "build_projects.py"), "--check"], capture_output=True, text=True, cwd=REPO
+    )
+    assert done.returncode == 0, done.stdout
+    for golden in SUITE_DIR.glob("*/*/golden.sb3"):
+        read_project_json(golden.read_bytes())

@@ -1,0 +1,49 @@
+"""The static server: our files over the npm bundle, loopback only, nothing outside its roots."""
+
+from __future__ import annotations
+
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+from scratchworld_dist import EditorBundleMissingError
+from workers import EditorAssets, EditorServer
+
+
+def _get(url: str) -> tuple[int, bytes]:
+    try:
+        with urllib.request.urlopen(url, timeout=10) as response:
+            return response.status, response.read()
+    except urllib.error.HTTPError as exc:
+        return exc.code, b""
+
+
+def test_serves_our_page_bridge_and_the_bundle() -> None:
+    with EditorServer() as server:
+        base = server.url.rsplit("/", 1)[0]
+        assert server.url.startswith("http://127.0.0.1:")
+        status, page = _get(server.url)
+        assert status == 200 and b"scratchworld.attachVm" in page
+        status, bridge = _get(f"{base}/bridge.js")
+        assert status == 200
+        assert b"Object.defineProperty(window, 'scratchworld'" in bridge
+        status, bundle = _get(f"{base}/scratch-gui-standalone.js")
+        assert status == 200 and len(bundle) > 10_000_000
+        assert _get(f"{base}/static/blocks-media/default/green-flag.svg")[0] == 200
+
+
+@pytest.mark.parametrize("path", ["/../../pyproject.toml", "/%2e%2e/%2e%2e/pyproject.toml", "/chunks/", "/nothing.js"])
+def test_refuses_paths_outside_the_roots(path: str) -> None:
+    with EditorServer() as server:
+        base = server.url.rsplit("/", 1)[0]
+        assert _get(base + path)[0] == 404
+
+
+def test_missing_bundle_is_a_clear_error(tmp_path: Path) -> None:
+    real = EditorAssets()
+    for name in ("index.html", "bridge.js"):
+        (tmp_path / name).write_bytes((real.gui_dir / name).read_bytes())
+    with pytest.raises(EditorBundleMissingError, match="npm ci"):
+        EditorAssets(tmp_path)

@@ -1,0 +1,30 @@
+"""Public surfaces: every package's __all__ is complete and sorted."""
+
+from __future__ import annotations
+
+import importlib
+
+import pytest
+
+PACKAGES = ["scratchworld_dist", "scratchworld_dist.suites", "scratchworld_dist.sb3", "workers"]
+
+
+@pytest.mark.parametrize("name", PACKAGES)
+def test_all_is_complete_and_sorted(name: str) -> None:
+    module = importlib.import_module(name)
+    public = [
+        member
+        for member, value in vars(module).items()
+        if not member.startswith("_") and not (hasattr(value, "__path__") or type(value).__name__ == "module")
+    ]
+    assert sorted(module.__all__) == sorted(public)
+    # Constants, then classes, then functions, each alphabetical (ruff's RUF022 order).
+    assert list(module.__all__) == sorted(module.__all__, key=lambda s: (not s.isupper(), not s[0].isupper(), s))
+
+
+def test_one_exception_hierarchy() -> None:
+    import scratchworld_dist
+    from scratchworld_dist import ScratchWorldError
+
+    errors = [getattr(scratchworld_dist, n) for n in scratchworld_dist.__all__ if n.endswith("Error")]
+    assert all(issubclass(e, ScratchWorldError) for e in errors)
