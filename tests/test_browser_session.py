@@ -11,6 +11,7 @@ import pytest
 from scratchworld_dist import (
     BridgeError,
     ChromiumNotFoundError,
+    EditorCrashedError,
     EditorNotReadyError,
     RendererUnavailableError,
 )
@@ -134,3 +135,17 @@ async def test_scripts_cannot_replace_the_bridge(session: BrowserSession) -> Non
         project.to_sb3(), EvaluationSpec(script_name="x.js", script_source=script, timeout_s=10)
     )
     assert result.success, result
+
+
+async def test_a_crashed_page_is_reported_as_such(session: BrowserSession) -> None:
+    async with session.editor() as editor:
+        crashed = asyncio.Event()
+        editor.page.on("crash", lambda _page: crashed.set())
+        cdp = await editor.context.new_cdp_session(editor.page)
+        crash = asyncio.ensure_future(cdp.send("Page.crash"))  # never answers: the renderer dies
+        await asyncio.wait_for(crashed.wait(), 20)
+        crash.cancel()
+        with pytest.raises(EditorCrashedError, match="crashed during status"):
+            await editor.status()
+    async with session.editor() as editor:  # the browser itself is fine
+        assert (await editor.status()).vm

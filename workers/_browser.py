@@ -17,7 +17,7 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 from types import TracebackType
 
-from playwright.async_api import Browser, Playwright, async_playwright
+from playwright.async_api import Browser, BrowserContext, Playwright, async_playwright
 from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -115,20 +115,26 @@ class BrowserSession:
             raise
         return self
 
-    async def open_editor(self) -> Editor:
-        """A fresh context with a ready editor; the caller closes it."""
+    async def new_context(self) -> BrowserContext:
+        """A fresh, isolated browser context with the pinned viewport and pixel ratio."""
         if self._browser is None or self._state is not _State.OPEN:
             raise RuntimeError("the browser session is not open")
         if not self._browser.is_connected():
             raise EditorCrashedError("the browser has disconnected")
         width, height = self.config.viewport
         try:
-            context = await self._browser.new_context(
-                viewport={"width": width, "height": height}, device_scale_factor=1
-            )
-            page = await context.new_page()
+            return await self._browser.new_context(viewport={"width": width, "height": height}, device_scale_factor=1)
         except PlaywrightError as exc:
             raise EditorCrashedError(f"could not open a browser context: {exc.message}") from exc
+
+    async def open_editor(self) -> Editor:
+        """A fresh context with a ready editor; the caller closes it."""
+        context = await self.new_context()
+        try:
+            page = await context.new_page()
+        except PlaywrightError as exc:
+            await context.close()
+            raise EditorCrashedError(f"could not open a page: {exc.message}") from exc
         editor = Editor(context, page)
         try:
             await editor.open(self.editor_url, self.config.ready_timeout_s)

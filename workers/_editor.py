@@ -14,7 +14,7 @@ from typing import Any
 
 from playwright.async_api import BrowserContext, Page
 from playwright.async_api import Error as PlaywrightError
-from pydantic import BaseModel, ConfigDict, JsonValue
+from pydantic import BaseModel, ConfigDict, Field, JsonValue
 from pydantic.alias_generators import to_camel
 
 from workers._errors import (
@@ -23,6 +23,7 @@ from workers._errors import (
     EditorNotReadyError,
     RendererUnavailableError,
 )
+from workers._evaluation_spec import EvaluationSpec
 
 _CALL = "([name, args]) => window.scratchworld.call(name, args)"
 _SETTLED = "() => !!(window.scratchworld && window.scratchworld.settled())"
@@ -55,6 +56,18 @@ class _Envelope(BaseModel):
     ok: bool
     value: JsonValue = None
     error: dict[str, str] | None = None
+
+
+class _Loaded(BaseModel):
+    targets: list[str]
+
+
+class _Saved(BaseModel):
+    sb3_base64: str = Field(alias="sb3Base64")
+
+
+class _Evaluated(BaseModel):
+    result_json: str = Field(alias="resultJson")
 
 
 class Editor:
@@ -129,14 +142,28 @@ class Editor:
     async def load_project(self, sb3: bytes) -> list[str]:
         """Load project bytes into the VM; return the names of its targets."""
         value = await self.call("loadProject", {"sb3Base64": base64.b64encode(sb3).decode("ascii")})
-        assert isinstance(value, dict)
-        return [str(name) for name in value["targets"]]  # type: ignore[union-attr]
+        return _Loaded.model_validate(value).targets
 
     async def save_project(self) -> bytes:
         """The current project as .sb3 bytes, as the editor would save it."""
-        value = await self.call("saveProject")
-        assert isinstance(value, dict)
-        return base64.b64decode(str(value["sb3Base64"]))
+        return base64.b64decode(_Saved.model_validate(await self.call("saveProject")).sb3_base64)
+
+    async def run_evaluation(self, spec: EvaluationSpec) -> str:
+        """Run an evaluation script on the loaded project; its returned value as JSON text.
+
+        The page enforces ``spec.timeout_s`` itself; a script that blocks the page entirely is
+        the caller's to kill (by closing the editor).
+        """
+        args = {
+            "scriptName": spec.script_name,
+            "scriptSource": spec.script_source,
+            "helperName": spec.helper_name,
+            "helperSource": spec.helper_source,
+            "helperGlobal": spec.helper_global,
+            "config": spec.config,
+            "timeoutMs": spec.timeout_s * 1000,
+        }
+        return _Evaluated.model_validate(await self.call("evaluate", args)).result_json
 
     async def close(self) -> None:
         """Close the context, even when its page is stuck in a busy loop."""

@@ -12,12 +12,11 @@ import asyncio
 import json
 import time
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue
-
 from workers._browser import BrowserSession
 from workers._editor import Editor
 from workers._errors import BridgeError, EditorError, ProjectFormatError
 from workers._eval_result import EvalErrorKind, EvalResult, EvalTimings
+from workers._evaluation_spec import EvaluationSpec
 from workers._report import ReportError, parse_report
 from workers._sb3_reader import read_project_json
 
@@ -31,33 +30,6 @@ _BRIDGE_KINDS: dict[str, EvalErrorKind] = {
     "script_timeout": "script_timeout",
     "result_invalid": "result_invalid",
 }
-
-
-class EvaluationSpec(BaseModel):
-    """Everything besides the project that an evaluation needs, as data that can cross processes."""
-
-    model_config = ConfigDict(frozen=True)
-
-    script_name: str
-    """File name of the evaluation script, used in messages and stack traces."""
-
-    script_source: str
-    """CommonJS module source whose ``module.exports`` is ``async (vm, config, cleanup) => result``."""
-
-    helper_name: str | None = None
-    """File name of the suite's helper module, if any."""
-
-    helper_source: str | None = None
-    """Helper module source, installed as a global before the script loads."""
-
-    helper_global: str = "EvaluationUtils"
-    """Global name the helper's exports are published under (upstream: ``EvaluationUtils``)."""
-
-    timeout_s: float = Field(gt=0)
-    """Hard limit for the script; past it the result is a ``script_timeout``."""
-
-    config: dict[str, JsonValue] = Field(default_factory=dict)
-    """Second argument handed to the script (upstream always passes ``{}``)."""
 
 
 class Evaluator:
@@ -95,17 +67,8 @@ class Evaluator:
 
         console_start = len(editor.console)
         phase_start = time.perf_counter()
-        args = {
-            "scriptName": spec.script_name,
-            "scriptSource": spec.script_source,
-            "helperName": spec.helper_name,
-            "helperSource": spec.helper_source,
-            "helperGlobal": spec.helper_global,
-            "config": spec.config,
-            "timeoutMs": spec.timeout_s * 1000,
-        }
         try:
-            value = await asyncio.wait_for(editor.call("evaluate", args), spec.timeout_s + KILL_GRACE_S)
+            result_json = await asyncio.wait_for(editor.run_evaluation(spec), spec.timeout_s + KILL_GRACE_S)
         except TimeoutError:
             # The page is stuck in synchronous code; leaving the ``editor()`` block kills it.
             timings.script_s = time.perf_counter() - phase_start
@@ -121,9 +84,8 @@ class Evaluator:
         timings.script_s = time.perf_counter() - phase_start
         console = editor.console[console_start:]
 
-        assert isinstance(value, dict)
         try:
-            report = parse_report(json.loads(str(value["resultJson"])))
+            report = parse_report(json.loads(result_json))
         except ReportError as exc:
             return EvalResult.failure("result_invalid", f"{spec.script_name}: {exc}", console=console, timings=timings)
         return EvalResult(

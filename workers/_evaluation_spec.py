@@ -1,0 +1,32 @@
+"""What an evaluation needs besides the project, as data that can cross processes."""
+
+from __future__ import annotations
+
+from pydantic import BaseModel, ConfigDict, Field, JsonValue
+
+
+class EvaluationSpec(BaseModel):
+    """Everything besides the project that an evaluation needs, as data that can cross processes."""
+
+    model_config = ConfigDict(frozen=True)
+
+    script_name: str
+    """File name of the evaluation script, used in messages and stack traces."""
+
+    script_source: str
+    """CommonJS module source whose ``module.exports`` is ``async (vm, config, cleanup) => result``."""
+
+    helper_name: str | None = None
+    """File name of the suite's helper module, if any."""
+
+    helper_source: str | None = None
+    """Helper module source, installed as a global before the script loads."""
+
+    helper_global: str = "EvaluationUtils"
+    """Global name the helper's exports are published under (upstream: ``EvaluationUtils``)."""
+
+    timeout_s: float = Field(gt=0)
+    """Hard limit for the script; past it the result is a ``script_timeout``."""
+
+    config: dict[str, JsonValue] = Field(default_factory=dict)
+    """Second argument handed to the script (upstream always passes ``{}``)."""
