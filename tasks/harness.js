@@ -14,8 +14,16 @@
 const STAGE_WIDTH = 480;
 const STAGE_HEIGHT = 360;
 
-function wait(ms) {
-  return new Promise(resolve => setTimeout(resolve, ms));
+// Bumped by runTests at every test, so that the code of a test that timed out (and keeps
+// running in the background, as JavaScript cannot cancel it) stops at its next wait instead
+// of touching the VM while the next test runs.
+let currentTest = 0;
+
+/** Sleeps `ms`; throws when the test that called it has been abandoned meanwhile. */
+async function wait(ms) {
+  const caller = currentTest;
+  await new Promise(resolve => setTimeout(resolve, ms));
+  if (caller !== currentTest) throw new Error('abandoned: the test timed out and a later test is running');
 }
 
 /** Polls `predicate` until it is truthy; resolves to whether it became so in time. */
@@ -71,6 +79,21 @@ async function start(vm, settleMs = 100) {
   vm.runtime.stopAll();
   vm.greenFlag();
   await wait(settleMs);
+}
+
+/**
+ * Calls `onFrame()` after every VM step (one frame, ~30 per second), which is far more reliable
+ * for watching motion than polling on timers; `stop()` restores the VM.
+ */
+function sampleFrames(vm, onFrame) {
+  const runtime = vm.runtime;
+  const original = runtime._step;
+  runtime._step = function () {
+    const result = original.apply(this, arguments);
+    onFrame();
+    return result;
+  };
+  return {stop: () => { runtime._step = original; }};
 }
 
 /** Records what sprites say or think: `texts(spriteName?)` lists them in order. */
@@ -173,11 +196,13 @@ function moveMouse(vm, x, y, isDown = false) {
 /**
  * Runs tests one after another and returns the benchmark's report. Each test is
  * `{name, timeoutMs, run: async () => ({passed, meta?})}`; everything is stopped before and
- * after each test, a test that throws or times out fails with the reason.
+ * after each test, a test that throws or times out fails with the reason (and the abandoned
+ * test's code stops at its next `wait`/`waitUntil`).
  */
 async function runTests(vm, tests) {
   const details = [];
   for (const test of tests) {
+    currentTest += 1;
     const started = Date.now();
     let timer = null;
     const detail = {name: test.name, passed: false, timeout: false, duration_ms: 0, error: null, meta: null};
@@ -216,5 +241,5 @@ async function runTests(vm, tests) {
 module.exports = {
   STAGE_WIDTH, STAGE_HEIGHT,
   wait, waitUntil, sprite, stage, clones, findVariable, valueOf, start,
-  recordSpeech, recordBroadcasts, answerQuestions, askAndListen, pressKey, clickSprite, moveMouse, runTests,
+  sampleFrames, recordSpeech, recordBroadcasts, answerQuestions, askAndListen, pressKey, clickSprite, moveMouse, runTests,
 };
