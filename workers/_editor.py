@@ -12,14 +12,15 @@ import contextlib
 import time
 from typing import Any
 
-from playwright.async_api import BrowserContext, Page
+from playwright.async_api import BrowserContext, ConsoleMessage, Page
 from playwright.async_api import Error as PlaywrightError
-from pydantic import BaseModel, ConfigDict, Field, JsonValue
+from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError
 from pydantic.alias_generators import to_camel
 
 from workers._errors import (
     BridgeError,
     EditorCrashedError,
+    EditorError,
     EditorNotReadyError,
     RendererUnavailableError,
 )
@@ -85,7 +86,7 @@ class Editor:
         page.on("pageerror", lambda exc: self.page_errors.append(str(exc)))
         page.on("crash", self._on_crash)
 
-    def _on_console(self, message: Any) -> None:
+    def _on_console(self, message: ConsoleMessage) -> None:
         if len(self.console) < CONSOLE_LINE_LIMIT:
             self.console.append(f"{message.type}: {message.text}")
 
@@ -97,8 +98,10 @@ class Editor:
         try:
             raw = await self.page.evaluate(_CALL, [name, args or {}])
         except PlaywrightError as exc:
-            what = "crashed" if self._crashed else "went away"
-            raise EditorCrashedError(f"the editor page {what} during {name}: {exc.message}") from exc
+            if self._crashed or self.page.is_closed():
+                what = "crashed" if self._crashed else "went away"
+                raise EditorCrashedError(f"the editor page {what} during {name}: {exc.message}") from exc
+            raise EditorError(f"the bridge call {name} failed in the page: {exc.message}") from exc
         envelope = _Envelope.model_validate(raw)
         if not envelope.ok:
             error = envelope.error or {}
@@ -130,7 +133,7 @@ class Editor:
         try:
             status = await self.status()
             reason += f"; still missing: {', '.join(status.missing()) or 'nothing'}"
-        except Exception:
+        except (EditorError, BridgeError, ValidationError):
             reason += f" ({exc.message.splitlines()[0]})"
         if self.page_errors:
             reason += f"; page errors: {' | '.join(self.page_errors[:3])}"

@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import json
 import time
+from typing import cast, get_args
 
 from workers._browser import BrowserSession
 from workers._editor import Editor
@@ -23,13 +24,8 @@ from workers._sb3_reader import read_project_json
 KILL_GRACE_S = 5.0
 """Extra time past the in-page timeout before the page itself is killed (a synchronous hang)."""
 
-_BRIDGE_KINDS: dict[str, EvalErrorKind] = {
-    "project_invalid": "project_invalid",
-    "script_invalid": "script_invalid",
-    "script_error": "script_error",
-    "script_timeout": "script_timeout",
-    "result_invalid": "result_invalid",
-}
+# Failures the page attributes to the project or the script; any other kind is our own fault.
+_PAGE_KINDS: frozenset[str] = frozenset(get_args(EvalErrorKind)) - {"editor_failure"}
 
 
 class Evaluator:
@@ -67,22 +63,21 @@ class Evaluator:
 
         console_start = len(editor.console)
         phase_start = time.perf_counter()
+        result_json: str | None = None
         try:
             result_json = await asyncio.wait_for(editor.run_evaluation(spec), spec.timeout_s + KILL_GRACE_S)
         except TimeoutError:
             # The page is stuck in synchronous code; leaving the ``editor()`` block kills it.
-            timings.script_s = time.perf_counter() - phase_start
-            return EvalResult.failure(
-                "script_timeout",
-                f"{spec.script_name} blocked the page for over {spec.timeout_s + KILL_GRACE_S:.0f} s and was killed",
-                console=editor.console[console_start:],
-                timings=timings,
+            kind: EvalErrorKind = "script_timeout"
+            message = (
+                f"{spec.script_name} blocked the page for over {spec.timeout_s + KILL_GRACE_S:.0f} s and was killed"
             )
         except BridgeError as exc:
-            timings.script_s = time.perf_counter() - phase_start
-            return EvalResult.failure(_kind(exc), exc.detail, console=editor.console[console_start:], timings=timings)
+            kind, message = _kind(exc), exc.detail
         timings.script_s = time.perf_counter() - phase_start
         console = editor.console[console_start:]
+        if result_json is None:
+            return EvalResult.failure(kind, message, console=console, timings=timings)
 
         try:
             report = parse_report(json.loads(result_json))
@@ -101,7 +96,6 @@ class Evaluator:
 
 
 def _kind(exc: BridgeError) -> EvalErrorKind:
-    kind = _BRIDGE_KINDS.get(exc.kind)
-    if kind is None:
+    if exc.kind not in _PAGE_KINDS:
         raise EditorError(f"the bridge failed unexpectedly: {exc}") from exc
-    return kind
+    return cast(EvalErrorKind, exc.kind)
