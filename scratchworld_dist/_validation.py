@@ -14,7 +14,7 @@ from typing import Literal
 from pydantic import BaseModel
 
 from scratchworld_dist.suites import Task
-from workers import BrowserConfig, BrowserSession, EvalResult, Evaluator
+from workers import BrowserConfig, BrowserSession, EvalResult, EvaluationSpec, Evaluator
 
 Which = Literal["golden", "initial"]
 
@@ -83,12 +83,7 @@ async def validate_tasks(
     async with BrowserSession(browser) as session:
         evaluator = Evaluator(session)
 
-        async def run(task: Task, which: Which) -> EvalResult | None:
-            path = task.golden_project if which == "golden" else task.initial_project
-            if path is None:
-                return None
-            spec = task.evaluation_spec()
-            project = path.read_bytes()
+        async def run(task: Task, which: Which, project: bytes, spec: EvaluationSpec) -> EvalResult:
             async with slots:
                 result = await evaluator.evaluate(project, spec)
             if on_evaluated is not None:
@@ -96,21 +91,23 @@ async def validate_tasks(
             return result
 
         async with asyncio.TaskGroup() as group:
-            pending = [
-                (task, group.create_task(run(task, "golden")), group.create_task(run(task, "initial")))
-                for task in tasks
-            ]
+            pending = []
+            for task in tasks:
+                # Files are read here, before the evaluations start; the script and helper once per task.
+                spec = task.evaluation_spec()
+                golden_path = task.golden_project
+                golden = group.create_task(run(task, "golden", golden_path.read_bytes(), spec)) if golden_path else None
+                initial = group.create_task(run(task, "initial", task.initial_project.read_bytes(), spec))
+                pending.append((task, golden, initial))
 
     rows = []
     for task, golden, initial in pending:
-        golden_result, initial_result = golden.result(), initial.result()
-        assert initial_result is not None
         rows.append(
             TaskValidation(
                 task_id=task.id,
                 category=task.category,
-                golden=ProjectCheck.of(golden_result) if golden_result else None,
-                initial=ProjectCheck.of(initial_result),
+                golden=ProjectCheck.of(golden.result()) if golden else None,
+                initial=ProjectCheck.of(initial.result()),
             )
         )
     return rows
