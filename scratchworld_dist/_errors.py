@@ -4,6 +4,8 @@ Every error the library raises on purpose is one of these; Playwright and OS err
 translated at the edge with ``raise ... from exc`` so callers catch one family::
 
     ScratchWorldError
+    ├── ConfigError                 a sweep config is unreadable or invalid (names the file and fields)
+    ├── RunDirError                 a run directory holds another sweep or unreadable results
     ├── SuiteError                  a task suite or task file cannot be used (names the file)
     │   └── TaskNotFoundError       a task id that the suite does not have
     ├── ProjectFormatError          bytes that are not a Scratch 3 project (.sb3)
@@ -41,12 +43,14 @@ from workers._errors import (
 __all__ = [
     "BridgeError",
     "ChromiumNotFoundError",
+    "ConfigError",
     "EditorBundleMissingError",
     "EditorCrashedError",
     "EditorError",
     "EditorNotReadyError",
     "ProjectFormatError",
     "RendererUnavailableError",
+    "RunDirError",
     "ScratchWorldError",
     "SuiteError",
     "TaskNotFoundError",
@@ -63,3 +67,14 @@ class SuiteError(ScratchWorldError):
 
 class TaskNotFoundError(SuiteError):
     """A requested task id is not part of the suite."""
+
+
+class ConfigError(ScratchWorldError):
+    """A sweep config cannot be read or fails validation; the message lists every bad field."""
+
+    def __init__(self, message: str, path: Path | None = None) -> None:
+        super().__init__(f"{path}: {message}" if path is not None else message)
+
+
+class RunDirError(ScratchWorldError):
+    """A run directory cannot be used as asked (another sweep, another suite, unreadable shards)."""

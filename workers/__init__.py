@@ -3,24 +3,55 @@
 from workers._browser import CHROMIUM_ARGS, BrowserConfig, BrowserSession
 from workers._editor import Editor, EditorStatus
 from workers._editor_server import EditorAssets, EditorServer
+from workers._episode import (
+    AgentName,
+    EpisodeResult,
+    EpisodeSpec,
+    EpisodeTimings,
+    ErrorClass,
+    Mode,
+    ModelSpec,
+    Outcome,
+    StepRecord,
+    TaskPayload,
+    WorkerInfo,
+    outcome_of,
+)
+from workers._episode_runner import EpisodeRunner
 from workers._eval_result import VERDICT_ERROR_KINDS, EvalError, EvalErrorKind, EvalResult, EvalTimings, TestVerdict
 from workers._evaluation import Evaluator
 from workers._evaluation_spec import EvaluationSpec
+from workers._synthetic import SyntheticEpisodes, run_synthetic
 
 __all__ = [
     "CHROMIUM_ARGS",
     "VERDICT_ERROR_KINDS",
+    "AgentName",
     "BrowserConfig",
     "BrowserSession",
     "Editor",
     "EditorAssets",
     "EditorServer",
     "EditorStatus",
+    "EpisodeResult",
+    "EpisodeRunner",
+    "EpisodeSpec",
+    "EpisodeTimings",
+    "ErrorClass",
     "EvalError",
     "EvalErrorKind",
     "EvalResult",
     "EvalTimings",
     "EvaluationSpec",
     "Evaluator",
+    "Mode",
+    "ModelSpec",
+    "Outcome",
+    "StepRecord",
+    "SyntheticEpisodes",
+    "TaskPayload",
     "TestVerdict",
+    "WorkerInfo",
+    "outcome_of",
+    "run_synthetic",
 ]

@@ -89,6 +89,11 @@ class BrowserSession:
             raise RuntimeError("the browser session is not open")
         return self._server.url
 
+    @property
+    def connected(self) -> bool:
+        """Open and its Chromium still alive; a session that is not must be replaced."""
+        return self._state is _State.OPEN and self._browser is not None and self._browser.is_connected()
+
     async def start(self) -> BrowserSession:
         if self._state is not _State.UNOPENED:
             raise RuntimeError(f"a browser session cannot be started when {self._state.value}")

@@ -1,0 +1,209 @@
+"""``run_sweep``: from a config to committed results, resuming whatever the run directory holds.
+
+The run directory is the durable record: its manifest says which sweep it holds, its results
+say which jobs are decided. Running the same config again skips decided jobs, re-runs the rest
+(errors included, with the next attempt number) and never touches committed rows.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import socket
+from pathlib import Path
+
+import ray
+from pydantic import BaseModel
+from rich.console import Console
+
+from scratchworld_dist._errors import ConfigError, RunDirError
+from scratchworld_dist.results import (
+    SCHEMA_VERSION,
+    RunManifest,
+    RunStore,
+    Session,
+    SuiteInfo,
+    read_manifest,
+    record_of,
+    write_manifest,
+)
+from scratchworld_dist.results._manifest import git_commit, now, package_versions
+from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, ray_runtime
+from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import HARNESS_VERSION, JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
+from workers import EpisodeResult
+
+AVAILABLE_AGENTS = frozenset({"oracle", "noop"})
+
+
+class RunPlan(BaseModel):
+    """A sweep resolved against its suite: the tasks' contents and the full job matrix."""
+
+    config: SweepConfig
+    suite: SuiteInfo
+    contents: list[TaskContent]
+    jobs: list[JobSpec]
+
+
+class RunSummary(BaseModel):
+    """What one ``run_sweep`` call did."""
+
+    run_dir: Path
+    planned: int
+    already_decided: int
+    sent: int
+    outcomes: dict[str, int]
+    attempts: int
+    retried: int
+
+
+def config_hash(config: SweepConfig) -> str:
+    """Hash of the fields that shape the job matrix; paths and execution limits may change freely."""
+    shaping = config.model_dump(mode="json", exclude={"suite", "output", "limits", "ray"})
+    return hashlib.sha256(json.dumps(shaping, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def plan_run(config: SweepConfig) -> RunPlan:
+    if config.agent not in AVAILABLE_AGENTS and config.synthetic is None:
+        raise ConfigError(f"agent {config.agent!r} is not available in this build (available: oracle, noop)")
+    suite = load_suite(config.suite, task_list=config.tasks.task_list)
+    tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
+    if not tasks:
+        raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
+    contents = [read_task(task) for task in tasks]
+    info = SuiteInfo(
+        name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
+    )
+    jobs = list(plan_jobs(config.model_specs(), config.modes, config.agent, contents, config.seeds, config.max_steps))
+    return RunPlan(config=config, suite=info, contents=contents, jobs=jobs)
+
+
+def _checked_manifest(plan: RunPlan, run_dir: Path, force: bool) -> RunManifest:
+    fresh = RunManifest(
+        run_name=plan.config.name,
+        schema_version=SCHEMA_VERSION,
+        harness_version=HARNESS_VERSION,
+        config=plan.config.model_dump(mode="json"),
+        config_hash=config_hash(plan.config),
+        suite=plan.suite,
+        planned_jobs=len(plan.jobs),
+        packages=package_versions(),
+        git_commit=git_commit(Path(__file__).parent),
+    )
+    old = read_manifest(run_dir)
+    if old is None:
+        return fresh
+    changes = [
+        f"{what} {before} -> {after}"
+        for what, before, after in (
+            ("sweep config", old.config_hash, fresh.config_hash),
+            ("suite content", old.suite.hash, fresh.suite.hash),
+            ("harness version", old.harness_version, fresh.harness_version),
+            ("result schema", old.schema_version, fresh.schema_version),
+        )
+        if before != after
+    ]
+    if changes and not force:
+        raise RunDirError(
+            f"{run_dir} holds results of another sweep ({'; '.join(changes)}): choose another --out, or pass "
+            "--force to continue here (older rows are kept and reported as stale)"
+        )
+    return fresh.model_copy(update={"sessions": old.sessions})
+
+
+def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | None = None) -> RunSummary:
+    console = console or Console(stderr=True)
+    plan = plan_run(config)
+    run_dir = config.run_dir()
+    store = RunStore(run_dir)
+    manifest = _checked_manifest(plan, run_dir, force)
+    store.open_for_writing()
+    try:
+        attempts = store.attempts()
+        todo = []
+        for job in plan.jobs:
+            last, decided = attempts.get(job.job_id, (0, False))
+            if not decided:
+                todo.append((job, last + 1))
+        session = Session(started_at=now(), host=socket.gethostname(), pid=os.getpid(), planned=len(todo))
+        manifest.sessions.append(session)
+        write_manifest(run_dir, manifest)
+        console.print(
+            f"{config.name}: {len(plan.jobs)} job(s) planned over {plan.suite.tasks} task(s) of {plan.suite.name}; "
+            f"{len(plan.jobs) - len(todo)} already decided, {len(todo)} to run -> {run_dir}"
+        )
+        summary = RunSummary(
+            run_dir=run_dir,
+            planned=len(plan.jobs),
+            already_decided=len(plan.jobs) - len(todo),
+            sent=0,
+            outcomes={"passed": 0, "failed": 0, "error": 0},
+            attempts=0,
+            retried=0,
+        )
+        if todo:
+            summary = _execute(plan, manifest, store, todo, console, summary)
+        session.finished_at = now()
+        session.submitted = summary.sent
+        write_manifest(run_dir, manifest)
+    finally:
+        store.close()
+    return summary
+
+
+def _execute(
+    plan: RunPlan,
+    manifest: RunManifest,
+    store: RunStore,
+    todo: list[tuple[JobSpec, int]],
+    console: Console,
+    summary: RunSummary,
+) -> RunSummary:
+    config = plan.config
+
+    def commit(job: JobSpec, result: EpisodeResult) -> None:
+        artifact_dir = None
+        if result.final_project is not None:
+            artifact_dir = store.write_artifact(job.job_id, result.attempt, "final.sb3", result.final_project)
+        if result.steps:
+            lines = "".join(step.model_dump_json() + "\n" for step in result.steps)
+            artifact_dir = store.write_artifact(job.job_id, result.attempt, "trajectory.jsonl", lines.encode())
+        store.commit(
+            record_of(
+                job,
+                result,
+                run_name=config.name,
+                suite_hash=manifest.suite.hash,
+                harness_version=manifest.harness_version,
+                artifact_dir=artifact_dir,
+            )
+        )
+
+    needed = {job.task_id for job, _ in todo}
+    with ray_runtime(config.ray.address, config.limits.browser_slots) as slots:
+        pool = WorkerPool(slots, config.limits.pages_per_worker, config.synthetic)
+        payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
+        scheduler = Scheduler(
+            pool,
+            payloads,
+            timeout_s=config.limits.episode_timeout_s,
+            retries=config.limits.retries,
+            on_result=commit,
+            max_in_flight=config.limits.max_in_flight,
+        )
+        console.print(f"{len(pool)} worker(s) x {pool.pages} page(s) on {slots} browser slot(s)")
+        try:
+            with live_progress(scheduler.stats, len(todo), console):
+                scheduler.run(todo)
+        finally:
+            pool.close()
+    stats = scheduler.stats
+    return summary.model_copy(
+        update={
+            "sent": stats.submitted,
+            "outcomes": stats.outcomes,
+            "attempts": stats.attempts,
+            "retried": stats.retried,
+        }
+    )

@@ -1,0 +1,41 @@
+"""``scratchworld run CONFIG``: run (or resume) a sweep and print its report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+from rich.console import Console
+
+from scratchworld_dist.sweep import load_sweep_config
+
+EXIT_ERRORS = 1
+
+
+@click.command("run")
+@click.argument("config_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (overrides output).")
+@click.option("--address", help="Ray cluster to join (default: RAY_ADDRESS, else a private local Ray).")
+@click.option("--force", is_flag=True, help="Continue in a run directory that holds another sweep.")
+def run_command(config_file: Path, out: Path | None, address: str | None, force: bool) -> None:
+    """Run the sweep in CONFIG_FILE; run it again to resume.
+
+    Exits 1 when jobs are left without a verdict (errors after all retries).
+    """
+    overrides: dict[str, object] = {}
+    if out is not None:
+        overrides["output"] = out
+    if address is not None:
+        overrides["ray"] = {"address": address}
+    from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
+
+    config = load_sweep_config(config_file, overrides)
+    console = Console(stderr=True)
+    summary = run_sweep(config, force=force, console=console)
+    outcomes = summary.outcomes
+    console.print(
+        f"ran {summary.sent} attempt(s): passed {outcomes['passed']}, failed {outcomes['failed']}, "
+        f"error {outcomes['error']} (retried {summary.retried}); {summary.already_decided} decided before"
+    )
+    if outcomes["error"]:
+        raise click.exceptions.Exit(EXIT_ERRORS)

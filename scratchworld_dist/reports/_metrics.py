@@ -1,0 +1,98 @@
+"""Benchmark metrics as pure functions: pass@k, pass^k and a mean with its 95% interval.
+
+pass@k and pass^k use the unbiased estimators over ``n`` samples of a task of which ``c``
+passed (Chen et al. 2021 for pass@k; its all-``k``-succeed twin for pass^k), averaged over
+tasks. Tasks with fewer than ``k`` samples cannot be estimated at that ``k`` and are left out
+of the average rather than guessed.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from pydantic import BaseModel, ConfigDict
+
+_T_975 = (
+    12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+    2.201, 2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+    2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042,
+)  # fmt: skip
+"""Two-sided 95% quantiles of Student's t for 1..30 degrees of freedom."""
+
+_Z_975 = 1.959963984540054
+
+
+class MeanInterval(BaseModel):
+    """A mean and the half-width of its 95% t interval (``None`` from a single value)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    mean: float
+    half_width: float | None
+    """``mean ± half_width`` is the interval; it is not clipped to [0, 1]."""
+
+    n: int
+    """Number of values averaged."""
+
+
+def pass_at_k(n: int, c: int, k: int) -> float:
+    """Chance that at least one of ``k`` samples drawn without replacement from ``n`` passes."""
+    _check(n, c, k)
+    if n - c < k:
+        return 1.0
+    return 1.0 - math.comb(n - c, k) / math.comb(n, k)
+
+
+def pass_hat_k(n: int, c: int, k: int) -> float:
+    """Chance that all ``k`` samples drawn without replacement from ``n`` pass (pass^k)."""
+    _check(n, c, k)
+    return math.comb(c, k) / math.comb(n, k)
+
+
+def mean_pass_at_k(counts: Sequence[tuple[int, int]], k: int) -> float | None:
+    """pass@k averaged over the tasks (``(n, c)`` each) that have at least ``k`` samples."""
+    values = [pass_at_k(n, c, k) for n, c in counts if n >= k]
+    return sum(values) / len(values) if values else None
+
+
+def mean_pass_hat_k(counts: Sequence[tuple[int, int]], k: int) -> float | None:
+    """pass^k averaged over the tasks (``(n, c)`` each) that have at least ``k`` samples."""
+    values = [pass_hat_k(n, c, k) for n, c in counts if n >= k]
+    return sum(values) / len(values) if values else None
+
+
+def t_quantile_975(df: int) -> float:
+    """Student's t quantile for a two-sided 95% interval with ``df`` degrees of freedom.
+
+    A table up to 30; beyond it the Cornish-Fisher expansion around the normal quantile, which
+    is within 0.0001 of the exact value there (plain 1.96 would understate the interval).
+    """
+    if df < 1:
+        raise ValueError(f"degrees of freedom must be at least 1, got {df}")
+    if df <= len(_T_975):
+        return _T_975[df - 1]
+    z = _Z_975
+    return (
+        z
+        + (z**3 + z) / (4 * df)
+        + (5 * z**5 + 16 * z**3 + 3 * z) / (96 * df**2)
+        + (3 * z**7 + 19 * z**5 + 17 * z**3 - 15 * z) / (384 * df**3)
+    )
+
+
+def mean_interval(values: Sequence[float]) -> MeanInterval:
+    """Mean of ``values`` with a 95% t interval from their sample standard deviation."""
+    if not values:
+        raise ValueError("mean_interval needs at least one value")
+    n = len(values)
+    mean = sum(values) / n
+    if n == 1:
+        return MeanInterval(mean=mean, half_width=None, n=1)
+    variance = sum((v - mean) ** 2 for v in values) / (n - 1)
+    return MeanInterval(mean=mean, half_width=t_quantile_975(n - 1) * math.sqrt(variance / n), n=n)
+
+
+def _check(n: int, c: int, k: int) -> None:
+    if not 0 <= c <= n or not 1 <= k <= n:
+        raise ValueError(f"need 0 <= c <= n and 1 <= k <= n, got n={n}, c={c}, k={k}")

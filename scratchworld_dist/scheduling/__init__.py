@@ -1,0 +1,21 @@
+"""Scheduling on Ray: the runtime, the worker pool, the driver loop and its progress line."""
+
+import os
+
+# Keep a local Ray on the loopback interface (set before Ray is imported; 1 opts out).
+os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
+
+from scratchworld_dist.scheduling._pool import WorkerPool
+from scratchworld_dist.scheduling._progress import live_progress
+from scratchworld_dist.scheduling._ray_runtime import BROWSER_RESOURCE, RayUnavailableError, ray_runtime
+from scratchworld_dist.scheduling._scheduler import Scheduler, SchedulerStats
+
+__all__ = [
+    "BROWSER_RESOURCE",
+    "RayUnavailableError",
+    "Scheduler",
+    "SchedulerStats",
+    "WorkerPool",
+    "live_progress",
+    "ray_runtime",
+]

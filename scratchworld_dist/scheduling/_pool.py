@@ -1,0 +1,45 @@
+"""The pool of worker actors, sized by the cluster's browser slots."""
+
+from __future__ import annotations
+
+import ray
+from ray.actor import ActorHandle
+
+from scratchworld_dist.scheduling._ray_runtime import BROWSER_RESOURCE, RayUnavailableError
+from scratchworld_dist.scheduling._worker_actor import EpisodeWorker
+from workers import SyntheticEpisodes
+
+
+class WorkerPool:
+    """One actor per browser; each reserves ``pages`` browser slots and runs that many episodes.
+
+    Actors restart without limit when their process dies (their constructor re-runs and the
+    browser is relaunched on first use); calls are never retried by Ray, the driver decides.
+    """
+
+    def __init__(self, browser_slots: int, pages: int, synthetic: SyntheticEpisodes | None) -> None:
+        if browser_slots < pages:
+            raise RayUnavailableError(
+                f"a worker needs {pages} browser slot(s) (pages_per_worker) but the cluster offers {browser_slots}"
+            )
+        self.pages = pages
+        count = browser_slots // pages
+        actor_class = ray.remote(EpisodeWorker).options(
+            resources={BROWSER_RESOURCE: pages},
+            num_cpus=0,
+            max_restarts=-1,
+            max_task_retries=0,
+            max_concurrency=pages + 4,
+        )
+        self.handles: list[ActorHandle] = [actor_class.remote(index, synthetic) for index in range(count)]
+
+    def __len__(self) -> int:
+        return len(self.handles)
+
+    def restart(self, index: int) -> None:
+        """Kill a worker that stopped answering; Ray starts it again and its calls fail over."""
+        ray.kill(self.handles[index], no_restart=False)
+
+    def close(self) -> None:
+        for handle in self.handles:
+            ray.kill(handle, no_restart=True)

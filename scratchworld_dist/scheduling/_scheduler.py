@@ -1,0 +1,169 @@
+"""The driver loop: a bounded number of jobs in flight, results handled as they finish.
+
+Each worker gets at most ``pages`` jobs at a time, so a job's clock starts when it is sent and
+a dead worker costs only its own jobs. Failures are classified, never lost:
+
+- a worker that dies (OOM, crash, kill) fails its calls with ``RayActorError``; those attempts
+  are recorded as ``worker_died`` and retried, and Ray restarts the worker;
+- a worker that stops answering past a job's timeout plus a grace period is restarted by the
+  driver; the overdue job is recorded as ``episode_timeout``, its neighbours are re-sent as the
+  same attempt (they did nothing wrong);
+- an ``error`` outcome is retried up to ``retries`` times in this run.
+"""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+
+import ray
+from ray.exceptions import GetTimeoutError, RayActorError, RayError
+
+from scratchworld_dist.scheduling._pool import WorkerPool
+from scratchworld_dist.sweep import JobSpec
+from workers import EpisodeResult
+
+DEADLINE_GRACE_S = 30.0
+"""How long past its own timeout a worker may stay silent before the driver restarts it."""
+
+WAIT_SLICE_S = 0.5
+"""Longest single ``ray.wait``; bounds how late deadlines are noticed."""
+
+
+@dataclass
+class _Flight:
+    job: JobSpec
+    attempt: int
+    worker: int
+    deadline: float
+    collateral: bool = False
+    """The driver restarted this job's worker because of another job; re-send it unchanged."""
+
+
+@dataclass
+class SchedulerStats:
+    """Live counters for the progress display."""
+
+    submitted: int = 0
+    in_flight: int = 0
+    attempts: int = 0
+    retried: int = 0
+    """Attempts that ended in error and were sent again."""
+
+    restarts: int = 0
+    """Workers the driver restarted because they stopped answering."""
+
+    outcomes: dict[str, int] = field(default_factory=lambda: {"passed": 0, "failed": 0, "error": 0})
+    """Final outcomes of jobs finished in this run."""
+
+    cost_usd: float = 0.0
+
+
+ResultHandler = Callable[[JobSpec, EpisodeResult], None]
+
+
+class Scheduler:
+    """Runs jobs on a worker pool and hands every finished attempt to ``on_result``."""
+
+    def __init__(
+        self,
+        pool: WorkerPool,
+        payloads: dict[str, ray.ObjectRef],
+        *,
+        timeout_s: float,
+        retries: int,
+        on_result: ResultHandler,
+        max_in_flight: int | None = None,
+    ) -> None:
+        self.pool = pool
+        self.payloads = payloads
+        self.timeout_s = timeout_s
+        self.retries = retries
+        self.on_result = on_result
+        self.capacity = min(max_in_flight or len(pool) * pool.pages, len(pool) * pool.pages)
+        self.stats = SchedulerStats()
+        self._flights: dict[ray.ObjectRef, _Flight] = {}
+        self._load = [0] * len(pool)
+
+    def run(self, jobs: Iterable[tuple[JobSpec, int]]) -> None:
+        """Run each (job, first attempt) to a final outcome or until its retries are spent."""
+        queue: deque[tuple[JobSpec, int]] = deque(jobs)
+        first = {job.job_id: attempt for job, attempt in queue}
+        while queue or self._flights:
+            while queue and len(self._flights) < self.capacity:
+                self._submit(*queue.popleft())
+            for flight, result in self._collect():
+                if result is None:  # its worker was restarted because of another job
+                    queue.appendleft((flight.job, flight.attempt))
+                    continue
+                retry = result.outcome == "error" and result.attempt - first[flight.job.job_id] < self.retries
+                self._record(flight.job, result, final=not retry)
+                if retry:
+                    queue.append((flight.job, result.attempt + 1))
+
+    def _submit(self, job: JobSpec, attempt: int) -> None:
+        worker = min(range(len(self._load)), key=self._load.__getitem__)
+        handle = self.pool.handles[worker]
+        ref = handle.run.remote(job.episode(attempt, self.timeout_s), self.payloads[job.task_id])
+        self._flights[ref] = _Flight(job, attempt, worker, time.monotonic() + self.timeout_s + DEADLINE_GRACE_S)
+        self._load[worker] += 1
+        self.stats.submitted += 1
+        self.stats.in_flight = len(self._flights)
+
+    def _collect(self) -> list[tuple[_Flight, EpisodeResult | None]]:
+        """Finished attempts (``None`` for a job to re-send as the same attempt)."""
+        refs = list(self._flights)
+        ready, _ = ray.wait(refs, num_returns=1, timeout=WAIT_SLICE_S)
+        if ready:
+            ready, _ = ray.wait(refs, num_returns=len(refs), timeout=0)
+        finished: list[tuple[_Flight, EpisodeResult | None]] = []
+        for ref in ready:
+            flight = self._flights.pop(ref)
+            self._load[flight.worker] -= 1
+            finished.append((flight, self._result(ref, flight)))
+        finished.extend(self._overdue())
+        self.stats.in_flight = len(self._flights)
+        return finished
+
+    def _result(self, ref: ray.ObjectRef, flight: _Flight) -> EpisodeResult | None:
+        spec = flight.job.episode(flight.attempt, self.timeout_s)
+        try:
+            return ray.get(ref, timeout=60)
+        except RayActorError as exc:
+            if flight.collateral:
+                return None
+            return EpisodeResult.errored(spec, "worker_died", f"the worker died during the episode: {_first_line(exc)}")
+        except (RayError, GetTimeoutError) as exc:
+            return EpisodeResult.errored(spec, "internal_error", f"{type(exc).__name__}: {_first_line(exc)}")
+
+    def _overdue(self) -> list[tuple[_Flight, EpisodeResult | None]]:
+        now = time.monotonic()
+        overdue = [(ref, f) for ref, f in self._flights.items() if f.deadline < now and not f.collateral]
+        finished: list[tuple[_Flight, EpisodeResult | None]] = []
+        for ref, flight in overdue:
+            self._flights.pop(ref)
+            self._load[flight.worker] -= 1
+            for other in self._flights.values():
+                if other.worker == flight.worker:
+                    other.collateral = True
+            self.pool.restart(flight.worker)
+            self.stats.restarts += 1
+            spec = flight.job.episode(flight.attempt, self.timeout_s)
+            message = f"no answer {self.timeout_s + DEADLINE_GRACE_S:g} s after the episode started; worker restarted"
+            finished.append((flight, EpisodeResult.errored(spec, "episode_timeout", message)))
+        return finished
+
+    def _record(self, job: JobSpec, result: EpisodeResult, *, final: bool) -> None:
+        self.stats.attempts += 1
+        if final:
+            self.stats.outcomes[result.outcome] += 1
+        else:
+            self.stats.retried += 1
+        self.stats.cost_usd += result.cost_usd
+        self.on_result(job, result)
+
+
+def _first_line(exc: BaseException) -> str:
+    return (str(exc).strip().splitlines() or [type(exc).__name__])[0][:500]

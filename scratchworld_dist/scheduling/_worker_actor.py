@@ -1,0 +1,85 @@
+"""The Ray actor behind every worker: one browser, several concurrent episodes, one page each.
+
+Whatever happens inside an episode comes back as an ``EpisodeResult`` (an error outcome at
+worst); only the death of the process itself is left to Ray and the driver. The browser is
+started on first use and started again if it dies, so a restarted actor heals itself.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import socket
+import traceback
+
+import ray
+
+from workers import (
+    BrowserConfig,
+    BrowserSession,
+    EpisodeResult,
+    EpisodeRunner,
+    EpisodeSpec,
+    SyntheticEpisodes,
+    TaskPayload,
+    WorkerInfo,
+    run_synthetic,
+)
+from workers._errors import EditorError
+
+
+class EpisodeWorker:
+    """Runs episodes for the driver; construct through ``ray.remote`` (see ``WorkerPool``)."""
+
+    def __init__(self, worker_index: int, synthetic: SyntheticEpisodes | None = None) -> None:
+        self.synthetic = synthetic
+        self.info_ = WorkerInfo(
+            node_id=ray.get_runtime_context().get_node_id(),
+            hostname=socket.gethostname(),
+            pid=os.getpid(),
+            worker_index=worker_index,
+        )
+        self._session: BrowserSession | None = None
+        self._runner: EpisodeRunner | None = None
+        self._starting = asyncio.Lock()
+
+    async def info(self) -> WorkerInfo:
+        return self.info_
+
+    async def run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
+        try:
+            result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
+        except TimeoutError:
+            result = EpisodeResult.errored(spec, "episode_timeout", f"episode exceeded {spec.timeout_s:g} s")
+        except EditorError as exc:
+            await self._drop_browser()
+            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
+        except Exception as exc:  # the worker must answer, whatever broke: the driver records it
+            detail = "".join(traceback.format_exception_only(exc)).strip()
+            result = EpisodeResult.errored(spec, "internal_error", detail)
+        return result.model_copy(update={"worker": self.info_})
+
+    async def _run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
+        if self.synthetic is not None:
+            return await run_synthetic(spec, task, self.synthetic)
+        runner = await self._browser()
+        result = await runner.run(spec, task)
+        if result.error_class == "editor_failure":
+            await self._drop_browser()
+        return result
+
+    async def _browser(self) -> EpisodeRunner:
+        async with self._starting:
+            if self._runner is None or not self._runner.session.connected:
+                await self._drop_browser()
+                self._session = await BrowserSession(BrowserConfig()).start()
+                self._runner = EpisodeRunner(self._session)
+            return self._runner
+
+    async def _drop_browser(self) -> None:
+        session, self._session, self._runner = self._session, None, None
+        if session is not None:
+            await session.close()
+
+    async def close(self) -> None:
+        await self._drop_browser()

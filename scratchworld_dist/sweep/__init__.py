@@ -1,0 +1,37 @@
+"""Sweeps: the config file and the job matrix it plans."""
+
+from scratchworld_dist.sweep._config import (
+    Limits,
+    ModelConfig,
+    RayConfig,
+    SweepConfig,
+    TaskSelection,
+    load_sweep_config,
+)
+from scratchworld_dist.sweep._plan import (
+    HARNESS_VERSION,
+    NO_MODEL,
+    JobSpec,
+    TaskContent,
+    job_id,
+    plan_jobs,
+    read_task,
+    suite_hash,
+)
+
+__all__ = [
+    "HARNESS_VERSION",
+    "NO_MODEL",
+    "JobSpec",
+    "Limits",
+    "ModelConfig",
+    "RayConfig",
+    "SweepConfig",
+    "TaskContent",
+    "TaskSelection",
+    "job_id",
+    "load_sweep_config",
+    "plan_jobs",
+    "read_task",
+    "suite_hash",
+]

@@ -1,0 +1,203 @@
+"""The sweep config: a YAML file that says which jobs to run, where, and within which limits.
+
+Every field is validated by pydantic and every problem is reported with its path in the file,
+so a typo fails before a single browser starts. Relative paths resolve against the config
+file's folder, so a config means the same thing from any working directory.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+from typing import Any, Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from scratchworld_dist._errors import ConfigError
+from workers import AgentName, Mode, ModelSpec, SyntheticEpisodes
+
+_ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
+
+
+class ModelConfig(BaseModel):
+    """One model of the sweep; the key itself stays in the environment, named by ``api_key_env``."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    model: str = Field(min_length=1)
+    name: str | None = None
+    temperature: float | None = Field(default=None, ge=0)
+    max_tokens: int | None = Field(default=None, gt=0)
+    api_base: str | None = None
+    api_key_env: str | None = None
+    params: dict[str, Any] = Field(default_factory=dict)
+
+    @field_validator("api_key_env")
+    @classmethod
+    def _env_name(cls, value: str | None) -> str | None:
+        if value is not None and not _ENV_NAME.match(value):
+            raise ValueError("must be the NAME of an environment variable (e.g. OPENAI_API_KEY), not a key")
+        return value
+
+    @field_validator("params")
+    @classmethod
+    def _no_secrets(cls, value: dict[str, Any]) -> dict[str, Any]:
+        secrets = sorted(k for k in value if k.lower() in _SECRET_KEYS)
+        if secrets:
+            raise ValueError(f"{', '.join(secrets)} may not appear in a config; use api_key_env")
+        return value
+
+    def spec(self) -> ModelSpec:
+        return ModelSpec(
+            name=self.name or self.model,
+            model=self.model,
+            temperature=self.temperature,
+            max_tokens=self.max_tokens,
+            api_base=self.api_base,
+            api_key_env=self.api_key_env,
+            params=self.params,
+        )
+
+
+class TaskSelection(BaseModel):
+    """Which tasks of the suite to run; empty means all."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    categories: list[Literal["create", "debug", "extend", "compute"]] = Field(default_factory=list)
+    ids: list[str] = Field(default_factory=list)
+    task_list: str | None = None
+    """Upstream task list name (e.g. ``all_tasks``, ``15_tasks``)."""
+
+
+class Limits(BaseModel):
+    """How long, how often and how many at once."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    episode_timeout_s: float = Field(default=900.0, gt=0)
+    """Wall-clock limit for one episode (agent and evaluation); past it the job is an error."""
+
+    retries: int = Field(default=2, ge=0)
+    """Extra attempts for a job that ended in ``error`` within one run (resume retries again)."""
+
+    pages_per_worker: int = Field(default=1, ge=1)
+    """Episodes one worker (one browser) runs at once, one page each."""
+
+    browser_slots: int | None = Field(default=None, ge=1)
+    """Editors the local node may hold when Ray is started here (default: its CPU count)."""
+
+    max_in_flight: int | None = Field(default=None, ge=1)
+    """Cap on jobs submitted at once (default: all worker pages)."""
+
+
+class RayConfig(BaseModel):
+    """Where Ray runs: a private local instance unless an address is given."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    address: str | None = None
+    """``auto`` or ``host:port`` of a running cluster; ``RAY_ADDRESS`` also works."""
+
+
+class SweepConfig(BaseModel):
+    """A whole sweep: the job matrix model x mode x task x seed, and how to run it."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
+    suite: Path
+    tasks: TaskSelection = Field(default_factory=TaskSelection)
+    agent: AgentName = "oracle"
+    models: list[ModelConfig] = Field(default_factory=list)
+    modes: list[Mode] = Field(default_factory=lambda: ["composite"], min_length=1)
+    seeds: list[int] = Field(default_factory=lambda: [0], min_length=1)
+    max_steps: int = Field(default=50, gt=0)
+    limits: Limits = Field(default_factory=Limits)
+    output: Path | None = None
+    """The run directory (default: ``results/<name>`` in the working directory)."""
+
+    ray: RayConfig = Field(default_factory=RayConfig)
+    synthetic: SyntheticEpisodes | None = None
+    """Run browserless synthetic episodes instead (scheduler checks and benchmarks)."""
+
+    @field_validator("seeds", mode="before")
+    @classmethod
+    def _seed_count(cls, value: Any) -> Any:
+        if isinstance(value, int) and not isinstance(value, bool):
+            if value < 1:
+                raise ValueError("a seed count must be at least 1")
+            return list(range(value))
+        return value
+
+    @field_validator("seeds")
+    @classmethod
+    def _distinct_seeds(cls, value: list[int]) -> list[int]:
+        if len(set(value)) != len(value):
+            raise ValueError("seeds must be distinct")
+        return value
+
+    @field_validator("modes")
+    @classmethod
+    def _distinct_modes(cls, value: list[Mode]) -> list[Mode]:
+        if len(set(value)) != len(value):
+            raise ValueError("modes must be distinct")
+        return value
+
+    @model_validator(mode="after")
+    def _models_fit_agent(self) -> SweepConfig:
+        if self.agent == "llm" and not self.models:
+            raise ValueError("agent 'llm' needs at least one entry under models")
+        names = [m.name or m.model for m in self.models]
+        duplicated = sorted({n for n in names if names.count(n) > 1})
+        if duplicated:
+            raise ValueError(f"model names must be distinct; give these a name: {', '.join(duplicated)}")
+        return self
+
+    def model_specs(self) -> list[ModelSpec | None]:
+        """The models of the matrix; scripted agents (oracle, noop) use none."""
+        if self.agent != "llm" and not self.models:
+            return [None]
+        return [m.spec() for m in self.models]
+
+    def run_dir(self) -> Path:
+        return self.output if self.output is not None else Path("results") / self.name
+
+
+def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None) -> SweepConfig:
+    """Read, validate and resolve a sweep config; raises ``ConfigError`` listing every problem."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"cannot read the config: {exc}", path) from exc
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise ConfigError(f"not valid YAML: {exc}", path) from exc
+    if not isinstance(data, dict):
+        raise ConfigError("the config must be a mapping of fields (name, suite, agent, ...)", path)
+    data.update(overrides or {})
+    try:
+        config = SweepConfig.model_validate(data)
+    except ValidationError as exc:
+        problems = "; ".join(f"{_field_path(e['loc'])}: {e['msg']}" for e in exc.errors())
+        raise ConfigError(f"invalid config: {problems}", path) from None
+    base = path.parent
+    resolved: dict[str, Any] = {"suite": _resolve(base, config.suite)}
+    if config.output is not None and "output" not in (overrides or {}):
+        resolved["output"] = _resolve(base, config.output)
+    if config.ray.address is None and os.environ.get("RAY_ADDRESS"):
+        resolved["ray"] = RayConfig(address=os.environ["RAY_ADDRESS"])
+    return config.model_copy(update=resolved)
+
+
+def _resolve(base: Path, path: Path) -> Path:
+    return path if path.is_absolute() else (base / path).resolve()
+
+
+def _field_path(loc: tuple[int | str, ...]) -> str:
+    return ".".join(str(part) for part in loc) or "(top level)"

@@ -1,0 +1,190 @@
+"""The contract between the driver and a worker: what one episode is given and what it returns.
+
+Everything here crosses process (and host) boundaries through Ray, so it is plain pydantic data:
+the driver never sends paths a remote node could not open, only the bytes and sources it needs.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, JsonValue
+
+from workers._eval_result import EvalResult
+from workers._evaluation_spec import EvaluationSpec
+
+Mode = Literal["composite", "primitive"]
+AgentName = Literal["oracle", "noop", "llm"]
+Outcome = Literal["passed", "failed", "error"]
+
+ErrorClass = Literal[
+    "episode_timeout",  # the episode ran past its limit and was cancelled
+    "worker_died",  # the worker process (or its browser) died while the job was in flight
+    "editor_failure",  # the editor could not be opened, loaded or evaluated in
+    "evaluator_error",  # the evaluation produced no verdict for reasons outside the project
+    "agent_error",  # the agent itself crashed (a bug or a provider down after its retries)
+    "internal_error",  # anything else: a bug in this harness
+]
+"""Why a job produced no verdict; every class is retried and kept out of SR/PSR."""
+
+
+class ModelSpec(BaseModel):
+    """A model as LiteLLM addresses it, with the parameters that change its answers."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    name: str
+    """Label used in reports (defaults to the LiteLLM model string)."""
+
+    model: str
+    """LiteLLM model string, e.g. ``openai/gpt-4o``."""
+
+    temperature: float | None = None
+    max_tokens: int | None = Field(default=None, gt=0)
+    api_base: str | None = None
+    api_key_env: str | None = None
+    """Name of the environment variable that holds the key on the worker; never the key."""
+
+    params: dict[str, JsonValue] = Field(default_factory=dict)
+    """Further LiteLLM keyword arguments (e.g. ``top_p``)."""
+
+
+class EpisodeSpec(BaseModel):
+    """One job as a worker sees it: who acts, in which mode, for how long."""
+
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int = Field(ge=1)
+    task_id: str
+    mode: Mode
+    agent: AgentName
+    model: ModelSpec | None
+    seed: int
+    max_steps: int = Field(gt=0)
+    timeout_s: float = Field(gt=0)
+    """Wall-clock limit for the whole episode, agent and evaluation included."""
+
+
+class TaskPayload(BaseModel):
+    """The task's content, shipped once per task to the object store and shared by its jobs."""
+
+    model_config = ConfigDict(frozen=True)
+
+    task_id: str
+    category: str
+    instruction: str
+    initial_project: bytes
+    golden_project: bytes | None
+    evaluation: EvaluationSpec
+
+
+class StepRecord(BaseModel):
+    """One agent action and what the environment answered."""
+
+    index: int = Field(ge=0)
+    action: str
+    """The action's name (``done``, ``add_block``, ``click``...)."""
+
+    args: dict[str, JsonValue] = Field(default_factory=dict)
+    ok: bool
+    """Whether the environment accepted and carried out the action."""
+
+    error_code: str | None = None
+    error_message: str | None = None
+    latency_s: float = 0.0
+    """Wall time of the agent's decision plus the action."""
+
+    llm_calls: int = 0
+    input_tokens: int = 0
+    output_tokens: int = 0
+    cost_usd: float = 0.0
+
+
+class WorkerInfo(BaseModel):
+    """Where a job ran."""
+
+    model_config = ConfigDict(frozen=True)
+
+    node_id: str
+    hostname: str
+    pid: int
+    worker_index: int
+
+
+class EpisodeTimings(BaseModel):
+    """Wall-clock seconds per phase of an episode."""
+
+    setup_s: float = 0.0
+    agent_s: float = 0.0
+    evaluation_s: float = 0.0
+    total_s: float = 0.0
+
+
+class EpisodeResult(BaseModel):
+    """What a worker returns for one job; the driver turns it into result rows."""
+
+    job_id: str
+    attempt: int
+    outcome: Outcome
+    error_class: ErrorClass | None = None
+    error_message: str | None = None
+    stop_reason: str
+    """``done``, ``failed`` (agent gave up), ``max_steps``, or the error class."""
+
+    evaluation: EvalResult | None = None
+    steps: list[StepRecord] = Field(default_factory=list)
+    final_project: bytes | None = None
+    timings: EpisodeTimings = Field(default_factory=EpisodeTimings)
+    worker: WorkerInfo | None = None
+    started_at: float = 0.0
+    """Unix time the worker started the episode."""
+
+    finished_at: float = 0.0
+
+    @property
+    def llm_calls(self) -> int:
+        return sum(step.llm_calls for step in self.steps)
+
+    @property
+    def input_tokens(self) -> int:
+        return sum(step.input_tokens for step in self.steps)
+
+    @property
+    def output_tokens(self) -> int:
+        return sum(step.output_tokens for step in self.steps)
+
+    @property
+    def cost_usd(self) -> float:
+        return sum(step.cost_usd for step in self.steps)
+
+    @classmethod
+    def errored(
+        cls, spec: EpisodeSpec, error_class: ErrorClass, message: str, *, steps: list[StepRecord] | None = None
+    ) -> EpisodeResult:
+        """A result with no verdict, for the driver to retry or record."""
+        return cls(
+            job_id=spec.job_id,
+            attempt=spec.attempt,
+            outcome="error",
+            error_class=error_class,
+            error_message=message,
+            stop_reason=error_class,
+            steps=steps or [],
+        )
+
+
+def outcome_of(evaluation: EvalResult) -> tuple[Outcome, ErrorClass | None]:
+    """Map a verdict to the three outcome classes the reports use.
+
+    A project the agent broke, or one that makes the script throw or hang, is the agent's
+    failure (upstream scores it 0); an evaluation the editor could not carry out is an error.
+    """
+    if evaluation.error is None:
+        return ("passed" if evaluation.success else "failed"), None
+    if evaluation.error.kind == "editor_failure":
+        return "error", "editor_failure"
+    if evaluation.error.kind in {"script_invalid", "result_invalid"}:
+        # The task's own script is broken: no verdict about the agent can be drawn.
+        return "error", "evaluator_error"
+    return "failed", None

@@ -1,0 +1,105 @@
+"""One episode: open the editor on the initial project, let the agent act, evaluate what it left.
+
+The agent works in its own fresh page; the evaluation always runs in another fresh page
+(``Evaluator``), so nothing the agent left running in its VM can influence the verdict.
+"""
+
+from __future__ import annotations
+
+import time
+
+from workers._actions import FINAL_ACTIONS, Action, LoadProject
+from workers._browser import BrowserSession
+from workers._editor import Editor
+from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, StepRecord, TaskPayload, outcome_of
+from workers._errors import BridgeError, EditorError
+from workers._evaluation import Evaluator
+from workers.agents import Agent, AgentUnavailableError, agent_for
+
+
+class EpisodeRunner:
+    """Runs episodes in one browser session; safe to use for several episodes at once."""
+
+    def __init__(self, session: BrowserSession) -> None:
+        self.session = session
+        self.evaluator = Evaluator(session)
+
+    async def run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
+        started, clock = time.time(), time.perf_counter()
+        timings = EpisodeTimings()
+        steps: list[StepRecord] = []
+        try:
+            agent = agent_for(spec, task)
+        except AgentUnavailableError as exc:
+            return _finish(EpisodeResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
+        try:
+            async with self.session.editor() as editor:
+                await editor.load_project(task.initial_project)
+                timings.setup_s = time.perf_counter() - clock
+                stop_reason = await _act(agent, editor, spec, steps)
+                timings.agent_s = time.perf_counter() - clock - timings.setup_s
+                final_project = await editor.save_project()
+        except (EditorError, BridgeError) as exc:
+            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=steps)
+            return _finish(result, started, clock, timings)
+        evaluation_start = time.perf_counter()
+        evaluation = await self.evaluator.evaluate(final_project, task.evaluation)
+        timings.evaluation_s = time.perf_counter() - evaluation_start
+        outcome, error_class = outcome_of(evaluation)
+        result = EpisodeResult(
+            job_id=spec.job_id,
+            attempt=spec.attempt,
+            outcome=outcome,
+            error_class=error_class,
+            error_message=evaluation.error.message if error_class and evaluation.error else None,
+            stop_reason=stop_reason,
+            evaluation=evaluation,
+            steps=steps,
+            final_project=final_project,
+        )
+        return _finish(result, started, clock, timings)
+
+
+async def _act(agent: Agent, editor: Editor, spec: EpisodeSpec, steps: list[StepRecord]) -> str:
+    """The agent loop; returns why it stopped."""
+    for index in range(spec.max_steps):
+        step_start = time.perf_counter()
+        # Observations of the composite and primitive modes are built here once those modes exist;
+        # scripted agents do not observe.
+        action = await agent.act(None)
+        ok, error_code, error_message = await _apply(editor, action)
+        steps.append(
+            StepRecord(
+                index=index,
+                action=action.name,
+                args=_describe(action),
+                ok=ok,
+                error_code=error_code,
+                error_message=error_message,
+                latency_s=time.perf_counter() - step_start,
+            )
+        )
+        if action.name in FINAL_ACTIONS:
+            return action.name
+    return "max_steps"
+
+
+async def _apply(editor: Editor, action: Action) -> tuple[bool, str | None, str | None]:
+    if isinstance(action, LoadProject):
+        try:
+            await editor.load_project(action.sb3)
+        except BridgeError as exc:
+            return False, exc.kind, exc.detail
+    return True, None, None
+
+
+def _describe(action: Action) -> dict[str, str | int]:
+    """The action's arguments as they are logged (bulky payloads by size only)."""
+    if isinstance(action, LoadProject):
+        return {"sb3_bytes": len(action.sb3)}
+    return {k: v for k, v in action.model_dump(exclude={"name"}).items() if isinstance(v, str | int)}
+
+
+def _finish(result: EpisodeResult, started: float, clock: float, timings: EpisodeTimings) -> EpisodeResult:
+    timings.total_s = time.perf_counter() - clock
+    return result.model_copy(update={"timings": timings, "started_at": started, "finished_at": time.time()})

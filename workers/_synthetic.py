@@ -1,0 +1,49 @@
+"""Browserless episodes: the scheduler, results and reports exercised without an editor.
+
+Used by ``benchmarks/scheduler.py`` and by cluster smoke tests; a synthetic episode waits for
+its duration and reports a verdict decided by the task id, as a real one would.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import time
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, StepRecord, TaskPayload
+from workers._eval_result import EvalResult, TestVerdict
+
+
+class SyntheticEpisodes(BaseModel):
+    """How synthetic episodes behave."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    duration_s: float = Field(default=0.0, ge=0)
+    """How long each episode takes."""
+
+    fail_tasks: list[str] = Field(default_factory=list)
+    """Task ids whose episodes fail one of their two tests; every other task passes."""
+
+
+async def run_synthetic(spec: EpisodeSpec, task: TaskPayload, behaviour: SyntheticEpisodes) -> EpisodeResult:
+    started, clock = time.time(), time.perf_counter()
+    if behaviour.duration_s:
+        await asyncio.sleep(behaviour.duration_s)
+    fails = task.task_id in behaviour.fail_tasks
+    tests = [TestVerdict(name="runs", passed=True), TestVerdict(name="behaves", passed=not fails)]
+    passed = sum(t.passed for t in tests)
+    evaluation = EvalResult(success=not fails, passed=passed, total=len(tests), psr=passed / len(tests), tests=tests)
+    elapsed = time.perf_counter() - clock
+    return EpisodeResult(
+        job_id=spec.job_id,
+        attempt=spec.attempt,
+        outcome="failed" if fails else "passed",
+        stop_reason="done",
+        evaluation=evaluation,
+        steps=[StepRecord(index=0, action="done", ok=True, latency_s=elapsed)],
+        timings=EpisodeTimings(agent_s=elapsed, total_s=elapsed),
+        started_at=started,
+        finished_at=time.time(),
+    )
