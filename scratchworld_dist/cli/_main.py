@@ -9,7 +9,9 @@ import click
 from scratchworld_dist._errors import ScratchWorldError
 from scratchworld_dist.cli._evaluate import evaluate_command
 from scratchworld_dist.cli._gui import gui_command
+from scratchworld_dist.cli._report import report_command
 from scratchworld_dist.cli._run import run_command
+from scratchworld_dist.cli._status import status_command
 from scratchworld_dist.cli._validate import validate_command
 
 EXIT_USER_ERROR = 2
@@ -24,7 +26,9 @@ def cli() -> None:
 cli.add_command(validate_command)
 cli.add_command(evaluate_command)
 cli.add_command(gui_command)
+cli.add_command(report_command)
 cli.add_command(run_command)
+cli.add_command(status_command)
 
 
 def main() -> None:

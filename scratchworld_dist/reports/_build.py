@@ -113,8 +113,12 @@ def _error_counts(attempts: Iterable[JobRow], effective: Iterable[JobRow]) -> li
 
 
 def _recovered(attempts: Iterable[JobRow], effective: Iterable[JobRow]) -> int:
-    errored = {r.job_id for r in attempts if r.outcome == "error"}
-    return sum(r.job_id in errored for r in effective if r.outcome in DETERMINATE)
+    """Jobs whose verdict came from an attempt after one that ended in error."""
+    first_error: dict[str, int] = {}
+    for row in attempts:
+        if row.outcome == "error":
+            first_error[row.job_id] = min(row.attempt, first_error.get(row.job_id, row.attempt))
+    return sum(r.outcome in DETERMINATE and r.attempt > first_error.get(r.job_id, r.attempt) for r in effective)
 
 
 def _error_class(row: JobRow) -> str:

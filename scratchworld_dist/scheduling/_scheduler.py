@@ -38,6 +38,9 @@ class _Flight:
     attempt: int
     worker: int
     deadline: float
+    sent_at: float
+    """Unix time the job was sent: the start of an attempt that never reported back."""
+
     collateral: bool = False
     """The driver restarted this job's worker because of another job; re-send it unchanged."""
 
@@ -107,7 +110,8 @@ class Scheduler:
         worker = min(range(len(self._load)), key=self._load.__getitem__)
         handle = self.pool.handles[worker]
         ref = handle.run.remote(job.episode(attempt, self.timeout_s), self.payloads[job.task_id])
-        self._flights[ref] = _Flight(job, attempt, worker, time.monotonic() + self.timeout_s + DEADLINE_GRACE_S)
+        deadline = time.monotonic() + self.timeout_s + DEADLINE_GRACE_S
+        self._flights[ref] = _Flight(job, attempt, worker, deadline, sent_at=time.time())
         self._load[worker] += 1
         self.stats.submitted += 1
         self.stats.in_flight = len(self._flights)
@@ -134,9 +138,11 @@ class Scheduler:
         except RayActorError as exc:
             if flight.collateral:
                 return None
-            return EpisodeResult.errored(spec, "worker_died", f"the worker died during the episode: {_first_line(exc)}")
+            message = f"the worker died during the episode: {_first_line(exc)}"
+            return _lost(flight, EpisodeResult.errored(spec, "worker_died", message))
         except (RayError, GetTimeoutError) as exc:
-            return EpisodeResult.errored(spec, "internal_error", f"{type(exc).__name__}: {_first_line(exc)}")
+            message = f"{type(exc).__name__}: {_first_line(exc)}"
+            return _lost(flight, EpisodeResult.errored(spec, "internal_error", message))
 
     def _overdue(self) -> list[tuple[_Flight, EpisodeResult | None]]:
         now = time.monotonic()
@@ -152,7 +158,7 @@ class Scheduler:
             self.stats.restarts += 1
             spec = flight.job.episode(flight.attempt, self.timeout_s)
             message = f"no answer {self.timeout_s + DEADLINE_GRACE_S:g} s after the episode started; worker restarted"
-            finished.append((flight, EpisodeResult.errored(spec, "episode_timeout", message)))
+            finished.append((flight, _lost(flight, EpisodeResult.errored(spec, "episode_timeout", message))))
         return finished
 
     def _record(self, job: JobSpec, result: EpisodeResult, *, final: bool) -> None:
@@ -163,6 +169,13 @@ class Scheduler:
             self.stats.retried += 1
         self.stats.cost_usd += result.cost_usd
         self.on_result(job, result)
+
+
+def _lost(flight: _Flight, result: EpisodeResult) -> EpisodeResult:
+    """Stamp an attempt whose worker never answered with the times the driver saw."""
+    now = time.time()
+    timings = result.timings.model_copy(update={"total_s": now - flight.sent_at})
+    return result.model_copy(update={"started_at": flight.sent_at, "finished_at": now, "timings": timings})
 
 
 def _first_line(exc: BaseException) -> str:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import os
 import socket
+import time
 import traceback
 
 import ray
@@ -47,6 +48,7 @@ class EpisodeWorker:
         return self.info_
 
     async def run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
+        started, clock = time.time(), time.perf_counter()
         try:
             result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
         except TimeoutError:
@@ -57,7 +59,11 @@ class EpisodeWorker:
         except Exception as exc:  # the worker must answer, whatever broke: the driver records it
             detail = "".join(traceback.format_exception_only(exc)).strip()
             result = EpisodeResult.errored(spec, "internal_error", detail)
-        return result.model_copy(update={"worker": self.info_})
+        update: dict[str, object] = {"worker": self.info_}
+        if not result.started_at:  # an episode cut short never stamped itself
+            timings = result.timings.model_copy(update={"total_s": time.perf_counter() - clock})
+            update.update(started_at=started, finished_at=time.time(), timings=timings)
+        return result.model_copy(update=update)
 
     async def _run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
         if self.synthetic is not None:

@@ -1,0 +1,34 @@
+"""``scratchworld report``: the benchmark's main table over one or more run directories."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from scratchworld_dist.reports import FORMATS, ReportFormat, build_report, render
+
+
+@click.command("report")
+@click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option("--format", "fmt", type=click.Choice(FORMATS), default="md", show_default=True, help="Output format.")
+@click.option("--out", type=click.Path(dir_okay=False, path_type=Path), help="Write here instead of stdout.")
+@click.option("--force", is_flag=True, help="Merge runs of different suites or harness versions anyway.")
+def report_command(run_dirs: tuple[Path, ...], fmt: ReportFormat, out: Path | None, force: bool) -> None:
+    """Summarize the results in RUN_DIR(s): SR per category, PSR, coverage, errors, cost.
+
+    Several run directories merge into one report; they must share a suite and a harness
+    version unless --force.
+    """
+    report = build_report(list(run_dirs), force=force)
+    text = render(report, fmt)
+    for warning in report.warnings:
+        click.echo(f"warning: {warning}", err=True)
+    if out is None:
+        click.echo(text, nl=False)
+        return
+    try:
+        out.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise click.FileError(str(out), hint=str(exc)) from exc
+    click.echo(f"wrote {fmt} report to {out}", err=True)

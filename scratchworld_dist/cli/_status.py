@@ -1,0 +1,42 @@
+"""``scratchworld status RUN_DIR``: how far a run got, read from its files alone."""
+
+from __future__ import annotations
+
+from collections import Counter
+from pathlib import Path
+
+import click
+from rich.console import Console
+
+from scratchworld_dist._errors import RunDirError
+from scratchworld_dist.results import RunStore, effective_rows, read_manifest
+
+
+@click.command("status")
+@click.argument("run_dir", type=click.Path(file_okay=False, path_type=Path))
+def status_command(run_dir: Path) -> None:
+    """Print the progress of the run in RUN_DIR without running anything."""
+    manifest = read_manifest(run_dir)
+    if manifest is None:
+        raise RunDirError(f"{run_dir}: no manifest.json here; is this a run directory?")
+    rows = [r for r in RunStore(run_dir).job_rows() if r.suite_hash == manifest.suite.hash]
+    effective = list(effective_rows(rows))
+    outcomes = Counter(r.outcome for r in effective)
+    errors = Counter(r.error_class or "?" for r in effective if r.outcome == "error")
+    decided = outcomes["passed"] + outcomes["failed"]
+    missing = max(manifest.planned_jobs - len(effective), 0)
+    console = Console()
+    console.print(f"[bold]{manifest.run_name}[/bold]  {run_dir}")
+    console.print(f"suite {manifest.suite.name} ({manifest.suite.tasks} tasks, hash {manifest.suite.hash})")
+    console.print(
+        f"{decided}/{manifest.planned_jobs} decided: passed {outcomes['passed']}, failed {outcomes['failed']}; "
+        f"error {outcomes['error']}; not yet run {missing}; attempts recorded {len(rows)}"
+    )
+    if errors:
+        console.print("errors: " + ", ".join(f"{kind} {count}" for kind, count in errors.most_common()))
+    for number, session in enumerate(manifest.sessions, start=1):
+        end = session.finished_at.isoformat(timespec="seconds") if session.finished_at else "did not finish"
+        console.print(
+            f"session {number}: {session.started_at.isoformat(timespec='seconds')} -> {end} "
+            f"on {session.host} (pid {session.pid}), {session.planned} job(s) to run"
+        )

@@ -1,0 +1,59 @@
+"""Reports over run directories: the benchmark's main table as Markdown, HTML or JSON."""
+
+from scratchworld_dist.reports._build import build_report
+from scratchworld_dist.reports._metrics import (
+    MeanInterval,
+    mean_interval,
+    mean_pass_at_k,
+    mean_pass_hat_k,
+    pass_at_k,
+    pass_hat_k,
+    t_quantile_975,
+)
+from scratchworld_dist.reports._render import (
+    FORMATS,
+    ReportFormat,
+    render,
+    render_html,
+    render_json,
+    render_markdown,
+)
+from scratchworld_dist.reports._summary import (
+    CATEGORIES,
+    REPORT_VERSION,
+    CategoryStats,
+    ErrorCount,
+    KEstimate,
+    ReportRow,
+    RunInfo,
+    RunReport,
+    SeedRate,
+    SeedStats,
+)
+
+__all__ = [
+    "CATEGORIES",
+    "FORMATS",
+    "REPORT_VERSION",
+    "CategoryStats",
+    "ErrorCount",
+    "KEstimate",
+    "MeanInterval",
+    "ReportFormat",
+    "ReportRow",
+    "RunInfo",
+    "RunReport",
+    "SeedRate",
+    "SeedStats",
+    "build_report",
+    "mean_interval",
+    "mean_pass_at_k",
+    "mean_pass_hat_k",
+    "pass_at_k",
+    "pass_hat_k",
+    "render",
+    "render_html",
+    "render_json",
+    "render_markdown",
+    "t_quantile_975",
+]

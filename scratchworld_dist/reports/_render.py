@@ -1,0 +1,219 @@
+"""Rendering a ``RunReport`` as Markdown, a self-contained HTML page, or JSON.
+
+Markdown and HTML are drawn from one list of blocks (headings, paragraphs, tables of text
+cells), so the two always show the same numbers; only the markup differs.
+"""
+
+from __future__ import annotations
+
+import html
+from dataclasses import dataclass
+from typing import Literal
+
+from scratchworld_dist.reports._summary import KEstimate, ReportRow, RunReport
+
+ReportFormat = Literal["md", "html", "json"]
+FORMATS: tuple[ReportFormat, ...] = ("md", "html", "json")
+
+_DEFINITIONS = (
+    "SR = passed / determinate jobs (outcome passed or failed); PSR = mean fraction of tests passed over "
+    "determinate jobs. Jobs whose effective outcome is error have no verdict: they are excluded from SR and PSR "
+    "(never counted as failures) and show under errors and coverage = determinate / (recorded + missing) jobs. "
+    "Each job counts once, at its latest attempt with a verdict. Mean steps is over determinate jobs; tokens and "
+    "cost are over every recorded job (errors included, superseded attempts not: the Runs table has the cost of "
+    "all attempts)."
+)
+
+
+@dataclass(frozen=True)
+class _Heading:
+    level: int
+    text: str
+
+
+@dataclass(frozen=True)
+class _Paragraph:
+    text: str
+
+
+@dataclass(frozen=True)
+class _Table:
+    header: list[str]
+    rows: list[list[str]]
+
+
+_Block = _Heading | _Paragraph | _Table
+
+
+def render(report: RunReport, fmt: ReportFormat) -> str:
+    """The report as text in ``fmt`` (``md``, ``html`` or ``json``)."""
+    if fmt == "json":
+        return render_json(report)
+    if fmt == "html":
+        return render_html(report)
+    if fmt == "md":
+        return render_markdown(report)
+    raise ValueError(f"No renderer for format: {fmt}")
+
+
+def render_json(report: RunReport) -> str:
+    """The report's ``model_dump`` as indented JSON (structure documented on ``RunReport``)."""
+    return report.model_dump_json(indent=2) + "\n"
+
+
+def render_markdown(report: RunReport) -> str:
+    parts = []
+    for block in _blocks(report):
+        if isinstance(block, _Heading):
+            parts.append(f"{'#' * block.level} {block.text}")
+        elif isinstance(block, _Paragraph):
+            parts.append(block.text)
+        else:
+            lines = [_md_row(block.header), _md_row(["---"] * len(block.header))]
+            lines += [_md_row(row) for row in block.rows]
+            parts.append("\n".join(lines))
+    return "\n\n".join(parts) + "\n"
+
+
+def render_html(report: RunReport) -> str:
+    """One page with inline style and no external resources; every string is escaped."""
+    body = []
+    for block in _blocks(report):
+        if isinstance(block, _Heading):
+            body.append(f"<h{block.level}>{html.escape(block.text)}</h{block.level}>")
+        elif isinstance(block, _Paragraph):
+            body.append(f"<p>{html.escape(block.text)}</p>")
+        else:
+            head = "".join(f"<th>{html.escape(cell)}</th>" for cell in block.header)
+            rows = "".join(
+                "<tr>" + "".join(f"<td>{html.escape(cell)}</td>" for cell in row) + "</tr>" for row in block.rows
+            )
+            body.append(f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")
+    return _PAGE.format(body="\n".join(body))
+
+
+_PAGE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>ScratchWorld report</title>
+<style>
+body {{ font-family: system-ui, sans-serif; margin: 2em; color: #222; }}
+table {{ border-collapse: collapse; margin: 1em 0; }}
+th, td {{ border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: right; }}
+th:first-child, td:first-child {{ text-align: left; }}
+th {{ background: #f3f3f3; }}
+</style>
+</head>
+<body>
+{body}
+</body>
+</html>
+"""
+
+
+def _blocks(report: RunReport) -> list[_Block]:
+    blocks: list[_Block] = [_Heading(1, "ScratchWorld report")]
+    blocks += [_Paragraph(f"Warning: {warning}") for warning in report.warnings]
+    blocks += _runs(report)
+    for mode in sorted({row.mode for row in report.rows}):
+        rows = [row for row in report.rows if row.mode == mode]
+        blocks += [_Heading(2, f"Mode: {mode}"), _main_table(rows, report.categories)]
+        if any(row.seeds is not None for row in rows):
+            blocks += [_Heading(3, f"Across seeds ({mode})"), _seed_table(rows)]
+    blocks.append(_Paragraph(_DEFINITIONS))
+    blocks += _errors(report)
+    return blocks
+
+
+def _runs(report: RunReport) -> list[_Block]:
+    header = ["run", "path", "suite", "suite hash", "harness", "planned", "recorded", "determinate", "errors"]
+    header += ["missing", "stale rows", "attempts", "cost of all attempts"]
+    rows = [
+        [
+            *(r.run_name, r.path, r.suite_name, r.suite_hash, r.harness_version, str(r.planned_jobs)),
+            *(str(n) for n in (r.recorded_jobs, r.determinate, r.errors, r.missing, r.stale_rows, r.attempts)),
+            _usd(r.attempts_cost_usd),
+        ]
+        for r in report.runs
+    ]
+    blocks: list[_Block] = [_Heading(2, "Runs"), _Table(header, rows)]
+    missing = sum(r.missing for r in report.runs)
+    if missing:
+        blocks.append(
+            _Paragraph(
+                f"Missing: {missing} planned job(s) have no result (never run, lost, or still running); "
+                "they lower coverage and are not counted as failures."
+            )
+        )
+    return blocks
+
+
+def _main_table(rows: list[ReportRow], categories: list[str]) -> _Table:
+    header = ["agent/model", *(f"{c.capitalize()} SR" for c in categories), "SR", "PSR", "coverage", "errors"]
+    header += ["mean steps", "tokens (in+out)", "cost (USD)", "cost per success"]
+    body = []
+    for row in rows:
+        cells = [row.label]
+        for category in categories:
+            stats = row.categories.get(category)
+            cells.append(_rate(stats.passed, stats.determinate) if stats else "-")
+        planned = row.jobs + (row.missing or 0)
+        cells += [_rate(row.passed, row.determinate), _pct(row.psr)]
+        cells.append(f"{_pct(row.coverage)} ({row.determinate}/{planned})")
+        cells += [str(row.errors), "-" if row.mean_steps is None else f"{row.mean_steps:.1f}"]
+        cells += [f"{row.input_tokens + row.output_tokens:,}", _usd(row.cost_usd)]
+        cells.append("-" if row.cost_per_success is None else _usd(row.cost_per_success))
+        body.append(cells)
+    return _Table(header, body)
+
+
+def _seed_table(rows: list[ReportRow]) -> _Table:
+    most = max(len(row.seeds.pass_at_k) for row in rows if row.seeds is not None)
+    header = ["agent/model", "seeds", "SR mean ± 95% CI", *(f"pass@{k}" for k in range(1, most + 1))]
+    header += [f"pass^{k}" for k in range(1, most + 1)]
+    body = []
+    for row in rows:
+        if row.seeds is None:
+            continue
+        sr = row.seeds.sr
+        ci = (
+            "-" if sr is None else _pct(sr.mean) + ("" if sr.half_width is None else f" ± {sr.half_width * 100:.1f} pp")
+        )
+        cells = [row.label, ", ".join(str(s.seed) for s in row.seeds.per_seed), ci]
+        cells += _estimates(row.seeds.pass_at_k, most) + _estimates(row.seeds.pass_hat_k, most)
+        body.append(cells)
+    return _Table(header, body)
+
+
+def _errors(report: RunReport) -> list[_Block]:
+    blocks: list[_Block] = [_Heading(2, "Errors")]
+    if not report.errors:
+        return [*blocks, _Paragraph("No job ended in error.")]
+    rows = [[e.error_class, str(e.jobs), str(e.attempts)] for e in report.errors]
+    blocks.append(_Table(["error class", "jobs (effective outcome)", "attempts (all)"], rows))
+    blocks.append(_Paragraph(f"Recovered: {report.recovered_jobs} job(s) had an error attempt and later a verdict."))
+    return blocks
+
+
+def _estimates(estimates: list[KEstimate], width: int) -> list[str]:
+    cells = [
+        f"{_pct(e.value)} ({e.tasks} task{'s' * (e.tasks != 1)})" if e.value is not None else "-" for e in estimates
+    ]
+    return cells + ["-"] * (width - len(cells))
+
+
+def _md_row(cells: list[str]) -> str:
+    return "| " + " | ".join(c.replace("|", "\\|").replace("\n", " ") for c in cells) + " |"
+
+
+def _pct(value: float | None) -> str:
+    return "-" if value is None else f"{value * 100:.1f}%"
+
+
+def _rate(passed: int, determinate: int) -> str:
+    return "-" if not determinate else f"{_pct(passed / determinate)} ({passed}/{determinate})"
+
+
+def _usd(value: float) -> str:
+    return f"${value:,.2f}" if value >= 1 else f"${value:.4f}"

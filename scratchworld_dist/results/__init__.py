@@ -1,0 +1,32 @@
+"""Results of a run directory: rows, Parquet schemas, the journaled store and the manifest."""
+
+from scratchworld_dist.results._manifest import (
+    MANIFEST_NAME,
+    RunManifest,
+    Session,
+    SuiteInfo,
+    read_manifest,
+    write_manifest,
+)
+from scratchworld_dist.results._records import JobRecord, JobRow, StepRow, TestRow, record_of
+from scratchworld_dist.results._schema import SCHEMA_VERSION, SCHEMAS, TABLES
+from scratchworld_dist.results._store import RunStore, effective_rows
+
+__all__ = [
+    "MANIFEST_NAME",
+    "SCHEMAS",
+    "SCHEMA_VERSION",
+    "TABLES",
+    "JobRecord",
+    "JobRow",
+    "RunManifest",
+    "RunStore",
+    "Session",
+    "StepRow",
+    "SuiteInfo",
+    "TestRow",
+    "effective_rows",
+    "read_manifest",
+    "record_of",
+    "write_manifest",
+]

@@ -1,0 +1,111 @@
+"""``manifest.json``: what a run directory holds, so its results can be trusted and compared."""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import subprocess
+from datetime import UTC, datetime
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+from typing import Any
+
+from pydantic import BaseModel, Field, ValidationError
+
+from scratchworld_dist._errors import RunDirError
+
+MANIFEST_NAME = "manifest.json"
+_PACKAGES = ("scratchworld-dist", "ray", "pyarrow", "playwright", "pydantic", "litellm")
+
+
+class SuiteInfo(BaseModel):
+    name: str
+    kind: str
+    root: str
+    hash: str
+    """Hash of the selected tasks' contents; runs with different hashes are not comparable."""
+
+    tasks: int
+
+
+class Session(BaseModel):
+    """One invocation of ``scratchworld run`` on this directory."""
+
+    started_at: datetime
+    finished_at: datetime | None = None
+    host: str
+    pid: int
+    planned: int
+    submitted: int = 0
+
+
+class RunManifest(BaseModel):
+    run_name: str
+    schema_version: int
+    harness_version: str
+    config: dict[str, Any]
+    config_hash: str
+    suite: SuiteInfo
+    planned_jobs: int
+    """Size of the job matrix; coverage is measured against it."""
+
+    packages: dict[str, str] = Field(default_factory=dict)
+    git_commit: str | None = None
+    sessions: list[Session] = Field(default_factory=list)
+
+    @property
+    def started_at(self) -> datetime | None:
+        return self.sessions[0].started_at if self.sessions else None
+
+    @property
+    def finished_at(self) -> datetime | None:
+        return self.sessions[-1].finished_at if self.sessions else None
+
+
+def now() -> datetime:
+    return datetime.now(tz=UTC)
+
+
+def package_versions() -> dict[str, str]:
+    found = {"python": platform.python_version()}
+    for name in _PACKAGES:
+        try:
+            found[name] = version(name)
+        except PackageNotFoundError:
+            continue
+    return found
+
+
+def git_commit(path: Path) -> str | None:
+    """The checkout's commit (with ``-dirty`` when it has local changes), if it is a git checkout."""
+    try:
+        out = subprocess.run(
+            ["git", "describe", "--always", "--dirty", "--abbrev=40"],
+            cwd=path,
+            capture_output=True,
+            text=True,
+            timeout=10,
+            check=True,
+        )
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return out.stdout.strip() or None
+
+
+def read_manifest(run_dir: Path) -> RunManifest | None:
+    path = run_dir / MANIFEST_NAME
+    if not path.exists():
+        return None
+    try:
+        return RunManifest.model_validate_json(path.read_bytes())
+    except (OSError, ValidationError) as exc:
+        raise RunDirError(f"{path}: unreadable run manifest: {exc}") from exc
+
+
+def write_manifest(run_dir: Path, manifest: RunManifest) -> None:
+    """Replace the manifest atomically: readers see the old or the new one, never half."""
+    path = run_dir / MANIFEST_NAME
+    tmp = path.with_name(f".{MANIFEST_NAME}.{os.getpid()}.tmp")
+    tmp.write_text(json.dumps(manifest.model_dump(mode="json"), indent=2) + "\n", encoding="utf-8")
+    os.replace(tmp, path)

@@ -1,0 +1,201 @@
+"""Result rows: one per finished job, one per step, one per unit test.
+
+The three row models are the only shape results take, in the journal, in Parquet and in
+reports; ``schema.py`` derives the Arrow schemas from the same field list.
+"""
+
+from __future__ import annotations
+
+import json
+from datetime import UTC, datetime
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from scratchworld_dist.sweep import JobSpec
+from workers import EpisodeResult
+
+
+class JobRow(BaseModel):
+    """One finished attempt of one job (a row of ``jobs/``)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    run_name: str
+    job_id: str
+    attempt: int
+    model: str
+    litellm_model: str | None
+    mode: str
+    agent: str
+    task_id: str
+    category: str
+    task_hash: str
+    suite_hash: str
+    seed: int
+    max_steps: int
+    harness_version: str
+    outcome: str
+    """``passed`` (all tests), ``failed`` (evaluated, not all pass) or ``error`` (no verdict)."""
+
+    error_class: str | None
+    error_message: str | None
+    eval_error_kind: str | None
+    """The evaluation's own error kind when a project failed by breaking the script (e.g. script_error)."""
+
+    stop_reason: str
+    tests_passed: int
+    tests_total: int
+    psr: float | None
+    """Fraction of tests passed; null for ``error`` rows, which have no verdict."""
+
+    steps: int
+    llm_calls: int
+    input_tokens: int
+    output_tokens: int
+    cost_usd: float
+    episode_s: float
+    setup_s: float
+    agent_s: float
+    evaluation_s: float
+    started_at: datetime
+    finished_at: datetime
+    worker_node: str | None
+    worker_host: str | None
+    worker_pid: int | None
+    worker_index: int | None
+    artifact_dir: str | None
+    """Folder of this attempt's final.sb3 and trajectory.jsonl, relative to the run directory."""
+
+
+class StepRow(BaseModel):
+    """One agent action of one attempt (a row of ``steps/``)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int
+    step: int
+    action: str
+    args_json: str
+    ok: bool
+    error_code: str | None
+    error_message: str | None
+    latency_s: float
+    llm_calls: int
+    input_tokens: int
+    output_tokens: int
+    cost_usd: float
+
+
+class TestRow(BaseModel):
+    """One unit test of one evaluated attempt (a row of ``tests/``)."""
+
+    __test__ = False
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int
+    task_id: str
+    test_index: int
+    name: str
+    passed: bool
+    error: str | None
+    duration_ms: float | None
+
+
+class JobRecord(BaseModel):
+    """Everything one attempt adds to the results, committed together."""
+
+    job: JobRow
+    steps: list[StepRow] = Field(default_factory=list)
+    tests: list[TestRow] = Field(default_factory=list)
+
+
+def _time(unix: float) -> datetime:
+    return datetime.fromtimestamp(unix, tz=UTC)
+
+
+def record_of(
+    job: JobSpec,
+    result: EpisodeResult,
+    *,
+    run_name: str,
+    suite_hash: str,
+    harness_version: str,
+    artifact_dir: str | None,
+) -> JobRecord:
+    """Flatten a worker's result into rows; the job's identity comes from the plan, not the worker."""
+    evaluation = result.evaluation
+    worker = result.worker
+    row = JobRow(
+        run_name=run_name,
+        job_id=job.job_id,
+        attempt=result.attempt,
+        model=job.model_name,
+        litellm_model=job.model.model if job.model is not None else None,
+        mode=job.mode,
+        agent=job.agent,
+        task_id=job.task_id,
+        category=job.category,
+        task_hash=job.task_hash,
+        suite_hash=suite_hash,
+        seed=job.seed,
+        max_steps=job.max_steps,
+        harness_version=harness_version,
+        outcome=result.outcome,
+        error_class=result.error_class,
+        error_message=result.error_message,
+        eval_error_kind=evaluation.error.kind if evaluation is not None and evaluation.error else None,
+        stop_reason=result.stop_reason,
+        tests_passed=evaluation.passed if evaluation is not None else 0,
+        tests_total=evaluation.total if evaluation is not None else 0,
+        psr=None if result.outcome == "error" or evaluation is None else evaluation.psr,
+        steps=len(result.steps),
+        llm_calls=result.llm_calls,
+        input_tokens=result.input_tokens,
+        output_tokens=result.output_tokens,
+        cost_usd=result.cost_usd,
+        episode_s=result.timings.total_s,
+        setup_s=result.timings.setup_s,
+        agent_s=result.timings.agent_s,
+        evaluation_s=result.timings.evaluation_s,
+        started_at=_time(result.started_at),
+        finished_at=_time(result.finished_at),
+        worker_node=worker.node_id if worker else None,
+        worker_host=worker.hostname if worker else None,
+        worker_pid=worker.pid if worker else None,
+        worker_index=worker.worker_index if worker else None,
+        artifact_dir=artifact_dir,
+    )
+    steps = [
+        StepRow(
+            job_id=job.job_id,
+            attempt=result.attempt,
+            step=step.index,
+            action=step.action,
+            args_json=json.dumps(step.args, sort_keys=True),
+            ok=step.ok,
+            error_code=step.error_code,
+            error_message=step.error_message,
+            latency_s=step.latency_s,
+            llm_calls=step.llm_calls,
+            input_tokens=step.input_tokens,
+            output_tokens=step.output_tokens,
+            cost_usd=step.cost_usd,
+        )
+        for step in result.steps
+    ]
+    tests = [
+        TestRow(
+            job_id=job.job_id,
+            attempt=result.attempt,
+            task_id=job.task_id,
+            test_index=index,
+            name=test.name,
+            passed=test.passed,
+            error=test.error,
+            duration_ms=test.duration_ms,
+        )
+        for index, test in enumerate(evaluation.tests if evaluation is not None else [])
+    ]
+    return JobRecord(job=row, steps=steps, tests=tests)

@@ -1,0 +1,227 @@
+"""A run directory's results: a write-ahead journal, compacted into atomic Parquet shards.
+
+Each finished attempt is appended as one JSON line to the current journal segment and flushed
+before the driver moves on, so killing the driver loses only jobs still in flight. A segment is
+compacted into ``jobs/``, ``steps/`` and ``tests/`` shards named after it (temp file + rename,
+``jobs`` last), then deleted; compaction is idempotent, so a crash half-way is repaired by
+compacting the leftover segment again on the next open. Readers see shards plus any journal.
+
+Layout::
+
+    RUN_DIR/manifest.json
+    RUN_DIR/jobs/part-000001.parquet   steps/part-000001.parquet   tests/part-000001.parquet
+    RUN_DIR/journal/segment-000002.jsonl   (not yet compacted)
+    RUN_DIR/artifacts/<job_id>/attempt-<n>/{final.sb3, trajectory.jsonl}
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import re
+from collections.abc import Iterator
+from pathlib import Path
+from typing import IO
+
+import pyarrow as pa
+import pyarrow.dataset as ds
+import pyarrow.parquet as pq
+from pydantic import ValidationError
+
+from scratchworld_dist._errors import RunDirError
+from scratchworld_dist.results._records import JobRecord, JobRow
+from scratchworld_dist.results._schema import SCHEMAS
+
+SEGMENT_ROWS = 200
+"""Attempts per journal segment before it is compacted into shards."""
+
+_SEGMENT = re.compile(r"^segment-(\d{6})\.jsonl$")
+_PART = re.compile(r"^part-(\d{6})\.parquet$")
+
+
+def _write_atomic(path: Path, data: bytes, *, sync: bool = True) -> None:
+    """Temp file + rename: readers see the old file or the new one, never a torn one."""
+    tmp = path.with_name(f".{path.name}.tmp")
+    with tmp.open("wb") as handle:
+        handle.write(data)
+        if sync:
+            handle.flush()
+            os.fsync(handle.fileno())
+    os.replace(tmp, path)
+
+
+def _read_segment(path: Path) -> list[JobRecord]:
+    """Records of a segment; a torn last line (the driver died mid-write) is dropped."""
+    records: list[JobRecord] = []
+    lines = path.read_bytes().splitlines()
+    for number, line in enumerate(lines, start=1):
+        if not line.strip():
+            continue
+        try:
+            records.append(JobRecord.model_validate_json(line))
+        except ValidationError as exc:
+            if number == len(lines):
+                break
+            raise RunDirError(f"{path}:{number}: corrupt journal line: {exc}") from exc
+    return records
+
+
+class RunStore:
+    """Results of one run directory, for one writer (held by a lock) or any number of readers."""
+
+    def __init__(self, run_dir: Path) -> None:
+        self.run_dir = run_dir
+        self.journal_dir = run_dir / "journal"
+        self.artifacts_dir = run_dir / "artifacts"
+        self._lock: IO[bytes] | None = None
+        self._segment: IO[bytes] | None = None
+        self._segment_number = 0
+        self._segment_rows = 0
+
+    def table_dir(self, table: str) -> Path:
+        return self.run_dir / table
+
+    # -- writing -------------------------------------------------------------------------
+
+    def open_for_writing(self) -> None:
+        """Take the run directory's lock and fold leftovers of a crashed run into shards."""
+        self.run_dir.mkdir(parents=True, exist_ok=True)
+        lock = (self.run_dir / ".lock").open("ab")
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            lock.close()
+            raise RunDirError(f"{self.run_dir}: another scratchworld run is writing here") from None
+        self._lock = lock
+        for table in SCHEMAS:
+            self.table_dir(table).mkdir(exist_ok=True)
+        self.journal_dir.mkdir(exist_ok=True)
+        for number, path in self._segments():
+            self._compact(number, path)
+        self._segment_number = self._last_number()
+
+    def commit(self, record: JobRecord) -> None:
+        """Make one attempt durable; after this returns, a driver crash cannot lose it."""
+        if self._lock is None:
+            raise RuntimeError("open_for_writing() first")
+        if self._segment is None:
+            self._segment_number += 1
+            path = self.journal_dir / f"segment-{self._segment_number:06d}.jsonl"
+            self._segment = path.open("ab")
+            self._segment_rows = 0
+        self._segment.write(record.model_dump_json().encode() + b"\n")
+        self._segment.flush()
+        self._segment_rows += 1
+        if self._segment_rows >= SEGMENT_ROWS:
+            self.flush()
+
+    def write_artifact(self, job_id: str, attempt: int, name: str, data: bytes) -> str:
+        """Store one file of an attempt; returns its folder relative to the run directory."""
+        folder = self.artifacts_dir / job_id / f"attempt-{attempt}"
+        folder.mkdir(parents=True, exist_ok=True)
+        _write_atomic(folder / name, data, sync=False)  # survives the driver's death; shards are synced
+        return str(folder.relative_to(self.run_dir))
+
+    def flush(self) -> None:
+        """Compact the open segment into shards."""
+        if self._segment is None:
+            return
+        self._segment.close()
+        self._segment = None
+        path = self.journal_dir / f"segment-{self._segment_number:06d}.jsonl"
+        self._compact(self._segment_number, path)
+
+    def close(self) -> None:
+        self.flush()
+        if self._lock is not None:
+            self._lock.close()
+            self._lock = None
+
+    def _compact(self, number: int, path: Path) -> None:
+        records = _read_segment(path)
+        if records:
+            rows = {
+                "steps": [s.model_dump() for r in records for s in r.steps],
+                "tests": [t.model_dump() for r in records for t in r.tests],
+                "jobs": [r.job.model_dump() for r in records],
+            }
+            for table, table_rows in rows.items():  # jobs last: its shard marks the segment done
+                shard = pa.Table.from_pylist(table_rows, schema=SCHEMAS[table])
+                sink = pa.BufferOutputStream()
+                pq.write_table(shard, sink, compression="zstd")
+                _write_atomic(self.table_dir(table) / f"part-{number:06d}.parquet", sink.getvalue().to_pybytes())
+        path.unlink()
+
+    def _segments(self) -> list[tuple[int, Path]]:
+        found = []
+        for path in self.journal_dir.iterdir() if self.journal_dir.exists() else []:
+            match = _SEGMENT.match(path.name)
+            if match:
+                found.append((int(match.group(1)), path))
+        return sorted(found)
+
+    def _last_number(self) -> int:
+        numbers = [n for n, _ in self._segments()]
+        jobs = self.table_dir("jobs")
+        for path in jobs.iterdir() if jobs.exists() else []:
+            match = _PART.match(path.name)
+            if match:
+                numbers.append(int(match.group(1)))
+        return max(numbers, default=0)
+
+    # -- reading -------------------------------------------------------------------------
+
+    def read_table(self, table: str, columns: list[str] | None = None) -> pa.Table:
+        """All rows of a table: compacted shards plus the journal not yet compacted."""
+        schema = SCHEMAS[table]
+        parts: list[pa.Table] = []
+        folder = self.table_dir(table)
+        files = sorted(str(p) for p in folder.glob("part-*.parquet")) if folder.exists() else []
+        if files:
+            try:
+                parts.append(ds.dataset(files, schema=schema, format="parquet").to_table(columns=columns))
+            except (OSError, pa.ArrowInvalid) as exc:
+                raise RunDirError(f"{folder}: unreadable shard: {exc}") from exc
+        pending = [r for _, path in self._segments() for r in _read_segment(path)]
+        if pending:
+            rows = {
+                "jobs": [r.job.model_dump() for r in pending],
+                "steps": [s.model_dump() for r in pending for s in r.steps],
+                "tests": [t.model_dump() for r in pending for t in r.tests],
+            }[table]
+            journal = pa.Table.from_pylist(rows, schema=schema)
+            parts.append(journal.select(columns) if columns else journal)
+        if not parts:
+            empty = schema.empty_table()
+            return empty.select(columns) if columns else empty
+        return pa.concat_tables(parts)
+
+    def job_rows(self) -> list[JobRow]:
+        return [JobRow.model_validate(row) for row in self.read_table("jobs").to_pylist()]
+
+    def attempts(self) -> dict[str, tuple[int, bool]]:
+        """Per job id: the highest attempt number recorded, and whether any attempt has a verdict."""
+        table = self.read_table("jobs", columns=["job_id", "attempt", "outcome"])
+        found: dict[str, tuple[int, bool]] = {}
+        for job, attempt, outcome in zip(*(table.column(c).to_pylist() for c in table.column_names), strict=True):
+            last, decided = found.get(job, (0, False))
+            found[job] = (max(last, attempt), decided or outcome != "error")
+        return found
+
+
+def effective_rows(rows: list[JobRow]) -> Iterator[JobRow]:
+    """One row per job: its latest attempt with a verdict, else its latest error.
+
+    Ray may deliver a job twice and resume re-runs errors, so the tables can hold several
+    attempts of one job; reports count each job once through this view.
+    """
+    best: dict[str, JobRow] = {}
+    for row in rows:
+        current = best.get(row.job_id)
+        if current is None or _rank(row) > _rank(current):
+            best[row.job_id] = row
+    yield from best.values()
+
+
+def _rank(row: JobRow) -> tuple[bool, int]:
+    return (row.outcome != "error", row.attempt)

@@ -1,0 +1,249 @@
+"""The sweep engine end to end with a real local Ray: each run is `scratchworld run` in a subprocess.
+
+Synthetic (browserless) episodes exercise scheduling, faults and resume quickly; one sweep runs
+real episodes in Chromium. Every driver runs in its own process group, which is killed after
+the test so a killed driver's Ray helpers never outlive it.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from collections import Counter
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import yaml
+
+from scratchworld_dist.results import RunStore, effective_rows
+
+pytestmark = pytest.mark.ray
+
+REPO = Path(__file__).resolve().parents[1]
+SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))
+TASKS = ["sum_two_numbers", "bouncing_ball_stuck", "quiz_score", "star_shower"]
+
+
+def write_config(tmp_path: Path, **fields: object) -> Path:
+    config = {"name": "t", "suite": str(REPO / "tasks"), "agent": "oracle", "output": str(tmp_path / "run")}
+    config.update(fields)
+    path = tmp_path / "sweep.yaml"
+    path.write_text(yaml.safe_dump(config))
+    return path
+
+
+class Driver:
+    """A `scratchworld run` process in its own process group, its output in a log file."""
+
+    def __init__(self, config: Path, *args: str) -> None:
+        self.log = config.with_name(f"driver-{time.monotonic_ns()}.log")
+        with self.log.open("w") as out:
+            self.process = subprocess.Popen(
+                [SCRATCHWORLD, "run", str(config), *args],
+                stdout=out,
+                stderr=subprocess.STDOUT,
+                cwd=REPO,
+                start_new_session=True,
+            )
+
+    def wait(self, timeout: float = 300) -> tuple[int, str]:
+        code = self.process.wait(timeout)
+        return code, self.log.read_text()
+
+    def kill_group(self) -> None:
+        try:
+            os.killpg(self.process.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        self.process.wait()
+
+
+@pytest.fixture
+def drivers() -> Iterator[list[Driver]]:
+    started: list[Driver] = []
+    yield started
+    for driver in started:
+        driver.kill_group()
+
+
+def run(drivers: list[Driver], config: Path, *args: str, timeout: float = 300) -> tuple[int, str]:
+    driver = Driver(config, *args)
+    drivers.append(driver)
+    return driver.wait(timeout)
+
+
+def committed_lines(run_dir: Path) -> int:
+    journal = run_dir / "journal"
+    return sum(len(p.read_bytes().splitlines()) for p in journal.glob("*.jsonl")) if journal.exists() else 0
+
+
+def wait_for(condition: object, timeout: float, what: str) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():  # type: ignore[operator]
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out waiting for {what}")
+        time.sleep(0.1)
+
+
+def test_resume_after_killing_the_driver_loses_and_duplicates_nothing(tmp_path: Path, drivers: list[Driver]) -> None:
+    config = write_config(tmp_path, seeds=5, synthetic={"duration_s": 0.3, "fail_tasks": ["quiz_score"]})
+    run_dir = tmp_path / "run"
+    first = Driver(config)
+    drivers.append(first)
+    wait_for(lambda: committed_lines(run_dir) >= 8, 120, "the first committed jobs")
+    os.kill(first.process.pid, signal.SIGKILL)  # the driver only; its Ray helpers are reaped later
+    first.process.wait()
+    before = {row.job_id: row for row in RunStore(run_dir).job_rows()}
+    assert 8 <= len(before) < 60
+
+    code, out = run(drivers, config)
+    assert code == 0, out
+    assert f"{len(before)} decided before" in out
+
+    rows = RunStore(run_dir).job_rows()
+    assert len(rows) == 60  # 12 tasks x 5 seeds, each exactly once
+    assert len({row.job_id for row in rows}) == 60
+    after = {row.job_id: row for row in rows}
+    assert all(after[job] == row for job, row in before.items())  # committed rows untouched
+    outcomes = Counter(row.outcome for row in rows)
+    assert outcomes == {"passed": 55, "failed": 5}
+    assert not list((run_dir / "journal").glob("*.jsonl"))  # compacted at the end
+
+    code, out = run(drivers, config)  # a third run has nothing left to do
+    assert code == 0
+    assert "60 already decided, 0 to run" in " ".join(out.split())
+
+
+def test_jobs_of_a_killed_worker_are_rescheduled(tmp_path: Path, drivers: list[Driver]) -> None:
+    config = write_config(tmp_path, seeds=3, synthetic={"duration_s": 1.5})
+    run_dir = tmp_path / "run"
+    driver = Driver(config)
+    drivers.append(driver)
+    wait_for(lambda: committed_lines(run_dir) >= 2, 120, "the first committed jobs")
+    victim = RunStore(run_dir).job_rows()[0].worker_pid
+    assert victim is not None
+    os.kill(victim, signal.SIGKILL)  # as the OOM killer would, mid-episode
+
+    code, out = driver.wait()
+    assert code == 0, out
+    rows = RunStore(run_dir).job_rows()
+    died = [row for row in rows if row.error_class == "worker_died"]
+    assert died, "the killed worker's in-flight job must be recorded"
+    assert all(row.outcome == "error" and row.attempt == 1 for row in died)
+    effective = list(effective_rows(rows))
+    assert len(effective) == 36
+    assert {row.outcome for row in effective} == {"passed"}
+    retried = {row.job_id for row in died}
+    assert {(row.job_id, row.attempt) for row in rows if row.job_id in retried} >= {(job, 2) for job in retried}
+    assert victim not in {row.worker_pid for row in rows if row.finished_at > died[0].finished_at}
+
+
+def test_episode_timeout_is_recorded_retried_and_kept_out_of_verdicts(tmp_path: Path, drivers: list[Driver]) -> None:
+    config = write_config(
+        tmp_path,
+        tasks={"ids": TASKS[:2]},
+        synthetic={"duration_s": 60},
+        limits={"episode_timeout_s": 1, "retries": 1},
+    )
+    code, out = run(drivers, config)
+    assert code == 1, out  # jobs left without a verdict
+    rows = RunStore(tmp_path / "run").job_rows()
+    assert sorted((row.task_id, row.attempt) for row in rows) == [
+        ("bouncing_ball_stuck", 1),
+        ("bouncing_ball_stuck", 2),
+        ("sum_two_numbers", 1),
+        ("sum_two_numbers", 2),
+    ]
+    assert {(row.outcome, row.error_class, row.psr) for row in rows} == {("error", "episode_timeout", None)}
+    assert all(row.episode_s < 10 for row in rows)
+
+    status = subprocess.run([SCRATCHWORLD, "status", str(tmp_path / "run")], capture_output=True, text=True)
+    assert status.returncode == 0
+    text = " ".join(status.stdout.split())
+    assert "0/2 decided" in text
+    assert "episode_timeout 2" in text
+
+
+def test_jobs_spread_over_a_two_node_cluster(tmp_path: Path, drivers: list[Driver]) -> None:
+    from ray.cluster_utils import Cluster
+
+    cluster = Cluster(
+        initialize_head=True,
+        head_node_args={"num_cpus": 1, "resources": {"browser": 1}, "include_dashboard": False},
+    )
+    try:
+        cluster.add_node(num_cpus=1, resources={"browser": 1})
+        cluster.wait_for_nodes()
+        config = write_config(tmp_path, seeds=2, synthetic={"duration_s": 0.5})
+        code, out = run(drivers, config, "--address", cluster.address)
+        assert code == 0, out
+        assert "2 worker(s) x 1 page(s) on 2 browser slot(s)" in out
+        rows = RunStore(tmp_path / "run").job_rows()
+        assert len(rows) == 24
+        nodes = Counter(row.worker_node for row in rows)
+        assert len(nodes) == 2, nodes
+        assert min(nodes.values()) >= 6  # both nodes did a fair share
+    finally:
+        cluster.shutdown()
+
+
+def test_real_episodes_in_the_browser(tmp_path: Path, drivers: list[Driver]) -> None:
+    oracle = write_config(tmp_path, tasks={"ids": TASKS[:2]}, limits={"episode_timeout_s": 240})
+    code, out = run(drivers, oracle)
+    assert code == 0, out
+    rows = RunStore(tmp_path / "run").job_rows()
+    assert {(row.task_id, row.outcome) for row in rows} == {("sum_two_numbers", "passed"), ("bouncing_ball_stuck", "passed")}
+    for row in rows:
+        assert row.tests_passed == row.tests_total >= 3
+        assert row.steps == 2  # load the golden project, then done
+        artifacts = tmp_path / "run" / str(row.artifact_dir)
+        assert (artifacts / "final.sb3").read_bytes()[:2] == b"PK"
+        assert len((artifacts / "trajectory.jsonl").read_text().splitlines()) == 2
+    tests = RunStore(tmp_path / "run").read_table("tests")
+    assert tests.num_rows == sum(row.tests_total for row in rows)
+
+    noop = write_config(tmp_path, agent="noop", tasks={"ids": ["bouncing_ball_stuck"]}, output=str(tmp_path / "noop"))
+    code, out = run(drivers, noop)
+    assert code == 0, out
+    (row,) = RunStore(tmp_path / "noop").job_rows()
+    assert row.outcome == "failed"  # a debug task's initial project must fail
+    assert row.tests_passed < row.tests_total
+    assert row.stop_reason == "done"
+
+
+def test_a_run_dir_of_another_sweep_is_refused(tmp_path: Path, drivers: list[Driver]) -> None:
+    config = write_config(tmp_path, tasks={"ids": TASKS[:1]}, synthetic={"duration_s": 0})
+    assert run(drivers, config)[0] == 0
+    changed = write_config(tmp_path, tasks={"ids": TASKS[:1]}, seeds=2, synthetic={"duration_s": 0})
+    code, out = run(drivers, changed)
+    assert code == 2
+    assert "holds results of another sweep" in out
+    assert "--force" in out
+    code, out = run(drivers, changed, "--force")
+    assert code == 0, out
+    assert len(RunStore(tmp_path / "run").job_rows()) == 2
+
+
+@pytest.mark.parametrize(
+    ("fields", "message"),
+    [
+        ({"agent": "wizard"}, "agent"),
+        ({"seeds": 0}, "seeds"),
+        ({"limits": {"episode_timeout_s": -1}}, "limits.episode_timeout_s"),
+        ({"models": [{"model": "openai/x", "params": {"api_key": "sk-live"}}]}, "api_key may not appear"),
+        ({"tasks": {"ids": ["no_such_task"]}}, "no_such_task"),
+    ],
+)
+def test_config_errors_are_one_line_and_start_nothing(tmp_path: Path, fields: dict, message: str) -> None:
+    config = write_config(tmp_path, **fields)
+    done = subprocess.run([SCRATCHWORLD, "run", str(config)], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2
+    assert done.stderr.startswith("error: ")
+    assert message in done.stderr
+    assert "Traceback" not in done.stderr
+    assert "sk-live" not in done.stderr
+    assert not (tmp_path / "run").exists()
