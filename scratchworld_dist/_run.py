@@ -58,6 +58,33 @@ class RunSummary(BaseModel):
     retried: int
 
 
+class AttemptRecorder:
+    """Commits every finished attempt: artifacts first, then its rows (the commit point)."""
+
+    def __init__(self, store: RunStore, run_name: str, suite_hash: str, harness_version: str) -> None:
+        self.store = store
+        self.run_name = run_name
+        self.suite_hash = suite_hash
+        self.harness_version = harness_version
+
+    def __call__(self, job: JobSpec, result: EpisodeResult) -> None:
+        artifact_dir = None
+        if result.final_project is not None:
+            artifact_dir = self.store.write_artifact(job.job_id, result.attempt, "final.sb3", result.final_project)
+        if result.steps:
+            lines = "".join(step.model_dump_json() + "\n" for step in result.steps)
+            artifact_dir = self.store.write_artifact(job.job_id, result.attempt, "trajectory.jsonl", lines.encode())
+        record = record_of(
+            job,
+            result,
+            run_name=self.run_name,
+            suite_hash=self.suite_hash,
+            harness_version=self.harness_version,
+            artifact_dir=artifact_dir,
+        )
+        self.store.commit(record)
+
+
 def config_hash(config: SweepConfig) -> str:
     """Hash of the fields that shape the job matrix; paths and execution limits may change freely."""
     shaping = config.model_dump(mode="json", exclude={"suite", "output", "limits", "ray"})
@@ -161,25 +188,7 @@ def _execute(
     summary: RunSummary,
 ) -> RunSummary:
     config = plan.config
-
-    def commit(job: JobSpec, result: EpisodeResult) -> None:
-        artifact_dir = None
-        if result.final_project is not None:
-            artifact_dir = store.write_artifact(job.job_id, result.attempt, "final.sb3", result.final_project)
-        if result.steps:
-            lines = "".join(step.model_dump_json() + "\n" for step in result.steps)
-            artifact_dir = store.write_artifact(job.job_id, result.attempt, "trajectory.jsonl", lines.encode())
-        store.commit(
-            record_of(
-                job,
-                result,
-                run_name=config.name,
-                suite_hash=manifest.suite.hash,
-                harness_version=manifest.harness_version,
-                artifact_dir=artifact_dir,
-            )
-        )
-
+    commit = AttemptRecorder(store, config.name, manifest.suite.hash, manifest.harness_version)
     needed = {job.task_id for job, _ in todo}
     with ray_runtime(config.ray.address, config.limits.browser_slots) as slots:
         pool = WorkerPool(slots, config.limits.pages_per_worker, config.synthetic)

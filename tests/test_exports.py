@@ -6,7 +6,17 @@ import importlib
 
 import pytest
 
-PACKAGES = ["scratchworld_dist", "scratchworld_dist.suites", "scratchworld_dist.sb3", "workers"]
+PACKAGES = [
+    "scratchworld_dist",
+    "scratchworld_dist.reports",
+    "scratchworld_dist.results",
+    "scratchworld_dist.scheduling",
+    "scratchworld_dist.suites",
+    "scratchworld_dist.sb3",
+    "scratchworld_dist.sweep",
+    "workers",
+    "workers.agents",
+]
 
 
 @pytest.mark.parametrize("name", PACKAGES)

@@ -92,7 +92,9 @@ def test_full_config_keeps_every_field(tmp_path: Path) -> None:
     assert config.run_dir() == Path("/runs/smoke")
     assert config.ray.address == "10.1.2.3:6379"
     assert config.model_specs() == [
-        ModelSpec(name="openai/gpt-4o", model="openai/gpt-4o", temperature=0.2, max_tokens=512, api_key_env="OPENAI_API_KEY"),
+        ModelSpec(
+            name="openai/gpt-4o", model="openai/gpt-4o", temperature=0.2, max_tokens=512, api_key_env="OPENAI_API_KEY"
+        ),
         ModelSpec(name="gpt-4o-hot", model="openai/gpt-4o", temperature=1.0, params={"top_p": 0.9}),
     ]
 
@@ -261,7 +263,9 @@ def test_api_key_value_never_enters_the_config(tmp_path: Path, monkeypatch: pyte
     secret = "sk-test-5b0d1c2e3f4a"
     monkeypatch.setenv("SCRATCHWORLD_TEST_KEY", secret)
     config = load_sweep_config(
-        write(tmp_path, minimal(agent="llm", models=[{"model": "openai/gpt-4o", "api_key_env": "SCRATCHWORLD_TEST_KEY"}]))
+        write(
+            tmp_path, minimal(agent="llm", models=[{"model": "openai/gpt-4o", "api_key_env": "SCRATCHWORLD_TEST_KEY"}])
+        )
     )
     dumped = config.model_dump(mode="json")
     assert dumped["models"][0]["api_key_env"] == "SCRATCHWORLD_TEST_KEY"

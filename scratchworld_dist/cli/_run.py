@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 from rich.console import Console
 
+from scratchworld_dist.reports import build_report, render
 from scratchworld_dist.sweep import load_sweep_config
 
 EXIT_ERRORS = 1
@@ -20,7 +21,8 @@ EXIT_ERRORS = 1
 def run_command(config_file: Path, out: Path | None, address: str | None, force: bool) -> None:
     """Run the sweep in CONFIG_FILE; run it again to resume.
 
-    Exits 1 when jobs are left without a verdict (errors after all retries).
+    Prints the report (also saved as RUN_DIR/report.md). Exits 1 when jobs are left without a
+    verdict (errors after all retries; running again retries them).
     """
     overrides: dict[str, object] = {}
     if out is not None:
@@ -37,5 +39,8 @@ def run_command(config_file: Path, out: Path | None, address: str | None, force:
         f"ran {summary.sent} attempt(s): passed {outcomes['passed']}, failed {outcomes['failed']}, "
         f"error {outcomes['error']} (retried {summary.retried}); {summary.already_decided} decided before"
     )
+    report = render(build_report([summary.run_dir]), "md")
+    (summary.run_dir / "report.md").write_text(report, encoding="utf-8")
+    click.echo(report)
     if outcomes["error"]:
         raise click.exceptions.Exit(EXIT_ERRORS)

@@ -160,29 +160,46 @@ class RunStore:
                 found.append((int(match.group(1)), path))
         return sorted(found)
 
-    def _last_number(self) -> int:
-        numbers = [n for n, _ in self._segments()]
-        jobs = self.table_dir("jobs")
-        for path in jobs.iterdir() if jobs.exists() else []:
+    def _parts(self, table: str) -> dict[int, Path]:
+        folder = self.table_dir(table)
+        found: dict[int, Path] = {}
+        for path in folder.iterdir() if folder.exists() else []:
             match = _PART.match(path.name)
             if match:
-                numbers.append(int(match.group(1)))
-        return max(numbers, default=0)
+                found[int(match.group(1))] = path
+        return found
+
+    def _last_number(self) -> int:
+        return max([n for n, _ in self._segments()] + list(self._parts("jobs")), default=0)
 
     # -- reading -------------------------------------------------------------------------
 
     def read_table(self, table: str, columns: list[str] | None = None) -> pa.Table:
-        """All rows of a table: compacted shards plus the journal not yet compacted."""
+        """All rows of a table: compacted shards plus the journal not yet compacted.
+
+        Each segment counts once: as its shards when its ``jobs`` shard exists (written last),
+        else as journal lines, so a crash or a compaction in progress never doubles rows.
+        """
+        for _ in range(2):
+            try:
+                return self._read_table(table, columns)
+            except FileNotFoundError:
+                continue  # the writer compacted a segment between listing and reading it: look again
+        return self._read_table(table, columns)
+
+    def _read_table(self, table: str, columns: list[str] | None) -> pa.Table:
         schema = SCHEMAS[table]
         parts: list[pa.Table] = []
         folder = self.table_dir(table)
-        files = sorted(str(p) for p in folder.glob("part-*.parquet")) if folder.exists() else []
+        segments = self._segments()  # listed before the shards: a segment gone by then has its jobs shard
+        done = set(self._parts("jobs"))
+        files = [str(path) for n, path in sorted(self._parts(table).items()) if n in done]
         if files:
             try:
                 parts.append(ds.dataset(files, schema=schema, format="parquet").to_table(columns=columns))
             except (OSError, pa.ArrowInvalid) as exc:
                 raise RunDirError(f"{folder}: unreadable shard: {exc}") from exc
-        pending = [r for _, path in self._segments() for r in _read_segment(path)]
+        pending = [r for n, path in segments if n not in done for r in _read_segment(path)]
         if pending:
             rows = {
                 "jobs": [r.job.model_dump() for r in pending],

@@ -45,3 +45,5 @@ class ProgressLine:
 def live_progress(stats: SchedulerStats, total: int, console: Console) -> Iterator[None]:
     with Live(ProgressLine(stats, total), console=console, refresh_per_second=2, transient=False):
         yield
+    if not console.is_terminal:
+        console.print()  # Live leaves its last line open when output goes to a file

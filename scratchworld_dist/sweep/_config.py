@@ -151,6 +151,9 @@ class SweepConfig(BaseModel):
     def _models_fit_agent(self) -> SweepConfig:
         if self.agent == "llm" and not self.models:
             raise ValueError("agent 'llm' needs at least one entry under models")
+        settings = [m.model_dump(exclude={"name", "api_key_env"}) for m in self.models]
+        if any(settings.count(s) > 1 for s in settings):
+            raise ValueError("two models have identical settings; their jobs would be the same jobs")
         names = [m.name or m.model for m in self.models]
         duplicated = sorted({n for n in names if names.count(n) > 1})
         if duplicated:

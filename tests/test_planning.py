@@ -1,0 +1,232 @@
+"""Planning: task hashes cover every byte a worker sees, and job ids change exactly when a result could."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import HARNESS_VERSION, NO_MODEL, JobSpec, TaskContent, job_id, plan_jobs, read_task
+from scratchworld_dist.sweep import suite_hash as hash_of_suite
+from tests.conftest import SUITE_DIR
+from workers import ModelSpec
+
+GPT = ModelSpec(name="gpt", model="openai/gpt-4o", temperature=0.0, api_key_env="OPENAI_API_KEY")
+CLAUDE = ModelSpec(name="claude", model="anthropic/claude-sonnet", max_tokens=1024)
+
+
+def contents(root: Path) -> list[TaskContent]:
+    return [read_task(task) for task in load_suite(root).tasks]
+
+
+def ids_by_task(jobs: list[JobSpec]) -> dict[tuple[str, str, str, int], str]:
+    return {(job.model_name, job.mode, job.task_id, job.seed): job.job_id for job in jobs}
+
+
+def plan(tasks: list[TaskContent], models: list[ModelSpec | None] | None = None) -> list[JobSpec]:
+    return list(
+        plan_jobs(models or [GPT, CLAUDE], ["composite", "primitive"], "llm", tasks, seeds=[0, 1, 2], max_steps=30)
+    )
+
+
+@pytest.fixture(scope="module")
+def ours() -> list[TaskContent]:
+    return contents(SUITE_DIR)
+
+
+@pytest.fixture
+def suite_copy(tmp_path: Path) -> Path:
+    root = tmp_path / "tasks"
+    shutil.copytree(SUITE_DIR, root)
+    return root
+
+
+# --- the matrix --------------------------------------------------------------------------------
+
+
+def test_read_task_carries_every_file(ours: list[TaskContent]) -> None:
+    assert len(ours) == 12
+    content = next(c for c in ours if c.task.id == "sum_two_numbers")
+    task = content.task
+    assert content.payload.task_id == "sum_two_numbers"
+    assert content.payload.category == "compute"
+    assert content.payload.instruction == task.instruction
+    assert content.payload.initial_project == task.initial_project.read_bytes()
+    assert task.golden_project is not None
+    assert content.payload.golden_project == task.golden_project.read_bytes()
+    assert content.payload.evaluation.script_source == task.evaluation_script.read_text(encoding="utf-8")
+    assert content.payload.evaluation.helper_source == (SUITE_DIR / "harness.js").read_text(encoding="utf-8")
+    assert len(content.task_hash) == 16
+    assert len({c.task_hash for c in ours}) == len(ours)
+
+
+def test_matrix_size_and_order(ours: list[TaskContent]) -> None:
+    jobs = plan(ours)
+    assert len(jobs) == 2 * 2 * 3 * len(ours) == 144
+    cells = [(j.model_name, j.mode, j.seed, j.task_id) for j in jobs]
+    task_ids = [c.task.id for c in ours]
+    expected = [
+        (model, mode, seed, task)
+        for model in ("gpt", "claude")
+        for mode in ("composite", "primitive")
+        for seed in (0, 1, 2)
+        for task in task_ids
+    ]
+    assert cells == expected
+
+
+def test_job_fields_come_from_the_plan(ours: list[TaskContent]) -> None:
+    content = ours[3]
+    (job,) = plan_jobs([CLAUDE], ["primitive"], "llm", [content], seeds=[4], max_steps=12)
+    assert job.model == CLAUDE and job.model_name == "claude"
+    assert (job.mode, job.agent, job.seed, job.max_steps) == ("primitive", "llm", 4, 12)
+    assert (job.task_id, job.category, job.task_hash) == (content.task.id, content.task.category, content.task_hash)
+    assert job.job_id == job_id(CLAUDE, "primitive", "llm", content.task_hash, content.task.id, 4, 12)
+
+
+def test_ids_are_stable_across_planning_calls(ours: list[TaskContent]) -> None:
+    first = [j.job_id for j in plan(ours)]
+    again = [j.job_id for j in plan(contents(SUITE_DIR))]
+    assert first == again
+
+
+def test_ids_are_unique_across_the_matrix(ours: list[TaskContent]) -> None:
+    jobs = plan(ours)
+    assert len({j.job_id for j in jobs}) == len(jobs)
+    assert all(len(j.job_id) == 24 for j in jobs)
+
+
+def test_scripted_agents_use_no_model(ours: list[TaskContent]) -> None:
+    jobs = list(plan_jobs([None], ["composite"], "oracle", ours, seeds=[0], max_steps=5))
+    assert len(jobs) == len(ours)
+    assert {j.model_name for j in jobs} == {NO_MODEL}
+    noop = list(plan_jobs([None], ["composite"], "noop", ours, seeds=[0], max_steps=5))
+    assert {j.job_id for j in jobs}.isdisjoint(j.job_id for j in noop)
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [("mode", "primitive"), ("agent", "noop"), ("seed", 1), ("max_steps", 31), ("task_hash", "0" * 16)],
+)
+def test_each_identity_field_changes_the_id(field: str, value: object) -> None:
+    base = {"model": GPT, "mode": "composite", "agent": "llm", "task_hash": "a" * 16, "task_id": "t", "seed": 0}
+    base["max_steps"] = 30
+    changed = {**base, field: value}
+    assert job_id(**changed) != job_id(**base)  # type: ignore[arg-type]
+
+
+def test_harness_version_is_part_of_the_id(monkeypatch: pytest.MonkeyPatch) -> None:
+    before = job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30)
+    monkeypatch.setattr("scratchworld_dist.sweep._plan.HARNESS_VERSION", HARNESS_VERSION + ".post1")
+    assert job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30) != before
+
+
+# --- task content changes ----------------------------------------------------------------------
+
+
+def _flip_last_byte(path: Path) -> None:
+    data = bytearray(path.read_bytes())
+    data[-1] ^= 0x01
+    path.write_bytes(bytes(data))
+
+
+def _append_space(path: Path) -> None:
+    path.write_bytes(path.read_bytes() + b" ")
+
+
+def _edit_instruction(path: Path) -> None:
+    task = json.loads(path.read_text(encoding="utf-8"))
+    task["instruction"] += "!"
+    path.write_text(json.dumps(task), encoding="utf-8")
+
+
+def _edit_timeout(path: Path) -> None:
+    task = json.loads(path.read_text(encoding="utf-8"))
+    task["timeout_s"] += 1
+    path.write_text(json.dumps(task), encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    ("file_name", "edit"),
+    [
+        ("evaluate.js", _append_space),
+        ("initial.sb3", _flip_last_byte),
+        ("golden.sb3", _flip_last_byte),
+        ("task.json", _edit_instruction),
+        ("task.json", _edit_timeout),
+    ],
+)
+def test_changing_one_task_changes_only_its_hash_and_ids(
+    ours: list[TaskContent], suite_copy: Path, file_name: str, edit: object
+) -> None:
+    changed_task = "star_shower"
+    original = contents(suite_copy)
+    assert [c.task_hash for c in original] == [c.task_hash for c in ours]  # the copy is faithful
+
+    edit(suite_copy / "create" / changed_task / file_name)  # type: ignore[operator]
+    edited = contents(suite_copy)
+
+    hashes_before = {c.task.id: c.task_hash for c in original}
+    hashes_after = {c.task.id: c.task_hash for c in edited}
+    assert hashes_after[changed_task] != hashes_before[changed_task]
+    assert {k: v for k, v in hashes_after.items() if k != changed_task} == {
+        k: v for k, v in hashes_before.items() if k != changed_task
+    }
+    assert hash_of_suite(edited) != hash_of_suite(original)
+
+    ids_before, ids_after = ids_by_task(plan(original)), ids_by_task(plan(edited))
+    assert ids_before.keys() == ids_after.keys()
+    for cell, before in ids_before.items():
+        if cell[2] == changed_task:
+            assert ids_after[cell] != before, cell
+        else:
+            assert ids_after[cell] == before, cell
+
+
+def test_changing_the_shared_helper_changes_every_task(suite_copy: Path) -> None:
+    original = contents(suite_copy)
+    _append_space(suite_copy / "harness.js")
+    edited = contents(suite_copy)
+    assert all(a.task_hash != b.task_hash for a, b in zip(original, edited, strict=True))
+
+
+def test_suite_hash_ignores_order_but_not_membership(ours: list[TaskContent]) -> None:
+    assert hash_of_suite(list(reversed(ours))) == hash_of_suite(ours)
+    assert hash_of_suite(ours[1:]) != hash_of_suite(ours)
+
+
+# --- model identity ----------------------------------------------------------------------------
+
+
+def test_model_parameters_change_ids(ours: list[TaskContent]) -> None:
+    base = ids_by_task(plan(ours, [GPT]))
+    for variant in (
+        GPT.model_copy(update={"temperature": 0.7}),
+        GPT.model_copy(update={"model": "openai/gpt-4o-mini"}),
+        GPT.model_copy(update={"max_tokens": 256}),
+        GPT.model_copy(update={"api_base": "http://localhost:4000"}),
+        GPT.model_copy(update={"params": {"top_p": 0.5}}),
+    ):
+        changed = ids_by_task(plan(ours, [variant]))
+        assert set(changed.values()).isdisjoint(base.values()), variant
+
+
+def test_model_label_and_key_variable_do_not_change_ids(ours: list[TaskContent]) -> None:
+    base = [j.job_id for j in plan(ours, [GPT])]
+    renamed = GPT.model_copy(update={"name": "gpt-4o (prod)", "api_key_env": "OTHER_KEY"})
+    assert [j.job_id for j in plan(ours, [renamed])] == base
+    unkeyed = GPT.model_copy(update={"api_key_env": None})
+    assert [j.job_id for j in plan(ours, [unkeyed])] == base
+
+
+def test_episode_carries_the_job(ours: list[TaskContent]) -> None:
+    job = plan(ours)[17]
+    episode = job.episode(attempt=3, timeout_s=120.0)
+    assert episode.job_id == job.job_id
+    assert episode.attempt == 3
+    assert episode.timeout_s == 120.0
+    assert (episode.task_id, episode.mode, episode.agent) == (job.task_id, job.mode, job.agent)
+    assert (episode.model, episode.seed, episode.max_steps) == (job.model, job.seed, job.max_steps)
