@@ -52,28 +52,49 @@ def spec(n: int) -> JobSpec:
 
 def episode(job: JobSpec, attempt: int, outcome: str) -> EpisodeResult:
     """A worker's result: two steps, and two tests unless the attempt ended in an error."""
-    steps = [
-        StepRecord(index=0, action="load_project", args={"z": 1, "a": "x"}, ok=True, latency_s=0.5, llm_calls=1,
-                   input_tokens=100, output_tokens=20, cost_usd=0.01),
-        StepRecord(index=1, action="done", ok=outcome != "error", error_code=None if outcome != "error" else "E",
-                   error_message=None if outcome != "error" else "ünïcode failure", latency_s=0.25, llm_calls=1,
-                   input_tokens=150, output_tokens=5, cost_usd=0.02),
-    ]  # fmt: skip
-    timings = EpisodeTimings(setup_s=1.0, agent_s=2.0, evaluation_s=0.5, total_s=3.5)
-    worker = WorkerInfo(node_id="node-a", hostname="host-a", pid=4242, worker_index=1)
-    common = {"job_id": job.job_id, "attempt": attempt, "steps": steps, "timings": timings, "worker": worker}
-    common |= {"started_at": T0, "finished_at": T0 + 3.5}
-    if outcome == "error":
-        return EpisodeResult(
-            outcome="error", error_class="editor_failure", error_message="page crashed", stop_reason="editor_failure",
-            **common,
-        )  # fmt: skip
-    tests = [TestVerdict(name="runs", passed=True, duration_ms=3.0), TestVerdict(name="behaves", passed=False)]
-    if outcome == "passed":
-        tests[1] = TestVerdict(name="behaves", passed=True, duration_ms=4.0)
+    errored = outcome == "error"
+    load = StepRecord(
+        index=0,
+        action="load_project",
+        args={"z": 1, "a": "x"},
+        ok=True,
+        latency_s=0.5,
+        llm_calls=1,
+        input_tokens=100,
+        output_tokens=20,
+        cost_usd=0.01,
+    )
+    done = StepRecord(
+        index=1,
+        action="done",
+        ok=not errored,
+        error_code="E" if errored else None,
+        error_message="ünïcode failure" if errored else None,
+        latency_s=0.25,
+        llm_calls=1,
+        input_tokens=150,
+        output_tokens=5,
+        cost_usd=0.02,
+    )
+    result = EpisodeResult(
+        job_id=job.job_id,
+        attempt=attempt,
+        outcome="passed",
+        stop_reason="done",
+        steps=[load, done],
+        timings=EpisodeTimings(setup_s=1.0, agent_s=2.0, evaluation_s=0.5, total_s=3.5),
+        worker=WorkerInfo(node_id="node-a", hostname="host-a", pid=4242, worker_index=1),
+        started_at=T0,
+        finished_at=T0 + 3.5,
+    )
+    if errored:
+        update = {"outcome": "error", "error_class": "editor_failure", "error_message": "page crashed"}
+        return result.model_copy(update={**update, "stop_reason": "editor_failure"})
+    second = TestVerdict(name="behaves", passed=outcome == "passed", duration_ms=4.0)
+    tests = [TestVerdict(name="runs", passed=True, duration_ms=3.0), second]
     passed = sum(t.passed for t in tests)
     evaluation = EvalResult(success=passed == 2, passed=passed, total=2, psr=passed / 2, tests=tests)
-    return EpisodeResult(outcome=outcome, stop_reason="done", evaluation=evaluation, **common)  # type: ignore[arg-type]
+    return result.model_copy(update={"outcome": outcome, "evaluation": evaluation})
 
 
 def record(n: int, attempt: int = 1, outcome: str = "passed") -> JobRecord:
@@ -421,6 +442,25 @@ def test_crash_between_shards_counts_the_segment_once(tmp_path: Path) -> None:
     assert len(reader.job_rows()) == 2
     assert reader.read_table("steps").num_rows == 4
     assert reader.read_table("tests").num_rows == 4
+
+
+def test_reader_racing_a_compaction_sees_every_row_once(writer: RunStore, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The writer compacts (and deletes) a segment after a reader listed it but before it read it."""
+    for n in range(3):
+        writer.commit(record(n))
+    read_segment = store_module._read_segment
+    raced: list[Path] = []
+
+    def compact_first(path: Path) -> list[JobRecord]:
+        if not raced:
+            raced.append(path)
+            writer.flush()
+        return read_segment(path)
+
+    monkeypatch.setattr(store_module, "_read_segment", compact_first)
+    rows = RunStore(writer.run_dir).job_rows()
+    assert raced and not raced[0].exists()
+    assert [r.job_id for r in rows] == ["job000", "job001", "job002"]
 
 
 # --- the writer's lock -------------------------------------------------------------------------

@@ -178,6 +178,17 @@ def test_duplicate_model_names_are_refused(tmp_path: Path) -> None:
     assert len(load_sweep_config(write(tmp_path, minimal(agent="llm", models=models))).models) == 2
 
 
+def test_models_differing_only_in_label_are_refused(tmp_path: Path) -> None:
+    models = [
+        {"model": "openai/gpt-4o", "name": "a", "api_key_env": "KEY_A"},
+        {"model": "openai/gpt-4o", "name": "b", "api_key_env": "KEY_B"},
+    ]
+    message = config_error(tmp_path, minimal(agent="llm", models=models))
+    assert "identical settings" in message
+    models[1]["temperature"] = 0.5
+    assert len(load_sweep_config(write(tmp_path, minimal(agent="llm", models=models))).models) == 2
+
+
 def test_secrets_do_not_echo_into_the_error(tmp_path: Path) -> None:
     params_secret = config_error(tmp_path, minimal(models=[{"model": "m", "params": {"api_key": "sk-live-9f8e7d"}}]))
     assert "sk-live-9f8e7d" not in params_secret

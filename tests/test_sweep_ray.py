@@ -7,6 +7,7 @@ the test so a killed driver's Ray helpers never outlive it.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -55,10 +56,8 @@ class Driver:
         return code, self.log.read_text()
 
     def kill_group(self) -> None:
-        try:
+        with contextlib.suppress(ProcessLookupError):
             os.killpg(self.process.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
         self.process.wait()
 
 
@@ -196,7 +195,10 @@ def test_real_episodes_in_the_browser(tmp_path: Path, drivers: list[Driver]) -> 
     code, out = run(drivers, oracle)
     assert code == 0, out
     rows = RunStore(tmp_path / "run").job_rows()
-    assert {(row.task_id, row.outcome) for row in rows} == {("sum_two_numbers", "passed"), ("bouncing_ball_stuck", "passed")}
+    assert {(row.task_id, row.outcome) for row in rows} == {
+        ("sum_two_numbers", "passed"),
+        ("bouncing_ball_stuck", "passed"),
+    }
     for row in rows:
         assert row.tests_passed == row.tests_total >= 3
         assert row.steps == 2  # load the golden project, then done

@@ -1,5 +1,6 @@
 """What runs inside a worker: the browser session, the editor bridge and evaluation."""
 
+from workers._actions import FINAL_ACTIONS, Action, Done, Failed, LoadProject
 from workers._browser import CHROMIUM_ARGS, BrowserConfig, BrowserSession
 from workers._editor import Editor, EditorStatus
 from workers._editor_server import EditorAssets, EditorServer
@@ -25,10 +26,13 @@ from workers._synthetic import SyntheticEpisodes, run_synthetic
 
 __all__ = [
     "CHROMIUM_ARGS",
+    "FINAL_ACTIONS",
     "VERDICT_ERROR_KINDS",
+    "Action",
     "AgentName",
     "BrowserConfig",
     "BrowserSession",
+    "Done",
     "Editor",
     "EditorAssets",
     "EditorServer",
@@ -44,6 +48,8 @@ __all__ = [
     "EvalTimings",
     "EvaluationSpec",
     "Evaluator",
+    "Failed",
+    "LoadProject",
     "Mode",
     "ModelSpec",
     "Outcome",

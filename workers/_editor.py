@@ -117,6 +117,8 @@ class Editor:
             remaining = max(deadline - time.monotonic(), 0.1)
             await self.page.wait_for_function(_SETTLED, timeout=remaining * 1000, polling=50)
         except PlaywrightError as exc:
+            if self._crashed or self.page.is_closed():
+                raise EditorCrashedError(f"the editor page went away while opening: {exc.message}") from exc
             raise EditorNotReadyError(await self._not_ready_reason(timeout_s, exc)) from exc
         status = await self.status()
         if not status.renderer:

@@ -9,6 +9,7 @@ alternative, but it pipes every response body through Python (see benchmarks/edi
 from __future__ import annotations
 
 import os
+import sys
 import threading
 from functools import cached_property
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
@@ -79,6 +80,15 @@ class _Handler(SimpleHTTPRequestHandler):
         """Requests are not worth a log line each."""
 
 
+class _Server(ThreadingHTTPServer):
+    daemon_threads = True
+
+    def handle_error(self, request: object, client_address: object) -> None:
+        """A browser that closes mid-download (a page closed, Chromium killed) is routine, not an error."""
+        if not isinstance(sys.exc_info()[1], ConnectionError):
+            super().handle_error(request, client_address)  # type: ignore[arg-type]
+
+
 class EditorServer:
     """Serves the editor on an ephemeral 127.0.0.1 port from a daemon thread."""
 
@@ -102,8 +112,7 @@ class EditorServer:
     def start(self) -> EditorServer:
         if self._httpd is not None:
             raise RuntimeError("the editor server is already running")
-        self._httpd = ThreadingHTTPServer(("127.0.0.1", self._port), self._handler)
-        self._httpd.daemon_threads = True
+        self._httpd = _Server(("127.0.0.1", self._port), self._handler)
         self._thread = threading.Thread(target=self._httpd.serve_forever, name="editor-server", daemon=True)
         self._thread.start()
         return self

@@ -14,7 +14,11 @@ from workers._editor import Editor
 from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, StepRecord, TaskPayload, outcome_of
 from workers._errors import BridgeError, EditorError
 from workers._evaluation import Evaluator
-from workers.agents import Agent, AgentUnavailableError, agent_for
+from workers.agents import Agent
+
+
+class AgentCrashedError(Exception):
+    """The agent raised instead of returning an action."""
 
 
 class EpisodeRunner:
@@ -24,14 +28,10 @@ class EpisodeRunner:
         self.session = session
         self.evaluator = Evaluator(session)
 
-    async def run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
+    async def run(self, spec: EpisodeSpec, task: TaskPayload, agent: Agent) -> EpisodeResult:
         started, clock = time.time(), time.perf_counter()
         timings = EpisodeTimings()
         steps: list[StepRecord] = []
-        try:
-            agent = agent_for(spec, task)
-        except AgentUnavailableError as exc:
-            return _finish(EpisodeResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
         try:
             async with self.session.editor() as editor:
                 await editor.load_project(task.initial_project)
@@ -41,6 +41,9 @@ class EpisodeRunner:
                 final_project = await editor.save_project()
         except (EditorError, BridgeError) as exc:
             result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=steps)
+            return _finish(result, started, clock, timings)
+        except AgentCrashedError as exc:
+            result = EpisodeResult.errored(spec, "agent_error", str(exc), steps=steps)
             return _finish(result, started, clock, timings)
         evaluation_start = time.perf_counter()
         evaluation = await self.evaluator.evaluate(final_project, task.evaluation)
@@ -66,7 +69,10 @@ async def _act(agent: Agent, editor: Editor, spec: EpisodeSpec, steps: list[Step
         step_start = time.perf_counter()
         # Observations of the composite and primitive modes are built here once those modes exist;
         # scripted agents do not observe.
-        action = await agent.act(None)
+        try:
+            action = await agent.act(None)
+        except Exception as exc:  # a broken agent is the agent's error, not the harness's
+            raise AgentCrashedError(f"the agent raised {type(exc).__name__} at step {index}: {exc}") from exc
         ok, error_code, error_message = await _apply(editor, action)
         steps.append(
             StepRecord(

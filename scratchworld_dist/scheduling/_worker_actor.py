@@ -14,6 +14,7 @@ import time
 import traceback
 
 import ray
+from playwright.async_api import Error as PlaywrightError
 
 from workers import (
     BrowserConfig,
@@ -27,6 +28,7 @@ from workers import (
     run_synthetic,
 )
 from workers._errors import EditorError
+from workers.agents import AgentUnavailableError, agent_for
 
 
 class EpisodeWorker:
@@ -35,7 +37,7 @@ class EpisodeWorker:
     def __init__(self, worker_index: int, synthetic: SyntheticEpisodes | None = None) -> None:
         self.synthetic = synthetic
         self.info_ = WorkerInfo(
-            node_id=ray.get_runtime_context().get_node_id(),
+            node_id=ray.get_runtime_context().get_node_id() if ray.is_initialized() else "local",
             hostname=socket.gethostname(),
             pid=os.getpid(),
             worker_index=worker_index,
@@ -53,7 +55,7 @@ class EpisodeWorker:
             result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
         except TimeoutError:
             result = EpisodeResult.errored(spec, "episode_timeout", f"episode exceeded {spec.timeout_s:g} s")
-        except EditorError as exc:
+        except (EditorError, PlaywrightError) as exc:  # the browser itself broke: start a new one
             await self._drop_browser()
             result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         except Exception as exc:  # the worker must answer, whatever broke: the driver records it
@@ -68,8 +70,12 @@ class EpisodeWorker:
     async def _run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
         if self.synthetic is not None:
             return await run_synthetic(spec, task, self.synthetic)
+        try:
+            agent = agent_for(spec, task)
+        except AgentUnavailableError as exc:
+            return EpisodeResult.errored(spec, "agent_error", str(exc))
         runner = await self._browser()
-        result = await runner.run(spec, task)
+        result = await runner.run(spec, task, agent)
         if result.error_class == "editor_failure":
             await self._drop_browser()
         return result

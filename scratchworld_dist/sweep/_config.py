@@ -45,7 +45,7 @@ class ModelConfig(BaseModel):
     @field_validator("params")
     @classmethod
     def _no_secrets(cls, value: dict[str, Any]) -> dict[str, Any]:
-        secrets = sorted(k for k in value if k.lower() in _SECRET_KEYS)
+        secrets = sorted(_secret_keys(value))
         if secrets:
             raise ValueError(f"{', '.join(secrets)} may not appear in a config; use api_key_env")
         return value
@@ -60,6 +60,21 @@ class ModelConfig(BaseModel):
             api_key_env=self.api_key_env,
             params=self.params,
         )
+
+
+def _secret_keys(value: Any, path: str = "") -> list[str]:
+    """Keys that would carry a credential, at any depth (e.g. extra_headers.Authorization)."""
+    found: list[str] = []
+    if isinstance(value, dict):
+        for key, item in value.items():
+            where = f"{path}{key}"
+            if str(key).lower() in _SECRET_KEYS or str(key).lower().endswith(("api_key", "_token", "-key")):
+                found.append(where)
+            found.extend(_secret_keys(item, f"{where}."))
+    elif isinstance(value, list):
+        for item in value:
+            found.extend(_secret_keys(item, path))
+    return found
 
 
 class TaskSelection(BaseModel):
@@ -193,6 +208,9 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     resolved: dict[str, Any] = {"suite": _resolve(base, config.suite)}
     if config.output is not None and "output" not in (overrides or {}):
         resolved["output"] = _resolve(base, config.output)
+    task_list = config.tasks.task_list
+    if task_list is not None and (base / task_list).is_file():  # a file next to the config, not a list name
+        resolved["tasks"] = config.tasks.model_copy(update={"task_list": str((base / task_list).resolve())})
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):
         resolved["ray"] = RayConfig(address=os.environ["RAY_ADDRESS"])
     return config.model_copy(update=resolved)

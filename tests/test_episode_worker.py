@@ -1,0 +1,150 @@
+"""The worker actor's class used in-process with its own real browser: episodes, timeouts, a dying browser."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import AsyncIterator
+
+import pytest
+
+from scratchworld_dist.scheduling._worker_actor import EpisodeWorker
+from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
+from tests.conftest import SUITE_DIR
+from workers import Action, AgentName, BrowserSession, EpisodeRunner, EpisodeSpec, LoadProject, TaskPayload
+
+
+@pytest.fixture(scope="module")
+def contents() -> dict[str, TaskContent]:
+    suite = load_suite(SUITE_DIR)
+    return {task_id: read_task(suite.task(task_id)) for task_id in ("sum_two_numbers", "bouncing_ball_stuck")}
+
+
+@pytest.fixture
+async def worker() -> AsyncIterator[EpisodeWorker]:
+    worker = EpisodeWorker(worker_index=3)
+    yield worker
+    await worker.close()
+
+
+def episode(
+    content: TaskContent, agent: AgentName = "oracle", timeout_s: float = 120
+) -> tuple[EpisodeSpec, TaskPayload]:
+    (job,) = plan_jobs([None], ["composite"], agent, [content], [0], 5)
+    return job.episode(1, timeout_s), content.payload
+
+
+async def test_oracle_passes_and_noop_fails_side_by_side(
+    worker: EpisodeWorker, contents: dict[str, TaskContent]
+) -> None:
+    oracle, noop = await asyncio.gather(
+        worker.run(*episode(contents["sum_two_numbers"])),
+        worker.run(*episode(contents["bouncing_ball_stuck"], agent="noop")),
+    )
+    assert (oracle.outcome, oracle.stop_reason, oracle.error_class) == ("passed", "done", None)
+    assert [step.action for step in oracle.steps] == ["load_project", "done"]
+    assert oracle.steps[0].args == {"sb3_bytes": len(contents["sum_two_numbers"].payload.golden_project or b"")}
+    assert oracle.final_project is not None
+    assert oracle.final_project[:2] == b"PK"
+    assert oracle.evaluation is not None
+    assert oracle.evaluation.passed == oracle.evaluation.total >= 3
+    assert oracle.worker is not None
+    assert oracle.worker.worker_index == 3
+    assert 0 < oracle.timings.setup_s < oracle.timings.total_s
+    assert oracle.timings.evaluation_s > 0
+    assert oracle.finished_at > oracle.started_at > 0
+
+    assert noop.outcome == "failed"
+    assert [step.action for step in noop.steps] == ["done"]
+    assert noop.evaluation is not None
+    assert noop.evaluation.passed < noop.evaluation.total
+
+
+async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
+    worker: EpisodeWorker, contents: dict[str, TaskContent]
+) -> None:
+    result = await worker.run(*episode(contents["sum_two_numbers"], timeout_s=1.5))
+    assert (result.outcome, result.error_class, result.stop_reason) == ("error", "episode_timeout", "episode_timeout")
+    assert result.error_message == "episode exceeded 1.5 s"
+    assert 1.5 <= result.timings.total_s < 10
+    assert result.started_at > 0
+    session = worker._session
+    assert session is not None
+    assert session._browser is not None
+    assert session._browser.contexts == []  # the cancelled episode closed its pages
+    again = await worker.run(*episode(contents["sum_two_numbers"]))
+    assert again.outcome == "passed"
+
+
+async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
+    worker: EpisodeWorker, contents: dict[str, TaskContent]
+) -> None:
+    running = asyncio.create_task(worker.run(*episode(contents["sum_two_numbers"])))
+    for _ in range(600):
+        session = worker._session
+        if session is not None and session._browser is not None and session._browser.contexts:
+            break
+        await asyncio.sleep(0.05)
+    else:
+        pytest.fail("the episode never opened a page")
+    first_browser = session._browser
+    await first_browser.close()  # as if Chromium crashed
+    result = await running
+    assert result.outcome == "error"
+    assert result.error_class == "editor_failure", result.error_message
+    again = await worker.run(*episode(contents["sum_two_numbers"]))
+    assert again.outcome == "passed"
+    assert worker._session is not None
+    assert worker._session._browser is not first_browser
+
+
+async def test_an_unavailable_agent_is_an_agent_error(worker: EpisodeWorker, contents: dict[str, TaskContent]) -> None:
+    result = await worker.run(*episode(contents["sum_two_numbers"], agent="llm"))
+    assert (result.outcome, result.error_class) == ("error", "agent_error")
+    assert "llm" in (result.error_message or "")
+    assert worker._session is None  # no browser was started for nothing
+
+
+class CrashingAgent:
+    observes = False
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    async def act(self, observation: str | None) -> Action:
+        self.calls += 1
+        if self.calls > 1:
+            raise RuntimeError("model output could not be parsed")
+        return LoadProject(sb3=b"not a zip")
+
+
+class BusyAgent:
+    """Never says done: reloads the project it was given, forever."""
+
+    observes = False
+
+    def __init__(self, sb3: bytes) -> None:
+        self.sb3 = sb3
+
+    async def act(self, observation: str | None) -> Action:
+        return LoadProject(sb3=self.sb3)
+
+
+async def test_agent_crash_step_limit_and_rejected_actions(
+    session: BrowserSession, contents: dict[str, TaskContent]
+) -> None:
+    runner = EpisodeRunner(session)
+    content = contents["sum_two_numbers"]
+    spec, payload = episode(content)
+
+    crashed = await runner.run(spec, payload, CrashingAgent())
+    assert (crashed.outcome, crashed.error_class) == ("error", "agent_error")
+    assert "RuntimeError at step 1: model output could not be parsed" in (crashed.error_message or "")
+    (rejected,) = crashed.steps  # the first action was carried out (and refused) before the crash
+    assert (rejected.action, rejected.ok, rejected.error_code) == ("load_project", False, "project_invalid")
+
+    busy = await runner.run(spec, payload, BusyAgent(payload.golden_project or b""))
+    assert busy.stop_reason == "max_steps"
+    assert len(busy.steps) == spec.max_steps
+    assert all(step.ok for step in busy.steps)
+    assert busy.outcome == "passed"  # the step limit ends the episode; the project is still judged
