@@ -230,3 +230,15 @@ def test_episode_carries_the_job(ours: list[TaskContent]) -> None:
     assert episode.timeout_s == 120.0
     assert (episode.task_id, episode.mode, episode.agent) == (job.task_id, job.mode, job.agent)
     assert (episode.model, episode.seed, episode.max_steps) == (job.model, job.seed, job.max_steps)
+
+
+def test_the_demo_config_plans_our_whole_suite_for_the_oracle() -> None:
+    from scratchworld_dist._run import plan_run
+    from scratchworld_dist.sweep import load_sweep_config
+
+    config = load_sweep_config(SUITE_DIR.parent / "configs" / "demo.yaml")
+    planned = plan_run(config)
+    assert (config.agent, config.modes, config.seeds) == ("oracle", ["composite"], [0])
+    assert config.suite == SUITE_DIR
+    assert sorted(job.task_id for job in planned.jobs) == sorted(task.id for task in load_suite(SUITE_DIR).tasks)
+    assert all(content.payload.golden_project for content in planned.contents)  # the oracle needs every golden
