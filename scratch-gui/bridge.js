@@ -196,6 +196,17 @@
 
   const api = {status, loadProject, saveProject, evaluate};
 
+  // Feature modules (composite.js, ...) load before this file and register factories here; they
+  // get the VM accessor and the failure type, and their functions join the one call table.
+  const modules = window.__scratchworldModules || [];
+  delete window.__scratchworldModules;
+  for (const factory of modules) {
+    for (const [name, fn] of Object.entries(factory({requireVm: requireVm, BridgeFailure: BridgeFailure}))) {
+      if (Object.prototype.hasOwnProperty.call(api, name)) throw new Error(`bridge function ${name} registered twice`);
+      api[name] = fn;
+    }
+  }
+
   async function call(name, args) {
     try {
       if (!Object.prototype.hasOwnProperty.call(api, name)) {

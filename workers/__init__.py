@@ -1,7 +1,8 @@
 """What runs inside a worker: the browser session, the editor bridge and evaluation."""
 
-from workers._actions import FINAL_ACTIONS, Action, Done, Failed, LoadProject
+from workers._actions import FINAL_ACTIONS, Action, CompositeAction, Done, Failed, LoadProject, composite_action
 from workers._browser import CHROMIUM_ARGS, BrowserConfig, BrowserSession
+from workers._composite import CompositeEnvelope, CompositeError, CompositeObservation
 from workers._editor import Editor, EditorStatus
 from workers._editor_server import EditorAssets, EditorServer
 from workers._episode import (
@@ -32,6 +33,10 @@ __all__ = [
     "AgentName",
     "BrowserConfig",
     "BrowserSession",
+    "CompositeAction",
+    "CompositeEnvelope",
+    "CompositeError",
+    "CompositeObservation",
     "Done",
     "Editor",
     "EditorAssets",
@@ -58,6 +63,7 @@ __all__ = [
     "TaskPayload",
     "TestVerdict",
     "WorkerInfo",
+    "composite_action",
     "outcome_of",
     "run_synthetic",
 ]

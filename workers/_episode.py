@@ -10,6 +10,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
+from workers._actions import CompositeAction
 from workers._eval_result import EvalResult
 from workers._evaluation_spec import EvaluationSpec
 
@@ -76,6 +77,9 @@ class TaskPayload(BaseModel):
     instruction: str
     initial_project: bytes
     golden_project: bytes | None
+    golden_trajectory: list[CompositeAction] | None = None
+    """Composite actions that turn the initial project into a solution (replayed by the oracle)."""
+
     evaluation: EvaluationSpec
 
 
@@ -92,6 +96,9 @@ class StepRecord(BaseModel):
 
     error_code: str | None = None
     error_message: str | None = None
+    data: JsonValue = None
+    """What the environment answered (a composite envelope's data or error details)."""
+
     latency_s: float = 0.0
     """Wall time of the agent's decision plus the action."""
 

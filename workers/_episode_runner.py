@@ -8,10 +8,13 @@ from __future__ import annotations
 
 import time
 
-from workers._actions import FINAL_ACTIONS, Action, LoadProject
+from pydantic import JsonValue
+
+from workers import _composite as composite
+from workers._actions import FINAL_ACTIONS, Action, CompositeAction, LoadProject
 from workers._browser import BrowserSession
 from workers._editor import Editor
-from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, StepRecord, TaskPayload, outcome_of
+from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, Mode, StepRecord, TaskPayload, outcome_of
 from workers._errors import BridgeError, EditorError
 from workers._evaluation import Evaluator
 from workers.agents import Agent
@@ -63,25 +66,32 @@ class EpisodeRunner:
         return _finish(result, started, clock, timings)
 
 
+async def _observe(editor: Editor, mode: Mode) -> str:
+    if mode == "composite":
+        return (await composite.observe(editor)).text
+    raise AgentCrashedError(f"{mode} observations are not available in this build")
+
+
 async def _act(agent: Agent, editor: Editor, spec: EpisodeSpec, steps: list[StepRecord]) -> str:
     """The agent loop; returns why it stopped."""
     for index in range(spec.max_steps):
         step_start = time.perf_counter()
-        # Observations of the composite and primitive modes are built here once those modes exist;
-        # scripted agents do not observe.
+        observation = await _observe(editor, spec.mode) if agent.observes else None
         try:
-            action = await agent.act(None)
+            action = await agent.act(observation)
         except Exception as exc:  # a broken agent is the agent's error, not the harness's
             raise AgentCrashedError(f"the agent raised {type(exc).__name__} at step {index}: {exc}") from exc
-        ok, error_code, error_message = await _apply(editor, action)
+        ok, error_code, error_message, data = await _apply(editor, action)
+        name, args = _describe(action)
         steps.append(
             StepRecord(
                 index=index,
-                action=action.name,
-                args=_describe(action),
+                action=name,
+                args=args,
                 ok=ok,
                 error_code=error_code,
                 error_message=error_message,
+                data=data,
                 latency_s=time.perf_counter() - step_start,
             )
         )
@@ -90,20 +100,28 @@ async def _act(agent: Agent, editor: Editor, spec: EpisodeSpec, steps: list[Step
     return "max_steps"
 
 
-async def _apply(editor: Editor, action: Action) -> tuple[bool, str | None, str | None]:
+async def _apply(editor: Editor, action: Action) -> tuple[bool, str | None, str | None, JsonValue]:
+    """Carry out one action: (ok, error code, error message, data the environment answered)."""
     if isinstance(action, LoadProject):
         try:
             await editor.load_project(action.sb3)
         except BridgeError as exc:
-            return False, exc.kind, exc.detail
-    return True, None, None
+            return False, exc.kind, exc.detail, None
+    if isinstance(action, CompositeAction):
+        envelope = await composite.execute(editor, action.api, action.args)
+        if envelope.error is not None:
+            return False, envelope.error.code, envelope.error.message, envelope.error.details
+        return True, None, None, envelope.data
+    return True, None, None, None
 
 
-def _describe(action: Action) -> dict[str, str | int]:
-    """The action's arguments as they are logged (bulky payloads by size only)."""
+def _describe(action: Action) -> tuple[str, dict[str, JsonValue]]:
+    """The action's name and arguments as they are logged (bulky payloads by size only)."""
     if isinstance(action, LoadProject):
-        return {"sb3_bytes": len(action.sb3)}
-    return {k: v for k, v in action.model_dump(exclude={"name"}).items() if isinstance(v, str | int)}
+        return action.name, {"sb3_bytes": len(action.sb3)}
+    if isinstance(action, CompositeAction):
+        return action.api, action.args
+    return action.name, action.model_dump(exclude={"name"})
 
 
 def _finish(result: EpisodeResult, started: float, clock: float, timings: EpisodeTimings) -> EpisodeResult:

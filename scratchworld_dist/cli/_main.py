@@ -9,6 +9,7 @@ import click
 from scratchworld_dist._errors import ScratchWorldError
 from scratchworld_dist.cli._evaluate import evaluate_command
 from scratchworld_dist.cli._gui import gui_command
+from scratchworld_dist.cli._replay import observe_command, replay_command
 from scratchworld_dist.cli._report import report_command
 from scratchworld_dist.cli._run import run_command
 from scratchworld_dist.cli._status import status_command
@@ -28,6 +29,8 @@ cli.add_command(evaluate_command)
 cli.add_command(gui_command)
 cli.add_command(report_command)
 cli.add_command(run_command)
+cli.add_command(replay_command)
+cli.add_command(observe_command)
 cli.add_command(status_command)
 
 

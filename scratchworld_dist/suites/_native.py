@@ -94,6 +94,7 @@ class NativeSuiteLoader:
         if len(problems.items) > before or task_file is None:
             return None
         golden = task_dir / "golden.sb3"
+        trajectory = task_dir / "golden_trajectory.json"
         return Task(
             id=task_dir.name,
             category=category,  # type: ignore[arg-type]
@@ -101,6 +102,7 @@ class NativeSuiteLoader:
             description=task_file.description,
             initial_project=task_dir / "initial.sb3",
             golden_project=golden if golden.is_file() else None,
+            golden_trajectory=trajectory if trajectory.is_file() else None,
             evaluation_script=task_dir / "evaluate.js",
             helper_script=helper,
             helper_global=suite_file.helper_global,

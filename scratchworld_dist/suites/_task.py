@@ -5,15 +5,17 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Literal, get_args
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
 from scratchworld_dist._errors import SuiteError, TaskNotFoundError
-from workers import EvaluationSpec
+from workers import CompositeAction, EvaluationSpec
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
 CATEGORIES: tuple[TaskCategory, ...] = get_args(TaskCategory)
 
 SuiteKind = Literal["scratchworld_dist", "upstream"]
+
+_TRAJECTORY = TypeAdapter(list[CompositeAction])
 
 
 class Task(BaseModel):
@@ -39,6 +41,9 @@ class Task(BaseModel):
     golden_project: Path | None = None
     """A reference solution, when the suite has one."""
 
+    golden_trajectory: Path | None = None
+    """Composite actions (JSON list of ``{"api", "args"}``) that turn the initial project into a solution."""
+
     evaluation_script: Path
     """CommonJS module exporting ``async (vm, config, cleanup) => result``."""
 
@@ -61,6 +66,23 @@ class Task(BaseModel):
             helper_global=self.helper_global,
             timeout_s=self.timeout_s,
         )
+
+    def trajectory(self) -> list[CompositeAction] | None:
+        """The golden trajectory, read and checked now."""
+        if self.golden_trajectory is None:
+            return None
+        return read_trajectory(self.golden_trajectory)
+
+
+def read_trajectory(path: Path) -> list[CompositeAction]:
+    """A trajectory file: a JSON list of ``{"api": ..., "args": {...}}`` objects."""
+    try:
+        return _TRAJECTORY.validate_json(path.read_bytes())
+    except OSError as exc:
+        raise SuiteError(f"cannot read the trajectory: {exc}", path) from exc
+    except ValidationError as exc:
+        problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors()[:5])
+        raise SuiteError(f'not a list of {{"api", "args"}} actions: {problems}', path) from None
 
 
 def _read_text(path: Path) -> str:

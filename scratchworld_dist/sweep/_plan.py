@@ -72,12 +72,14 @@ def read_task(task: Task) -> TaskContent:
     """Read a task's files once; the hash covers every byte a worker will see."""
     spec = task.evaluation_spec()
     golden = task.golden_project.read_bytes() if task.golden_project is not None else None
+    trajectory = task.trajectory()
     payload = TaskPayload(
         task_id=task.id,
         category=task.category,
         instruction=task.instruction,
         initial_project=task.initial_project.read_bytes(),
         golden_project=golden,
+        golden_trajectory=trajectory,
         evaluation=spec,
     )
     digest = hashlib.sha256()
@@ -87,6 +89,7 @@ def read_task(task: Task) -> TaskContent:
         task.instruction.encode(),
         payload.initial_project,
         golden or b"",
+        b"" if trajectory is None else json.dumps([a.model_dump(mode="json") for a in trajectory]).encode(),
         spec.model_dump_json().encode(),
     ):
         digest.update(len(part).to_bytes(8, "big"))

@@ -26,9 +26,10 @@ def agent_for(spec: EpisodeSpec, task: TaskPayload) -> Agent:
     from workers.agents._scripted import NoopAgent, OracleAgent
 
     if spec.agent == "oracle":
-        if task.golden_project is None:
-            raise AgentUnavailableError(f"task {task.task_id} has no golden project for the oracle")
-        return OracleAgent(task.golden_project)
+        trajectory = task.golden_trajectory if spec.mode == "composite" else None
+        if trajectory is None and task.golden_project is None:
+            raise AgentUnavailableError(f"task {task.task_id} has neither a golden trajectory nor a golden project")
+        return OracleAgent(task.golden_project, trajectory)
     if spec.agent == "noop":
         return NoopAgent()
     raise AgentUnavailableError(f"agent {spec.agent!r} is not available in this build")

@@ -1,0 +1,108 @@
+"""``scratchworld replay`` and ``scratchworld observe``: composite mode by hand.
+
+``replay`` performs a trajectory of composite actions on a task's initial project, showing each
+action's envelope, then evaluates the result like an episode would; ``observe`` prints what a
+composite agent would read for every target of a project (handy when writing trajectories).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+from pathlib import Path
+
+import click
+from rich.console import Console
+from rich.markup import escape
+
+from scratchworld_dist.cli._evaluate import EXIT_NO_VERDICT, EXIT_NOT_PASSED, render_result
+from scratchworld_dist.suites import load_suite
+from scratchworld_dist.suites._task import read_trajectory
+from workers import BrowserSession, CompositeAction, CompositeEnvelope, EvalResult, Evaluator
+from workers import _composite as composite
+
+
+async def _replay(
+    project: bytes, actions: list[CompositeAction], task_spec: object, console: Console, show_final: bool
+) -> tuple[list[CompositeEnvelope], bytes, EvalResult]:
+    envelopes: list[CompositeEnvelope] = []
+    async with BrowserSession() as session:
+        async with session.editor() as editor:
+            await editor.load_project(project)
+            for number, action in enumerate(actions, start=1):
+                envelope = await composite.execute(editor, action.api, action.args)
+                envelopes.append(envelope)
+                outcome = (
+                    f"[green]ok[/green] {escape(json.dumps(envelope.data))}"
+                    if envelope.success
+                    else f"[red]{envelope.error.code if envelope.error else '?'}[/red] "
+                    f"{escape(envelope.error.message if envelope.error else '')}"
+                )
+                console.print(f"{number:>3} {action.api} {escape(json.dumps(action.args))} -> {outcome}")
+            if show_final:
+                console.print((await composite.observe(editor)).text, markup=False, highlight=False)
+            final = await editor.save_project()
+        result = await Evaluator(session).evaluate(final, task_spec)  # type: ignore[arg-type]
+    return envelopes, final, result
+
+
+@click.command("replay")
+@click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
+@click.argument("task_id")
+@click.argument("trajectory", required=False, type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--save", type=click.Path(dir_okay=False, path_type=Path), help="Write the resulting project (.sb3).")
+@click.option(
+    "--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write envelopes and verdict."
+)
+@click.option("--observe", "show_final", is_flag=True, help="Print the final observation.")
+def replay_command(
+    suite_dir: Path, task_id: str, trajectory: Path | None, save: Path | None, json_file: Path | None, show_final: bool
+) -> None:
+    """Replay TRAJECTORY (default: the task's golden one) on TASK_ID's initial project and evaluate it.
+
+    Exit status: 0 all tests passed, 1 some failed, 3 no verdict.
+    """
+    task = load_suite(suite_dir).task(task_id)
+    if trajectory is not None:
+        actions = read_trajectory(trajectory)
+    else:
+        actions = task.trajectory() or []
+        if task.golden_trajectory is None:
+            raise click.UsageError(f"task {task_id} has no golden trajectory; give a TRAJECTORY file")
+    console = Console()
+    envelopes, final, result = asyncio.run(
+        _replay(task.initial_project.read_bytes(), actions, task.evaluation_spec(), console, show_final)
+    )
+    render_result(result, console)
+    if save is not None:
+        save.write_bytes(final)
+    if json_file is not None:
+        report = {
+            "task_id": task_id,
+            "steps": [e.model_dump(mode="json") for e in envelopes],
+            "eval": {"success": result.success, "passed": result.passed, "total": result.total, "psr": result.psr},
+        }
+        json_file.write_text(json.dumps(report, indent=2) + "\n", encoding="utf-8")
+    if result.error is not None:
+        raise click.exceptions.Exit(EXIT_NO_VERDICT)
+    if not result.success:
+        raise click.exceptions.Exit(EXIT_NOT_PASSED)
+
+
+async def _observe_all(project: bytes) -> list[str]:
+    texts = []
+    async with BrowserSession() as session, session.editor() as editor:
+        await editor.load_project(project)
+        for target in (await composite.observe(editor)).targets:
+            api, args = ("select_stage", {}) if target.is_stage else ("select_sprite", {"name": target.name})
+            await composite.execute(editor, api, args)
+            texts.append((await composite.observe(editor)).text)
+    return texts
+
+
+@click.command("observe")
+@click.argument("project", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+def observe_command(project: Path) -> None:
+    """Print the composite observation of every target of PROJECT (.sb3)."""
+    for text in asyncio.run(_observe_all(project.read_bytes())):
+        click.echo(text + "\n" + "=" * 60)
