@@ -11,7 +11,7 @@ from scratchworld_dist.scheduling._worker_actor import EpisodeWorker
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
-from workers import Action, AgentName, BrowserSession, EpisodeRunner, EpisodeSpec, LoadProject, TaskPayload
+from workers import Action, AgentName, BrowserSession, EpisodeRunner, EpisodeSpec, LoadProject, Mode, TaskPayload
 
 
 @pytest.fixture(scope="module")
@@ -28,22 +28,28 @@ async def worker() -> AsyncIterator[EpisodeWorker]:
 
 
 def episode(
-    content: TaskContent, agent: AgentName = "oracle", timeout_s: float = 120
+    content: TaskContent, agent: AgentName = "oracle", timeout_s: float = 120, mode: Mode = "composite"
 ) -> tuple[EpisodeSpec, TaskPayload]:
-    (job,) = plan_jobs([None], ["composite"], agent, [content], [0], 5)
+    (job,) = plan_jobs([None], [mode], agent, [content], [0], 60)
     return job.episode(1, timeout_s), content.payload
 
 
-async def test_oracle_passes_and_noop_fails_side_by_side(
+async def test_oracle_replays_its_trajectory_and_noop_fails_side_by_side(
     worker: EpisodeWorker, contents: dict[str, TaskContent]
 ) -> None:
-    oracle, noop = await asyncio.gather(
-        worker.run(*episode(contents["sum_two_numbers"])),
-        worker.run(*episode(contents["bouncing_ball_stuck"], agent="noop")),
+    content = contents["bouncing_ball_stuck"]
+    oracle, primitive, noop = await asyncio.gather(
+        worker.run(*episode(content)),
+        worker.run(*episode(content, mode="primitive")),
+        worker.run(*episode(content, agent="noop")),
     )
+    trajectory = content.payload.golden_trajectory or []
+    assert trajectory, "the task has a golden trajectory"
     assert (oracle.outcome, oracle.stop_reason, oracle.error_class) == ("passed", "done", None)
-    assert [step.action for step in oracle.steps] == ["load_project", "done"]
-    assert oracle.steps[0].args == {"sb3_bytes": len(contents["sum_two_numbers"].payload.golden_project or b"")}
+    assert [step.action for step in oracle.steps] == [action.api for action in trajectory] + ["done"]
+    assert [step.args for step in oracle.steps[:-1]] == [action.args for action in trajectory]
+    assert all(step.ok for step in oracle.steps)
+    assert oracle.steps[0].data == {"editingTarget": "Ball"}  # the envelope's data is kept
     assert oracle.final_project is not None
     assert oracle.final_project[:2] == b"PK"
     assert oracle.evaluation is not None
@@ -53,6 +59,11 @@ async def test_oracle_passes_and_noop_fails_side_by_side(
     assert 0 < oracle.timings.setup_s < oracle.timings.total_s
     assert oracle.timings.evaluation_s > 0
     assert oracle.finished_at > oracle.started_at > 0
+
+    # Outside composite mode the oracle falls back to loading the golden project.
+    assert primitive.outcome == "passed"
+    assert [step.action for step in primitive.steps] == ["load_project", "done"]
+    assert primitive.steps[0].args == {"sb3_bytes": len(content.payload.golden_project or b"")}
 
     assert noop.outcome == "failed"
     assert [step.action for step in noop.steps] == ["done"]
@@ -90,7 +101,7 @@ async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
     first_browser = session._browser
     await first_browser.close()  # as if Chromium crashed
     result = await running
-    assert result.outcome == "error"
+    assert result.outcome == "error", result.model_dump(exclude={"final_project"})
     assert result.error_class == "editor_failure", result.error_message
     again = await worker.run(*episode(contents["sum_two_numbers"]))
     assert again.outcome == "passed"

@@ -21,6 +21,7 @@ import pytest
 import yaml
 
 from scratchworld_dist.results import RunStore, effective_rows
+from scratchworld_dist.suites import load_suite
 
 pytestmark = pytest.mark.ray
 
@@ -199,12 +200,15 @@ def test_real_episodes_in_the_browser(tmp_path: Path, drivers: list[Driver]) -> 
         ("sum_two_numbers", "passed"),
         ("bouncing_ball_stuck", "passed"),
     }
+    suite = load_suite(REPO / "tasks")
     for row in rows:
         assert row.tests_passed == row.tests_total >= 3
-        assert row.steps == 2  # load the golden project, then done
+        trajectory = suite.task(row.task_id).trajectory()
+        expected = len(trajectory) + 1 if trajectory is not None else 2  # replayed actions (or a load), then done
+        assert row.steps == expected
         artifacts = tmp_path / "run" / str(row.artifact_dir)
         assert (artifacts / "final.sb3").read_bytes()[:2] == b"PK"
-        assert len((artifacts / "trajectory.jsonl").read_text().splitlines()) == 2
+        assert len((artifacts / "trajectory.jsonl").read_text().splitlines()) == expected
     tests = RunStore(tmp_path / "run").read_table("tests")
     assert tests.num_rows == sum(row.tests_total for row in rows)
 

@@ -72,6 +72,21 @@ class _State(enum.Enum):
     CLOSED = "closed"
 
 
+async def _close_quietly(context: BrowserContext) -> None:
+    with contextlib.suppress(PlaywrightError):
+        await context.close()
+
+
+def _close_orphan(opening: asyncio.Future[BrowserContext]) -> None:
+    if not opening.cancelled() and opening.exception() is None:
+        _orphans.add(task := asyncio.ensure_future(_close_quietly(opening.result())))
+        task.add_done_callback(_orphans.discard)
+
+
+_orphans: set[asyncio.Future[None]] = set()
+"""Closes in progress of contexts whose opener was cancelled (kept referenced until done)."""
+
+
 class BrowserSession:
     """Owns Playwright, one Chromium and the editor server for as long as it is open."""
 
@@ -127,10 +142,17 @@ class BrowserSession:
         if not self._browser.is_connected():
             raise EditorCrashedError("the browser has disconnected")
         width, height = self.config.viewport
+        opening = asyncio.ensure_future(
+            self._browser.new_context(viewport={"width": width, "height": height}, device_scale_factor=1)
+        )
         try:
-            return await self._browser.new_context(viewport={"width": width, "height": height}, device_scale_factor=1)
+            return await asyncio.shield(opening)
         except PlaywrightError as exc:
             raise EditorCrashedError(f"could not open a browser context: {exc.message}") from exc
+        except asyncio.CancelledError:
+            # The browser creates the context anyway; close it when it arrives so nothing leaks.
+            opening.add_done_callback(_close_orphan)
+            raise
 
     async def open_editor(self) -> Editor:
         """A fresh context with a ready editor; the caller closes it."""
@@ -138,8 +160,11 @@ class BrowserSession:
         try:
             page = await context.new_page()
         except PlaywrightError as exc:
-            await context.close()
+            await _close_quietly(context)
             raise EditorCrashedError(f"could not open a page: {exc.message}") from exc
+        except BaseException:  # cancelled: the context must not outlive the episode
+            await _close_quietly(context)
+            raise
         editor = Editor(context, page)
         try:
             await editor.open(self.editor_url, self.config.ready_timeout_s)
