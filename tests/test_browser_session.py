@@ -45,7 +45,8 @@ async def test_without_webgl_the_editor_fails_loudly() -> None:
 
 async def test_a_page_that_never_gets_ready_times_out_with_the_cause(tmp_path: Path) -> None:
     real = EditorAssets()
-    (tmp_path / "bridge.js").write_bytes((real.gui_dir / "bridge.js").read_bytes())
+    for name in ("bridge.js", "composite.js"):
+        (tmp_path / name).write_bytes((real.gui_dir / name).read_bytes())
     # The bridge loads, the editor bundle never does.
     (tmp_path / "index.html").write_text('<!DOCTYPE html><script src="bridge.js"></script><p>no editor</p>')
     (tmp_path / "node_modules").symlink_to(real.gui_dir / "node_modules")

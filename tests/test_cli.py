@@ -107,3 +107,35 @@ def test_committed_projects_are_what_their_sources_build() -> None:
     assert done.returncode == 0, done.stdout
     for golden in SUITE_DIR.glob("*/*/golden.sb3"):
         read_project_json(golden.read_bytes())
+
+
+def test_replay_golden_and_custom_trajectories(tmp_path: Path) -> None:
+    out = tmp_path / "replay.json"
+    saved = tmp_path / "fixed.sb3"
+    done = run("replay", str(SUITE_DIR), "bouncing_ball_stuck", "--json", str(out), "--save", str(saved), "--observe")
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "#6 motion_ifonedgebounce" in done.stdout  # the final observation
+    report = json.loads(out.read_text())
+    assert report["task_id"] == "bouncing_ball_stuck"
+    assert [step["success"] for step in report["steps"]] == [True, True]
+    assert report["eval"]["success"] is True
+    assert report["eval"]["passed"] == report["eval"]["total"] >= 3
+    assert read_project_json(saved.read_bytes())["targets"][1]["name"] == "Ball"
+
+    # A trajectory with a refused action and no fix: the envelope shows the code, the task fails.
+    wrong = tmp_path / "wrong.json"
+    wrong.write_text(
+        json.dumps(
+            [{"api": "select_sprite", "args": {"name": "Bal'l"}}, {"api": "delete_block", "args": {"blockIndex": 9}}]
+        )
+    )
+    failed = run("replay", str(SUITE_DIR), "bouncing_ball_stuck", str(wrong))
+    assert failed.returncode == 1
+    assert "NOT_FOUND" in failed.stdout
+
+    malformed = tmp_path / "malformed.json"
+    malformed.write_text('{"api": "done"}')
+    refused = run("replay", str(SUITE_DIR), "bouncing_ball_stuck", str(malformed))
+    assert refused.returncode == 2
+    assert refused.stderr.startswith("error: ")
+    assert "malformed.json" in refused.stderr

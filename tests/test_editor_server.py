@@ -10,6 +10,7 @@ import pytest
 
 from scratchworld_dist import EditorBundleMissingError
 from workers import EditorAssets, EditorServer
+from workers._editor_server import OWN_FILES
 
 
 def _get(url: str) -> tuple[int, bytes]:
@@ -43,7 +44,7 @@ def test_refuses_paths_outside_the_roots(path: str) -> None:
 
 def test_missing_bundle_is_a_clear_error(tmp_path: Path) -> None:
     real = EditorAssets()
-    for name in ("index.html", "bridge.js"):
+    for name in OWN_FILES:
         (tmp_path / name).write_bytes((real.gui_dir / name).read_bytes())
     with pytest.raises(EditorBundleMissingError, match="npm ci"):
         EditorAssets(tmp_path)
