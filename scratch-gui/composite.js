@@ -232,8 +232,8 @@
 
     function orderedInputs(block) {
       const shape = shapeOf(block.opcode);
-      const known = shape ? shape.inputs.map((i) => i.name) : [];
-      const names = known.filter((n) => Object.prototype.hasOwnProperty.call(block.inputs, n) || shape);
+      // Every input of the definition is listed, filled or not (an empty CONDITION is worth seeing).
+      const names = shape ? shape.inputs.map((i) => i.name) : [];
       for (const name of Object.keys(block.inputs)) if (names.indexOf(name) === -1) names.push(name);
       const value = names.filter((n) => STATEMENT_INPUTS.indexOf(n) === -1 && !(shape && shape.inputs.some((i) => i.name === n && i.kind === 'statement')));
       const statement = names.filter((n) => value.indexOf(n) === -1);
@@ -645,7 +645,7 @@
       return true;
     }
 
-    function result(blocks, source, extra) {
+    function result(source, extra) {
       changed();
       const data = {connected: true, sourceBlockId: source.id};
       return Object.assign(data, extra || {});
@@ -672,7 +672,7 @@
         placeTop(blocks, source.id, Number(dest.x) || 0, Number(dest.y) || 0);
       }
       attach(blocks, dest.id, tail.id, null);
-      return result(blocks, source);
+      return result(source);
     }
 
     function stackAfter(blocks, source, sourceShape, dest, destShape, args) {
@@ -684,7 +684,7 @@
       if (oldNext) blocks.moveBlock({id: oldNext, oldParent: dest.id, newCoordinate: {x: 0, y: 0}});
       attach(blocks, source.id, dest.id, null);
       if (oldNext) detached = rechain(blocks, source.id, oldNext);
-      return result(blocks, source, detached ? {detachedBlockId: detached} : null);
+      return result(source, detached ? {detachedBlockId: detached} : null);
     }
 
     // Hang `tailId` (top-level) after the chain starting at `headId`; if the chain ends in a cap, it stays apart.
@@ -720,7 +720,7 @@
       if (old) blocks.moveBlock({id: old, oldParent: dest.id, oldInput: inputName, newCoordinate: {x: 0, y: 0}});
       attach(blocks, source.id, dest.id, inputName);
       const detached = old ? rechain(blocks, source.id, old) : null;
-      return result(blocks, source, detached ? {detachedBlockId: detached} : null);
+      return result(source, detached ? {detachedBlockId: detached} : null);
     }
 
     function valueInto(blocks, source, sourceShape, dest, destShape, inputName, args) {
@@ -745,7 +745,7 @@
         unplug(blocks, unplugged, false);
       }
       attach(blocks, source.id, dest.id, inputName);
-      return result(blocks, source, unplugged ? {detachedBlockId: unplugged} : null);
+      return result(source, unplugged ? {detachedBlockId: unplugged} : null);
     }
 
     function wrap(blocks, source, sourceShape, dest, destShape, args) {
@@ -768,7 +768,7 @@
         placeTop(blocks, source.id, Number(dest.x) || 0, Number(dest.y) || 0);
       }
       attach(blocks, dest.id, source.id, 'SUBSTACK');
-      return result(blocks, source);
+      return result(source);
     }
 
     function detachBlocks(args) {
