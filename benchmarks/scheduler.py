@@ -71,6 +71,7 @@ def planning() -> None:
                 error_class=None,
                 error_message=None,
                 eval_error_kind=None,
+                eval_profile=None,
                 stop_reason="done",
                 tests_passed=1,
                 tests_total=1,

@@ -69,6 +69,9 @@
       renderer: !!renderer,
       rendererName: renderer ? rendererName(renderer) : null,
       stageCanvas: canvas ? [canvas.width, canvas.height] : null,
+      devicePixelRatio: window.devicePixelRatio,
+      // The VM knows no mouse position until a real mouse event reached the stage.
+      mouseKnown: !!vm && typeof vm.runtime.ioDevices.mouse._scratchX === 'number',
       loadingState: store ? String(store.getState().scratchGui.projectState.loadingState) : null,
     };
   }
@@ -89,6 +92,33 @@
       raw += String.fromCharCode.apply(null, bytes.subarray(i, i + 0x8000));
     }
     return btoa(raw);
+  }
+
+  // Canvas sizes of the GUI's stage modes at device pixel ratio 1 and a window of at least 1096 px.
+  const STAGE_CANVAS = {small: [240, 180], large: [480, 360]};
+  const STAGE_WAIT_MS = 5000;
+
+  // Switch the GUI's stage size (as the "small stage" button does) and wait until the renderer's
+  // canvas has the new size: evaluation helpers read the canvas to find the stage edges.
+  async function setStageSize(args) {
+    const size = args.size;
+    if (!Object.prototype.hasOwnProperty.call(STAGE_CANVAS, size)) {
+      throw new BridgeFailure('bad_request', 'size must be "small" or "large"');
+    }
+    const theVm = requireVm();
+    if (!store) throw new BridgeFailure('editor_not_ready', 'the GUI store is not attached');
+    store.dispatch({type: 'scratch-gui/StageSize/SET_STAGE_SIZE', stageSize: size});
+    const canvas = theVm.renderer.gl.canvas;
+    const [width, height] = STAGE_CANVAS[size];
+    const deadline = performance.now() + STAGE_WAIT_MS;
+    while (canvas.width !== width || canvas.height !== height) {
+      if (performance.now() > deadline) {
+        throw new BridgeFailure('bridge_error', `the ${size} stage canvas is ${canvas.width}x${canvas.height}, expected ${width}x${height} (window size or pixel ratio changed?)`);
+      }
+      await new Promise((resolve) => requestAnimationFrame(resolve));
+    }
+    const rect = canvas.getBoundingClientRect();
+    return {canvas: [canvas.width, canvas.height], stageRect: {x: rect.x, y: rect.y, width: rect.width, height: rect.height}};
   }
 
   async function loadProject(args) {
@@ -194,7 +224,7 @@
     return {resultJson: toJson(outcome), durationMs: performance.now() - started};
   }
 
-  const api = {status, loadProject, saveProject, evaluate};
+  const api = {status, setStageSize, loadProject, saveProject, evaluate};
 
   // Feature modules (composite.js, ...) load before this file and register factories here; they
   // get the VM accessor and the failure type, and their functions join the one call table.

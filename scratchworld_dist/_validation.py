@@ -14,7 +14,7 @@ from typing import Literal
 from pydantic import BaseModel
 
 from scratchworld_dist.suites import Task
-from workers import BrowserConfig, BrowserSession, EvalResult, EvaluationSpec, Evaluator
+from workers import BrowserConfig, BrowserSession, EvalResult, EvaluationProfile, EvaluationSpec, Evaluator
 
 Which = Literal["golden", "initial"]
 
@@ -75,8 +75,12 @@ async def validate_tasks(
     parallel: int = 1,
     browser: BrowserConfig | None = None,
     on_evaluated: Callable[[Task, Which, EvalResult], None] | None = None,
+    profile: EvaluationProfile | None = None,
 ) -> list[TaskValidation]:
-    """Evaluate each task's golden and initial project, ``parallel`` editors at a time."""
+    """Evaluate each task's golden and initial project, ``parallel`` editors at a time.
+
+    ``profile`` overrides each task's default evaluation profile.
+    """
     if parallel < 1:
         raise ValueError("parallel must be at least 1")
     slots = asyncio.Semaphore(parallel)
@@ -94,7 +98,7 @@ async def validate_tasks(
             pending = []
             for task in tasks:
                 # Files are read here, before the evaluations start; the script and helper once per task.
-                spec = task.evaluation_spec()
+                spec = task.evaluation_spec(profile)
                 golden_path = task.golden_project
                 golden = group.create_task(run(task, "golden", golden_path.read_bytes(), spec)) if golden_path else None
                 initial = group.create_task(run(task, "initial", task.initial_project.read_bytes(), spec))

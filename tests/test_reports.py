@@ -126,6 +126,7 @@ def job(job_id: str, outcome: str = "passed", **fields: Any) -> JobRow:
         "error_class": None if decided else "EditorCrashedError",
         "error_message": None if decided else "page died",
         "eval_error_kind": None,
+        "eval_profile": "native",
         "stop_reason": "done" if decided else "error",
         "tests_passed": 2 if outcome == "passed" else 0,
         "tests_total": 2 if decided else 0,

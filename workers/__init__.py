@@ -23,6 +23,7 @@ from workers._episode_runner import EpisodeRunner
 from workers._eval_result import VERDICT_ERROR_KINDS, EvalError, EvalErrorKind, EvalResult, EvalTimings, TestVerdict
 from workers._evaluation import Evaluator
 from workers._evaluation_spec import EvaluationSpec
+from workers._profiles import EvaluationProfile, ProfileConditions
 from workers._synthetic import SyntheticEpisodes, run_synthetic
 
 __all__ = [
@@ -51,6 +52,7 @@ __all__ = [
     "EvalErrorKind",
     "EvalResult",
     "EvalTimings",
+    "EvaluationProfile",
     "EvaluationSpec",
     "Evaluator",
     "Failed",
@@ -58,6 +60,7 @@ __all__ = [
     "Mode",
     "ModelSpec",
     "Outcome",
+    "ProfileConditions",
     "StepRecord",
     "SyntheticEpisodes",
     "TaskPayload",

@@ -47,6 +47,8 @@ class EditorStatus(BaseModel):
     renderer_name: str | None
     stage_canvas: tuple[int, int] | None
     loading_state: str | None
+    device_pixel_ratio: float = 1.0
+    mouse_known: bool = False
 
     def missing(self) -> list[str]:
         parts = {"VM": self.vm, "rendered workspace": self.workspace, "default project": self.project_loads >= 1}
@@ -57,6 +59,22 @@ class _Envelope(BaseModel):
     ok: bool
     value: JsonValue = None
     error: dict[str, str] | None = None
+
+
+class StageRect(BaseModel):
+    x: float
+    y: float
+    width: float
+    height: float
+
+
+class StageLayout(BaseModel):
+    """The stage canvas's pixel size and where the stage sits on the page."""
+
+    model_config = ConfigDict(alias_generator=to_camel, populate_by_name=True)
+
+    canvas: tuple[int, int]
+    stage_rect: StageRect
 
 
 class _Loaded(BaseModel):
@@ -143,6 +161,17 @@ class Editor:
 
     async def status(self) -> EditorStatus:
         return EditorStatus.model_validate(await self.call("status"))
+
+    async def set_stage_size(self, size: str) -> StageLayout:
+        """Switch to the small or large stage; returns once the renderer's canvas has the new size."""
+        return StageLayout.model_validate(await self.call("setStageSize", {"size": size}))
+
+    async def move_mouse(self, x: float, y: float) -> None:
+        """A real mouse event at page coordinates (x, y)."""
+        try:
+            await self.page.mouse.move(x, y)
+        except PlaywrightError as exc:
+            raise EditorCrashedError(f"could not move the mouse: {exc.message}") from exc
 
     async def load_project(self, sb3: bytes) -> list[str]:
         """Load project bytes into the VM; return the names of its targets."""

@@ -6,6 +6,8 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
+from workers._profiles import ProfileConditions
+
 EvalErrorKind = Literal[
     "project_invalid",  # the project is not a loadable .sb3 (corrupt zip, bad project.json)
     "script_invalid",  # the evaluation script or helper does not parse or exports no function
@@ -104,6 +106,9 @@ class EvalResult(BaseModel):
 
     timings: EvalTimings = Field(default_factory=EvalTimings)
     """Where the time went."""
+
+    conditions: ProfileConditions | None = None
+    """The evaluation profile and the page conditions it was checked to have (None if it never got there)."""
 
     @classmethod
     def failure(

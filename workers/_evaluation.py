@@ -18,6 +18,7 @@ from workers._editor import Editor
 from workers._errors import BridgeError, EditorError, ProjectFormatError
 from workers._eval_result import EvalErrorKind, EvalResult, EvalTimings
 from workers._evaluation_spec import EvaluationSpec
+from workers._profiles import apply_profile
 from workers._report import ReportError, parse_report
 from workers._sb3_reader import read_project_json
 
@@ -52,6 +53,14 @@ class Evaluator:
         return result
 
     async def _evaluate_in(
+        self, editor: Editor, project: bytes, spec: EvaluationSpec, timings: EvalTimings
+    ) -> EvalResult:
+        conditions = await apply_profile(editor, spec.profile)  # before the project: it may read the mouse at once
+        result = await self._load_and_run(editor, project, spec, timings)
+        result.conditions = conditions
+        return result
+
+    async def _load_and_run(
         self, editor: Editor, project: bytes, spec: EvaluationSpec, timings: EvalTimings
     ) -> EvalResult:
         phase_start = time.perf_counter()

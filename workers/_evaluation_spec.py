@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Literal
+
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
 
@@ -27,6 +29,9 @@ class EvaluationSpec(BaseModel):
 
     timeout_s: float = Field(gt=0)
     """Hard limit for the script; past it the result is a ``script_timeout``."""
+
+    profile: Literal["native", "upstream"] = "native"
+    """Page conditions of the evaluation (see ``workers._profiles``); part of a job's identity."""
 
     config: dict[str, JsonValue] = Field(default_factory=dict)
     """Second argument handed to the script (upstream always passes ``{}``)."""

@@ -10,15 +10,15 @@ from rich.console import Console
 from rich.table import Table
 
 from scratchworld_dist.suites import load_suite
-from workers import BrowserSession, EvalResult, Evaluator
+from workers import BrowserSession, EvalResult, EvaluationProfile, Evaluator
 
 EXIT_NOT_PASSED = 1
 EXIT_NO_VERDICT = 3
 
 
-async def _evaluate(project: bytes, suite_dir: Path, task_id: str) -> EvalResult:
+async def _evaluate(project: bytes, suite_dir: Path, task_id: str, profile: EvaluationProfile | None) -> EvalResult:
     task = load_suite(suite_dir).task(task_id)
-    spec = task.evaluation_spec()
+    spec = task.evaluation_spec(profile)
     async with BrowserSession() as session:
         return await Evaluator(session).evaluate(project, spec)
 
@@ -29,6 +29,11 @@ def render_result(result: EvalResult, console: Console) -> None:
         table.add_row(test.name, "yes" if test.passed else "no", test.error or "")
     if result.tests:
         console.print(table)
+    if result.conditions is not None:
+        c = result.conditions
+        console.print(
+            f"profile {c.profile}: stage canvas {c.stage_canvas[0]}x{c.stage_canvas[1]}, mouse known {c.mouse_known}"
+        )
     if result.error:
         console.print(f"[red]no verdict[/red] ({result.error.kind}): {result.error.message}")
     else:
@@ -46,12 +51,15 @@ def render_result(result: EvalResult, console: Console) -> None:
 @click.option(
     "--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the EvalResult as JSON."
 )
-def evaluate_command(suite_dir: Path, task_id: str, project: Path, json_file: Path | None) -> None:
+@click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (default: the suite's).")
+def evaluate_command(
+    suite_dir: Path, task_id: str, project: Path, json_file: Path | None, profile: EvaluationProfile | None
+) -> None:
     """Evaluate PROJECT (.sb3) against TASK_ID of the suite in SUITE_DIR.
 
     Exit status: 0 all tests passed, 1 some failed, 3 no verdict (the evaluation itself failed).
     """
-    result = asyncio.run(_evaluate(project.read_bytes(), suite_dir, task_id))
+    result = asyncio.run(_evaluate(project.read_bytes(), suite_dir, task_id, profile))
     render_result(result, Console())
     if json_file is not None:
         json_file.write_text(result.model_dump_json(indent=2) + "\n", encoding="utf-8")

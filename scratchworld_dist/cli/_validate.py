@@ -12,7 +12,7 @@ from rich.table import Table
 
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
 from scratchworld_dist.suites import Task, load_suite
-from workers import EvalResult
+from workers import EvalResult, EvaluationProfile
 
 EXIT_INVALID = 1
 
@@ -42,9 +42,19 @@ def render_table(rows: list[TaskValidation]) -> Table:
 @click.option("--tasks", "task_ids", help="Comma-separated task ids (default: all).")
 @click.option("--task-list", help="Upstream task list, e.g. all_tasks or 15_tasks.")
 @click.option("--parallel", type=click.IntRange(min=1), default=1, show_default=True, help="Editors at a time.")
+@click.option(
+    "--profile",
+    type=click.Choice(["native", "upstream"]),
+    help="Evaluation profile (default: upstream for upstream clones, native for our suites).",
+)
 @click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the rows as JSON.")
 def validate_command(
-    suite_dir: Path, task_ids: str | None, task_list: str | None, parallel: int, json_file: Path | None
+    suite_dir: Path,
+    task_ids: str | None,
+    task_list: str | None,
+    parallel: int,
+    profile: EvaluationProfile | None,
+    json_file: Path | None,
 ) -> None:
     """Evaluate every task's golden and initial project in SUITE_DIR.
 
@@ -59,7 +69,7 @@ def validate_command(
         outcome = result.error.kind if result.error else f"{result.passed}/{result.total}"
         console.print(f"  {task.id} {which}: {outcome} in {result.timings.total_s:.1f}s")
 
-    rows = asyncio.run(validate_tasks(tasks, parallel=parallel, on_evaluated=progress))
+    rows = asyncio.run(validate_tasks(tasks, parallel=parallel, on_evaluated=progress, profile=profile))
     Console().print(render_table(rows))
     if json_file is not None:
         json_file.write_text(json.dumps([row.model_dump() for row in rows], indent=2) + "\n", encoding="utf-8")

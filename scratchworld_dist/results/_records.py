@@ -42,6 +42,9 @@ class JobRow(BaseModel):
     eval_error_kind: str | None
     """The evaluation's own error kind when a project failed by breaking the script (e.g. script_error)."""
 
+    eval_profile: str | None
+    """Evaluation profile the verdict was made under (native | upstream); null if none was reached."""
+
     stop_reason: str
     tests_passed: int
     tests_total: int
@@ -146,6 +149,7 @@ def record_of(
         error_class=result.error_class,
         error_message=result.error_message,
         eval_error_kind=evaluation.error.kind if evaluation is not None and evaluation.error else None,
+        eval_profile=evaluation.conditions.profile if evaluation is not None and evaluation.conditions else None,
         stop_reason=result.stop_reason,
         tests_passed=evaluation.passed if evaluation is not None else 0,
         tests_total=evaluation.total if evaluation is not None else 0,

@@ -8,7 +8,7 @@ from typing import Literal, get_args
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
 from scratchworld_dist._errors import SuiteError, TaskNotFoundError
-from workers import CompositeAction, EvaluationSpec
+from workers import CompositeAction, EvaluationProfile, EvaluationSpec
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
 CATEGORIES: tuple[TaskCategory, ...] = get_args(TaskCategory)
@@ -56,9 +56,13 @@ class Task(BaseModel):
     timeout_s: float = Field(gt=0)
     """Hard limit for one evaluation of this task."""
 
-    def evaluation_spec(self) -> EvaluationSpec:
+    default_profile: EvaluationProfile = "native"
+    """Evaluation profile unless the user picks one (upstream suites: ``upstream``)."""
+
+    def evaluation_spec(self, profile: EvaluationProfile | None = None) -> EvaluationSpec:
         """The script and helper sources, read now, ready to send to a worker."""
         return EvaluationSpec(
+            profile=profile or self.default_profile,
             script_name=self.evaluation_script.name,
             script_source=_read_text(self.evaluation_script),
             helper_name=self.helper_script.name if self.helper_script else None,

@@ -143,4 +143,5 @@ class UpstreamSuiteLoader:
             helper_script=helper,
             helper_global="EvaluationUtils",
             timeout_s=UPSTREAM_TIMEOUT_S,
+            default_profile="upstream",
         )

@@ -16,7 +16,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from scratchworld_dist._errors import ConfigError
-from workers import AgentName, Mode, ModelSpec, SyntheticEpisodes
+from workers import AgentName, EvaluationProfile, Mode, ModelSpec, SyntheticEpisodes
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
@@ -131,6 +131,9 @@ class SweepConfig(BaseModel):
     modes: list[Mode] = Field(default_factory=lambda: ["composite"], min_length=1)
     seeds: list[int] = Field(default_factory=lambda: [0], min_length=1)
     max_steps: int = Field(default=50, gt=0)
+    profile: EvaluationProfile | None = None
+    """Evaluation profile (native | upstream); default: the suite's (upstream clones: upstream)."""
+
     limits: Limits = Field(default_factory=Limits)
     output: Path | None = None
     """The run directory (default: ``results/<name>`` in the working directory)."""

@@ -16,7 +16,7 @@ from importlib.metadata import version
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.suites import Task
-from workers import AgentName, EpisodeSpec, Mode, ModelSpec, TaskPayload
+from workers import AgentName, EpisodeSpec, EvaluationProfile, Mode, ModelSpec, TaskPayload
 
 HARNESS_VERSION = version("scratchworld-dist")
 """Recorded with every job; bump the package version when a change can alter verdicts."""
@@ -68,9 +68,9 @@ class TaskContent(BaseModel):
     task_hash: str
 
 
-def read_task(task: Task) -> TaskContent:
-    """Read a task's files once; the hash covers every byte a worker will see."""
-    spec = task.evaluation_spec()
+def read_task(task: Task, profile: EvaluationProfile | None = None) -> TaskContent:
+    """Read a task's files once; the hash covers every byte a worker will see (and the profile)."""
+    spec = task.evaluation_spec(profile)
     golden = task.golden_project.read_bytes() if task.golden_project is not None else None
     trajectory = task.trajectory()
     payload = TaskPayload(

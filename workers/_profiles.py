@@ -1,0 +1,52 @@
+"""Evaluation profiles: the page conditions a verdict is made under, set explicitly and recorded.
+
+Upstream evaluation scripts read the stage edges from the renderer's canvas, and ``go to
+mouse-pointer`` yields NaN until a real mouse event reached the stage, so the same project can
+pass or fail depending on the page. ``upstream`` reproduces the conditions behind the paper's
+numbers (small stage, 240x180 canvas; mouse moved over the stage centre before the project
+loads); ``native`` follows Scratch's own coordinates (large stage, 480x360). Window size and
+device pixel ratio are pinned by the browser session and checked here.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict
+
+from workers._editor import Editor
+from workers._errors import EditorError
+
+EvaluationProfile = Literal["native", "upstream"]
+
+_STAGE_SIZE: dict[EvaluationProfile, str] = {"native": "large", "upstream": "small"}
+
+
+class ProfileConditions(BaseModel):
+    """What the page looked like when the script ran."""
+
+    model_config = ConfigDict(frozen=True)
+
+    profile: EvaluationProfile
+    stage_canvas: tuple[int, int]
+    device_pixel_ratio: float
+    mouse_known: bool
+    """Whether the VM had a mouse position before the project loaded."""
+
+
+async def apply_profile(editor: Editor, profile: EvaluationProfile) -> ProfileConditions:
+    """Put a fresh editor into the profile's conditions; raises ``EditorError`` if they do not hold."""
+    layout = await editor.set_stage_size(_STAGE_SIZE[profile])
+    if profile == "upstream":
+        rect = layout.stage_rect
+        await editor.move_mouse(rect.x + rect.width / 2, rect.y + rect.height / 2)
+    status = await editor.status()
+    conditions = ProfileConditions(
+        profile=profile,
+        stage_canvas=layout.canvas,
+        device_pixel_ratio=status.device_pixel_ratio,
+        mouse_known=status.mouse_known,
+    )
+    if conditions.device_pixel_ratio != 1 or (profile == "upstream" and not conditions.mouse_known):
+        raise EditorError(f"the page does not meet the {profile} evaluation profile: {conditions}")
+    return conditions
