@@ -17,8 +17,9 @@ EXIT_ERRORS = 1
 @click.argument("config_file", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (overrides output).")
 @click.option("--address", help="Ray cluster to join (default: RAY_ADDRESS, else a private local Ray).")
+@click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (overrides profile).")
 @click.option("--force", is_flag=True, help="Continue in a run directory that holds another sweep.")
-def run_command(config_file: Path, out: Path | None, address: str | None, force: bool) -> None:
+def run_command(config_file: Path, out: Path | None, address: str | None, profile: str | None, force: bool) -> None:
     """Run the sweep in CONFIG_FILE; run it again to resume.
 
     Prints the report (also saved as RUN_DIR/report.md). Exits 1 when jobs are left without a
@@ -29,6 +30,8 @@ def run_command(config_file: Path, out: Path | None, address: str | None, force:
         overrides["output"] = out
     if address is not None:
         overrides["ray"] = {"address": address}
+    if profile is not None:
+        overrides["profile"] = profile
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
 
     config = load_sweep_config(config_file, overrides)
