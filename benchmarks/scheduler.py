@@ -18,7 +18,6 @@ import argparse
 import os
 import tempfile
 import time
-from datetime import UTC, datetime
 from pathlib import Path
 
 os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
@@ -27,11 +26,11 @@ import ray
 from ray.cluster_utils import Cluster
 
 from scratchworld_dist._run import AttemptRecorder
-from scratchworld_dist.results import JobRecord, JobRow, RunStore
+from scratchworld_dist.results import RunStore, record_of
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, ray_runtime
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, plan_jobs, read_task
-from workers import ModelSpec, SyntheticEpisodes
+from workers import EpisodeResult, ModelSpec, SyntheticEpisodes
 
 REPO = Path(__file__).resolve().parents[1]
 CONTENTS = [read_task(task) for task in load_suite(REPO / "tasks").tasks]
@@ -50,50 +49,12 @@ def planning() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         store = RunStore(Path(tmp))
         store.open_for_writing()
-        now = datetime.now(tz=UTC)
+        now = time.time()
         for job in planned:
-            row = JobRow(
-                run_name="b",
-                job_id=job.job_id,
-                attempt=1,
-                model=job.model_name,
-                litellm_model=None,
-                mode=job.mode,
-                agent=job.agent,
-                task_id=job.task_id,
-                category=job.category,
-                task_hash=job.task_hash,
-                suite_hash="s",
-                seed=job.seed,
-                max_steps=job.max_steps,
-                harness_version="h",
-                outcome="passed",
-                error_class=None,
-                error_message=None,
-                eval_error_kind=None,
-                eval_profile=None,
-                stop_reason="done",
-                tests_passed=1,
-                tests_total=1,
-                psr=1.0,
-                steps=1,
-                llm_calls=0,
-                input_tokens=0,
-                output_tokens=0,
-                cost_usd=0.0,
-                episode_s=1.0,
-                setup_s=0.0,
-                agent_s=0.0,
-                evaluation_s=0.0,
-                started_at=now,
-                finished_at=now,
-                worker_node=None,
-                worker_host=None,
-                worker_pid=None,
-                worker_index=None,
-                artifact_dir=None,
+            result = EpisodeResult(
+                job_id=job.job_id, attempt=1, outcome="passed", stop_reason="done", started_at=now, finished_at=now
             )
-            store.commit(JobRecord(job=row))
+            store.commit(record_of(job, result, run_name="b", suite_hash="s", harness_version="h", artifact_dir=None))
         store.close()
         started = time.perf_counter()
         decided = RunStore(Path(tmp)).attempts()

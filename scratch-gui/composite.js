@@ -451,6 +451,18 @@
       blocks.moveBlock({id: id, newParent: parentId, newInput: inputName || undefined});
     }
 
+    // The (top-level) source takes the destination's place; the destination is left top-level.
+    function takePlace(blocks, sourceId, destId) {
+      const dest = blocks.getBlock(destId);
+      const at = attachment(blocks, dest);
+      if (at) {
+        blocks.moveBlock({id: destId, oldParent: at.parent, oldInput: at.input || undefined, newCoordinate: {x: 0, y: 0}});
+        attach(blocks, sourceId, at.parent, at.input);
+      } else {
+        placeTop(blocks, sourceId, Number(dest.x) || 0, Number(dest.y) || 0);
+      }
+    }
+
     function placeTop(blocks, id, x, y) {
       blocks.moveBlock({id: id, newCoordinate: {x: x, y: y}});
     }
@@ -664,13 +676,7 @@
         throw new ActionError('CONNECTION_MISMATCH', `nothing can follow ${tail.opcode}, so it cannot go before another block`);
       }
       unplug(blocks, source.id, !sourceShape.hat);
-      const at = attachment(blocks, blocks.getBlock(dest.id));
-      if (at) {
-        blocks.moveBlock({id: dest.id, oldParent: at.parent, oldInput: at.input || undefined, newCoordinate: {x: 0, y: 0}});
-        attach(blocks, source.id, at.parent, at.input);
-      } else {
-        placeTop(blocks, source.id, Number(dest.x) || 0, Number(dest.y) || 0);
-      }
+      takePlace(blocks, source.id, dest.id);
       attach(blocks, dest.id, tail.id, null);
       return result(source);
     }
@@ -760,13 +766,7 @@
         throw new ActionError('CONNECTION_MISMATCH', `block #${args.targetBlockIndex} is a hat block; wrap the block under it instead`);
       }
       unplug(blocks, source.id, true);
-      const at = attachment(blocks, dest);
-      if (at) {
-        blocks.moveBlock({id: dest.id, oldParent: at.parent, oldInput: at.input || undefined, newCoordinate: {x: 0, y: 0}});
-        attach(blocks, source.id, at.parent, at.input);
-      } else {
-        placeTop(blocks, source.id, Number(dest.x) || 0, Number(dest.y) || 0);
-      }
+      takePlace(blocks, source.id, dest.id);
       attach(blocks, dest.id, source.id, 'SUBSTACK');
       return result(source);
     }

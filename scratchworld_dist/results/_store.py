@@ -66,6 +66,15 @@ def _read_segment(path: Path) -> list[JobRecord]:
     return records
 
 
+def _to_table(records: list[JobRecord], table: str) -> pa.Table:
+    """One table's rows of some records, with that table's schema."""
+    if table == "jobs":
+        rows = [r.job.model_dump() for r in records]
+    else:
+        rows = [row.model_dump() for r in records for row in (r.steps if table == "steps" else r.tests)]
+    return pa.Table.from_pylist(rows, schema=SCHEMAS[table])
+
+
 class RunStore:
     """Results of one run directory, for one writer (held by a lock) or any number of readers."""
 
@@ -106,8 +115,7 @@ class RunStore:
             raise RuntimeError("open_for_writing() first")
         if self._segment is None:
             self._segment_number += 1
-            path = self.journal_dir / f"segment-{self._segment_number:06d}.jsonl"
-            self._segment = path.open("ab")
+            self._segment = self._segment_path(self._segment_number).open("ab")
             self._segment_rows = 0
         self._segment.write(record.model_dump_json().encode() + b"\n")
         self._segment.flush()
@@ -128,8 +136,7 @@ class RunStore:
             return
         self._segment.close()
         self._segment = None
-        path = self.journal_dir / f"segment-{self._segment_number:06d}.jsonl"
-        self._compact(self._segment_number, path)
+        self._compact(self._segment_number, self._segment_path(self._segment_number))
 
     def close(self) -> None:
         self.flush()
@@ -140,17 +147,15 @@ class RunStore:
     def _compact(self, number: int, path: Path) -> None:
         records = _read_segment(path)
         if records:
-            rows = {
-                "steps": [s.model_dump() for r in records for s in r.steps],
-                "tests": [t.model_dump() for r in records for t in r.tests],
-                "jobs": [r.job.model_dump() for r in records],
-            }
-            for table, table_rows in rows.items():  # jobs last: its shard marks the segment done
-                shard = pa.Table.from_pylist(table_rows, schema=SCHEMAS[table])
+            for table in ("steps", "tests", "jobs"):  # jobs last: its shard marks the segment done
+                shard = _to_table(records, table)
                 sink = pa.BufferOutputStream()
                 pq.write_table(shard, sink, compression="zstd")
                 _write_atomic(self.table_dir(table) / f"part-{number:06d}.parquet", sink.getvalue().to_pybytes())
         path.unlink()
+
+    def _segment_path(self, number: int) -> Path:
+        return self.journal_dir / f"segment-{number:06d}.jsonl"
 
     def _segments(self) -> list[tuple[int, Path]]:
         found = []
@@ -201,12 +206,7 @@ class RunStore:
                 raise RunDirError(f"{folder}: unreadable shard: {exc}") from exc
         pending = [r for n, path in segments if n not in done for r in _read_segment(path)]
         if pending:
-            rows = {
-                "jobs": [r.job.model_dump() for r in pending],
-                "steps": [s.model_dump() for r in pending for s in r.steps],
-                "tests": [t.model_dump() for r in pending for t in r.tests],
-            }[table]
-            journal = pa.Table.from_pylist(rows, schema=schema)
+            journal = _to_table(pending, table)
             parts.append(journal.select(columns) if columns else journal)
         if not parts:
             empty = schema.empty_table()

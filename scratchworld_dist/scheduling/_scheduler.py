@@ -23,7 +23,7 @@ from ray.exceptions import GetTimeoutError, RayActorError, RayError
 
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.sweep import JobSpec
-from workers import EpisodeResult
+from workers import EpisodeResult, ErrorClass
 
 DEADLINE_GRACE_S = 30.0
 """How long past its own timeout a worker may stay silent before the driver restarts it."""
@@ -132,17 +132,14 @@ class Scheduler:
         return finished
 
     def _result(self, ref: ray.ObjectRef, flight: _Flight) -> EpisodeResult | None:
-        spec = flight.job.episode(flight.attempt, self.timeout_s)
         try:
             return ray.get(ref, timeout=60)
         except RayActorError as exc:
             if flight.collateral:
                 return None
-            message = f"the worker died during the episode: {_first_line(exc)}"
-            return _lost(flight, EpisodeResult.errored(spec, "worker_died", message))
+            return self._lost(flight, "worker_died", f"the worker died during the episode: {_first_line(exc)}")
         except (RayError, GetTimeoutError) as exc:
-            message = f"{type(exc).__name__}: {_first_line(exc)}"
-            return _lost(flight, EpisodeResult.errored(spec, "internal_error", message))
+            return self._lost(flight, "internal_error", f"{type(exc).__name__}: {_first_line(exc)}")
 
     def _overdue(self) -> list[tuple[_Flight, EpisodeResult | None]]:
         now = time.monotonic()
@@ -156,10 +153,16 @@ class Scheduler:
                     other.collateral = True
             self.pool.restart(flight.worker)
             self.stats.restarts += 1
-            spec = flight.job.episode(flight.attempt, self.timeout_s)
             message = f"no answer {self.timeout_s + DEADLINE_GRACE_S:g} s after the episode started; worker restarted"
-            finished.append((flight, _lost(flight, EpisodeResult.errored(spec, "episode_timeout", message))))
+            finished.append((flight, self._lost(flight, "episode_timeout", message)))
         return finished
+
+    def _lost(self, flight: _Flight, error_class: ErrorClass, message: str) -> EpisodeResult:
+        """The result of an attempt whose worker never answered, stamped with the times the driver saw."""
+        result = EpisodeResult.errored(flight.job.episode(flight.attempt, self.timeout_s), error_class, message)
+        now = time.time()
+        timings = result.timings.model_copy(update={"total_s": now - flight.sent_at})
+        return result.model_copy(update={"started_at": flight.sent_at, "finished_at": now, "timings": timings})
 
     def _record(self, job: JobSpec, result: EpisodeResult, *, final: bool) -> None:
         self.stats.attempts += 1
@@ -169,13 +172,6 @@ class Scheduler:
             self.stats.retried += 1
         self.stats.cost_usd += result.cost_usd
         self.on_result(job, result)
-
-
-def _lost(flight: _Flight, result: EpisodeResult) -> EpisodeResult:
-    """Stamp an attempt whose worker never answered with the times the driver saw."""
-    now = time.time()
-    timings = result.timings.model_copy(update={"total_s": now - flight.sent_at})
-    return result.model_copy(update={"started_at": flight.sent_at, "finished_at": now, "timings": timings})
 
 
 def _first_line(exc: BaseException) -> str:
