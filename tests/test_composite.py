@@ -9,7 +9,7 @@ from typing import Any
 import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
-from tests.conftest import SUITE_DIR, UPSTREAM_DIR
+from tests.conftest import SUITE_DIR
 from workers import BrowserSession, CompositeEnvelope, Editor, EvaluationSpec, Evaluator
 from workers import _composite as composite
 
@@ -573,4 +573,3 @@ def test_every_task_of_our_suite_has_a_golden_trajectory() -> None:
     assert sorted(p.parent.name for p in SUITE_DIR.glob("*/*/task.json")) == sorted(
         p.parent.name for p in SUITE_DIR.glob("*/*/golden_trajectory.json")
     )
-    assert UPSTREAM_DIR  # imported for the upstream fixtures
