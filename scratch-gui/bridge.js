@@ -226,12 +226,30 @@
 
   const api = {status, setStageSize, loadProject, saveProject, evaluate};
 
+  // The GUI's Blocks component (it owns ScratchBlocks and the visible workspace), found once
+  // through React's fiber tree from the workspace element, since the GUI exports no handle.
+  let blocksComponentCache = null;
+  function blocksComponent() {
+    if (blocksComponentCache && blocksComponentCache.workspace) return blocksComponentCache;
+    let node = document.querySelector('.blocklyWorkspace');
+    while (node && !Object.keys(node).some((k) => k.startsWith('__reactFiber$'))) node = node.parentElement;
+    let fiber = node && node[Object.keys(node).find((k) => k.startsWith('__reactFiber$'))];
+    for (; fiber; fiber = fiber.return) {
+      const state = fiber.stateNode;
+      if (state && state.ScratchBlocks && state.workspace && typeof state.getToolboxXML === 'function') {
+        blocksComponentCache = state;
+        return state;
+      }
+    }
+    throw new BridgeFailure('editor_not_ready', 'the block workspace is not rendered yet');
+  }
+
   // Feature modules (composite.js, ...) load before this file and register factories here; they
   // get the VM accessor and the failure type, and their functions join the one call table.
   const modules = window.__scratchworldModules || [];
   delete window.__scratchworldModules;
   for (const factory of modules) {
-    for (const [name, fn] of Object.entries(factory({requireVm: requireVm, BridgeFailure: BridgeFailure}))) {
+    for (const [name, fn] of Object.entries(factory({requireVm: requireVm, BridgeFailure: BridgeFailure, blocksComponent: blocksComponent}))) {
       if (Object.prototype.hasOwnProperty.call(api, name)) throw new Error(`bridge function ${name} registered twice`);
       api[name] = fn;
     }

@@ -88,31 +88,15 @@
   const clean = (value) => String(value).replace(/[\u0000-\u001f\u2028\u2029]/g, (c) => JSON.stringify(c).slice(1, -1));
 
   function factory(ctx) {
-    let component = null;
     let headless = null;
     let uid = 0;
     const shapeCache = new Map();
     const templateCache = new Map();
 
-    /* ---------- the editor's Blockly, reached through the Blocks component ---------- */
-
-    function blocksComponent() {
-      if (component && component.workspace) return component;
-      let node = document.querySelector('.blocklyWorkspace');
-      while (node && !Object.keys(node).some((k) => k.startsWith('__reactFiber$'))) node = node.parentElement;
-      let fiber = node && node[Object.keys(node).find((k) => k.startsWith('__reactFiber$'))];
-      for (; fiber; fiber = fiber.return) {
-        const state = fiber.stateNode;
-        if (state && state.ScratchBlocks && state.workspace && typeof state.getToolboxXML === 'function') {
-          component = state;
-          return component;
-        }
-      }
-      throw new ctx.BridgeFailure('editor_not_ready', 'the block workspace is not rendered yet');
-    }
+    /* ---------- the editor's Blockly ---------- */
 
     function scratchBlocks() {
-      return blocksComponent().ScratchBlocks;
+      return ctx.blocksComponent().ScratchBlocks;
     }
 
     function headlessBlock(opcode) {
@@ -172,7 +156,7 @@
     function toolboxTemplates(target) {
       const key = target.id;
       if (templateCache.has(key)) return templateCache.get(key);
-      const xml = blocksComponent().getToolboxXML();
+      const xml = ctx.blocksComponent().getToolboxXML();
       const dom = new DOMParser().parseFromString(xml, 'text/xml');
       const templates = new Map();
       for (const element of dom.getElementsByTagName('block')) {
