@@ -10,7 +10,7 @@ import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
 from tests.conftest import SUITE_DIR
-from workers import BrowserSession, CompositeEnvelope, Editor, EvaluationSpec, Evaluator
+from workers import ActionEnvelope, BrowserSession, Editor, EvaluationSpec, Evaluator
 from workers import _composite as composite
 
 
@@ -47,7 +47,7 @@ async def cat(editor: Editor) -> Editor:
     return editor
 
 
-async def run(editor: Editor, api: Any, **args: Any) -> CompositeEnvelope:
+async def run(editor: Editor, api: Any, **args: Any) -> ActionEnvelope:
     return await composite.execute(editor, api, args)
 
 

@@ -2,9 +2,10 @@
 
 from workers._actions import FINAL_ACTIONS, Action, CompositeAction, Done, Failed, LoadProject, composite_action
 from workers._browser import CHROMIUM_ARGS, BrowserConfig, BrowserSession
-from workers._composite import CompositeEnvelope, CompositeError, CompositeObservation
+from workers._composite import CompositeObservation
 from workers._editor import Editor, EditorStatus
 from workers._editor_server import EditorAssets, EditorServer
+from workers._envelope import ActionEnvelope, ActionFailure
 from workers._episode import (
     AgentName,
     EpisodeResult,
@@ -31,12 +32,12 @@ __all__ = [
     "FINAL_ACTIONS",
     "VERDICT_ERROR_KINDS",
     "Action",
+    "ActionEnvelope",
+    "ActionFailure",
     "AgentName",
     "BrowserConfig",
     "BrowserSession",
     "CompositeAction",
-    "CompositeEnvelope",
-    "CompositeError",
     "CompositeObservation",
     "Done",
     "Editor",

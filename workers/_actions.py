@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Literal, TypeVar
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
@@ -43,19 +43,43 @@ class CompositeAction(BaseModel):
     args: dict[str, JsonValue] = Field(default_factory=dict)
 
 
-Action = Annotated[Done | Failed | LoadProject | CompositeAction, Field(discriminator="name")]
+class PrimitiveAction(BaseModel):
+    """One low-level GUI action (click, drag_and_drop, type, ...) in page pixels or by element index.
+
+    Arguments are checked when the action runs, so a malformed one costs the agent a step and
+    comes back as an error envelope, exactly like a refused composite call.
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+    name: Literal["primitive"] = "primitive"
+    api: str
+    args: dict[str, JsonValue] = Field(default_factory=dict)
+
+
+Action = Annotated[Done | Failed | LoadProject | CompositeAction | PrimitiveAction, Field(discriminator="name")]
 """Every action the environment understands; composite and primitive actions join this union."""
+
+_ApiAction = TypeVar("_ApiAction", CompositeAction, PrimitiveAction)
 
 FINAL_ACTIONS = frozenset({"done", "failed"})
 """Actions that end the episode."""
 
 
 def composite_action(request: dict[str, JsonValue]) -> Done | Failed | CompositeAction:
-    """An agent's ``{"api": ..., "args": {...}}`` as an action; ``done`` and ``failed`` end the episode."""
+    """An agent's ``{"api": ..., "args": {...}}`` as a composite action; ``done``/``failed`` end the episode."""
+    return _agent_action(request, CompositeAction)
+
+
+def primitive_action(request: dict[str, JsonValue]) -> Done | Failed | PrimitiveAction:
+    """An agent's ``{"api": ..., "args": {...}}`` as a primitive action; ``done``/``failed`` end the episode."""
+    return _agent_action(request, PrimitiveAction)
+
+
+def _agent_action(request: dict[str, JsonValue], kind: type[_ApiAction]) -> Done | Failed | _ApiAction:
     api, args = request.get("api"), request.get("args") or {}
     if api == "done":
         return Done()
     if api == "failed":
         reason = args.get("reason", "") if isinstance(args, dict) else ""
         return Failed(reason=str(reason))
-    return CompositeAction(api=str(api), args=args if isinstance(args, dict) else {"_invalid": args})
+    return kind(api=str(api), args=args if isinstance(args, dict) else {"_invalid": args})

@@ -5,27 +5,7 @@ from __future__ import annotations
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
 from workers._editor import Editor
-
-
-class CompositeError(BaseModel):
-    """Why the page refused an action; ``code`` is stable (INVALID_ARG, NOT_FOUND, ...)."""
-
-    model_config = ConfigDict(frozen=True)
-
-    code: str
-    message: str
-    details: JsonValue = None
-
-
-class CompositeEnvelope(BaseModel):
-    """The page's answer to one composite action."""
-
-    model_config = ConfigDict(frozen=True, populate_by_name=True)
-
-    success: bool
-    data: JsonValue = None
-    error: CompositeError | None = None
-    duration_ms: float = Field(default=0.0, alias="durationMs")
+from workers._envelope import ActionEnvelope
 
 
 class TargetName(BaseModel):
@@ -51,9 +31,9 @@ async def observe(editor: Editor) -> CompositeObservation:
     return CompositeObservation.model_validate(await editor.call("compositeObserve"))
 
 
-async def execute(editor: Editor, api: str, args: dict[str, JsonValue]) -> CompositeEnvelope:
+async def execute(editor: Editor, api: str, args: dict[str, JsonValue]) -> ActionEnvelope:
     """Run one action; agent mistakes come back as an error envelope, never as an exception."""
-    return CompositeEnvelope.model_validate(await editor.call("compositeExecute", {"api": api, "args": args}))
+    return ActionEnvelope.model_validate(await editor.call("compositeExecute", {"api": api, "args": args}))
 
 
 async def sync_workspace(editor: Editor) -> None:

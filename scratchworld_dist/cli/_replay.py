@@ -18,14 +18,14 @@ from rich.markup import escape
 from scratchworld_dist.cli._evaluate import EXIT_NO_VERDICT, EXIT_NOT_PASSED, render_result
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.suites._task import read_trajectory
-from workers import BrowserSession, CompositeAction, CompositeEnvelope, EvalResult, Evaluator
+from workers import ActionEnvelope, BrowserSession, CompositeAction, EvalResult, Evaluator
 from workers import _composite as composite
 
 
 async def _replay(
     project: bytes, actions: list[CompositeAction], task_spec: object, console: Console, show_final: bool
-) -> tuple[list[CompositeEnvelope], bytes, EvalResult]:
-    envelopes: list[CompositeEnvelope] = []
+) -> tuple[list[ActionEnvelope], bytes, EvalResult]:
+    envelopes: list[ActionEnvelope] = []
     async with BrowserSession() as session:
         async with session.editor() as editor:
             await editor.load_project(project)
