@@ -102,7 +102,17 @@ def plan_run(config: SweepConfig) -> RunPlan:
     info = SuiteInfo(
         name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
     )
-    jobs = list(plan_jobs(config.model_specs(), config.modes, config.agent, contents, config.seeds, config.max_steps))
+    jobs = list(
+        plan_jobs(
+            config.model_specs(),
+            config.modes,
+            config.agent,
+            contents,
+            config.seeds,
+            config.max_steps,
+            config.primitive,
+        )
+    )
     return RunPlan(config=config, suite=info, contents=contents, jobs=jobs)
 
 

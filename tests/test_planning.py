@@ -12,7 +12,7 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import HARNESS_VERSION, NO_MODEL, JobSpec, TaskContent, job_id, plan_jobs, read_task
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
 from tests.conftest import SUITE_DIR
-from workers import ModelSpec
+from workers import ModelSpec, ObservationSettings
 
 GPT = ModelSpec(name="gpt", model="openai/gpt-4o", temperature=0.0, api_key_env="OPENAI_API_KEY")
 CLAUDE = ModelSpec(name="claude", model="anthropic/claude-sonnet", max_tokens=1024)
@@ -84,7 +84,26 @@ def test_job_fields_come_from_the_plan(ours: list[TaskContent]) -> None:
     assert job.model == CLAUDE and job.model_name == "claude"
     assert (job.mode, job.agent, job.seed, job.max_steps) == ("primitive", "llm", 4, 12)
     assert (job.task_id, job.category, job.task_hash) == (content.task.id, content.task.category, content.task_hash)
-    assert job.job_id == job_id(CLAUDE, "primitive", "llm", content.task_hash, content.task.id, 4, 12)
+    assert job.observation == ObservationSettings()
+    assert job.job_id == job_id(CLAUDE, "primitive", "llm", content.task_hash, content.task.id, 4, 12, job.observation)
+    assert job.episode(attempt=1, timeout_s=60).observation == ObservationSettings()
+
+
+def test_step_limits_per_mode(ours: list[TaskContent]) -> None:
+    jobs = list(
+        plan_jobs([None], ["composite", "primitive"], "oracle", ours[:1], [0], {"composite": 9, "primitive": 90})
+    )
+    assert [(j.mode, j.max_steps) for j in jobs] == [("composite", 9), ("primitive", 90)]
+    assert jobs[0].observation is None
+
+
+def test_observation_settings_change_primitive_ids_only(ours: list[TaskContent]) -> None:
+    def ids(settings: ObservationSettings) -> list[str]:
+        return [j.job_id for j in plan_jobs([None], ["composite", "primitive"], "oracle", ours[:1], [0], 5, settings)]
+
+    default, screen = ids(ObservationSettings()), ids(ObservationSettings(ocr_scope="screen"))
+    assert default[0] == screen[0]
+    assert default[1] != screen[1]
 
 
 def test_ids_are_stable_across_planning_calls(ours: list[TaskContent]) -> None:

@@ -1,6 +1,16 @@
 """What runs inside a worker: the browser session, the editor bridge and evaluation."""
 
-from workers._actions import FINAL_ACTIONS, Action, CompositeAction, Done, Failed, LoadProject, composite_action
+from workers._actions import (
+    FINAL_ACTIONS,
+    Action,
+    CompositeAction,
+    Done,
+    Failed,
+    LoadProject,
+    PrimitiveAction,
+    composite_action,
+    primitive_action,
+)
 from workers._browser import CHROMIUM_ARGS, BrowserConfig, BrowserSession
 from workers._composite import CompositeObservation
 from workers._editor import Editor, EditorStatus
@@ -26,6 +36,7 @@ from workers._evaluation import Evaluator
 from workers._evaluation_spec import EvaluationSpec
 from workers._profiles import EvaluationProfile, ProfileConditions
 from workers._synthetic import SyntheticEpisodes, run_synthetic
+from workers.primitive._settings import ObservationSettings
 
 __all__ = [
     "CHROMIUM_ARGS",
@@ -60,7 +71,9 @@ __all__ = [
     "LoadProject",
     "Mode",
     "ModelSpec",
+    "ObservationSettings",
     "Outcome",
+    "PrimitiveAction",
     "ProfileConditions",
     "StepRecord",
     "SyntheticEpisodes",
@@ -69,5 +82,6 @@ __all__ = [
     "WorkerInfo",
     "composite_action",
     "outcome_of",
+    "primitive_action",
     "run_synthetic",
 ]

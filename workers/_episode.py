@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict, Field, JsonValue
 from workers._actions import CompositeAction
 from workers._eval_result import EvalResult
 from workers._evaluation_spec import EvaluationSpec
+from workers.primitive._settings import ObservationSettings
 
 Mode = Literal["composite", "primitive"]
 AgentName = Literal["oracle", "noop", "llm"]
@@ -65,6 +66,9 @@ class EpisodeSpec(BaseModel):
     max_steps: int = Field(gt=0)
     timeout_s: float = Field(gt=0)
     """Wall-clock limit for the whole episode, agent and evaluation included."""
+
+    observation: ObservationSettings | None = None
+    """How primitive observations are made (primitive mode; None means the defaults)."""
 
 
 class TaskPayload(BaseModel):

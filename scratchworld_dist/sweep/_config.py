@@ -10,13 +10,13 @@ from __future__ import annotations
 import os
 import re
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, PlainValidator, ValidationError, field_validator, model_validator
 
 from scratchworld_dist._errors import ConfigError
-from workers import AgentName, EvaluationProfile, Mode, ModelSpec, SyntheticEpisodes
+from workers import AgentName, EvaluationProfile, Mode, ModelSpec, ObservationSettings, SyntheticEpisodes
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
@@ -118,6 +118,23 @@ class RayConfig(BaseModel):
     """``auto`` or ``host:port`` of a running cluster; ``RAY_ADDRESS`` also works."""
 
 
+def _step_limits(value: Any) -> int | dict[Mode, int]:
+    """A positive step limit, or one per mode (``{composite: 50, primitive: 300}``)."""
+
+    def positive(limit: Any, where: str) -> int:
+        if isinstance(limit, bool) or not isinstance(limit, int) or limit < 1:
+            raise ValueError(f"{where}must be a positive integer, not {limit!r}")
+        return limit
+
+    if not isinstance(value, dict):
+        return positive(value, "a step limit (or a mapping of mode to step limit) ")
+    modes = get_args(Mode)
+    unknown = [str(mode) for mode in value if mode not in modes]
+    if unknown:
+        raise ValueError(f"unknown mode {', '.join(unknown)}; modes: {', '.join(modes)}")
+    return {mode: positive(limit, f"the step limit of {mode} ") for mode, limit in value.items()}
+
+
 class SweepConfig(BaseModel):
     """A whole sweep: the job matrix model x mode x task x seed, and how to run it."""
 
@@ -130,7 +147,11 @@ class SweepConfig(BaseModel):
     models: list[ModelConfig] = Field(default_factory=list)
     modes: list[Mode] = Field(default_factory=lambda: ["composite"], min_length=1)
     seeds: list[int] = Field(default_factory=lambda: [0], min_length=1)
-    max_steps: int = Field(default=50, gt=0)
+    max_steps: Annotated[int | dict[Mode, int], PlainValidator(_step_limits)] = 50
+    """Step limit per episode; a mapping gives each mode its own (a GUI gesture does less than an API call)."""
+
+    primitive: ObservationSettings = Field(default_factory=ObservationSettings)
+    """How primitive-mode observations are made (OCR backend and scope)."""
     profile: EvaluationProfile | None = None
     """Evaluation profile (native | upstream); default: the suite's (upstream clones: upstream)."""
 
@@ -164,6 +185,14 @@ class SweepConfig(BaseModel):
         if len(set(value)) != len(value):
             raise ValueError("modes must be distinct")
         return value
+
+    @model_validator(mode="after")
+    def _steps_for_every_mode(self) -> SweepConfig:
+        if isinstance(self.max_steps, dict):
+            missing = [mode for mode in self.modes if mode not in self.max_steps]
+            if missing:
+                raise ValueError(f"max_steps has no limit for mode {', '.join(missing)}")
+        return self
 
     @model_validator(mode="after")
     def _models_fit_agent(self) -> SweepConfig:

@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from importlib.metadata import version
 
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.suites import Task
-from workers import AgentName, EpisodeSpec, EvaluationProfile, Mode, ModelSpec, TaskPayload
+from workers import AgentName, EpisodeSpec, EvaluationProfile, Mode, ModelSpec, ObservationSettings, TaskPayload
 
 HARNESS_VERSION = version("scratchworld-dist")
 """Recorded with every job; bump the package version when a change can alter verdicts."""
@@ -39,6 +39,8 @@ class JobSpec(BaseModel):
     task_hash: str
     seed: int
     max_steps: int
+    observation: ObservationSettings | None = None
+    """How primitive observations are made (None in composite mode)."""
 
     @property
     def model_name(self) -> str:
@@ -54,6 +56,7 @@ class JobSpec(BaseModel):
             model=self.model,
             seed=self.seed,
             max_steps=self.max_steps,
+            observation=self.observation,
             timeout_s=timeout_s,
         )
 
@@ -106,9 +109,16 @@ def suite_hash(contents: list[TaskContent]) -> str:
 
 
 def job_id(
-    model: ModelSpec | None, mode: str, agent: str, task_hash: str, task_id: str, seed: int, max_steps: int
+    model: ModelSpec | None,
+    mode: str,
+    agent: str,
+    task_hash: str,
+    task_id: str,
+    seed: int,
+    max_steps: int,
+    observation: ObservationSettings | None = None,
 ) -> str:
-    identity = {
+    identity: dict[str, object] = {
         "model": None if model is None else model.model_dump(exclude={"name", "api_key_env"}, mode="json"),
         "mode": mode,
         "agent": agent,
@@ -117,6 +127,8 @@ def job_id(
         "max_steps": max_steps,
         "harness": HARNESS_VERSION,
     }
+    if observation is not None:  # only primitive jobs have one, so composite ids stay as they were
+        identity["observation"] = observation.model_dump(mode="json")
     canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(canonical.encode()).hexdigest()[:24]
 
@@ -127,16 +139,19 @@ def plan_jobs(
     agent: AgentName,
     tasks: list[TaskContent],
     seeds: list[int],
-    max_steps: int,
+    max_steps: int | Mapping[Mode, int],
+    observation: ObservationSettings | None = None,
 ) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks."""
     for model in models:
         for mode in modes:
+            steps = max_steps if isinstance(max_steps, int) else max_steps[mode]
+            settings = (observation or ObservationSettings()) if mode == "primitive" else None
             for seed in seeds:
                 for content in tasks:
                     task = content.task
                     yield JobSpec(
-                        job_id=job_id(model, mode, agent, content.task_hash, task.id, seed, max_steps),
+                        job_id=job_id(model, mode, agent, content.task_hash, task.id, seed, steps, settings),
                         model=model,
                         mode=mode,
                         agent=agent,
@@ -144,5 +159,6 @@ def plan_jobs(
                         category=task.category,
                         task_hash=content.task_hash,
                         seed=seed,
-                        max_steps=max_steps,
+                        max_steps=steps,
+                        observation=settings,
                     )

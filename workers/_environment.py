@@ -1,0 +1,69 @@
+"""The boundary between an agent and the editor: one observe/execute pair per mode.
+
+The episode runner only ever talks to an ``Environment``; everything mode-specific (the
+composite API in the page, or screenshots, element lists and real mouse gestures) lives behind
+it, so an agent written for one mode cannot reach the other's means by accident.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+from playwright.async_api import Error as PlaywrightError
+
+from workers import _composite as composite
+from workers._actions import CompositeAction, PrimitiveAction
+from workers._composite import CompositeObservation
+from workers._editor import Editor
+from workers._envelope import ActionEnvelope
+from workers._errors import EditorCrashedError
+from workers.primitive import Gestures, PrimitiveObservation, PrimitiveObserver
+
+Observation = CompositeObservation | PrimitiveObservation
+
+
+class Environment(Protocol):
+    async def observe(self) -> Observation: ...
+
+    async def execute(self, action: CompositeAction | PrimitiveAction) -> ActionEnvelope: ...
+
+
+class CompositeEnvironment:
+    """The semantic block-editing API; primitive actions are refused."""
+
+    def __init__(self, editor: Editor) -> None:
+        self.editor = editor
+
+    async def observe(self) -> CompositeObservation:
+        return await composite.observe(self.editor)
+
+    async def execute(self, action: CompositeAction | PrimitiveAction) -> ActionEnvelope:
+        if isinstance(action, PrimitiveAction):
+            return _wrong_mode(action.api, "composite")
+        return await composite.execute(self.editor, action.api, action.args)
+
+
+class PrimitiveEnvironment:
+    """Screenshots plus element lists, and real mouse and keyboard; composite calls are refused."""
+
+    def __init__(self, editor: Editor, observer: PrimitiveObserver) -> None:
+        self.editor = editor
+        self.observer = observer
+        self.gestures = Gestures(editor.page)
+
+    async def observe(self) -> PrimitiveObservation:
+        observation = await self.observer.observe(self.editor)
+        self.gestures.elements = observation.elements
+        return observation
+
+    async def execute(self, action: CompositeAction | PrimitiveAction) -> ActionEnvelope:
+        if isinstance(action, CompositeAction):
+            return _wrong_mode(action.api, "primitive")
+        try:
+            return await self.gestures.execute(action.api, action.args)
+        except PlaywrightError as exc:
+            raise EditorCrashedError(f"the page did not take the {action.api} gesture: {exc.message}") from exc
+
+
+def _wrong_mode(api: str, mode: str) -> ActionEnvelope:
+    return ActionEnvelope.failure("UNKNOWN_API", f"{api!r} is not an action of {mode} mode")

@@ -1,0 +1,22 @@
+"""Settings of primitive observations, kept apart so the driver can validate them cheaply."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+
+class ObservationSettings(BaseModel):
+    """How primitive observations are made; part of a primitive job's identity."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    ocr: Literal["rapidocr", "paddleocr", "none"] = "rapidocr"
+    ocr_scope: Literal["pixels", "screen"] = "pixels"
+    """``pixels``: OCR only where the DOM has no text; ``screen``: the whole frame, like upstream."""
+
+    ocr_min_score: float = Field(default=0.5, ge=0, le=1)
+    paddle_det_model_dir: Path | None = None
+    paddle_rec_model_dir: Path | None = None
