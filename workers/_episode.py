@@ -104,7 +104,13 @@ class StepRecord(BaseModel):
     """What the environment answered (a composite envelope's data or error details)."""
 
     latency_s: float = 0.0
-    """Wall time of the agent's decision plus the action."""
+    """Wall time of the observation, the agent's decision and the action."""
+
+    observation_s: float = 0.0
+    """Wall time of the observation alone (0 for agents that do not observe)."""
+
+    warnings: list[str] = Field(default_factory=list)
+    """Degradations of this step's observation (e.g. OCR down: a DOM-only element list)."""
 
     llm_calls: int = 0
     input_tokens: int = 0

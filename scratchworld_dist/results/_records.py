@@ -84,6 +84,10 @@ class StepRow(BaseModel):
     error_code: str | None
     error_message: str | None
     latency_s: float
+    observation_s: float
+    warnings: str | None
+    """The step's observation warnings, one per line (None when there were none)."""
+
     llm_calls: int
     input_tokens: int
     output_tokens: int
@@ -182,6 +186,8 @@ def record_of(
             error_code=step.error_code,
             error_message=step.error_message,
             latency_s=step.latency_s,
+            observation_s=step.observation_s,
+            warnings="\n".join(step.warnings) or None,
             llm_calls=step.llm_calls,
             input_tokens=step.input_tokens,
             output_tokens=step.output_tokens,
