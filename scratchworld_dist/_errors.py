@@ -15,7 +15,8 @@ translated at the edge with ``raise ... from exc`` so callers catch one family::
     │   ├── EditorNotReadyError     the page never became ready within its bounded wait
     │   ├── RendererUnavailableError  no WebGL renderer: sensing would silently fail
     │   └── EditorCrashedError      the page or browser died while in use
-    └── BridgeError                 the page refused a bridge call (carries the page's kind)
+    ├── BridgeError                 the page refused a bridge call (carries the page's kind)
+    └── OCRError                    an OCR backend cannot run (missing package or model files)
 
 The root and the editor errors live in ``workers._errors`` (the worker side imports nothing
 from the driver side); the suite errors are the driver's own.
@@ -35,6 +36,7 @@ from workers._errors import (
     EditorCrashedError,
     EditorError,
     EditorNotReadyError,
+    OCRError,
     ProjectFormatError,
     RendererUnavailableError,
     ScratchWorldError,
@@ -48,6 +50,7 @@ __all__ = [
     "EditorCrashedError",
     "EditorError",
     "EditorNotReadyError",
+    "OCRError",
     "ProjectFormatError",
     "RendererUnavailableError",
     "RunDirError",

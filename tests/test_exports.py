@@ -16,6 +16,8 @@ PACKAGES = [
     "scratchworld_dist.sweep",
     "workers",
     "workers.agents",
+    "workers.ocr",
+    "workers.primitive",
 ]
 
 

@@ -46,3 +46,7 @@ class BridgeError(ScratchWorldError):
         super().__init__(f"{kind}: {message}")
         self.kind = kind
         self.detail = message
+
+
+class OCRError(ScratchWorldError):
+    """An OCR backend cannot run: a missing package or model file, or the engine failed."""

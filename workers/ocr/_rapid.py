@@ -1,0 +1,114 @@
+"""The default backend: rapidocr 3.x on onnxruntime, with the PP-OCRv6 models bundled in its wheel."""
+
+from __future__ import annotations
+
+import importlib.util
+import logging
+import threading
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from workers._errors import OCRError
+from workers.ocr._backend import TextBox, box_from_quad, check_image
+
+DET_MODEL = "PP-OCRv6_det_small.onnx"
+REC_MODEL = "PP-OCRv6_rec_small.onnx"
+"""The models rapidocr==3.10.0 ships; any other choice makes rapidocr download at run time."""
+
+_RAPIDOCR_LOGGER = "RapidOCR"
+
+
+def bundled_models_dir() -> Path:
+    """The ``models`` directory inside the installed rapidocr package, located without importing it."""
+    spec = importlib.util.find_spec("rapidocr")
+    if spec is None or not spec.submodule_search_locations:
+        raise OCRError("rapidocr is not installed; install the project's dependencies (rapidocr==3.10.0)")
+    return Path(next(iter(spec.submodule_search_locations))) / "models"
+
+
+class RapidOCRBackend:
+    """rapidocr with its bundled det/rec models pinned by path, so no configuration can trigger a download.
+
+    Construction only checks that onnxruntime and the model files exist; the engine (about 0.8 s of
+    imports) is built on the first ``recognize``. Calls are serialised by a lock: one engine, one image
+    at a time, with ``threads`` intra-op threads each.
+
+    Before detection rapidocr scales an image up until its short side is ``det_limit_side_len`` (736),
+    which suits full frames but makes a small crop cost as much as a whole screenshot or more: a
+    220x40 crop is read at 4048x736. A lower value speeds up crops but misses more small digits.
+    """
+
+    name = "rapidocr"
+
+    def __init__(
+        self,
+        threads: int = 2,
+        min_score: float = 0.5,
+        det_limit_side_len: int = 736,
+        models_dir: Path | None = None,
+    ) -> None:
+        if threads < 1:
+            raise ValueError(f"threads must be at least 1, got {threads}")
+        self.threads = threads
+        self.min_score = min_score
+        self.det_limit_side_len = det_limit_side_len
+        models = models_dir if models_dir is not None else bundled_models_dir()
+        self._det_model = models / DET_MODEL
+        self._rec_model = models / REC_MODEL
+        for path in (self._det_model, self._rec_model):
+            if not path.is_file():
+                raise OCRError(f"rapidocr model file missing: {path} (reinstall rapidocr==3.10.0, which bundles it)")
+        if importlib.util.find_spec("onnxruntime") is None:
+            # rapidocr does not depend on onnxruntime and would only fail on first use.
+            raise OCRError("onnxruntime is not installed; rapidocr needs it: pip install onnxruntime==1.31.1")
+        self._engine: Any = None
+        self._lock = threading.Lock()
+
+    def recognize(self, image: np.ndarray) -> list[TextBox]:
+        """Read every text line of a BGR image; lines scoring under ``min_score`` are dropped."""
+        check_image(image)
+        if image.size == 0:
+            return []
+        with self._lock:
+            engine = self._engine if self._engine is not None else self._start()
+            try:
+                output = engine(image)
+            except Exception as exc:
+                raise OCRError(f"rapidocr failed on a {image.shape[1]}x{image.shape[0]} image: {exc}") from exc
+        if output.txts is None or output.boxes is None:
+            return []
+        return [
+            box_from_quad(text, score, quad, image.shape)
+            for quad, text, score in zip(output.boxes, output.txts, output.scores, strict=True)
+            if score >= self.min_score and text.strip()
+        ]
+
+    def _start(self) -> Any:
+        """Build the engine; called under the lock."""
+        try:
+            from rapidocr import RapidOCR
+        except ImportError as exc:
+            raise OCRError(f"rapidocr cannot be imported ({exc}); install rapidocr==3.10.0 and onnxruntime") from exc
+        params = {
+            "Global.use_cls": False,  # screenshots hold no upside-down text
+            "Global.text_score": self.min_score,
+            "Global.log_level": "error",
+            "Det.model_path": str(self._det_model),
+            "Rec.model_path": str(self._rec_model),
+            "Det.limit_side_len": self.det_limit_side_len,
+            "EngineConfig.onnxruntime.intra_op_num_threads": self.threads,
+            "EngineConfig.onnxruntime.inter_op_num_threads": 1,
+        }
+        try:
+            engine = RapidOCR(params=params)
+        except Exception as exc:
+            raise OCRError(
+                f"rapidocr could not start with {self._det_model.name}, {self._rec_model.name}: {exc}"
+            ) from exc
+        # An empty frame makes rapidocr log "The text detection result is empty" at WARNING on its own
+        # non-propagating logger; an empty frame is a normal result here, not a warning.
+        logging.getLogger(_RAPIDOCR_LOGGER).setLevel(logging.ERROR)
+        self._engine = engine
+        return engine

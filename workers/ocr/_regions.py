@@ -1,0 +1,115 @@
+"""OCR of screen regions with a content cache, so regions unchanged between agent steps are read once."""
+
+from __future__ import annotations
+
+import asyncio
+import hashlib
+import threading
+from collections import OrderedDict
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from workers._errors import OCRError
+from workers.ocr._backend import OCRBackend, TextBox, check_image
+
+_CacheKey = tuple[str, tuple[int, ...], bytes]
+
+
+class Region(BaseModel):
+    """A rectangle to read, in image pixels; it may overhang the image and is clipped to it."""
+
+    model_config = ConfigDict(frozen=True)
+
+    x: int
+    """Left edge; negative when the region starts left of the image."""
+
+    y: int
+    """Top edge; negative when the region starts above the image."""
+
+    width: int = Field(ge=0)
+    """Width in pixels."""
+
+    height: int = Field(ge=0)
+    """Height in pixels."""
+
+    @classmethod
+    def covering(cls, image: np.ndarray) -> Region:
+        """The whole image."""
+        return cls(x=0, y=0, width=image.shape[1], height=image.shape[0])
+
+
+class RegionOCR:
+    """Reads regions through a backend, caching results by the region's pixels rather than its position.
+
+    Boxes are stored relative to their crop, so a panel that scrolled or moved but kept its pixels is
+    still a hit. Eviction is least-recently-used beyond ``max_entries``. The cache is thread-safe; two
+    threads missing on the same pixels at once may both run the backend.
+    """
+
+    def __init__(self, backend: OCRBackend, max_entries: int = 256) -> None:
+        if max_entries < 1:
+            raise ValueError(f"max_entries must be at least 1, got {max_entries}")
+        self.backend = backend
+        self.max_entries = max_entries
+        self.hits = 0
+        """Regions answered from the cache."""
+        self.misses = 0
+        """Regions sent to the backend."""
+        self._cache: OrderedDict[_CacheKey, list[TextBox]] = OrderedDict()
+        self._lock = threading.Lock()
+
+    @property
+    def name(self) -> str:
+        """The wrapped backend's name, so a ``RegionOCR`` is itself an ``OCRBackend``."""
+        return self.backend.name
+
+    def recognize(self, image: np.ndarray) -> list[TextBox]:
+        """Read the whole image through the cache."""
+        return self.recognize_regions(image, [Region.covering(image)])
+
+    async def arecognize(self, image: np.ndarray) -> list[TextBox]:
+        """``recognize`` in a worker thread, so the caller's event loop keeps driving the browser."""
+        return await asyncio.to_thread(self.recognize, image)
+
+    def recognize_regions(self, image: np.ndarray, regions: list[Region]) -> list[TextBox]:
+        """Read each region (clipped to the image) and return all boxes in image pixels, exact duplicates once."""
+        check_image(image)
+        height, width = image.shape[:2]
+        boxes: dict[TextBox, None] = {}
+        for region in regions:
+            left, top = max(region.x, 0), max(region.y, 0)
+            right, bottom = min(region.x + region.width, width), min(region.y + region.height, height)
+            if right <= left or bottom <= top:
+                continue
+            for box in self._read(image[top:bottom, left:right]):
+                boxes[box.model_copy(update={"x": box.x + left, "y": box.y + top})] = None
+        return list(boxes)
+
+    async def arecognize_regions(self, image: np.ndarray, regions: list[Region]) -> list[TextBox]:
+        """``recognize_regions`` in a worker thread, so the caller's event loop keeps driving the browser."""
+        return await asyncio.to_thread(self.recognize_regions, image, regions)
+
+    def _read(self, crop: np.ndarray) -> list[TextBox]:
+        """Boxes relative to the crop, from the cache or the backend."""
+        crop = np.ascontiguousarray(crop)
+        key = (self.backend.name, crop.shape, hashlib.blake2b(crop.data, digest_size=16).digest())
+        with self._lock:
+            cached = self._cache.get(key)
+            if cached is not None:
+                self._cache.move_to_end(key)
+                self.hits += 1
+                return cached
+            self.misses += 1
+        try:
+            found = self.backend.recognize(crop)
+        except OCRError:
+            raise
+        except Exception as exc:
+            raise OCRError(f"OCR backend {self.backend.name!r} failed: {type(exc).__name__}: {exc}") from exc
+        with self._lock:
+            self._cache[key] = found
+            self._cache.move_to_end(key)
+            while len(self._cache) > self.max_entries:
+                self._cache.popitem(last=False)
+        return found
