@@ -32,12 +32,12 @@ def _by_text(observation: PrimitiveObservation, kind: str, text: str) -> int:
     return next(e.index for e in observation.elements if e.type == kind and e.text == text)
 
 
-async def main(project: Path, rounds: int, scope: str) -> None:
+async def main(project: Path, sb3: bytes, rounds: int, scope: str) -> None:
     settings = ObservationSettings(ocr_scope=scope)  # type: ignore[arg-type]
     ocr = region_ocr(settings)
     laps: dict[str, list[float]] = {"screenshot": [], "dom": [], "ocr": [], "settle": [], "whole": []}
     async with BrowserSession() as session, session.editor() as editor:
-        await editor.load_project(project.read_bytes())
+        await editor.load_project(sb3)
         await editor.set_stage_size("small")
         observer = PrimitiveObserver(settings, ocr)
         gestures = Gestures(editor.page)
@@ -59,7 +59,8 @@ async def main(project: Path, rounds: int, scope: str) -> None:
     print(f"{len(laps['whole'])} observations of {project.name}, ocr_scope={scope}, {len(first.elements)} elements")
     print(f"{'part':<12}{'p50 ms':>10}{'p95 ms':>10}{'mean ms':>10}")
     for part, values in laps.items():
-        print(f"{part:<12}{percentile(values, 0.5):>10.1f}{percentile(values, 0.95):>10.1f}{statistics.fmean(values):>10.1f}")
+        p50, p95 = percentile(values, 0.5), percentile(values, 0.95)
+        print(f"{part:<12}{p50:>10.1f}{p95:>10.1f}{statistics.fmean(values):>10.1f}")
     if ocr is not None:
         print(f"OCR region cache: {ocr.hits} hits, {ocr.misses} misses")
 
@@ -70,4 +71,4 @@ if __name__ == "__main__":
     parser.add_argument("--rounds", type=int, default=30)
     parser.add_argument("--ocr-scope", choices=["pixels", "screen"], default="pixels")
     options = parser.parse_args()
-    asyncio.run(main(options.project, options.rounds, options.ocr_scope))
+    asyncio.run(main(options.project, options.project.read_bytes(), options.rounds, options.ocr_scope))

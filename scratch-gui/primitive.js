@@ -1,9 +1,543 @@
-/* primitive.js: placeholder, being written. */
+/*
+ * Primitive mode, page side: the indexed element list an agent reads next to its screenshot, and
+ * the wait that makes the screenshot worth reading.
+ *
+ * `primitiveElements` walks the DOM once, synchronously, and returns
+ *   elements:     what a user can see and point at, in document order (the flyout's contents in
+ *                 layout order), each {type, text, x, y, width, height, opcode?, blockId?, where?}
+ *                 with an integer page-pixel rect (x, y top-left) clipped to the area it is drawn
+ *                 in; kept only when the centre of that rect hit-tests to the element itself, so
+ *                 whatever a modal, a dropdown or the flyout covers is not listed;
+ *   textBoxes:    the text drawn in canvas blocks, which the DOM knows exactly (no OCR needed);
+ *   pixelRegions: where text exists only as pixels (the stage, other canvases, pictures), the
+ *                 only places worth running OCR on.
+ * Selectors are Blockly class names, roles, data attributes or CSS-module *name* prefixes
+ * (`[class*="sprite-selector_sprite-wrapper"]`), never the module hashes, which change with
+ * every GUI build. Blocks are named through the Blockly API, never from their ids.
+ *
+ * `primitiveSettle` waits (bounded) until no gesture, flyout scroll animation, bump, CSS
+ * transition or DOM mutation is under way, so that a screenshot shows the result of the last
+ * action rather than a frame of it.
+ */
 (function () {
   'use strict';
-  function factory(ctx) {
-    return {};
+
+  const MAX_TEXT = 200;
+  const MIN_IMAGE_SIDE = 24;
+  // A role=button no larger than this holding a picture is an icon button, not a tile.
+  const MAX_ICON_BUTTON = 48;
+  const SETTLE_DEFAULT_MS = 2000;
+  const SETTLE_MAX_MS = 30000;
+  const QUIET_FRAMES = 2;
+  // A frame that never comes (hidden page) must not hang the wait.
+  const FRAME_FALLBACK_MS = 100;
+
+  // Menus: Blockly dropdowns and context menus, the GUI's menu-bar menus and Radix menus.
+  const DROPDOWN_ITEMS = '.blocklyMenuItem, .goog-menuitem, [data-menu-item="true"], [role="menuitem"], ' +
+    '[role="menuitemradio"], [role="menuitemcheckbox"], [role="option"]';
+  const MENU_BAR_ITEM = '[class*="menu-bar_menu-bar-item"]';
+  const STAGE_HEADER = '[class*="stage-header_stage-header-wrapper"]';
+  const SPRITE_TILE = '[class*="sprite-selector_sprite-wrapper"]';
+  const STAGE_SELECTOR = '[class*="stage-selector_stage-selector_"]';
+  const MONITORS = '[class*="monitor-list_monitor-list"]';
+
+  // How a claimed element treats the matches inside it: 'all' hides them; 'buttons' lets real
+  // <button>s through (a sprite tile's delete button, the stage selector's add-backdrop menu);
+  // 'menus' lets menu items through (an open menu inside its menu-bar item, submenus); 'none'
+  // hides nothing (blocks hold blocks and fields).
+  const ABSORB = {
+    dropdown_items: 'menus', menu: 'menus', tabs: 'all', green_flag: 'all', stop: 'all', stage_buttons: 'all',
+    stage: 'all', category_menu_item: 'all', flyout_buttons: 'all', flyout_label: 'all', blocks: 'none',
+    fields: 'all', canvas: 'all', inputs: 'all', sprites: 'buttons', stage_selector: 'buttons', buttons: 'buttons',
+  };
+
+  // One query, so the list comes in document order. (Buttons in the menu bar and the stage
+  // header are typed by where they sit, see classifyHtml.)
+  const CANDIDATES = [
+    DROPDOWN_ITEMS, MENU_BAR_ITEM, '[role="tab"]', '[class*="green-flag_green-flag"]', '[class*="stop-all_stop-all"]', 'canvas',
+    '.blocklyToolboxCategory', '.scratchCategoryMenuItem', '.blocklyFlyoutButton', '.blocklyFlyoutLabel',
+    '.blocklyDraggable', '.blocklySvg .blocklyEditableField', '.blocklyFlyoutCheckbox', '.blocklyMainBackground', '.blocklyZoom',
+    'input', 'textarea', SPRITE_TILE, STAGE_SELECTOR, 'button', '[role="button"]',
+  ].join(', ');
+
+  function clean(value) {
+    return String(value == null ? '' : value).replace(/[\s\u00a0]+/g, ' ').trim().slice(0, MAX_TEXT);
   }
+
+  function firstLine(value) {
+    return clean(String(value == null ? '' : value).split('\n').find((line) => line.trim()) || '');
+  }
+
+  // What a user reads on (or hears for) an element: its text, else its label, else its icon's.
+  // A menu item's first line is its own text; the lines below belong to its submenu.
+  function label(el, firstOnly) {
+    const text = el.innerText !== undefined ? el.innerText : el.textContent;
+    let found = (firstOnly ? firstLine(text) : clean(text)) || clean(el.getAttribute('aria-label')) || clean(el.getAttribute('title'));
+    if (!found) {
+      const icon = el.querySelector('img[alt]:not([alt=""]), img[title], [aria-label]');
+      if (icon) found = clean(icon.getAttribute('alt') || icon.getAttribute('title') || icon.getAttribute('aria-label'));
+    }
+    return found;
+  }
+
+  function quoted(value) {
+    return JSON.stringify(String(value).slice(0, MAX_TEXT));
+  }
+
+  // `name value: "v" placeholder: "p"`, naming the field after whatever labels it.
+  function describeInput(el) {
+    const placeholder = el.getAttribute('placeholder') || '';
+    const labels = el.labels ? Array.from(el.labels).map((l) => clean(l.innerText)).filter(Boolean) : [];
+    const name = clean(el.getAttribute('aria-label')) || clean(el.getAttribute('name')) || labels[0] ||
+      clean(el.getAttribute('title')) || clean(placeholder);
+    const parts = name ? [name] : [];
+    parts.push(`value: ${quoted(el.value == null ? '' : el.value)}`);
+    if (placeholder && clean(placeholder) !== name) parts.push(`placeholder: ${quoted(placeholder)}`);
+    return parts.join(' ');
+  }
+
+  function describeChoice(el) {
+    const labels = el.labels ? Array.from(el.labels).map((l) => clean(l.innerText)).filter(Boolean) : [];
+    const name = labels[0] || clean(el.getAttribute('aria-label')) || clean(el.getAttribute('value'));
+    return `${el.type} ${name} (${el.checked ? 'checked' : 'unchecked'})`;
+  }
+
+  // --- geometry ------------------------------------------------------------------------------
+
+  function box(rect) {
+    return {left: rect.left, top: rect.top, right: rect.right, bottom: rect.bottom};
+  }
+
+  function intersect(a, b) {
+    const out = {left: Math.max(a.left, b.left), top: Math.max(a.top, b.top),
+      right: Math.min(a.right, b.right), bottom: Math.min(a.bottom, b.bottom)};
+    return out.right > out.left && out.bottom > out.top ? out : null;
+  }
+
+  function union(rects) {
+    const real = rects.filter((r) => r.width > 0 && r.height > 0);
+    if (!real.length) return null;
+    return {left: Math.min(...real.map((r) => r.left)), top: Math.min(...real.map((r) => r.top)),
+      right: Math.max(...real.map((r) => r.right)), bottom: Math.max(...real.map((r) => r.bottom))};
+  }
+
+  function pixels(clipped) {
+    const x = Math.round(clipped.left);
+    const y = Math.round(clipped.top);
+    return {x: x, y: y, width: Math.max(1, Math.round(clipped.right) - x), height: Math.max(1, Math.round(clipped.bottom) - y)};
+  }
+
+  function hits(root, x, y) {
+    const hit = document.elementFromPoint(x, y);
+    return !!hit && (hit === root || root.contains(hit));
+  }
+
+  function centreHits(root, clipped) {
+    return hits(root, (clipped.left + clipped.right) / 2, (clipped.top + clipped.bottom) / 2);
+  }
+
+  // --- Blockly ---------------------------------------------------------------------------------
+
+  // The visible workspace, its flyout and the library, or null before Blockly has drawn them.
+  function workspaces(ctx) {
+    let component;
+    try {
+      component = ctx.blocksComponent();
+    } catch (e) {
+      return null;
+    }
+    const ws = component.workspace;
+    const flyout = ws.getFlyout ? ws.getFlyout() : null;
+    return {SB: component.ScratchBlocks, ws: ws, flyout: flyout, flyoutWs: flyout ? flyout.getWorkspace() : null};
+  }
+
+  // What the DOM pass needs to know from Blockly: the code area's rect and the flyout's checkboxes.
+  function blocklyState(ctx) {
+    const state = workspaces(ctx);
+    if (!state) return null;
+    const ws = state.ws;
+    state.view = null;
+    try {
+      const svg = ws.getParentSvg().getBoundingClientRect();
+      const metrics = ws.getMetricsManager();
+      const abs = metrics.getAbsoluteMetrics();
+      const size = metrics.getViewMetrics();
+      state.view = intersect(box(svg), {left: svg.left + abs.left, top: svg.top + abs.top,
+        right: svg.left + abs.left + size.width, bottom: svg.top + abs.top + size.height});
+    } catch (e) {
+      state.view = null;
+    }
+    // The flyout's monitor checkboxes are bubbles of their blocks.
+    state.checkboxes = new Map();
+    if (state.flyoutWs) {
+      for (const block of state.flyoutWs.getTopBlocks(false)) {
+        for (const icon of block.icons || []) {
+          const bubble = icon.checkboxBubble;
+          if (bubble && bubble.getSvgRoot) state.checkboxes.set(bubble.getSvgRoot(), {block: block, bubble: bubble});
+        }
+      }
+    }
+    state.flyoutSvg = state.flyoutWs && state.flyoutWs.getParentSvg ? state.flyoutWs.getParentSvg() : null;
+    return state;
+  }
+
+  function workspaceOf(state, el) {
+    const group = el.closest('.blocklyWorkspace');
+    if (!group) return null;
+    if (group.id === state.ws.id) return state.ws;
+    if (state.flyoutWs && group.id === state.flyoutWs.id) return state.flyoutWs;
+    try {
+      return state.SB.Workspace.getById(group.id) || null;
+    } catch (e) {
+      return null;
+    }
+  }
+
+  function blockLabel(block, inFlyout) {
+    if (!inFlyout) return `${block.type} on canvas`;
+    const field = block.type === 'data_variable' ? block.getField('VARIABLE') : block.type === 'data_listcontents' ? block.getField('LIST') : null;
+    if (field) return `${block.type} ${quoted(clean(field.getText()))}`;
+    if (block.type === 'procedures_call' && typeof block.getProcCode === 'function') {
+      return `${block.type} ${quoted(clean(block.getProcCode()))}`;
+    }
+    return block.type;
+  }
+
+  function ownPath(group) {
+    const first = group.firstElementChild;
+    const isPath = (node) => node && node.tagName === 'path' && (node.classList.contains('blocklyPath') || node.classList.contains('blocklyBlockBackground'));
+    if (isPath(first)) return first;
+    return Array.from(group.children).find(isPath) || null;
+  }
+
+  function fieldOf(block, el) {
+    for (const input of block.inputList || []) {
+      for (const field of input.fieldRow || []) {
+        if (field.getSvgRoot && field.getSvgRoot() === el) return field;
+      }
+    }
+    return null;
+  }
+
+  // --- classification --------------------------------------------------------------------------
+
+  // Each candidate becomes {type, text, rect?, root?, area?, flyout?, block?, extra?} or null:
+  // `rect` when the element's own box is not its target, `root` the subtree its centre must hit,
+  // `area` what clips it (the viewport by default).
+  function classify(el, env) {
+    return el instanceof SVGElement ? classifySvg(el, env) : classifyHtml(el, env);
+  }
+
+  function classifySvg(el, env) {
+    const state = env.blockly;
+    if (!state) return null;
+    const classes = el.classList;
+    if (classes.contains('blocklyDraggable')) {
+      // Most candidates are blocks, most of them scrolled out of the flyout: look at the box first.
+      const path = ownPath(el);
+      const ws = path && workspaceOf(state, el);
+      if (!ws) return null;
+      const inFlyout = !!ws.isFlyout;
+      const area = inFlyout ? env.flyoutArea : env.workspaceArea;
+      const rect = path.getBoundingClientRect();
+      if (!area || !intersect(box(rect), area)) return null;
+      const block = ws.getBlockById(el.getAttribute('data-id'));
+      if (!block || block.isShadow() || (block.isInsertionMarker && block.isInsertionMarker())) return null;
+      return {type: 'blocks', text: blockLabel(block, inFlyout), rect: rect, area: area, flyout: inFlyout, block: true,
+        extra: {opcode: block.type, blockId: block.id, where: inFlyout ? 'flyout' : 'canvas'}};
+    }
+    if (classes.contains('blocklyEditableField')) {
+      const ws = workspaceOf(state, el);
+      if (!ws || ws.isFlyout || !env.workspaceArea) return null;
+      const owner = el.closest('.blocklyBlock[data-id]');
+      const block = owner && ws.getBlockById(owner.getAttribute('data-id'));
+      const field = block && fieldOf(block, el);
+      if (!field) return null;
+      // A shadow holding just this field (a number oval, a menu) is the field's visible target.
+      const whole = block.isShadow() && block.inputList.reduce((n, input) => n + input.fieldRow.length, 0) === 1;
+      const path = whole ? ownPath(owner) : null;
+      return {type: 'fields', text: clean(field.getText()), rect: (path || el).getBoundingClientRect(),
+        root: path ? owner : el, area: env.workspaceArea, extra: {blockId: block.id, where: 'canvas'}};
+    }
+    if (classes.contains('blocklyFlyoutButton')) {
+      return {type: 'flyout_buttons', text: clean(el.textContent), area: env.flyoutArea, flyout: true};
+    }
+    if (classes.contains('blocklyFlyoutLabel')) {
+      return {type: 'flyout_label', text: clean(el.textContent), area: env.flyoutArea, flyout: true};
+    }
+    if (classes.contains('blocklyFlyoutCheckbox')) {
+      let node = el;
+      for (let i = 0; node && i < 4 && !state.checkboxes.has(node); i++) node = node.parentNode;
+      const entry = node && state.checkboxes.get(node);
+      if (!entry) return null;
+      const checked = entry.bubble.isChecked ? entry.bubble.isChecked() : false;
+      return {type: 'buttons', text: `monitor checkbox ${blockLabel(entry.block, true)} (${checked ? 'checked' : 'unchecked'})`,
+        root: node, area: env.flyoutArea, flyout: true};
+    }
+    if (classes.contains('blocklyMainBackground')) {
+      const group = el.closest('.blocklyWorkspace');
+      if (!group || group.id !== state.ws.id || !env.workspaceArea) return null;
+      // Its own rect spans the toolbox and flyout too; the code area is what is left of it.
+      const area = env.workspaceArea;
+      return {type: 'canvas', text: 'workspace', root: el.ownerSVGElement || el, rect: area, area: area};
+    }
+    if (classes.contains('blocklyZoom')) {
+      const kind = classes.contains('blocklyZoomIn') ? 'zoom in' : classes.contains('blocklyZoomOut') ? 'zoom out'
+        : classes.contains('blocklyZoomReset') ? 'zoom reset' : 'zoom';
+      return {type: 'buttons', text: kind};
+    }
+    return null;
+  }
+
+  function classifyHtml(el, env) {
+    const tag = el.tagName.toLowerCase();
+    const role = el.getAttribute('role');
+    if (el.matches(DROPDOWN_ITEMS)) return {type: 'dropdown_items', text: label(el, true)};
+    if (el.classList.contains('blocklyToolboxCategory') || el.classList.contains('scratchCategoryMenuItem')) {
+      const name = el.querySelector('.blocklyToolboxCategoryLabel, .scratchCategoryMenuItemLabel');
+      return {type: 'category_menu_item', text: clean(name ? name.textContent : el.textContent)};
+    }
+    if (tag === 'canvas') return el === env.stageCanvas ? {type: 'stage', text: 'stage'} : null;
+    if (tag === 'input' && (el.type === 'radio' || el.type === 'checkbox')) {
+      // People click the label; hit-test it as a whole.
+      const labelEl = el.labels && el.labels[0];
+      return {type: 'buttons', text: describeChoice(el), root: labelEl || el};
+    }
+    if (tag === 'input' || tag === 'textarea') {
+      if (tag === 'input' && (el.type === 'hidden' || el.type === 'file')) return null;
+      return {type: 'inputs', text: describeInput(el)};
+    }
+    if (role === 'tab') return {type: 'tabs', text: label(el)};
+    if (el.matches(MENU_BAR_ITEM)) {
+      // A wrapper around the title field or a button is not itself a target (an open menu's
+      // buttons sit inside its menu-bar button, which stays one).
+      if (tag !== 'button' && el.querySelector('input, button')) return null;
+      return {type: 'menu', text: label(el), needsText: true};
+    }
+    if (el.matches('[class*="green-flag_green-flag"]')) return {type: 'green_flag', text: label(el) || 'green flag'};
+    if (el.matches('[class*="stop-all_stop-all"]')) return {type: 'stop', text: label(el) || 'stop'};
+    if (el.matches(SPRITE_TILE)) {
+      const name = el.querySelector('[class*="sprite-selector-item_sprite-name"]');
+      const tile = el.querySelector('[role="button"]');
+      return {type: 'sprites', text: clean(name ? name.textContent : (tile && tile.getAttribute('aria-label')) || el.textContent)};
+    }
+    if (el.matches(STAGE_SELECTOR)) {
+      // The selector is a tall column; its tile is what is drawn above the add-backdrop menu.
+      const parts = Array.from(el.children).filter((c) => !c.matches('[class*="action-menu"]')).map((c) => c.getBoundingClientRect());
+      const header = el.querySelector('[class*="stage-selector_header-title"]');
+      return {type: 'stage_selector', text: clean(header ? header.textContent : '') || 'Stage', rect: union(parts)};
+    }
+    if (tag === 'button' || role === 'button') {
+      if (tag === 'button' && el.closest(MENU_BAR_ITEM)) return {type: 'menu', text: label(el)};
+      if (el.closest(STAGE_HEADER)) return {type: 'stage_buttons', text: label(el)};
+      return {type: 'buttons', text: label(el)};
+    }
+    return null;
+  }
+
+  function absorbed(el, claimed) {
+    for (let node = el.parentNode; node && node !== document; node = node.parentNode) {
+      const type = claimed.get(node);
+      if (type === undefined) continue;
+      const policy = ABSORB[type] || 'all';
+      if (policy === 'none') return false;
+      if (policy === 'buttons' && el.tagName.toLowerCase() === 'button') return false;
+      if (policy === 'menus' && el.matches(DROPDOWN_ITEMS)) return false;
+      return true;
+    }
+    return false;
+  }
+
+  function collectElements(env) {
+    const claimed = new Map();
+    const elements = [];
+    const flyoutSlots = [];
+    for (const el of document.querySelectorAll(CANDIDATES)) {
+      if (claimed.size && absorbed(el, claimed)) continue;
+      const item = classify(el, env);
+      if (!item) continue;
+      claimed.set(el, item.type);
+      const root = item.root || el;
+      const rect = item.rect || el.getBoundingClientRect();
+      if (!rect || !(rect.right - rect.left > 0) || !(rect.bottom - rect.top > 0)) continue;
+      const area = item.area === undefined ? env.viewport : item.area;
+      const clipped = area && intersect(box(rect), area);
+      if (!clipped) continue;
+      let visible = centreHits(root, clipped);
+      if (!visible && item.block) {
+        // A C block's centre can lie in its empty mouth: its top arm still shows.
+        visible = hits(root, Math.min(clipped.left + 12, (clipped.left + clipped.right) / 2), Math.min(clipped.top + 12, (clipped.top + clipped.bottom) / 2));
+      }
+      if (!visible) continue;
+      if (item.needsText && !item.text) continue;
+      const entry = Object.assign({type: item.type, text: item.text || ''}, pixels(clipped), item.extra || {});
+      if (item.flyout) flyoutSlots.push(elements.length);
+      if (item.block && !item.flyout) env.visibleBlocks.add(el);
+      elements.push(entry);
+    }
+    // Blockly keeps the flyout's DOM in render order; list its contents top to bottom instead.
+    const ordered = flyoutSlots.map((i) => elements[i]).sort((a, b) => (a.y - b.y) || (a.x - b.x));
+    flyoutSlots.forEach((slot, i) => { elements[slot] = ordered[i]; });
+    return elements;
+  }
+
+  // The text of the canvas blocks listed as visible, clipped to the code area. (Their own hit
+  // tests vouch for them; one per text would double the cost of the pass.)
+  function collectTextBoxes(env) {
+    const state = env.blockly;
+    const area = env.workspaceArea;
+    if (!state || !area || !env.visibleBlocks.size) return [];
+    const canvas = state.ws.getCanvas ? state.ws.getCanvas() : null;
+    if (!canvas) return [];
+    const boxes = [];
+    for (const node of canvas.querySelectorAll('.blocklyBlock text')) {
+      if (!env.visibleBlocks.has(node.closest('.blocklyDraggable'))) continue;
+      const text = clean(node.textContent);
+      if (!text) continue;
+      const clipped = intersect(box(node.getBoundingClientRect()), area);
+      if (!clipped) continue;
+      boxes.push(Object.assign({text: text}, pixels(clipped)));
+    }
+    // Reading order (rows of ~10 px): Blockly nests a block's text after the blocks inside it.
+    const row = (t) => Math.round((t.y + t.height / 2) / 10);
+    return boxes.sort((a, b) => (row(a) - row(b)) || (a.x - b.x));
+  }
+
+  function isIcon(img) {
+    if (img.closest('[class*="menu-bar_menu-bar"]')) return true;
+    const owner = img.closest('button, [role="button"]');
+    if (!owner) return false;
+    const rect = owner.getBoundingClientRect();
+    return owner.tagName === 'BUTTON' || (rect.width <= MAX_ICON_BUTTON && rect.height <= MAX_ICON_BUTTON);
+  }
+
+  function collectPixelRegions(env) {
+    const regions = [];
+    for (const el of document.querySelectorAll('canvas, img')) {
+      const isImage = el.tagName.toLowerCase() === 'img';
+      const rect = el.getBoundingClientRect();
+      if (isImage && (rect.width <= MIN_IMAGE_SIDE || rect.height <= MIN_IMAGE_SIDE)) continue;
+      // Icons of buttons and of the menu bar carry no text an agent needs read; pictures in
+      // tiles (sprites, costumes) may.
+      if (isImage && isIcon(el)) continue;
+      const clipped = intersect(box(rect), env.viewport);
+      if (!clipped) continue;
+      const hit = document.elementFromPoint((clipped.left + clipped.right) / 2, (clipped.top + clipped.bottom) / 2);
+      if (!hit || !(hit === el || el.contains(hit) || hit.contains(el))) continue;
+      const kind = el === env.stageCanvas ? 'stage' : isImage ? 'image' : 'canvas';
+      regions.push(Object.assign(pixels(clipped), {kind: kind}));
+    }
+    return regions;
+  }
+
+  function stageCanvas(ctx) {
+    try {
+      const renderer = ctx.requireVm().renderer;
+      return renderer ? renderer.canvas || (renderer.gl && renderer.gl.canvas) || null : null;
+    } catch (e) {
+      return null;
+    }
+  }
+
+  // --- settling ------------------------------------------------------------------------------
+
+  function factory(ctx) {
+    let hookedWorkspace = null;
+    let lastMoveAt = -Infinity;
+
+    // Blockly bumps neighbours `config.bumpDelay` ms after a drop; remember when blocks last moved.
+    function hook(state) {
+      if (!state || hookedWorkspace === state.ws) return;
+      hookedWorkspace = state.ws;
+      const Events = state.SB.Events || {};
+      state.ws.addChangeListener((event) => {
+        if (event.type === Events.BLOCK_MOVE || event.type === Events.BLOCK_DRAG) lastMoveAt = performance.now();
+      });
+    }
+
+    // Why the page is not settled yet, or null.
+    function busy() {
+      const state = workspaces(ctx);
+      hook(state);
+      if (state) {
+        if (state.ws.currentGesture_ || (state.ws.isDragging && state.ws.isDragging())) return 'gesture';
+        if (state.flyoutWs && state.flyoutWs.currentGesture_) return 'gesture';
+        if (state.flyout && state.flyout.scrollTarget !== undefined && state.flyout.scrollTarget !== null) return 'flyout scroll';
+        const bumpDelay = (state.SB.config && state.SB.config.bumpDelay) || 0;
+        if (performance.now() - lastMoveAt < bumpDelay) return 'bump';
+      }
+      for (const animation of document.getAnimations()) {
+        if (animation.playState !== 'running' || !animation.effect) continue;
+        if (Number.isFinite(animation.effect.getComputedTiming().endTime)) return 'animation';
+      }
+      return null;
+    }
+
+    function ignored(record) {
+      const target = record.target.nodeType === Node.ELEMENT_NODE ? record.target : record.target.parentElement;
+      if (!target) return false;
+      // Controlled inputs mirror VM state (sprite x/y) into their value attribute; monitors
+      // follow a running project. Neither is the result of an agent's action.
+      if (record.type === 'attributes' && record.attributeName === 'value' && target.tagName === 'INPUT') return true;
+      return !!target.closest(MONITORS);
+    }
+
+    function nextFrame() {
+      return new Promise((resolve) => {
+        const timer = setTimeout(resolve, FRAME_FALLBACK_MS);
+        requestAnimationFrame(() => { clearTimeout(timer); resolve(); });
+      });
+    }
+
+    async function primitiveSettle(args) {
+      const maxMs = args.maxMs == null ? SETTLE_DEFAULT_MS : Number(args.maxMs);
+      if (!(maxMs >= 0) || maxMs > SETTLE_MAX_MS) {
+        throw new ctx.BridgeFailure('bad_request', `maxMs must be a number from 0 to ${SETTLE_MAX_MS}`);
+      }
+      const started = performance.now();
+      let dirty = false;
+      const observer = new MutationObserver((records) => {
+        if (!dirty && records.some((r) => !ignored(r))) dirty = true;
+      });
+      observer.observe(document.body, {subtree: true, attributes: true, childList: true, characterData: true});
+      let quiet = 0;
+      try {
+        for (;;) {
+          await nextFrame();
+          const reason = busy();
+          quiet = dirty || reason ? 0 : quiet + 1;
+          dirty = false;
+          const waited = performance.now() - started;
+          if (quiet >= QUIET_FRAMES) return {settled: true, waitedMs: Math.round(waited)};
+          if (waited >= maxMs) return {settled: false, waitedMs: Math.round(waited), busy: reason || 'dom mutations'};
+        }
+      } finally {
+        observer.disconnect();
+      }
+    }
+
+    function primitiveElements() {
+      const started = performance.now();
+      const state = blocklyState(ctx);
+      hook(state);
+      const viewport = {left: 0, top: 0, right: window.innerWidth, bottom: window.innerHeight};
+      const env = {
+        viewport: viewport,
+        blockly: state,
+        workspaceArea: state && state.view ? intersect(viewport, state.view) : null,
+        flyoutArea: state && state.flyoutSvg ? intersect(viewport, box(state.flyoutSvg.getBoundingClientRect())) : null,
+        stageCanvas: stageCanvas(ctx),
+        visibleBlocks: new Set(),
+      };
+      const elements = collectElements(env);
+      const textBoxes = collectTextBoxes(env);
+      const pixelRegions = collectPixelRegions(env);
+      return {elements: elements, textBoxes: textBoxes, pixelRegions: pixelRegions, elapsedMs: performance.now() - started};
+    }
+
+    return {primitiveElements: primitiveElements, primitiveSettle: primitiveSettle};
+  }
+
   const modules = window.__scratchworldModules = window.__scratchworldModules || [];
   modules.push(factory);
 })();

@@ -12,6 +12,7 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from workers import Action, AgentName, BrowserSession, EpisodeRunner, EpisodeSpec, LoadProject, Mode, TaskPayload
+from workers.primitive import PRIMITIVE_APIS
 
 
 @pytest.fixture(scope="module")
@@ -60,10 +61,11 @@ async def test_oracle_replays_its_trajectory_and_noop_fails_side_by_side(
     assert oracle.timings.evaluation_s > 0
     assert oracle.finished_at > oracle.started_at > 0
 
-    # Outside composite mode the oracle falls back to loading the golden project.
-    assert primitive.outcome == "passed"
-    assert [step.action for step in primitive.steps] == ["load_project", "done"]
-    assert primitive.steps[0].args == {"sb3_bytes": len(content.payload.golden_project or b"")}
+    # In primitive mode the oracle solves it through real gestures only.
+    assert primitive.outcome == "passed", primitive.error_message
+    assert primitive.steps[-1].action == "done"
+    assert {step.action for step in primitive.steps[:-1]} <= set(PRIMITIVE_APIS)
+    assert "drag_and_drop" in {step.action for step in primitive.steps}
 
     assert noop.outcome == "failed"
     assert [step.action for step in noop.steps] == ["done"]

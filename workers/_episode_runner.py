@@ -10,14 +10,19 @@ import time
 
 from pydantic import JsonValue
 
-from workers import _composite as composite
-from workers._actions import FINAL_ACTIONS, Action, CompositeAction, LoadProject
+from workers._actions import FINAL_ACTIONS, Action, CompositeAction, LoadProject, PrimitiveAction
 from workers._browser import BrowserSession
 from workers._editor import Editor
-from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, Mode, StepRecord, TaskPayload, outcome_of
+from workers._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
+from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, StepRecord, TaskPayload, outcome_of
 from workers._errors import BridgeError, EditorError
 from workers._evaluation import Evaluator
-from workers.agents import Agent
+from workers.agents import Agent, NeedsEditor
+from workers.ocr import RegionOCR
+from workers.primitive import ObservationSettings, PrimitiveObserver, region_ocr
+
+PRIMITIVE_STAGE = "small"
+"""Primitive episodes show the small stage, like the upstream harness (more room for blocks)."""
 
 
 class AgentCrashedError(Exception):
@@ -30,6 +35,17 @@ class EpisodeRunner:
     def __init__(self, session: BrowserSession) -> None:
         self.session = session
         self.evaluator = Evaluator(session)
+        self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
+        """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
+
+    async def _environment(self, spec: EpisodeSpec, editor: Editor) -> Environment:
+        if spec.mode == "composite":
+            return CompositeEnvironment(editor)
+        await editor.set_stage_size(PRIMITIVE_STAGE)
+        settings = spec.observation or ObservationSettings()
+        if settings not in self._ocr:
+            self._ocr[settings] = region_ocr(settings)
+        return PrimitiveEnvironment(editor, PrimitiveObserver(settings, self._ocr[settings]))
 
     async def run(self, spec: EpisodeSpec, task: TaskPayload, agent: Agent) -> EpisodeResult:
         started, clock = time.time(), time.perf_counter()
@@ -38,8 +54,11 @@ class EpisodeRunner:
         try:
             async with self.session.editor() as editor:
                 await editor.load_project(task.initial_project)
+                environment = await self._environment(spec, editor)
+                if isinstance(agent, NeedsEditor):
+                    await _begin(agent, editor)
                 timings.setup_s = time.perf_counter() - clock
-                stop_reason = await _act(agent, editor, spec, steps)
+                stop_reason = await _act(agent, editor, environment, spec, steps)
                 timings.agent_s = time.perf_counter() - clock - timings.setup_s
                 final_project = await editor.save_project()
         except (EditorError, BridgeError) as exc:
@@ -66,22 +85,30 @@ class EpisodeRunner:
         return _finish(result, started, clock, timings)
 
 
-async def _observe(editor: Editor, mode: Mode) -> str:
-    if mode == "composite":
-        return (await composite.observe(editor)).text
-    raise AgentCrashedError(f"{mode} observations are not available in this build")
+async def _begin(agent: NeedsEditor, editor: Editor) -> None:
+    try:
+        await agent.begin(editor)
+    except (EditorError, BridgeError):
+        raise
+    except Exception as exc:
+        raise AgentCrashedError(f"the agent failed to start: {type(exc).__name__}: {exc}") from exc
 
 
-async def _act(agent: Agent, editor: Editor, spec: EpisodeSpec, steps: list[StepRecord]) -> str:
+async def _act(
+    agent: Agent, editor: Editor, environment: Environment, spec: EpisodeSpec, steps: list[StepRecord]
+) -> str:
     """The agent loop; returns why it stopped."""
     for index in range(spec.max_steps):
         step_start = time.perf_counter()
-        observation = await _observe(editor, spec.mode) if agent.observes else None
+        observation = await environment.observe() if agent.observes else None
+        observation_s = time.perf_counter() - step_start
         try:
             action = await agent.act(observation)
+        except (EditorError, BridgeError):
+            raise
         except Exception as exc:  # a broken agent is the agent's error, not the harness's
             raise AgentCrashedError(f"the agent raised {type(exc).__name__} at step {index}: {exc}") from exc
-        ok, error_code, error_message, data = await _apply(editor, action)
+        ok, error_code, error_message, data = await _apply(editor, environment, action)
         name, args = _describe(action)
         steps.append(
             StepRecord(
@@ -93,6 +120,8 @@ async def _act(agent: Agent, editor: Editor, spec: EpisodeSpec, steps: list[Step
                 error_message=error_message,
                 data=data,
                 latency_s=time.perf_counter() - step_start,
+                observation_s=observation_s,
+                warnings=list(getattr(observation, "warnings", [])),
             )
         )
         if action.name in FINAL_ACTIONS:
@@ -100,15 +129,17 @@ async def _act(agent: Agent, editor: Editor, spec: EpisodeSpec, steps: list[Step
     return "max_steps"
 
 
-async def _apply(editor: Editor, action: Action) -> tuple[bool, str | None, str | None, JsonValue]:
+async def _apply(
+    editor: Editor, environment: Environment, action: Action
+) -> tuple[bool, str | None, str | None, JsonValue]:
     """Carry out one action: (ok, error code, error message, data the environment answered)."""
     if isinstance(action, LoadProject):
         try:
             await editor.load_project(action.sb3)
         except BridgeError as exc:
             return False, exc.kind, exc.detail, None
-    if isinstance(action, CompositeAction):
-        envelope = await composite.execute(editor, action.api, action.args)
+    if isinstance(action, CompositeAction | PrimitiveAction):
+        envelope = await environment.execute(action)
         if envelope.error is not None:
             return False, envelope.error.code, envelope.error.message, envelope.error.details
         return True, None, None, envelope.data
@@ -119,7 +150,7 @@ def _describe(action: Action) -> tuple[str, dict[str, JsonValue]]:
     """The action's name and arguments as they are logged (bulky payloads by size only)."""
     if isinstance(action, LoadProject):
         return action.name, {"sb3_bytes": len(action.sb3)}
-    if isinstance(action, CompositeAction):
+    if isinstance(action, CompositeAction | PrimitiveAction):
         return action.api, action.args
     return action.name, action.model_dump(exclude={"name"})
 

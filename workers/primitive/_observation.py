@@ -18,10 +18,10 @@ from typing import TypeVar
 import cv2
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
-from workers.ocr import OCRError, Region, RegionOCR, ocr_backend
-from workers.primitive._elements import Element, fuse, read_dom, render, settle
 
 from workers._editor import Editor
+from workers.ocr import OCRBackend, OCRError, Region, RegionOCR, TextBox, ocr_backend
+from workers.primitive._elements import Element, fuse, read_dom, render, settle
 from workers.primitive._settings import ObservationSettings
 
 SETTLE_MAX_MS = 2000
@@ -54,13 +54,32 @@ class PrimitiveObservation(BaseModel):
 
 
 def region_ocr(settings: ObservationSettings) -> RegionOCR | None:
-    """The OCR engine the settings ask for (None: DOM-only lists)."""
+    """The OCR engine the settings ask for (None: DOM-only lists by choice).
+
+    A backend that cannot start (missing package or model files) still gives an engine: one
+    whose every call fails, so each observation degrades to a DOM-only list and says why.
+    """
     if settings.ocr == "none":
         return None
     options: dict[str, object] = {"min_score": settings.ocr_min_score}
     if settings.ocr == "paddleocr":
         options |= {"det_model_dir": settings.paddle_det_model_dir, "rec_model_dir": settings.paddle_rec_model_dir}
-    return RegionOCR(ocr_backend(settings.ocr, **options))
+    try:
+        backend: OCRBackend = ocr_backend(settings.ocr, **options)
+    except OCRError as exc:
+        backend = _UnavailableOCR(settings.ocr, str(exc))
+    return RegionOCR(backend)
+
+
+class _UnavailableOCR:
+    """Stands in for a backend that could not start."""
+
+    def __init__(self, name: str, problem: str) -> None:
+        self.name = name
+        self.problem = problem
+
+    def recognize(self, image: np.ndarray) -> list[TextBox]:
+        raise OCRError(self.problem)
 
 
 class PrimitiveObserver:
