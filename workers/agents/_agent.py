@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 from workers._actions import Action
+from workers._editor import Editor
 from workers._episode import EpisodeSpec, TaskPayload
 from workers._errors import ScratchWorldError
+
+if TYPE_CHECKING:
+    from workers._environment import Observation
 
 
 class AgentUnavailableError(ScratchWorldError):
@@ -19,16 +23,27 @@ class Agent(Protocol):
     observes: bool
     """Whether the environment must build an observation before each action."""
 
-    async def act(self, observation: str | None) -> Action: ...
+    async def act(self, observation: Observation | None) -> Action: ...
+
+
+@runtime_checkable
+class NeedsEditor(Protocol):
+    """A privileged agent (the primitive oracle) that reads the page before its first action."""
+
+    async def begin(self, editor: Editor) -> None: ...
 
 
 def agent_for(spec: EpisodeSpec, task: TaskPayload) -> Agent:
     from workers.agents._scripted import NoopAgent, OracleAgent
 
     if spec.agent == "oracle":
-        trajectory = task.golden_trajectory if spec.mode == "composite" else None
+        trajectory = task.golden_trajectory
         if trajectory is None and task.golden_project is None:
             raise AgentUnavailableError(f"task {task.task_id} has neither a golden trajectory nor a golden project")
+        if spec.mode == "primitive" and trajectory is not None:
+            from workers.agents._primitive_oracle import PrimitiveOracle
+
+            return PrimitiveOracle(task.initial_project, trajectory)
         return OracleAgent(task.golden_project, trajectory)
     if spec.agent == "noop":
         return NoopAgent()

@@ -26,7 +26,7 @@ class OracleAgent:
         else:
             raise ValueError("the oracle needs a golden trajectory or a golden project")
 
-    async def act(self, observation: str | None) -> Action:
+    async def act(self, observation: object) -> Action:
         return self._plan.pop(0) if len(self._plan) > 1 else self._plan[0]
 
 
@@ -35,5 +35,5 @@ class NoopAgent:
 
     observes = False
 
-    async def act(self, observation: str | None) -> Action:
+    async def act(self, observation: object) -> Action:
         return Done()
