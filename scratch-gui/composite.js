@@ -956,7 +956,9 @@
     return {
       compositeObserve: () => observe(),
       compositeExecute: (args) => execute(args),
-      compositeSyncWorkspace: () => syncWorkspace()
+      compositeSyncWorkspace: () => syncWorkspace(),
+      // Read-only: the block id behind every index of the editing target ([null, id of #1, ...]).
+      compositeBlockIds: () => ({ids: indexMap(editingTarget())})
     };
   }
 

@@ -1,0 +1,251 @@
+"""The primitive oracle in a real editor: it solves our tasks through gestures alone, its drags snap
+where planned (and nowhere when aimed at empty space), and its self-check stops a gesture gone astray."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import AsyncIterator, Callable
+from contextlib import asynccontextmanager
+from dataclasses import dataclass
+from typing import Any
+
+import pytest
+
+from scratchworld_dist.sb3 import Project, block, circle_costume
+from scratchworld_dist.suites import load_suite
+from tests.conftest import SUITE_DIR
+from workers import BrowserSession, CompositeAction, Done, Editor, EvalResult, Evaluator, PrimitiveAction
+from workers import _composite as composite
+from workers.agents._primitive_oracle import OracleDivergenceError, PrimitiveOracle
+from workers.primitive import Gestures
+
+ALL_TASKS = sorted(p.parent.name for p in SUITE_DIR.glob("*/*/golden_trajectory.json"))
+
+Tamper = Callable[[int, PrimitiveAction], PrimitiveAction]
+
+
+@dataclass
+class Run:
+    """What one oracle run did on the page."""
+
+    gestures: int
+    seconds: float
+    calls: list[str]
+    """Bridge functions called after ``begin`` (the real run)."""
+
+
+def cat_project() -> Project:
+    """Cat: when flag clicked, move 10, turn 15, say "hi"; a forever loop holding one change x."""
+    project = Project()
+    cat = project.sprite("Cat", costume=circle_costume("cat", 10, "#f80"))
+    cat.script(
+        block("event_whenflagclicked"),
+        block("motion_movesteps", STEPS=10),
+        block("motion_turnright", DEGREES=15),
+        block("looks_say", MESSAGE="hi"),
+    )
+    cat.script(block("control_forever", SUBSTACK=[block("motion_changexby", DX=1)]))
+    return project
+
+
+@asynccontextmanager
+async def primitive_editor(session: BrowserSession, sb3: bytes) -> AsyncIterator[Editor]:
+    """An editor as primitive episodes get it: the project loaded, the small stage."""
+    async with session.editor() as editor:
+        await editor.load_project(sb3)
+        await editor.set_stage_size("small")
+        yield editor
+
+
+async def drive(editor: Editor, oracle: PrimitiveOracle, tamper: Tamper | None = None) -> Run:
+    """Execute the oracle's gestures with ``Gestures`` until it says done, as the episode runner does."""
+    started = time.monotonic()
+    calls: list[str] = []
+    bridge = editor.call
+
+    async def recording(name: str, args: dict[str, Any] | None = None) -> Any:
+        calls.append(name)
+        return await bridge(name, args)
+
+    editor.call = recording  # type: ignore[method-assign]
+    gestures = Gestures(editor.page)
+    count = 0
+    try:
+        while not isinstance(action := await oracle.act(None), Done):
+            assert isinstance(action, PrimitiveAction), action
+            if tamper is not None:
+                action = tamper(count, action)
+            envelope = await gestures.execute(action.api, action.args)
+            assert envelope.success, (action, envelope.error)
+            count += 1
+    finally:
+        del editor.call  # back to the method
+    return Run(gestures=count, seconds=time.monotonic() - started, calls=calls)
+
+
+async def solve(
+    session: BrowserSession, evaluator: Evaluator, task_id: str, tamper: Tamper | None = None
+) -> tuple[Run, EvalResult]:
+    task = load_suite(SUITE_DIR).task(task_id)
+    initial = task.initial_project.read_bytes()
+    async with primitive_editor(session, initial) as editor:
+        oracle = PrimitiveOracle(initial, task.trajectory() or [])
+        await oracle.begin(editor)
+        run = await drive(editor, oracle, tamper)
+        assert oracle.gesture_count == run.gestures
+        project = await editor.save_project()
+    return run, await evaluator.evaluate(project, task.evaluation_spec())
+
+
+async def check_solved(session: BrowserSession, evaluator: Evaluator, task_id: str) -> None:
+    run, result = await solve(session, evaluator, task_id)
+    print(f"{task_id}: {run.gestures} gestures, {run.seconds:.1f} s")
+    assert result.success, result.model_dump(include={"passed", "total", "tests", "error"})
+    assert run.gestures > 0
+    # The real run only reads the page: no composite call, no VM write.
+    assert run.calls
+    assert all(name.startswith("geometry") for name in run.calls), sorted(set(run.calls))
+
+
+@pytest.mark.parametrize("task_id", ALL_TASKS)
+async def test_the_oracle_solves_every_task_of_the_suite(
+    session: BrowserSession, evaluator: Evaluator, task_id: str
+) -> None:
+    await check_solved(session, evaluator, task_id)
+
+
+def test_the_suite_has_every_task() -> None:
+    assert len(ALL_TASKS) == 12
+
+
+async def cat_ids(editor: Editor) -> dict[str, str]:
+    """Block id by opcode (Cat's blocks have one of each)."""
+    await composite.execute(editor, "select_sprite", {"name": "Cat"})
+    ids = (await editor.call("compositeBlockIds"))["ids"]  # type: ignore[index,call-overload]
+    found: dict[str, str] = {}
+    for block_id in ids[1:]:
+        info = await editor.call("geometryBlock", {"id": block_id})
+        found[info["opcode"]] = block_id  # type: ignore[index,call-overload]
+    return found
+
+
+async def test_a_planned_drag_snaps_and_a_drop_in_free_space_does_not(session: BrowserSession) -> None:
+    async with primitive_editor(session, cat_project().to_sb3()) as editor:
+        ids = await cat_ids(editor)
+        gestures = Gestures(editor.page)
+        # The forever loop goes under the say block: its top meets the say block's next connection.
+        plan = await editor.call(
+            "geometryPlanDrag",
+            {"moving": ids["control_forever"], "local": "previous", "target": ids["looks_say"], "remote": "next"},
+        )
+        assert isinstance(plan, dict)
+        assert plan["clean"], plan
+        drag = {"start_x": plan["grab"]["x"], "start_y": plan["grab"]["y"]}
+        envelope = await gestures.execute(
+            "drag_and_drop", {**drag, "end_x": plan["end"]["x"], "end_y": plan["end"]["y"]}
+        )
+        assert envelope.success
+        assert (await editor.call("geometryWait", {"until": "quiet"}))["ok"]  # type: ignore[index,call-overload]
+        forever = await editor.call("geometryBlock", {"id": ids["control_forever"]})
+        assert forever["attachment"] == {"parent": ids["looks_say"], "input": None}  # type: ignore[index,call-overload]
+
+        # A move block from the palette, dropped at the free spot nearest to the script's end.
+        palette = await editor.call("geometryFlyoutBlock", {"opcode": "motion_movesteps"})
+        assert isinstance(palette, dict)
+        assert palette["visible"]
+        end = forever["lastNext"] or forever["rect"]  # type: ignore[index,call-overload]
+        spot = (await editor.call("geometryFreeSpot", {"width": 120, "height": 40, "near": end}))["spot"]  # type: ignore[index,call-overload]
+        assert abs(spot["y"] - end["y"]) < 150  # near the script, yet out of snapping reach
+        grab = palette["grab"]
+        offset = (grab["x"] - palette["rect"]["x"], grab["y"] - palette["rect"]["y"])
+        before = await editor.call("geometrySnapshot")
+        drop = {"end_x": spot["x"] + offset[0], "end_y": spot["y"] + offset[1]}
+        assert (await gestures.execute("drag_and_drop", {"start_x": grab["x"], "start_y": grab["y"], **drop})).success
+        tops = await editor.call(
+            "geometryWait",
+            {"until": "newBlock", "args": {"opcode": "motion_movesteps", "known": [ids["event_whenflagclicked"]]}},
+        )
+        assert isinstance(tops, dict)
+        assert tops["ok"], tops  # one new top-level move block
+        after = await editor.call("geometrySnapshot")
+        scripts = lambda state: state["state"]["targets"][1]["scripts"]  # noqa: E731
+        assert len(scripts(after)) == len(scripts(before)) + 1  # type: ignore[arg-type]
+        assert set(scripts(before)) <= set(scripts(after))  # type: ignore[arg-type]
+
+
+class DropInPlace:
+    """Tamper: the first drag that starts in the workspace (a connecting drag) drops where it started."""
+
+    def __init__(self) -> None:
+        self.done = False
+
+    def __call__(self, count: int, action: PrimitiveAction) -> PrimitiveAction:
+        start_x, start_y = action.args.get("start_x"), action.args.get("start_y")
+        if self.done or action.api != "drag_and_drop" or not isinstance(start_x, (int, float)) or start_x < 320:
+            return action
+        assert isinstance(start_y, (int, float))
+        self.done = True
+        return PrimitiveAction(api=action.api, args={**action.args, "end_x": start_x + 4, "end_y": start_y + 4})
+
+
+async def test_the_self_check_stops_at_a_block_that_did_not_snap(session: BrowserSession, evaluator: Evaluator) -> None:
+    tamper = DropInPlace()
+    with pytest.raises(
+        OracleDivergenceError, match=r"after step \d+ connect_blocks .*differs from the composite dry run.*lacks script"
+    ):
+        await solve(session, evaluator, "quiz_score", tamper)
+    assert tamper.done
+
+
+async def test_the_self_check_stops_at_a_value_that_was_not_typed(
+    session: BrowserSession, evaluator: Evaluator
+) -> None:
+    def mistype(count: int, action: PrimitiveAction) -> PrimitiveAction:
+        return PrimitiveAction(api="type", args={"text": "7"}) if action.api == "type" else action
+
+    with pytest.raises(OracleDivergenceError, match=r"step 9 set_block_field .*typing 'Reset!' left \['7', '7', '7'\]"):
+        await solve(session, evaluator, "click_counter_reset", mistype)
+
+
+CAT_TRAJECTORY = [
+    ("select_sprite", {"name": "Cat"}),
+    ("add_block", {"blockType": "motion_gotoxy"}),
+    ("connect_blocks", {"sourceBlockIndex": 7, "targetBlockIndex": 3, "placement": {"kind": "stack_before"}}),
+    ("detach_blocks", {"blockIndex": 4}),
+    ("add_block", {"blockType": "control_repeat"}),
+    ("connect_blocks", {"sourceBlockIndex": 8, "targetBlockIndex": 6, "placement": {"kind": "wrap"}}),
+    ("connect_blocks", {"sourceBlockIndex": 6, "targetBlockIndex": 3, "placement": {"kind": "stack_after"}}),
+    ("delete_block", {"blockIndex": 8}),
+    ("add_block", {"blockType": "looks_show"}),
+    ("connect_blocks", {"sourceBlockIndex": 8, "targetBlockIndex": 7, "placement": {"kind": "stack_before"}}),
+]
+"""Insert before a middle block, detach, wrap, stack after, delete, and put a block on top of a script."""
+
+
+async def test_detach_delete_wrap_and_stack_before_end_as_in_composite_mode(session: BrowserSession) -> None:
+    sb3 = cat_project().to_sb3()
+    trajectory = [CompositeAction(api=api, args=args) for api, args in CAT_TRAJECTORY]
+    async with primitive_editor(session, sb3) as editor:
+        for action in trajectory:
+            assert (await composite.execute(editor, action.api, action.args)).success
+        expected = (await editor.call("geometrySnapshot"))["text"]  # type: ignore[index,call-overload]
+        assert "looks_show" in expected
+    async with primitive_editor(session, sb3) as editor:
+        oracle = PrimitiveOracle(sb3, trajectory)
+        await oracle.begin(editor)
+        run = await drive(editor, oracle)
+        assert (await editor.call("geometrySnapshot"))["text"] == expected  # type: ignore[index,call-overload]
+    assert run.gestures >= 10
+
+
+async def test_a_trajectory_that_fails_in_composite_mode_is_refused_at_begin(session: BrowserSession) -> None:
+    sb3 = cat_project().to_sb3()
+    async with primitive_editor(session, sb3) as editor:
+        oracle = PrimitiveOracle(sb3, [CompositeAction(api="add_block", args={"blockType": "motion_teleport"})])
+        with pytest.raises(OracleDivergenceError, match="fails in composite mode at step 1: INVALID_ARG"):
+            await oracle.begin(editor)
+
+
+async def test_act_before_begin_is_an_error() -> None:
+    with pytest.raises(RuntimeError, match="begin"):
+        await PrimitiveOracle(b"", []).act(None)
