@@ -18,6 +18,7 @@ from scratchworld_dist import (
 from scratchworld_dist.sb3 import Project, block, circle_costume, read_project_json
 from tests.projects import counter_project
 from workers import BrowserConfig, BrowserSession, EditorAssets, EvaluationSpec, Evaluator
+from workers._editor_server import OWN_FILES
 
 
 async def test_ready_editor_has_vm_workspace_and_swiftshader(session: BrowserSession) -> None:
@@ -45,7 +46,7 @@ async def test_without_webgl_the_editor_fails_loudly() -> None:
 
 async def test_a_page_that_never_gets_ready_times_out_with_the_cause(tmp_path: Path) -> None:
     real = EditorAssets()
-    for name in ("bridge.js", "composite.js"):
+    for name in OWN_FILES:
         (tmp_path / name).write_bytes((real.gui_dir / name).read_bytes())
     # The bridge loads, the editor bundle never does.
     (tmp_path / "index.html").write_text('<!DOCTYPE html><script src="bridge.js"></script><p>no editor</p>')
