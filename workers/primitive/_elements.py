@@ -138,27 +138,6 @@ class Element(BaseModel):
         return self.x + self.width / 2, self.y + self.height / 2
 
 
-class OCRBox(Protocol):
-    """Anything with the attributes of an OCR text box (``workers.ocr.TextBox`` has them)."""
-
-    @property
-    def text(self) -> str: ...
-    @property
-    def score(self) -> float: ...
-    @property
-    def x(self) -> int: ...
-    @property
-    def y(self) -> int: ...
-    @property
-    def width(self) -> int: ...
-    @property
-    def height(self) -> int: ...
-
-
-OCRTuple = tuple[str, float, int, int, int, int]
-"""``(text, score, x, y, width, height)``."""
-
-
 class _Boxlike(Protocol):
     @property
     def x(self) -> int: ...
@@ -168,6 +147,19 @@ class _Boxlike(Protocol):
     def width(self) -> int: ...
     @property
     def height(self) -> int: ...
+
+
+class OCRBox(_Boxlike, Protocol):
+    """Anything with the attributes of an OCR text box (``workers.ocr.TextBox`` has them)."""
+
+    @property
+    def text(self) -> str: ...
+    @property
+    def score(self) -> float: ...
+
+
+OCRTuple = tuple[str, float, int, int, int, int]
+"""``(text, score, x, y, width, height)``."""
 
 
 class _Settled(BaseModel):
