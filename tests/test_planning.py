@@ -257,7 +257,9 @@ def test_the_demo_config_plans_our_whole_suite_for_the_oracle() -> None:
 
     config = load_sweep_config(SUITE_DIR.parent / "configs" / "demo.yaml")
     planned = plan_run(config)
-    assert (config.agent, config.modes, config.seeds) == ("oracle", ["composite"], [0])
+    assert (config.agent, config.modes, config.seeds) == ("oracle", ["composite", "primitive"], [0])
     assert config.suite == SUITE_DIR
-    assert sorted(job.task_id for job in planned.jobs) == sorted(task.id for task in load_suite(SUITE_DIR).tasks)
+    for mode in config.modes:
+        tasks = sorted(job.task_id for job in planned.jobs if job.mode == mode)
+        assert tasks == sorted(task.id for task in load_suite(SUITE_DIR).tasks)
     assert all(content.payload.golden_project for content in planned.contents)  # the oracle needs every golden
