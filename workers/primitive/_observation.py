@@ -11,12 +11,14 @@ with a warning on the step, never silently.
 from __future__ import annotations
 
 import asyncio
+import base64
 import time
 from collections.abc import Awaitable
 from typing import TypeVar
 
 import cv2
 import numpy as np
+from playwright.async_api import CDPSession, Page
 from pydantic import BaseModel, ConfigDict, Field
 
 from workers._editor import Editor
@@ -88,13 +90,14 @@ class PrimitiveObserver:
     def __init__(self, settings: ObservationSettings, ocr: RegionOCR | None) -> None:
         self.settings = settings
         self.ocr = ocr
+        self._devtools: tuple[Page, CDPSession] | None = None
 
     async def observe(self, editor: Editor) -> PrimitiveObservation:
         started = time.perf_counter()
         timings = ObservationTimings()
         settled = await settle(editor, SETTLE_MAX_MS)
         timings.settle_ms = _ms_since(started)
-        screenshot, dom = await asyncio.gather(_timed(editor.page.screenshot(type="png")), _timed(read_dom(editor)))
+        screenshot, dom = await asyncio.gather(_timed(self._screenshot(editor.page)), _timed(read_dom(editor)))
         (png, timings.screenshot_ms), (snapshot, timings.dom_ms) = screenshot, dom
         warnings = [] if settled else [f"the page was still changing after {SETTLE_MAX_MS} ms"]
         ocr_start = time.perf_counter()
@@ -121,6 +124,18 @@ class PrimitiveObserver:
             warnings=warnings,
             timings=timings,
         )
+
+
+    async def _screenshot(self, page: Page) -> bytes:
+        """A PNG of the viewport, taken over the DevTools protocol with ``optimizeForSpeed``.
+
+        Same pixels as ``page.screenshot`` (the text caret is hidden by the page's own style), in
+        about half the time: Chromium uses a faster zlib level, the file is ~20% larger.
+        """
+        if self._devtools is None or self._devtools[0] is not page:
+            self._devtools = (page, await page.context.new_cdp_session(page))
+        shot = await self._devtools[1].send("Page.captureScreenshot", {"format": "png", "optimizeForSpeed": True})
+        return base64.b64decode(shot["data"])
 
 
 async def _timed(awaitable: Awaitable[_T]) -> tuple[_T, float]:
