@@ -16,7 +16,9 @@ translated at the edge with ``raise ... from exc`` so callers catch one family::
     │   ├── RendererUnavailableError  no WebGL renderer: sensing would silently fail
     │   └── EditorCrashedError      the page or browser died while in use
     ├── BridgeError                 the page refused a bridge call (carries the page's kind)
-    └── OCRError                    an OCR backend cannot run (missing package or model files)
+    ├── OCRError                    an OCR backend cannot run (missing package or model files)
+    ├── ReplyParseError             a model reply holds no usable action (the message is shown to the model)
+    └── ModelCallError              a model call failed for good (classified; never carries the API key)
 
 The root and the editor errors live in ``workers._errors`` (the worker side imports nothing
 from the driver side); the suite errors are the driver's own.

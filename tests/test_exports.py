@@ -16,6 +16,7 @@ PACKAGES = [
     "scratchworld_dist.sweep",
     "workers",
     "workers.agents",
+    "workers.llm",
     "workers.ocr",
     "workers.primitive",
 ]
