@@ -948,6 +948,27 @@
       }
     }
 
+    // Every block add_block can create for the editing target, with its shape, inputs and fields:
+    // the block catalog of an agent's system prompt, read from the editor's own definitions.
+    function catalog() {
+      const target = editingTarget();
+      const blocks = [];
+      for (const opcode of [...catalogFor(target)].sort()) {
+        const shape = shapeOf(opcode);
+        if (!shape) continue;
+        const statements = shape.inputs.filter((input) => input.kind === 'statement');
+        const kind = shape.hat ? 'hat' : shape.boolean ? 'boolean' : shape.reporter ? 'reporter'
+          : statements.length ? 'c' : shape.next ? 'stack' : 'cap';
+        blocks.push({
+          opcode: opcode,
+          shape: kind,
+          inputs: shape.inputs.map((input) => ({name: input.name, kind: input.kind === 'statement' ? 'statement' : input.boolean ? 'boolean' : 'value'})),
+          fields: shape.fields.filter(Boolean).map((name) => ({name: name, choices: choicesOf(opcode, name, target)}))
+        });
+      }
+      return {target: target.getName(), blocks: blocks};
+    }
+
     function syncWorkspace() {
       vm().emitWorkspaceUpdate();
       return {synced: true};
@@ -957,6 +978,7 @@
       compositeObserve: () => observe(),
       compositeExecute: (args) => execute(args),
       compositeSyncWorkspace: () => syncWorkspace(),
+      compositeCatalog: () => catalog(),
       // Read-only: the block id behind every index of the editing target ([null, id of #1, ...]).
       compositeBlockIds: () => ({ids: indexMap(editingTarget())})
     };

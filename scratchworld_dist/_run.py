@@ -32,9 +32,8 @@ from scratchworld_dist.results._manifest import git_commit, now, package_version
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, ray_runtime
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import HARNESS_VERSION, JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
-from workers import EpisodeResult
-
-AVAILABLE_AGENTS = frozenset({"oracle", "noop"})
+from workers import EpisodeResult, ModelSpec
+from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 
 
 class RunPlan(BaseModel):
@@ -56,6 +55,8 @@ class RunSummary(BaseModel):
     outcomes: dict[str, int]
     attempts: int
     retried: int
+    budget_stop: str | None = None
+    """Set when the budget left jobs unstarted."""
 
 
 class AttemptRecorder:
@@ -71,6 +72,8 @@ class AttemptRecorder:
         artifact_dir = None
         if result.final_project is not None:
             artifact_dir = self.store.write_artifact(job.job_id, result.attempt, "final.sb3", result.final_project)
+        for digest, image in result.images.items():  # referenced from the prompts in trajectory.jsonl
+            self.store.write_artifact(job.job_id, result.attempt, f"images/{digest}.png", image)
         if result.steps:
             lines = "".join(step.model_dump_json() + "\n" for step in result.steps)
             artifact_dir = self.store.write_artifact(job.job_id, result.attempt, "trajectory.jsonl", lines.encode())
@@ -87,13 +90,19 @@ class AttemptRecorder:
 
 def config_hash(config: SweepConfig) -> str:
     """Hash of the fields that shape the job matrix; paths and execution limits may change freely."""
-    shaping = config.model_dump(mode="json", exclude={"suite", "output", "limits", "ray"})
+    pacing: dict[str, object] = {
+        "suite": True,
+        "output": True,
+        "limits": True,
+        "ray": True,
+        "llm": {"retry"},
+        "models": {"__all__": {"rate_limits"}},
+    }
+    shaping = config.model_dump(mode="json", exclude=pacing)  # type: ignore[arg-type]
     return hashlib.sha256(json.dumps(shaping, sort_keys=True).encode()).hexdigest()[:16]
 
 
 def plan_run(config: SweepConfig) -> RunPlan:
-    if config.agent not in AVAILABLE_AGENTS and config.synthetic is None:
-        raise ConfigError(f"agent {config.agent!r} is not available in this build (available: oracle, noop)")
     suite = load_suite(config.suite, task_list=config.tasks.task_list)
     tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
     if not tasks:
@@ -111,6 +120,7 @@ def plan_run(config: SweepConfig) -> RunPlan:
             config.seeds,
             config.max_steps,
             config.primitive,
+            config.llm,
         )
     )
     return RunPlan(config=config, suite=info, contents=contents, jobs=jobs)
@@ -183,6 +193,7 @@ def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | No
             summary = _execute(plan, manifest, store, todo, console, summary)
         session.finished_at = now()
         session.submitted = summary.sent
+        session.budget_stop = summary.budget_stop
         write_manifest(run_dir, manifest)
     finally:
         store.close()
@@ -201,6 +212,7 @@ def _execute(
     commit = AttemptRecorder(store, config.name, manifest.suite.hash, manifest.harness_version)
     needed = {job.task_id for job, _ in todo}
     with ray_runtime(config.ray.address, config.limits.browser_slots) as slots:
+        limiters = _rate_limiters([job.model for job, _ in todo])  # they live as long as this driver
         pool = WorkerPool(slots, config.limits.pages_per_worker, config.synthetic)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
         scheduler = Scheduler(
@@ -210,6 +222,8 @@ def _execute(
             retries=config.limits.retries,
             on_result=commit,
             max_in_flight=config.limits.max_in_flight,
+            budget_usd=config.limits.budget_usd,
+            spent_usd=store.cost_usd() if config.limits.budget_usd is not None else 0.0,
         )
         console.print(f"{len(pool)} worker(s) x {pool.pages} page(s) on {slots} browser slot(s)")
         try:
@@ -217,12 +231,28 @@ def _execute(
                 scheduler.run(todo)
         finally:
             pool.close()
+            del limiters
     stats = scheduler.stats
+    budget_stop = None
+    if stats.not_started:
+        spent = scheduler.spent_usd + stats.cost_usd
+        budget_stop = (
+            f"budget of ${config.limits.budget_usd:g} reached (spent ${spent:.4f}); "
+            f"{stats.not_started} job(s) not started"
+        )
+        console.print(budget_stop)
     return summary.model_copy(
         update={
             "sent": stats.submitted,
             "outcomes": stats.outcomes,
             "attempts": stats.attempts,
             "retried": stats.retried,
+            "budget_stop": budget_stop,
         }
     )
+
+
+def _rate_limiters(models: list[ModelSpec | None]) -> list[RayLimiterHandle]:
+    """Create each model's cluster-wide limiter here, so it is owned by (and ends with) this driver."""
+    limited = {model_key(m): m.rate_limits for m in models if m is not None and m.rate_limits is not None}
+    return [get_or_create_limiter(key, limits) for key, limits in limited.items()]

@@ -4,12 +4,16 @@ from __future__ import annotations
 
 import os
 import shutil
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pytest
 
 from workers import BrowserSession, Evaluator
+
+if TYPE_CHECKING:
+    from tests.sweep_driver import Driver
 
 REPO = Path(__file__).resolve().parents[1]
 SUITE_DIR = REPO / "tasks"
@@ -52,3 +56,13 @@ def upstream_clone(tmp_path: Path, upstream_dir: Path) -> Path:
         if not script.exists():
             script.write_text((DATA / "loads_only.js").read_text())
     return clone
+
+
+@pytest.fixture
+def drivers() -> Iterator[list[Driver]]:
+    """Sweep drivers started by a test; each is killed with its process group afterwards."""
+
+    started: list[Driver] = []
+    yield started
+    for driver in started:
+        driver.kill_group()

@@ -14,7 +14,7 @@ import socket
 import threading
 import time
 from collections import deque
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from typing import Any, Literal
@@ -103,9 +103,16 @@ _ERROR_TYPES = {
 class OpenAIServer:
     """The server; use it as a context manager (``with OpenAIServer(script) as server:``)."""
 
-    def __init__(self, script: Iterable[Behaviour] = (), default: Behaviour | None = None) -> None:
+    def __init__(
+        self,
+        script: Iterable[Behaviour] = (),
+        default: Behaviour | None = None,
+        responder: Callable[[dict[str, Any]], Behaviour] | None = None,
+    ) -> None:
+        """``responder``, when given, answers each request (by its JSON body) once the script has run out."""
         self._script: deque[Behaviour] = deque(script)
         self.default = default or reply()
+        self.responder = responder
         self._lock = threading.Lock()
         self._requests: list[RecordedRequest] = []
         self._closing = threading.Event()
@@ -163,7 +170,12 @@ class OpenAIServer:
 
     def _next(self, request: RecordedRequest) -> Behaviour:
         with self._lock:
-            behaviour = self._script.popleft() if self._script else self.default
+            if self._script:
+                behaviour = self._script.popleft()
+            elif self.responder is not None:
+                behaviour = self.responder(request.body if isinstance(request.body, dict) else {})
+            else:
+                behaviour = self.default
             request.behaviour = behaviour
             self._requests.append(request)
             return behaviour

@@ -61,7 +61,7 @@ def client(
     breaker: CircuitBreaker | None = None,
     **fields: object,
 ) -> ModelClient:
-    spec = ModelSpec(name="test", model=model, api_base=server.url, api_key_env=KEY_ENV, **fields)
+    spec = ModelSpec(**{"name": "test", "model": model, "api_base": server.url, "api_key_env": KEY_ENV, **fields})  # type: ignore[arg-type]
     return ModelClient(spec, policy, breaker=breaker or CircuitBreaker(model, failures=1000))
 
 
@@ -247,6 +247,25 @@ async def test_missing_key_variable_fails_without_a_request(
     error = await failure(client(server))
     assert (error.error_class, error.attempts, server.count) == ("auth", 0, 0)
     assert KEY_ENV in str(error)
+
+
+async def test_no_credentials_at_all_is_auth_and_not_retried(
+    server: OpenAIServer, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("OPENAI_API_KEY", raising=False)
+    spec = ModelSpec(name="test", model="openai/test-model", api_base=server.url)  # no api_key_env either
+    error = await failure(ModelClient(spec, FAST, breaker=CircuitBreaker("no-key", failures=1000)))
+    assert (error.error_class, error.transient, error.attempts, server.count) == ("auth", False, 1, 0)
+
+
+async def test_base_url_from_the_environment(server: OpenAIServer, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("SCRATCHWORLD_TEST_BASE_URL", server.url)
+    await client(server, api_base=None, api_base_env="SCRATCHWORLD_TEST_BASE_URL").complete(MESSAGES)
+    assert server.count == 1
+    monkeypatch.delenv("SCRATCHWORLD_TEST_BASE_URL")
+    error = await failure(client(server, api_base=None, api_base_env="SCRATCHWORLD_TEST_BASE_URL"))
+    assert (error.error_class, error.attempts, server.count) == ("bad_request", 0, 1)
+    assert "SCRATCHWORLD_TEST_BASE_URL" in str(error)
 
 
 async def test_seed_and_sampling_parameters_are_forwarded(server: OpenAIServer) -> None:

@@ -12,7 +12,8 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import HARNESS_VERSION, NO_MODEL, JobSpec, TaskContent, job_id, plan_jobs, read_task
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
 from tests.conftest import SUITE_DIR
-from workers import ModelSpec, ObservationSettings
+from workers import LLMSettings, ModelSpec, ObservationSettings, RateLimits
+from workers.llm import RetryPolicy
 
 GPT = ModelSpec(name="gpt", model="openai/gpt-4o", temperature=0.0, api_key_env="OPENAI_API_KEY")
 CLAUDE = ModelSpec(name="claude", model="anthropic/claude-sonnet", max_tokens=1024)
@@ -85,8 +86,26 @@ def test_job_fields_come_from_the_plan(ours: list[TaskContent]) -> None:
     assert (job.mode, job.agent, job.seed, job.max_steps) == ("primitive", "llm", 4, 12)
     assert (job.task_id, job.category, job.task_hash) == (content.task.id, content.task.category, content.task_hash)
     assert job.observation == ObservationSettings()
-    assert job.job_id == job_id(CLAUDE, "primitive", "llm", content.task_hash, content.task.id, 4, 12, job.observation)
-    assert job.episode(attempt=1, timeout_s=60).observation == ObservationSettings()
+    assert job.llm == LLMSettings()
+    identity = (content.task_hash, content.task.id, 4, 12, job.observation, job.llm)
+    assert job.job_id == job_id(CLAUDE, "primitive", "llm", *identity)
+    episode = job.episode(attempt=1, timeout_s=60)
+    assert (episode.observation, episode.llm) == (ObservationSettings(), LLMSettings())
+
+
+def test_llm_job_identity_covers_what_the_model_sees_not_how_calls_are_paced(ours: list[TaskContent]) -> None:
+    def only_id(model: ModelSpec, llm: LLMSettings) -> str:
+        (job,) = plan_jobs([model], ["composite"], "llm", ours[:1], seeds=[0], max_steps=5, llm=llm)
+        return job.job_id
+
+    base = only_id(CLAUDE, LLMSettings())
+    paced = CLAUDE.model_copy(update={"rate_limits": RateLimits(requests_per_minute=10), "api_key_env": "OTHER_KEY"})
+    assert only_id(paced, LLMSettings(retry=RetryPolicy(max_attempts=1))) == base
+    assert only_id(CLAUDE, LLMSettings(show_action_result=False)) != base
+    assert only_id(CLAUDE, LLMSettings(history_messages=5)) != base
+    assert only_id(CLAUDE.model_copy(update={"coordinates": "normalized_1000"}), LLMSettings()) != base
+    (scripted,) = plan_jobs([None], ["composite"], "oracle", ours[:1], seeds=[0], max_steps=5, llm=LLMSettings())
+    assert scripted.llm is None
 
 
 def test_step_limits_per_mode(ours: list[TaskContent]) -> None:

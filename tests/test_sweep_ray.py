@@ -7,14 +7,11 @@ the test so a killed driver's Ray helpers never outlive it.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import signal
 import subprocess
-import sys
 import time
 from collections import Counter
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -22,11 +19,11 @@ import yaml
 
 from scratchworld_dist.results import RunStore, effective_rows
 from scratchworld_dist.suites import load_suite
+from tests.conftest import REPO
+from tests.sweep_driver import SCRATCHWORLD, Driver, run
 
 pytestmark = pytest.mark.ray
 
-REPO = Path(__file__).resolve().parents[1]
-SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))
 TASKS = ["sum_two_numbers", "bouncing_ball_stuck", "quiz_score", "star_shower"]
 
 
@@ -36,44 +33,6 @@ def write_config(tmp_path: Path, **fields: object) -> Path:
     path = tmp_path / "sweep.yaml"
     path.write_text(yaml.safe_dump(config))
     return path
-
-
-class Driver:
-    """A `scratchworld run` process in its own process group, its output in a log file."""
-
-    def __init__(self, config: Path, *args: str) -> None:
-        self.log = config.with_name(f"driver-{time.monotonic_ns()}.log")
-        with self.log.open("w") as out:
-            self.process = subprocess.Popen(
-                [SCRATCHWORLD, "run", str(config), *args],
-                stdout=out,
-                stderr=subprocess.STDOUT,
-                cwd=REPO,
-                start_new_session=True,
-            )
-
-    def wait(self, timeout: float = 300) -> tuple[int, str]:
-        code = self.process.wait(timeout)
-        return code, self.log.read_text()
-
-    def kill_group(self) -> None:
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(self.process.pid, signal.SIGKILL)
-        self.process.wait()
-
-
-@pytest.fixture
-def drivers() -> Iterator[list[Driver]]:
-    started: list[Driver] = []
-    yield started
-    for driver in started:
-        driver.kill_group()
-
-
-def run(drivers: list[Driver], config: Path, *args: str, timeout: float = 300) -> tuple[int, str]:
-    driver = Driver(config, *args)
-    drivers.append(driver)
-    return driver.wait(timeout)
 
 
 def committed_lines(run_dir: Path) -> int:

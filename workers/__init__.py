@@ -6,6 +6,7 @@ from workers._actions import (
     CompositeAction,
     Done,
     Failed,
+    InvalidReply,
     LoadProject,
     PrimitiveAction,
     composite_action,
@@ -17,6 +18,7 @@ from workers._editor import Editor, EditorStatus
 from workers._editor_server import EditorAssets, EditorServer
 from workers._envelope import ActionEnvelope, ActionFailure
 from workers._episode import (
+    PERMANENT_ERRORS,
     AgentName,
     EpisodeResult,
     EpisodeSpec,
@@ -36,11 +38,14 @@ from workers._evaluation import Evaluator
 from workers._evaluation_spec import EvaluationSpec
 from workers._profiles import EvaluationProfile, ProfileConditions
 from workers._synthetic import SyntheticEpisodes, run_synthetic
+from workers.llm._limiter import RateLimits
+from workers.llm._settings import CoordinateSystem, LLMSettings
 from workers.primitive._settings import ObservationSettings
 
 __all__ = [
     "CHROMIUM_ARGS",
     "FINAL_ACTIONS",
+    "PERMANENT_ERRORS",
     "VERDICT_ERROR_KINDS",
     "Action",
     "ActionEnvelope",
@@ -50,6 +55,7 @@ __all__ = [
     "BrowserSession",
     "CompositeAction",
     "CompositeObservation",
+    "CoordinateSystem",
     "Done",
     "Editor",
     "EditorAssets",
@@ -68,6 +74,8 @@ __all__ = [
     "EvaluationSpec",
     "Evaluator",
     "Failed",
+    "InvalidReply",
+    "LLMSettings",
     "LoadProject",
     "Mode",
     "ModelSpec",
@@ -75,6 +83,7 @@ __all__ = [
     "Outcome",
     "PrimitiveAction",
     "ProfileConditions",
+    "RateLimits",
     "StepRecord",
     "SyntheticEpisodes",
     "TaskPayload",

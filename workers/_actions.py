@@ -30,6 +30,15 @@ class LoadProject(BaseModel):
     sb3: bytes = Field(repr=False)
 
 
+class InvalidReply(BaseModel):
+    """A model reply that held no usable action: it costs the step, and the reason goes back to the model."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+    name: Literal["invalid_reply"] = "invalid_reply"
+    reason: str
+    message: str
+
+
 class CompositeAction(BaseModel):
     """One call of the composite (semantic block-editing) API, e.g. ``add_block``.
 
@@ -56,7 +65,9 @@ class PrimitiveAction(BaseModel):
     args: dict[str, JsonValue] = Field(default_factory=dict)
 
 
-Action = Annotated[Done | Failed | LoadProject | CompositeAction | PrimitiveAction, Field(discriminator="name")]
+Action = Annotated[
+    Done | Failed | LoadProject | InvalidReply | CompositeAction | PrimitiveAction, Field(discriminator="name")
+]
 """Every action the environment understands; composite and primitive actions join this union."""
 
 _ApiAction = TypeVar("_ApiAction", CompositeAction, PrimitiveAction)

@@ -27,6 +27,10 @@ class Environment(Protocol):
 
     async def execute(self, action: CompositeAction | PrimitiveAction) -> ActionEnvelope: ...
 
+    async def block_catalog(self) -> str | None:
+        """The blocks an agent may create by name (composite mode), for its instructions."""
+        ...
+
 
 class CompositeEnvironment:
     """The semantic block-editing API; primitive actions are refused."""
@@ -41,6 +45,9 @@ class CompositeEnvironment:
         if isinstance(action, PrimitiveAction):
             return _wrong_mode(action.api, "composite")
         return await composite.execute(self.editor, action.api, action.args)
+
+    async def block_catalog(self) -> str:
+        return await composite.block_catalog(self.editor)
 
 
 class PrimitiveEnvironment:
@@ -63,6 +70,9 @@ class PrimitiveEnvironment:
             return await self.gestures.execute(action.api, action.args)
         except PlaywrightError as exc:
             raise EditorCrashedError(f"the page did not take the {action.api} gesture: {exc.message}") from exc
+
+    async def block_catalog(self) -> None:
+        return None  # blocks are found in the palette
 
 
 def _wrong_mode(api: str, mode: str) -> ActionEnvelope:

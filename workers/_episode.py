@@ -13,6 +13,8 @@ from pydantic import BaseModel, ConfigDict, Field, JsonValue
 from workers._actions import CompositeAction
 from workers._eval_result import EvalResult
 from workers._evaluation_spec import EvaluationSpec
+from workers.llm._limiter import RateLimits
+from workers.llm._settings import CoordinateSystem, LLMSettings
 from workers.primitive._settings import ObservationSettings
 
 Mode = Literal["composite", "primitive"]
@@ -24,10 +26,26 @@ ErrorClass = Literal[
     "worker_died",  # the worker process (or its browser) died while the job was in flight
     "editor_failure",  # the editor could not be opened, loaded or evaluated in
     "evaluator_error",  # the evaluation produced no verdict for reasons outside the project
-    "agent_error",  # the agent itself crashed (a bug or a provider down after its retries)
+    "agent_error",  # the agent itself crashed (a bug in it)
     "internal_error",  # anything else: a bug in this harness
+    # A model call failed for good, by the class of the failure (see workers.llm.ModelErrorClass):
+    "model_rate_limited",
+    "model_provider_error",
+    "model_timeout",
+    "model_connection",
+    "model_circuit_open",
+    "model_auth",  # permanent from here on: retrying the job cannot help
+    "model_bad_request",
+    "model_not_found",
+    "model_context_window",
+    "model_content_policy",
 ]
-"""Why a job produced no verdict; every class is retried and kept out of SR/PSR."""
+"""Why a job produced no verdict; kept out of SR/PSR, and retried unless it is permanent."""
+
+PERMANENT_ERRORS: frozenset[str] = frozenset(
+    {"model_auth", "model_bad_request", "model_not_found", "model_context_window", "model_content_policy"}
+)
+"""Error classes the driver does not retry: the same request would fail the same way."""
 
 
 class ModelSpec(BaseModel):
@@ -47,8 +65,21 @@ class ModelSpec(BaseModel):
     api_key_env: str | None = None
     """Name of the environment variable that holds the key on the worker; never the key."""
 
+    api_base_env: str | None = None
+    """Name of the environment variable that holds the base URL on the worker (e.g. a vLLM server)."""
+
     params: dict[str, JsonValue] = Field(default_factory=dict)
     """Further LiteLLM keyword arguments (e.g. ``top_p``)."""
+
+    coordinates: CoordinateSystem | None = None
+    """How the model writes screen positions in primitive mode; None: chosen by the model's name."""
+
+    rate_limits: RateLimits | None = None
+    """Cluster-wide budgets for this model (not part of a job's identity)."""
+
+    def identity(self) -> dict[str, object]:
+        """The fields that can change a job's result (labels, key names and pacing cannot)."""
+        return self.model_dump(mode="json", exclude={"name", "api_key_env", "rate_limits"})
 
 
 class EpisodeSpec(BaseModel):
@@ -69,6 +100,9 @@ class EpisodeSpec(BaseModel):
 
     observation: ObservationSettings | None = None
     """How primitive observations are made (primitive mode; None means the defaults)."""
+
+    llm: LLMSettings | None = None
+    """The conversation protocol of the ``llm`` agent (None means the defaults)."""
 
 
 class TaskPayload(BaseModel):
@@ -116,6 +150,12 @@ class StepRecord(BaseModel):
     input_tokens: int = 0
     output_tokens: int = 0
     cost_usd: float = 0.0
+    prompt: list[JsonValue] = Field(default_factory=list)
+    """Messages this step added to the model's conversation (the system prompt on the first step);
+    images appear as ``{"type": "image_ref", "sha256": ...}`` into ``EpisodeResult.images``."""
+
+    reply: str | None = None
+    """The model's raw reply."""
 
 
 class WorkerInfo(BaseModel):
@@ -152,6 +192,9 @@ class EpisodeResult(BaseModel):
     evaluation: EvalResult | None = None
     steps: list[StepRecord] = Field(default_factory=list)
     final_project: bytes | None = None
+    images: dict[str, bytes] = Field(default_factory=dict, repr=False)
+    """Images the prompts showed, by SHA-256, each stored once however often it was sent."""
+
     timings: EpisodeTimings = Field(default_factory=EpisodeTimings)
     worker: WorkerInfo | None = None
     started_at: float = 0.0

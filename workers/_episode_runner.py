@@ -7,17 +7,19 @@ The agent works in its own fresh page; the evaluation always runs in another fre
 from __future__ import annotations
 
 import time
+from typing import cast
 
 from pydantic import JsonValue
 
-from workers._actions import FINAL_ACTIONS, Action, CompositeAction, LoadProject, PrimitiveAction
+from workers._actions import FINAL_ACTIONS, Action, CompositeAction, InvalidReply, LoadProject, PrimitiveAction
 from workers._browser import BrowserSession
 from workers._editor import Editor
 from workers._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
-from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, StepRecord, TaskPayload, outcome_of
+from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, ErrorClass, StepRecord, TaskPayload, outcome_of
 from workers._errors import BridgeError, EditorError
 from workers._evaluation import Evaluator
-from workers.agents import Agent, NeedsEditor
+from workers.agents import Agent, ConversingAgent, NeedsEditor
+from workers.llm import ModelCallError
 from workers.ocr import RegionOCR
 from workers.primitive import ObservationSettings, PrimitiveObserver, region_ocr
 
@@ -57,6 +59,8 @@ class EpisodeRunner:
                 environment = await self._environment(spec, editor)
                 if isinstance(agent, NeedsEditor):
                     await _begin(agent, editor)
+                if isinstance(agent, ConversingAgent):
+                    await agent.brief(await environment.block_catalog())
                 timings.setup_s = time.perf_counter() - clock
                 stop_reason = await _act(agent, editor, environment, spec, steps)
                 timings.agent_s = time.perf_counter() - clock - timings.setup_s
@@ -67,6 +71,9 @@ class EpisodeRunner:
         except AgentCrashedError as exc:
             result = EpisodeResult.errored(spec, "agent_error", str(exc), steps=steps)
             return _finish(result, started, clock, timings)
+        except ModelCallError as exc:  # the model cannot be reached or refuses: no verdict about it
+            result = EpisodeResult.errored(spec, cast(ErrorClass, f"model_{exc.error_class}"), str(exc), steps=steps)
+            return _finish(_with_images(result, agent), started, clock, timings)
         evaluation_start = time.perf_counter()
         evaluation = await self.evaluator.evaluate(final_project, task.evaluation)
         timings.evaluation_s = time.perf_counter() - evaluation_start
@@ -82,7 +89,7 @@ class EpisodeRunner:
             steps=steps,
             final_project=final_project,
         )
-        return _finish(result, started, clock, timings)
+        return _finish(_with_images(result, agent), started, clock, timings)
 
 
 async def _begin(agent: NeedsEditor, editor: Editor) -> None:
@@ -104,26 +111,25 @@ async def _act(
         observation_s = time.perf_counter() - step_start
         try:
             action = await agent.act(observation)
-        except (EditorError, BridgeError):
+        except (EditorError, BridgeError, ModelCallError):
             raise
         except Exception as exc:  # a broken agent is the agent's error, not the harness's
             raise AgentCrashedError(f"the agent raised {type(exc).__name__} at step {index}: {exc}") from exc
         ok, error_code, error_message, data = await _apply(editor, environment, action)
         name, args = _describe(action)
-        steps.append(
-            StepRecord(
-                index=index,
-                action=name,
-                args=args,
-                ok=ok,
-                error_code=error_code,
-                error_message=error_message,
-                data=data,
-                latency_s=time.perf_counter() - step_start,
-                observation_s=observation_s,
-                warnings=list(getattr(observation, "warnings", [])),
-            )
+        step = StepRecord(
+            index=index,
+            action=name,
+            args=args,
+            ok=ok,
+            error_code=error_code,
+            error_message=error_message,
+            data=data,
+            latency_s=time.perf_counter() - step_start,
+            observation_s=observation_s,
+            warnings=list(getattr(observation, "warnings", [])),
         )
+        steps.append(agent.after_step(step) if isinstance(agent, ConversingAgent) else step)
         if action.name in FINAL_ACTIONS:
             return action.name
     return "max_steps"
@@ -133,6 +139,8 @@ async def _apply(
     editor: Editor, environment: Environment, action: Action
 ) -> tuple[bool, str | None, str | None, JsonValue]:
     """Carry out one action: (ok, error code, error message, data the environment answered)."""
+    if isinstance(action, InvalidReply):
+        return False, "INVALID_REPLY", action.message, {"reason": action.reason}
     if isinstance(action, LoadProject):
         try:
             await editor.load_project(action.sb3)
@@ -153,6 +161,12 @@ def _describe(action: Action) -> tuple[str, dict[str, JsonValue]]:
     if isinstance(action, CompositeAction | PrimitiveAction):
         return action.api, action.args
     return action.name, action.model_dump(exclude={"name"})
+
+
+def _with_images(result: EpisodeResult, agent: Agent) -> EpisodeResult:
+    if isinstance(agent, ConversingAgent) and agent.images:
+        return result.model_copy(update={"images": dict(agent.images)})
+    return result
 
 
 def _finish(result: EpisodeResult, started: float, clock: float, timings: EpisodeTimings) -> EpisodeResult:

@@ -138,6 +138,9 @@ def _runs(report: RunReport) -> list[_Block]:
         for r in report.runs
     ]
     blocks: list[_Block] = [_Heading(2, "Runs"), _Table(header, rows)]
+    for run in report.runs:
+        if run.budget_stop:
+            blocks.append(_Paragraph(f"Stopped by budget ({run.run_name}): {run.budget_stop}."))
     missing = sum(r.missing for r in report.runs)
     if missing:
         blocks.append(

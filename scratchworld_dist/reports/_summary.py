@@ -145,6 +145,9 @@ class RunInfo(BaseModel):
     attempts_cost_usd: float
     """Spend of every attempt of the current suite, retries included."""
 
+    budget_stop: str | None = None
+    """Set when the latest session stopped starting jobs because the sweep's budget was spent."""
+
 
 class RunReport(BaseModel):
     """A report over one or more run directories (the JSON output is its ``model_dump``)."""

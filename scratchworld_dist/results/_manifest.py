@@ -38,6 +38,8 @@ class Session(BaseModel):
     pid: int
     planned: int
     submitted: int = 0
+    budget_stop: str | None = None
+    """Why this session left jobs unstarted: the sweep's model spend reached its budget."""
 
 
 class RunManifest(BaseModel):

@@ -126,7 +126,7 @@ class RunStore:
     def write_artifact(self, job_id: str, attempt: int, name: str, data: bytes) -> str:
         """Store one file of an attempt; returns its folder relative to the run directory."""
         folder = self.artifacts_dir / job_id / f"attempt-{attempt}"
-        folder.mkdir(parents=True, exist_ok=True)
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
         _write_atomic(folder / name, data, sync=False)  # survives the driver's death; shards are synced
         return str(folder.relative_to(self.run_dir))
 
@@ -215,6 +215,11 @@ class RunStore:
 
     def job_rows(self) -> list[JobRow]:
         return [JobRow.model_validate(row) for row in self.read_table("jobs").to_pylist()]
+
+    def cost_usd(self) -> float:
+        """Model spend of every attempt recorded here."""
+        column = self.read_table("jobs", columns=["cost_usd"]).column("cost_usd").to_pylist()
+        return float(sum(value or 0.0 for value in column))
 
     def attempts(self) -> dict[str, tuple[int, bool]]:
         """Per job id: the highest attempt number recorded, and whether any attempt has a verdict."""

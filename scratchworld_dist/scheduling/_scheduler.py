@@ -8,7 +8,9 @@ a dead worker costs only its own jobs. Failures are classified, never lost:
 - a worker that stops answering past a job's timeout plus a grace period is restarted by the
   driver; the overdue job is recorded as ``episode_timeout``, its neighbours are re-sent as the
   same attempt (they did nothing wrong);
-- an ``error`` outcome is retried up to ``retries`` times in this run.
+- an ``error`` outcome is retried up to ``retries`` times in this run, unless its class is
+  permanent (a model that refuses the request will refuse it again);
+- once the sweep's model spend reaches its budget, no new attempt is started.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from ray.exceptions import GetTimeoutError, RayActorError, RayError
 
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.sweep import JobSpec
-from workers import EpisodeResult, ErrorClass
+from workers import PERMANENT_ERRORS, EpisodeResult, ErrorClass
 
 DEADLINE_GRACE_S = 30.0
 """How long past its own timeout a worker may stay silent before the driver restarts it."""
@@ -62,6 +64,8 @@ class SchedulerStats:
     """Final outcomes of jobs finished in this run."""
 
     cost_usd: float = 0.0
+    not_started: int = 0
+    """Jobs left unstarted because the budget was reached."""
 
 
 ResultHandler = Callable[[JobSpec, EpisodeResult], None]
@@ -79,7 +83,10 @@ class Scheduler:
         retries: int,
         on_result: ResultHandler,
         max_in_flight: int | None = None,
+        budget_usd: float | None = None,
+        spent_usd: float = 0.0,
     ) -> None:
+        """``spent_usd`` is what earlier runs of the sweep spent; it counts against ``budget_usd``."""
         self.pool = pool
         self.payloads = payloads
         self.timeout_s = timeout_s
@@ -87,6 +94,8 @@ class Scheduler:
         self.on_result = on_result
         self.capacity = min(max_in_flight or len(pool) * pool.pages, len(pool) * pool.pages)
         self.stats = SchedulerStats()
+        self.budget_usd = budget_usd
+        self.spent_usd = spent_usd
         self._flights: dict[ray.ObjectRef, _Flight] = {}
         self._load = [0] * len(pool)
 
@@ -95,16 +104,27 @@ class Scheduler:
         queue: deque[tuple[JobSpec, int]] = deque(jobs)
         first = {job.job_id: attempt for job, attempt in queue}
         while queue or self._flights:
-            while queue and len(self._flights) < self.capacity:
+            while queue and len(self._flights) < self.capacity and not self.over_budget:
                 self._submit(*queue.popleft())
+            if not self._flights:  # the budget is spent: what is queued stays unstarted
+                break
             for flight, result in self._collect():
                 if result is None:  # its worker was restarted because of another job
                     queue.appendleft((flight.job, flight.attempt))
                     continue
-                retry = result.outcome == "error" and result.attempt - first[flight.job.job_id] < self.retries
+                retry = (
+                    result.outcome == "error"
+                    and result.error_class not in PERMANENT_ERRORS
+                    and result.attempt - first[flight.job.job_id] < self.retries
+                )
                 self._record(flight.job, result, final=not retry)
                 if retry:
                     queue.append((flight.job, result.attempt + 1))
+        self.stats.not_started = len({job.job_id for job, _ in queue})
+
+    @property
+    def over_budget(self) -> bool:
+        return self.budget_usd is not None and self.spent_usd + self.stats.cost_usd >= self.budget_usd
 
     def _submit(self, job: JobSpec, attempt: int) -> None:
         worker = min(range(len(self._load)), key=self._load.__getitem__)

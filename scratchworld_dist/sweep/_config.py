@@ -16,7 +16,17 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, PlainValidator, ValidationError, field_validator, model_validator
 
 from scratchworld_dist._errors import ConfigError
-from workers import AgentName, EvaluationProfile, Mode, ModelSpec, ObservationSettings, SyntheticEpisodes
+from workers import (
+    AgentName,
+    CoordinateSystem,
+    EvaluationProfile,
+    LLMSettings,
+    Mode,
+    ModelSpec,
+    ObservationSettings,
+    RateLimits,
+    SyntheticEpisodes,
+)
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
@@ -32,15 +42,29 @@ class ModelConfig(BaseModel):
     temperature: float | None = Field(default=None, ge=0)
     max_tokens: int | None = Field(default=None, gt=0)
     api_base: str | None = None
+    api_base_env: str | None = None
+    """Name of the environment variable holding the base URL (e.g. SCRATCHWORLD_LLM_BASE_URL), read by workers."""
+
     api_key_env: str | None = None
     params: dict[str, Any] = Field(default_factory=dict)
+    coordinates: CoordinateSystem | None = None
+    """Primitive-mode coordinate convention (default: by model name; Qwen-VL 0-1000, UI-TARS smart-resize)."""
 
-    @field_validator("api_key_env")
+    rate_limits: RateLimits | None = None
+    """Cluster-wide requests/min, tokens/min and concurrency cap for this model."""
+
+    @field_validator("api_key_env", "api_base_env")
     @classmethod
     def _env_name(cls, value: str | None) -> str | None:
         if value is not None and not _ENV_NAME.match(value):
-            raise ValueError("must be the NAME of an environment variable (e.g. OPENAI_API_KEY), not a key")
+            raise ValueError("must be the NAME of an environment variable (e.g. OPENAI_API_KEY), not its value")
         return value
+
+    @model_validator(mode="after")
+    def _one_base(self) -> ModelConfig:
+        if self.api_base is not None and self.api_base_env is not None:
+            raise ValueError("give api_base or api_base_env, not both")
+        return self
 
     @field_validator("params")
     @classmethod
@@ -57,8 +81,11 @@ class ModelConfig(BaseModel):
             temperature=self.temperature,
             max_tokens=self.max_tokens,
             api_base=self.api_base,
+            api_base_env=self.api_base_env,
             api_key_env=self.api_key_env,
             params=self.params,
+            coordinates=self.coordinates,
+            rate_limits=self.rate_limits,
         )
 
 
@@ -108,6 +135,9 @@ class Limits(BaseModel):
     max_in_flight: int | None = Field(default=None, ge=1)
     """Cap on jobs submitted at once (default: all worker pages)."""
 
+    budget_usd: float | None = Field(default=None, gt=0)
+    """Model spend of the sweep (all runs of its directory) at which no new job is started."""
+
 
 class RayConfig(BaseModel):
     """Where Ray runs: a private local instance unless an address is given."""
@@ -155,6 +185,9 @@ class SweepConfig(BaseModel):
     profile: EvaluationProfile | None = None
     """Evaluation profile (native | upstream); default: the suite's (upstream clones: upstream)."""
 
+    llm: LLMSettings = Field(default_factory=LLMSettings)
+    """The llm agent's conversation protocol and model-call retries."""
+
     limits: Limits = Field(default_factory=Limits)
     output: Path | None = None
     """The run directory (default: ``results/<name>`` in the working directory)."""
@@ -198,7 +231,7 @@ class SweepConfig(BaseModel):
     def _models_fit_agent(self) -> SweepConfig:
         if self.agent == "llm" and not self.models:
             raise ValueError("agent 'llm' needs at least one entry under models")
-        settings = [m.model_dump(exclude={"name", "api_key_env"}) for m in self.models]
+        settings = [m.spec().identity() for m in self.models]
         if any(settings.count(s) > 1 for s in settings):
             raise ValueError("two models have identical settings; their jobs would be the same jobs")
         names = [m.name or m.model for m in self.models]

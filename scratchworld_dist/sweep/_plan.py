@@ -16,7 +16,16 @@ from importlib.metadata import version
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.suites import Task
-from workers import AgentName, EpisodeSpec, EvaluationProfile, Mode, ModelSpec, ObservationSettings, TaskPayload
+from workers import (
+    AgentName,
+    EpisodeSpec,
+    EvaluationProfile,
+    LLMSettings,
+    Mode,
+    ModelSpec,
+    ObservationSettings,
+    TaskPayload,
+)
 
 HARNESS_VERSION = version("scratchworld-dist")
 """Recorded with every job; bump the package version when a change can alter verdicts."""
@@ -42,6 +51,9 @@ class JobSpec(BaseModel):
     observation: ObservationSettings | None = None
     """How primitive observations are made (None in composite mode)."""
 
+    llm: LLMSettings | None = None
+    """The llm agent's conversation protocol (None for scripted agents)."""
+
     @property
     def model_name(self) -> str:
         return self.model.name if self.model is not None else NO_MODEL
@@ -57,6 +69,7 @@ class JobSpec(BaseModel):
             seed=self.seed,
             max_steps=self.max_steps,
             observation=self.observation,
+            llm=self.llm,
             timeout_s=timeout_s,
         )
 
@@ -117,9 +130,10 @@ def job_id(
     seed: int,
     max_steps: int,
     observation: ObservationSettings | None = None,
+    llm: LLMSettings | None = None,
 ) -> str:
     identity: dict[str, object] = {
-        "model": None if model is None else model.model_dump(exclude={"name", "api_key_env"}, mode="json"),
+        "model": None if model is None else model.identity(),
         "mode": mode,
         "agent": agent,
         "task": [task_id, task_hash],
@@ -129,6 +143,8 @@ def job_id(
     }
     if observation is not None:  # only primitive jobs have one, so composite ids stay as they were
         identity["observation"] = observation.model_dump(mode="json")
+    if llm is not None:  # only llm jobs have one
+        identity["llm"] = llm.identity()
     canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(canonical.encode()).hexdigest()[:24]
 
@@ -141,17 +157,19 @@ def plan_jobs(
     seeds: list[int],
     max_steps: int | Mapping[Mode, int],
     observation: ObservationSettings | None = None,
+    llm: LLMSettings | None = None,
 ) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks."""
     for model in models:
         for mode in modes:
             steps = max_steps if isinstance(max_steps, int) else max_steps[mode]
             settings = (observation or ObservationSettings()) if mode == "primitive" else None
+            protocol = (llm or LLMSettings()) if agent == "llm" else None
             for seed in seeds:
                 for content in tasks:
                     task = content.task
                     yield JobSpec(
-                        job_id=job_id(model, mode, agent, content.task_hash, task.id, seed, steps, settings),
+                        job_id=job_id(model, mode, agent, content.task_hash, task.id, seed, steps, settings, protocol),
                         model=model,
                         mode=mode,
                         agent=agent,
@@ -161,4 +179,5 @@ def plan_jobs(
                         seed=seed,
                         max_steps=steps,
                         observation=settings,
+                        llm=protocol,
                     )

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 from workers._actions import Action
 from workers._editor import Editor
-from workers._episode import EpisodeSpec, TaskPayload
+from workers._episode import EpisodeSpec, StepRecord, TaskPayload
 from workers._errors import ScratchWorldError
 
 if TYPE_CHECKING:
@@ -33,6 +33,20 @@ class NeedsEditor(Protocol):
     async def begin(self, editor: Editor) -> None: ...
 
 
+@runtime_checkable
+class ConversingAgent(Protocol):
+    """An agent in a conversation with a model: briefed before its first action, told what each did."""
+
+    images: dict[str, bytes]
+    """Images it showed its model, by SHA-256 (kept once with the episode's result)."""
+
+    async def brief(self, block_catalog: str | None) -> None: ...
+
+    def after_step(self, step: StepRecord) -> StepRecord:
+        """Take note of the step's outcome; return the step with what the decision cost and said."""
+        ...
+
+
 def agent_for(spec: EpisodeSpec, task: TaskPayload) -> Agent:
     from workers.agents._scripted import NoopAgent, OracleAgent
 
@@ -47,4 +61,10 @@ def agent_for(spec: EpisodeSpec, task: TaskPayload) -> Agent:
         return OracleAgent(task.golden_project, trajectory)
     if spec.agent == "noop":
         return NoopAgent()
+    if spec.agent == "llm":
+        if spec.model is None:
+            raise AgentUnavailableError("agent 'llm' needs a model")
+        from workers.agents._llm_agent import LLMAgent
+
+        return LLMAgent(spec, task)
     raise AgentUnavailableError(f"agent {spec.agent!r} is not available in this build")

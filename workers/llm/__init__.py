@@ -33,6 +33,7 @@ from workers.llm._limiter import (
 )
 from workers.llm._parsing import EXPECTED_FORMAT, ParsedReply, parse_reply
 from workers.llm._repair import repair_json
+from workers.llm._settings import CoordinateSystem, LLMSettings
 
 __all__ = [
     "EXPECTED_FORMAT",
@@ -40,7 +41,9 @@ __all__ = [
     "BreakerState",
     "CircuitBreaker",
     "Completion",
+    "CoordinateSystem",
     "Grant",
+    "LLMSettings",
     "LimiterStats",
     "LocalLimiterHandle",
     "LocalRateLimiter",

@@ -19,15 +19,17 @@ import sys
 import threading
 import time
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pydantic import BaseModel, ConfigDict, Field
 from tenacity import AsyncRetrying, RetryCallState, retry_if_exception
 
-from workers._episode import ModelSpec
 from workers.llm._breaker import CircuitBreaker, circuit_breaker
 from workers.llm._errors import ModelCallError, ModelErrorClass
 from workers.llm._limiter import RateLimiterHandle
+
+if TYPE_CHECKING:
+    from workers._episode import ModelSpec
 
 logger = logging.getLogger(__name__)
 
@@ -280,7 +282,7 @@ class ModelClient:
     def _kwargs(self, api_key: str | None, seed: int | None) -> dict[str, Any]:
         spec = self.spec
         kwargs: dict[str, Any] = {"model": spec.model, **spec.params}
-        optional = {"api_base": spec.api_base, "api_key": api_key, "temperature": spec.temperature}
+        optional = {"api_base": self._api_base(), "api_key": api_key, "temperature": spec.temperature}
         kwargs.update({name: value for name, value in optional.items() if value is not None})
         if spec.max_tokens is not None:
             kwargs["max_tokens"] = spec.max_tokens
@@ -290,6 +292,16 @@ class ModelClient:
             else:
                 logger.debug("%s does not take a seed; calling without one", spec.model)
         return kwargs
+
+    def _api_base(self) -> str | None:
+        name = self.spec.api_base_env
+        if name is None:
+            return self.spec.api_base
+        value = os.environ.get(name)
+        if not value:
+            message = f"{self.spec.name}: environment variable {name} (the model's base URL) is not set"
+            raise ModelCallError("bad_request", message, transient=False, attempts=0)
+        return value
 
     def _api_key(self) -> str | None:
         name = self.spec.api_key_env
@@ -353,6 +365,8 @@ def _classify(litellm: ModuleType, exc: BaseException) -> tuple[ModelErrorClass 
         return "connection", True
     openai_errors = _openai_error_types()
     for cause in _chain(exc):
+        if type(cause) is openai_errors[2]:  # raised by the SDK before any request: no credentials
+            return "auth", False
         if isinstance(cause, openai_errors[1]):
             return "timeout", True
         if isinstance(cause, openai_errors[0]):
@@ -379,10 +393,10 @@ _STATUS_CLASSES: dict[int, tuple[ModelErrorClass, bool]] = {
 
 
 @functools.cache
-def _openai_error_types() -> tuple[type[BaseException], type[BaseException]]:
+def _openai_error_types() -> tuple[type[BaseException], type[BaseException], type[BaseException]]:
     import openai
 
-    return openai.APIConnectionError, openai.APITimeoutError
+    return openai.APIConnectionError, openai.APITimeoutError, openai.OpenAIError
 
 
 def _chain(exc: BaseException) -> list[BaseException]:

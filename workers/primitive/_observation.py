@@ -125,7 +125,6 @@ class PrimitiveObserver:
             timings=timings,
         )
 
-
     async def _screenshot(self, page: Page) -> bytes:
         """A PNG of the viewport, taken over the DevTools protocol with ``optimizeForSpeed``.
 

@@ -1,0 +1,185 @@
+"""LLM sweeps end to end: `scratchworld run` with two models against a real local OpenAI-compatible server.
+
+The server answers like a model that follows each task's golden trajectory in composite mode
+and fumbles in primitive mode (one click by element index, one unparsable reply, then done), so
+both modes run in full through Ray workers, real Chromium and real LiteLLM.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from scratchworld_dist.results import RunStore
+from scratchworld_dist.suites import load_suite
+from tests.conftest import REPO
+from tests.openai_server import Behaviour, OpenAIServer, reply
+from tests.sweep_driver import SCRATCHWORLD, Driver, run
+
+pytestmark = pytest.mark.ray
+
+SECRET = "sk-sweep-test-0b7e4c2a91"
+TASK = "quiz_score"
+PROMPT_TOKENS, COMPLETION_TOKENS = 1200, 80
+PRICES = {"gpt-4o-mini": (0.15e-6, 0.6e-6), "gpt-4o": (2.5e-6, 10e-6)}
+
+
+def answer(action: dict[str, Any]) -> str:
+    return f"Analysis: next step.\n```json\n{json.dumps(action)}\n```"
+
+
+class TrajectoryModel:
+    """Answers from the conversation alone: the task by its instruction, the turn by the replies so far."""
+
+    def __init__(self) -> None:
+        suite = load_suite(REPO / "tasks")
+        self.tasks = {task.instruction: task.trajectory() or [] for task in (suite.task(TASK),)}
+
+    def __call__(self, body: dict[str, Any]) -> Behaviour:
+        messages = body["messages"]
+        system = messages[0]["content"]
+        turn = sum(1 for m in messages if m["role"] == "assistant")
+        if "drag_and_drop" in system:  # primitive mode
+            if turn == 0:
+                text = next(p["text"] for p in messages[-1]["content"] if p["type"] == "text")
+                index = re.search(r"^(\d+)  category_menu_item  Variables ", text, re.M)
+                assert index is not None
+                return self._reply(answer({"api": "click", "args": {"index": int(index.group(1))}}))
+            if turn == 1:
+                return self._reply("I am not sure what to do next.")
+            return self._reply(answer({"api": "done", "args": {}}))
+        trajectory = next(t for instruction, t in self.tasks.items() if instruction in system)
+        if turn < len(trajectory):
+            return self._reply(answer(trajectory[turn].model_dump(mode="json", include={"api", "args"})))
+        return self._reply(answer({"api": "done", "args": {}}))
+
+    def _reply(self, text: str) -> Behaviour:
+        return reply(text, prompt_tokens=PROMPT_TOKENS, completion_tokens=COMPLETION_TOKENS)
+
+
+@pytest.fixture
+def server() -> Iterator[OpenAIServer]:
+    with OpenAIServer(responder=TrajectoryModel()) as running:
+        yield running
+
+
+def sweep(tmp_path: Path, name: str, **fields: Any) -> Path:
+    model = {"api_base_env": "SCRATCHWORLD_LLM_BASE_URL", "api_key_env": "SCRATCHWORLD_LLM_API_KEY"}
+    config: dict[str, Any] = {
+        "name": name,
+        "suite": str(REPO / "tasks"),
+        "tasks": {"ids": [TASK]},
+        "agent": "llm",
+        "models": [
+            {"model": "openai/gpt-4o-mini", "name": "mini", **model, "rate_limits": {"requests_per_minute": 6000}},
+            {"model": "openai/gpt-4o", "name": "big", **model},
+        ],
+        "modes": ["composite", "primitive"],
+        "max_steps": 40,
+        "primitive": {"ocr": "none"},
+        "llm": {"history_messages": 200, "retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
+        "limits": {"retries": 0, "episode_timeout_s": 240},
+        "output": str(tmp_path / name),
+    }
+    config.update(fields)
+    path = tmp_path / f"{name}.yaml"
+    path.write_text(yaml.safe_dump(config))
+    return path
+
+
+@pytest.fixture
+def llm_env(server: OpenAIServer, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("SCRATCHWORLD_LLM_BASE_URL", server.url)
+    monkeypatch.setenv("SCRATCHWORLD_LLM_API_KEY", SECRET)
+
+
+def report(run_dir: Path) -> dict[str, Any]:
+    out = subprocess.run([SCRATCHWORLD, "report", str(run_dir), "--format", "json"], capture_output=True, check=True)
+    return json.loads(out.stdout)
+
+
+@pytest.mark.usefixtures("llm_env")
+def test_two_models_run_both_modes_and_the_report_shows_tokens_and_cost(
+    tmp_path: Path, server: OpenAIServer, drivers: list[Driver]
+) -> None:
+    config = sweep(tmp_path, "llm")
+    code, log = run(drivers, config, timeout=600)
+    assert code == 0, log
+    rows = {(r.model, r.mode): r for r in RunStore(tmp_path / "llm").job_rows()}
+    assert {key: row.outcome for key, row in rows.items()} == {
+        ("mini", "composite"): "passed",
+        ("big", "composite"): "passed",
+        ("mini", "primitive"): "failed",
+        ("big", "primitive"): "failed",
+    }
+    calls = {key: row.llm_calls for key, row in rows.items()}
+    assert sum(calls.values()) == server.count
+    for (model, _), row in rows.items():
+        price_in, price_out = PRICES["gpt-4o-mini" if model == "mini" else "gpt-4o"]
+        assert (row.input_tokens, row.output_tokens) == (
+            PROMPT_TOKENS * row.llm_calls,
+            COMPLETION_TOKENS * row.llm_calls,
+        )
+        assert row.cost_usd == pytest.approx(row.llm_calls * (PROMPT_TOKENS * price_in + COMPLETION_TOKENS * price_out))
+    assert calls[("mini", "primitive")] == 3  # click, unparsable reply, done
+
+    by_label = {(r["label"], r["mode"]): r for r in report(tmp_path / "llm")["rows"]}
+    for (model, mode), row in rows.items():
+        reported = next(r for (label, m), r in by_label.items() if r["model"] == model and m == mode)
+        assert reported["input_tokens"] == row.input_tokens and reported["output_tokens"] == row.output_tokens
+        assert reported["cost_usd"] == pytest.approx(row.cost_usd)
+
+    # Trajectories keep prompts, replies and each screenshot once; no file of the run holds the key.
+    primitive = rows[("mini", "primitive")]
+    folder = tmp_path / "llm" / str(primitive.artifact_dir)
+    steps = [json.loads(line) for line in (folder / "trajectory.jsonl").read_text().splitlines()]
+    assert steps[0]["prompt"][0]["role"] == "system" and steps[1]["reply"] == "I am not sure what to do next."
+    refs = {
+        p["sha256"]
+        for s in steps
+        for m in s["prompt"]
+        if isinstance(m["content"], list)
+        for p in m["content"]
+        if p["type"] == "image_ref"
+    }
+    assert {path.stem for path in (folder / "images").iterdir()} == refs
+    for path in (tmp_path / "llm").rglob("*"):
+        if path.is_file():
+            assert SECRET.encode() not in path.read_bytes(), path
+    assert SECRET not in log
+    assert all(r.headers["authorization"] == f"Bearer {SECRET}" for r in server.requests)
+
+
+@pytest.mark.usefixtures("llm_env")
+def test_a_budget_stops_new_jobs_and_the_report_says_so(tmp_path: Path, drivers: list[Driver]) -> None:
+    config = sweep(
+        tmp_path,
+        "budget",
+        models=[
+            {
+                "model": "openai/gpt-4o",
+                "api_base_env": "SCRATCHWORLD_LLM_BASE_URL",
+                "api_key_env": "SCRATCHWORLD_LLM_API_KEY",
+            }
+        ],
+        modes=["composite"],
+        seeds=[0, 1, 2],
+        limits={"budget_usd": 0.001, "max_in_flight": 1, "retries": 0},
+    )
+    code, log = run(drivers, config, timeout=600)
+    assert code == 0, log
+    rows = RunStore(tmp_path / "budget").job_rows()
+    assert len(rows) == 1 and rows[0].cost_usd > 0.001  # the job that crossed the budget finishes; no other starts
+    text = subprocess.run([SCRATCHWORLD, "report", str(tmp_path / "budget")], capture_output=True, text=True).stdout
+    assert "Stopped by budget" in text and "2 job(s) not started" in text
+    # Resuming spends nothing more: the budget counts what the directory already holds.
+    code, log = run(drivers, config, timeout=600)
+    assert code == 0 and "2 job(s) not started" in log
+    assert len(RunStore(tmp_path / "budget").job_rows()) == 1
