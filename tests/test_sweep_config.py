@@ -299,3 +299,42 @@ def test_sweep_config_can_be_built_without_a_file() -> None:
     config = SweepConfig(name="direct", suite=Path("relative/suite"), seeds=2)  # type: ignore[arg-type]
     assert config.seeds == [0, 1]
     assert config.suite == Path("relative/suite")  # only load_sweep_config knows a base folder
+
+
+# --- the configs we ship --------------------------------------------------------------------
+
+SHIPPED = sorted((Path(__file__).resolve().parents[1] / "configs").rglob("*.yaml"))
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
+def test_every_shipped_config_loads_and_points_at_our_suite(path: Path) -> None:
+    config = load_sweep_config(path)
+    assert (config.suite / "create").is_dir(), "relative suite paths resolve against the config's folder"
+    for model in config.models:
+        assert model.api_key_env is None or model.api_key_env.isupper()
+        assert model.api_base is None, "endpoints come from the environment, never from a shipped file"
+
+
+def test_local_llm_config_reads_endpoint_and_key_from_the_environment() -> None:
+    config = load_sweep_config(Path(__file__).resolve().parents[1] / "configs" / "local-llm.yaml")
+    (model,) = config.model_specs()
+    assert model is not None and config.agent == "llm" and config.modes == ["composite"]
+    assert (model.model, model.api_base_env, model.api_key_env) == (
+        "openai/local",
+        "SCRATCHWORLD_LLM_BASE_URL",
+        "SCRATCHWORLD_LLM_API_KEY",
+    )
+
+
+def test_llm_settings_and_model_pacing_are_validated(tmp_path: Path) -> None:
+    model = {"model": "openai/x", "api_base": "http://h/v1", "api_base_env": "X_URL"}
+    assert "api_base or api_base_env" in config_error(tmp_path, minimal(agent="llm", models=[model]))
+    model = {"model": "openai/x", "api_base_env": "http://h/v1"}
+    assert "models.0.api_base_env" in config_error(tmp_path, minimal(agent="llm", models=[model]))
+    model = {"model": "openai/x", "coordinates": "inches"}
+    assert "models.0.coordinates" in config_error(tmp_path, minimal(agent="llm", models=[model]))
+    model = {"model": "openai/x", "rate_limits": {"requests_per_minute": 0}}
+    assert "models.0.rate_limits.requests_per_minute" in config_error(tmp_path, minimal(agent="llm", models=[model]))
+    bad_history = minimal(agent="llm", models=[{"model": "openai/x"}], llm={"history_messages": 0})
+    assert "llm.history_messages" in config_error(tmp_path, bad_history)
+    assert "limits.budget_usd" in config_error(tmp_path, minimal(limits={"budget_usd": -1}))
