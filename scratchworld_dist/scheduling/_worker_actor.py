@@ -29,6 +29,7 @@ from workers import (
 )
 from workers._errors import EditorError
 from workers.agents import AgentUnavailableError, agent_for
+from workers.llm import close_litellm_clients
 
 
 class EpisodeWorker:
@@ -95,3 +96,4 @@ class EpisodeWorker:
 
     async def close(self) -> None:
         await self._drop_browser()
+        await close_litellm_clients()  # LiteLLM's HTTP sessions belong to this actor's event loop
