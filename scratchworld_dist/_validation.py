@@ -14,7 +14,7 @@ from typing import Literal
 from pydantic import BaseModel
 
 from scratchworld_dist.suites import Task
-from workers import BrowserConfig, BrowserSession, EvalResult, EvaluationProfile, EvaluationSpec, Evaluator
+from workers import BrowserConfig, BrowserSession, EditorPool, EvalResult, EvaluationProfile, EvaluationSpec, Evaluator
 
 Which = Literal["golden", "initial"]
 
@@ -84,8 +84,8 @@ async def validate_tasks(
     if parallel < 1:
         raise ValueError("parallel must be at least 1")
     slots = asyncio.Semaphore(parallel)
-    async with BrowserSession(browser) as session:
-        evaluator = Evaluator(session)
+    async with BrowserSession(browser) as session, EditorPool(session, spare=parallel) as pool:
+        evaluator = Evaluator(session, pool)  # the next editors start up while evaluations run
 
         async def run(task: Task, which: Which, project: bytes, spec: EvaluationSpec) -> EvalResult:
             async with slots:

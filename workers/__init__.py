@@ -15,6 +15,7 @@ from workers._actions import (
 from workers._browser import CHROMIUM_ARGS, BrowserConfig, BrowserSession
 from workers._composite import CompositeObservation
 from workers._editor import Editor, EditorStatus
+from workers._editor_pool import EditorPool
 from workers._editor_server import EditorAssets, EditorServer
 from workers._envelope import ActionEnvelope, ActionFailure
 from workers._episode import (
@@ -59,6 +60,7 @@ __all__ = [
     "Done",
     "Editor",
     "EditorAssets",
+    "EditorPool",
     "EditorServer",
     "EditorStatus",
     "EpisodeResult",

@@ -15,6 +15,7 @@ from typing import cast, get_args
 
 from workers._browser import BrowserSession
 from workers._editor import Editor
+from workers._editor_pool import EditorPool
 from workers._errors import BridgeError, EditorError, ProjectFormatError
 from workers._eval_result import EvalErrorKind, EvalResult, EvalTimings
 from workers._evaluation_spec import EvaluationSpec
@@ -32,8 +33,10 @@ _PAGE_KINDS: frozenset[str] = frozenset(get_args(EvalErrorKind)) - {"editor_fail
 class Evaluator:
     """Runs evaluations in fresh editors of one browser session; safe to use concurrently."""
 
-    def __init__(self, session: BrowserSession) -> None:
+    def __init__(self, session: BrowserSession, pool: EditorPool | None = None) -> None:
+        """With a ``pool``, editors come from it (opened ahead of time, each still used once)."""
         self.session = session
+        self.pool = pool
 
     async def evaluate(self, project: bytes, spec: EvaluationSpec) -> EvalResult:
         started = time.perf_counter()
@@ -44,7 +47,7 @@ class Evaluator:
             timings.total_s = time.perf_counter() - started
             return EvalResult.failure("project_invalid", str(exc), timings=timings)
         try:
-            async with self.session.editor() as editor:
+            async with (self.pool or self.session).editor() as editor:
                 timings.editor_ready_s = editor.ready_s
                 result = await self._evaluate_in(editor, project, spec, timings)
         except EditorError as exc:
