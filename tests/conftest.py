@@ -66,3 +66,13 @@ def drivers() -> Iterator[list[Driver]]:
     yield started
     for driver in started:
         driver.kill_group()
+
+
+@pytest.fixture(scope="module")
+async def litellm_clients() -> AsyncIterator[None]:
+    """LiteLLM imported off the loop, and its HTTP sessions closed before the event loop ends."""
+    from workers.llm import close_litellm_clients, load_litellm
+
+    await load_litellm()
+    yield
+    await close_litellm_clients()

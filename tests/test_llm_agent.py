@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-from collections.abc import AsyncIterator, Iterator
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -23,18 +23,13 @@ from workers import (
 )
 from workers.agents import LLMAgent
 from workers.agents._coordinates import smart_resize, to_page
-from workers.llm import RetryPolicy, close_litellm_clients, load_litellm
+from workers.llm import RetryPolicy, load_litellm
 
 FAST = RetryPolicy(max_attempts=2, initial_backoff_s=0.01, max_backoff_s=0.02, request_timeout_s=10, max_total_s=30)
+pytestmark = pytest.mark.usefixtures("litellm_clients")
+
 KEY_ENV = "SCRATCHWORLD_TEST_AGENT_KEY"
 SECRET = "sk-agent-test-5d1e9b27c4"
-
-
-@pytest.fixture(scope="module", autouse=True)
-async def litellm_clients() -> AsyncIterator[None]:
-    await load_litellm()
-    yield
-    await close_litellm_clients()
 
 
 @pytest.fixture(autouse=True)

@@ -6,7 +6,7 @@ import asyncio
 import logging
 import time
 import traceback
-from collections.abc import AsyncIterator, Iterator
+from collections.abc import Iterator
 
 import pytest
 
@@ -25,22 +25,16 @@ from workers.llm import (
     ModelCallError,
     ModelClient,
     RetryPolicy,
-    close_litellm_clients,
     load_litellm,
 )
 from workers.llm._client import _parse_retry_after
+
+pytestmark = pytest.mark.usefixtures("litellm_clients")
 
 KEY_ENV = "SCRATCHWORLD_TEST_LLM_KEY"
 SECRET = "sk-test-7f3a9c1e5b2d4f60"
 MESSAGES = [{"role": "system", "content": "You act in Scratch."}, {"role": "user", "content": "Add a block."}]
 FAST = RetryPolicy(max_attempts=4, initial_backoff_s=0.01, max_backoff_s=0.05, request_timeout_s=5, max_total_s=20)
-
-
-@pytest.fixture(scope="module", autouse=True)
-async def litellm_clients() -> AsyncIterator[None]:
-    await load_litellm()
-    yield
-    await close_litellm_clients()
 
 
 @pytest.fixture(autouse=True)

@@ -12,8 +12,7 @@ import asyncio
 import contextlib
 import enum
 import os
-from collections.abc import AsyncIterator
-from contextlib import asynccontextmanager
+from contextlib import AbstractAsyncContextManager
 from pathlib import Path
 from types import TracebackType
 
@@ -21,7 +20,7 @@ from playwright.async_api import Browser, BrowserContext, Playwright, async_play
 from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel, ConfigDict, Field
 
-from workers._editor import Editor
+from workers._editor import Editor, opened
 from workers._editor_server import EditorAssets, EditorServer
 from workers._errors import ChromiumNotFoundError, EditorCrashedError, EditorError
 
@@ -173,14 +172,9 @@ class BrowserSession:
             raise
         return editor
 
-    @asynccontextmanager
-    async def editor(self) -> AsyncIterator[Editor]:
+    def editor(self) -> AbstractAsyncContextManager[Editor]:
         """A ready editor in a fresh context, closed on exit."""
-        editor = await self.open_editor()
-        try:
-            yield editor
-        finally:
-            await editor.close()
+        return opened(self.open_editor())
 
     async def close(self) -> None:
         self._state = _State.CLOSED

@@ -10,6 +10,8 @@ import asyncio
 import base64
 import contextlib
 import time
+from collections.abc import AsyncIterator, Awaitable
+from contextlib import asynccontextmanager
 from typing import Any
 
 from playwright.async_api import BrowserContext, ConsoleMessage, Page
@@ -204,3 +206,13 @@ class Editor:
         # A browser that is gone or wedged is noticed by the session on its next use.
         with contextlib.suppress(PlaywrightError, TimeoutError):
             await asyncio.wait_for(self.context.close(), CLOSE_TIMEOUT_S)
+
+
+@asynccontextmanager
+async def opened(opening: Awaitable[Editor]) -> AsyncIterator[Editor]:
+    """The editor ``opening`` yields, closed on exit whatever happens inside."""
+    editor = await opening
+    try:
+        yield editor
+    finally:
+        await editor.close()

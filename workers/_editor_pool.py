@@ -13,12 +13,11 @@ from __future__ import annotations
 import asyncio
 import contextlib
 from collections import deque
-from collections.abc import AsyncIterator
-from contextlib import asynccontextmanager
+from contextlib import AbstractAsyncContextManager
 from types import TracebackType
 
 from workers._browser import BrowserSession
-from workers._editor import Editor
+from workers._editor import Editor, opened
 from workers._errors import EditorError
 
 
@@ -54,14 +53,9 @@ class EditorPool:
         self.opened += 1
         return await self.session.open_editor()
 
-    @asynccontextmanager
-    async def editor(self) -> AsyncIterator[Editor]:
+    def editor(self) -> AbstractAsyncContextManager[Editor]:
         """A ready, unused editor, closed on exit (the same contract as ``BrowserSession.editor``)."""
-        editor = await self.open_editor()
-        try:
-            yield editor
-        finally:
-            await editor.close()
+        return opened(self.open_editor())
 
     async def wait_ready(self) -> None:
         """Wait until the spare editors have finished opening (or failed to)."""
