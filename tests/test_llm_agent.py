@@ -24,6 +24,7 @@ from workers import (
 from workers.agents import LLMAgent
 from workers.agents._coordinates import smart_resize, to_page
 from workers.llm import RetryPolicy, load_litellm
+from workers.primitive import PrimitiveObservation
 
 FAST = RetryPolicy(max_attempts=2, initial_backoff_s=0.01, max_backoff_s=0.02, request_timeout_s=10, max_total_s=30)
 pytestmark = pytest.mark.usefixtures("litellm_clients")
@@ -200,6 +201,28 @@ async def test_primitive_turns_send_the_newest_screenshot_and_map_model_coordina
     refs = [part["sha256"] for m in recorded for part in m["content"] if part["type"] == "image_ref"]  # type: ignore[index,union-attr]
     assert len(refs) == 3 and set(refs) == set(result.images)
     assert all(png.startswith(b"\x89PNG") for png in result.images.values())
+
+
+@pytest.mark.parametrize(("last_only", "images"), [(True, [1, 1, 1, 1]), (False, [1, 2, 2, 2])])
+async def test_history_window_and_screenshots_follow_the_settings(
+    content: TaskContent, server: OpenAIServer, last_only: bool, images: list[int]
+) -> None:
+    server.push(*(reply(answer({"api": "click", "args": {"x": 1, "y": 2}})) for _ in range(4)))
+    settings = LLMSettings(history_messages=4, last_screenshot_only=last_only)
+    agent = LLMAgent(episode(content, server, mode="primitive", llm=settings), content.payload)
+    await agent.brief(None)
+    for turn in range(4):
+        png = b"\x89PNG-turn-" + bytes([turn])
+        await agent.act(PrimitiveObservation(screenshot_png=png, elements=[], text=f"{turn}  canvas", settled=True))
+    assert [image_parts(r.body) for r in server.requests] == images
+    # System prompt, then at most 4 messages that start with a user turn.
+    assert [[m["role"] for m in r.body["messages"]] for r in server.requests] == [
+        ["system", "user"],
+        ["system", "user", "assistant", "user"],
+        ["system", "user", "assistant", "user"],
+        ["system", "user", "assistant", "user"],
+    ]
+    assert len(agent.images) == 4
 
 
 def test_coordinate_conventions() -> None:

@@ -106,6 +106,8 @@ class LLMAgent:
         user, recorded = self._user_message(observation)
         prompt = [recorded] if self._system_recorded else [self._system, recorded]
         self._system_recorded = True
+        if self.settings.last_screenshot_only:  # older turns keep their text only (and memory stays flat)
+            self._history = [_without_images(message) for message in self._history]
         self._history.append(user)
         completion = await self.client.complete(self._messages(), seed=self.seed)
         self._history.append({"role": "assistant", "content": completion.text})
@@ -161,13 +163,11 @@ class LLMAgent:
         return message, message
 
     def _messages(self) -> list[dict[str, Any]]:
-        """System prompt plus the newest messages; older screenshots dropped if so configured."""
+        """System prompt plus the newest messages."""
         assert self._system is not None
         window = self._history[-self.settings.history_messages :]
         while window and window[0]["role"] != "user":  # providers want a user message first
             window = window[1:]
-        if self.settings.last_screenshot_only:
-            window = [_without_images(m) for m in window[:-1]] + window[-1:]
         return [self._system, *window]
 
 
