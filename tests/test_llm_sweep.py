@@ -20,7 +20,7 @@ import yaml
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.suites import load_suite
 from tests.conftest import REPO
-from tests.openai_server import Behaviour, OpenAIServer, reply
+from tests.openai_server import Behaviour, OpenAIServer, reply, status
 from tests.sweep_driver import SCRATCHWORLD, Driver, run
 
 pytestmark = pytest.mark.ray
@@ -43,6 +43,8 @@ class TrajectoryModel:
         self.tasks = {task.instruction: task.trajectory() or [] for task in (suite.task(TASK),)}
 
     def __call__(self, body: dict[str, Any]) -> Behaviour:
+        if body["model"] == "denied":  # a key without access to this model
+            return status(403)
         messages = body["messages"]
         system = messages[0]["content"]
         turn = sum(1 for m in messages if m["role"] == "assistant")
@@ -80,12 +82,13 @@ def sweep(tmp_path: Path, name: str, **fields: Any) -> Path:
         "models": [
             {"model": "openai/gpt-4o-mini", "name": "mini", **model, "rate_limits": {"requests_per_minute": 6000}},
             {"model": "openai/gpt-4o", "name": "big", **model},
+            {"model": "openai/denied", "name": "denied", **model},
         ],
         "modes": ["composite", "primitive"],
         "max_steps": 40,
         "primitive": {"ocr": "none"},
         "llm": {"history_messages": 200, "retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
-        "limits": {"retries": 0, "episode_timeout_s": 240},
+        "limits": {"retries": 1, "episode_timeout_s": 240},
         "output": str(tmp_path / name),
     }
     config.update(fields)
@@ -111,8 +114,12 @@ def test_two_models_run_both_modes_and_the_report_shows_tokens_and_cost(
 ) -> None:
     config = sweep(tmp_path, "llm")
     code, log = run(drivers, config, timeout=600)
-    assert code == 0, log
-    rows = {(r.model, r.mode): r for r in RunStore(tmp_path / "llm").job_rows()}
+    assert code == 1, log  # the denied model's jobs remain errors
+    all_rows = RunStore(tmp_path / "llm").job_rows()
+    denied = [r for r in all_rows if r.model == "denied"]
+    assert [(r.outcome, r.error_class, r.attempt) for r in denied] == [("error", "model_auth", 1)] * 2  # not retried
+    assert sum(1 for r in server.requests if r.body["model"] == "denied") == 2
+    rows = {(r.model, r.mode): r for r in all_rows if r.model != "denied"}
     assert {key: row.outcome for key, row in rows.items()} == {
         ("mini", "composite"): "passed",
         ("big", "composite"): "passed",
@@ -120,7 +127,7 @@ def test_two_models_run_both_modes_and_the_report_shows_tokens_and_cost(
         ("big", "primitive"): "failed",
     }
     calls = {key: row.llm_calls for key, row in rows.items()}
-    assert sum(calls.values()) == server.count
+    assert sum(calls.values()) == server.count - 2
     for (model, _), row in rows.items():
         price_in, price_out = PRICES["gpt-4o-mini" if model == "mini" else "gpt-4o"]
         assert (row.input_tokens, row.output_tokens) == (
@@ -131,6 +138,7 @@ def test_two_models_run_both_modes_and_the_report_shows_tokens_and_cost(
     assert calls[("mini", "primitive")] == 3  # click, unparsable reply, done
 
     by_label = {(r["label"], r["mode"]): r for r in report(tmp_path / "llm")["rows"]}
+    assert by_label[next(k for k in by_label if "denied" in k[0] and k[1] == "composite")]["errors"] == 1
     for (model, mode), row in rows.items():
         reported = next(r for (label, m), r in by_label.items() if r["model"] == model and m == mode)
         assert reported["input_tokens"] == row.input_tokens and reported["output_tokens"] == row.output_tokens
