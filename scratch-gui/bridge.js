@@ -13,6 +13,11 @@
   let store = null;
   let projectLoads = 0;
 
+  // The page clock (clock.js, loaded first): real time except while an evaluation runs virtually.
+  const clock = window.__scratchworldClock;
+  delete window.__scratchworldClock;
+  const CLOCKS = ['virtual', 'real'];
+
   // Results larger than this are refused rather than shipped across the protocol.
   const MAX_RESULT_CHARS = 2 * 1024 * 1024;
 
@@ -188,6 +193,8 @@
     const theVm = requireVm();
     const timeoutMs = Number(args.timeoutMs);
     if (!(timeoutMs > 0)) throw new BridgeFailure('bad_request', 'timeoutMs must be a positive number');
+    const clockMode = args.clock || 'real';
+    if (!CLOCKS.includes(clockMode)) throw new BridgeFailure('bad_request', 'clock must be "virtual" or "real"');
     const helperGlobal = args.helperGlobal || 'EvaluationUtils';
     if (!/^[A-Za-z_$][\w$]*$/.test(helperGlobal)) {
       throw new BridgeFailure('bad_request', 'helperGlobal must be a JavaScript identifier');
@@ -205,11 +212,15 @@
     const cleanup = () => theVm.runtime.stopAll();
     const TIMED_OUT = {};
     let timer = null;
+    // Virtual from here: the script, the VM and the timeout below all run on the skipping clock,
+    // so the timeout is a cap in simulated seconds.
+    if (clockMode === 'virtual') clock.startVirtual();
     const timedOut = new Promise((resolve) => {
       timer = setTimeout(() => resolve(TIMED_OUT), timeoutMs);
     });
     const started = performance.now();
     let outcome;
+    let durationMs;
     try {
       outcome = await Promise.race([Promise.resolve().then(() => run(theVm, args.config || {}, cleanup)), timedOut]);
     } catch (reason) {
@@ -217,14 +228,17 @@
     } finally {
       clearTimeout(timer);
       try { theVm.runtime.stopAll(); } catch (e) { /* the verdict is already decided */ }
+      durationMs = performance.now() - started;
+      clock.stopVirtual();
     }
     if (outcome === TIMED_OUT) {
-      throw new BridgeFailure('script_timeout', `${scriptName} did not finish within ${timeoutMs / 1000} s`);
+      const unit = clockMode === 'virtual' ? 's of virtual time' : 's';
+      throw new BridgeFailure('script_timeout', `${scriptName} did not finish within ${timeoutMs / 1000} ${unit}`);
     }
-    return {resultJson: toJson(outcome), durationMs: performance.now() - started};
+    return {resultJson: toJson(outcome), durationMs: durationMs};
   }
 
-  const api = {status, setStageSize, loadProject, saveProject, evaluate};
+  const api = {status, setStageSize, loadProject, saveProject, evaluate, clockStatus: () => clock.status()};
 
   // The GUI's Blocks component (it owns ScratchBlocks and the visible workspace), found once
   // through React's fiber tree from the workspace element, since the GUI exports no handle.
@@ -272,7 +286,7 @@
     value: Object.freeze({
       call: call,
       settled: settled,
-      attachVm: (theVm) => { vm = theVm; },
+      attachVm: (theVm) => { clock.attachVm(theVm); vm = theVm; },
       attachStore: (theStore) => { store = theStore; },
       noteProjectLoaded: () => { projectLoads += 1; },
     }),

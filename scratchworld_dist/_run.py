@@ -107,7 +107,7 @@ def plan_run(config: SweepConfig) -> RunPlan:
     tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
     if not tasks:
         raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
-    contents = [read_task(task, config.profile) for task in tasks]
+    contents = [read_task(task, config.profile, config.clock) for task in tasks]
     info = SuiteInfo(
         name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
     )

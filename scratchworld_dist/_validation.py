@@ -14,7 +14,16 @@ from typing import Literal
 from pydantic import BaseModel
 
 from scratchworld_dist.suites import Task
-from workers import BrowserConfig, BrowserSession, EditorPool, EvalResult, EvaluationProfile, EvaluationSpec, Evaluator
+from workers import (
+    BrowserConfig,
+    BrowserSession,
+    EditorPool,
+    EvalResult,
+    EvaluationClock,
+    EvaluationProfile,
+    EvaluationSpec,
+    Evaluator,
+)
 
 Which = Literal["golden", "initial"]
 
@@ -76,10 +85,11 @@ async def validate_tasks(
     browser: BrowserConfig | None = None,
     on_evaluated: Callable[[Task, Which, EvalResult], None] | None = None,
     profile: EvaluationProfile | None = None,
+    clock: EvaluationClock | None = None,
 ) -> list[TaskValidation]:
     """Evaluate each task's golden and initial project, ``parallel`` editors at a time.
 
-    ``profile`` overrides each task's default evaluation profile.
+    ``profile`` and ``clock`` override each task's default evaluation profile and clock.
     """
     if parallel < 1:
         raise ValueError("parallel must be at least 1")
@@ -98,7 +108,7 @@ async def validate_tasks(
             pending = []
             for task in tasks:
                 # Files are read here, before the evaluations start; the script and helper once per task.
-                spec = task.evaluation_spec(profile)
+                spec = task.evaluation_spec(profile, clock)
                 golden_path = task.golden_project
                 golden = group.create_task(run(task, "golden", golden_path.read_bytes(), spec)) if golden_path else None
                 initial = group.create_task(run(task, "initial", task.initial_project.read_bytes(), spec))

@@ -36,7 +36,7 @@ from workers._episode import (
 from workers._episode_runner import EpisodeRunner
 from workers._eval_result import VERDICT_ERROR_KINDS, EvalError, EvalErrorKind, EvalResult, EvalTimings, TestVerdict
 from workers._evaluation import Evaluator
-from workers._evaluation_spec import EvaluationSpec
+from workers._evaluation_spec import EvaluationClock, EvaluationSpec
 from workers._profiles import EvaluationProfile, ProfileConditions
 from workers._synthetic import SyntheticEpisodes, run_synthetic
 from workers.llm._limiter import RateLimits
@@ -72,6 +72,7 @@ __all__ = [
     "EvalErrorKind",
     "EvalResult",
     "EvalTimings",
+    "EvaluationClock",
     "EvaluationProfile",
     "EvaluationSpec",
     "Evaluator",

@@ -87,8 +87,11 @@ class _Saved(BaseModel):
     sb3_base64: str = Field(alias="sb3Base64")
 
 
-class _Evaluated(BaseModel):
+class EvaluationRun(BaseModel):
+    """What a script returned (as JSON text) and how long it ran on the page's clock."""
+
     result_json: str = Field(alias="resultJson")
+    duration_ms: float = Field(alias="durationMs")
 
 
 class Editor:
@@ -184,11 +187,12 @@ class Editor:
         """The current project as .sb3 bytes, as the editor would save it."""
         return base64.b64decode(_Saved.model_validate(await self.call("saveProject")).sb3_base64)
 
-    async def run_evaluation(self, spec: EvaluationSpec) -> str:
-        """Run an evaluation script on the loaded project; its returned value as JSON text.
+    async def run_evaluation(self, spec: EvaluationSpec) -> EvaluationRun:
+        """Run an evaluation script on the loaded project, on the spec's clock.
 
-        The page enforces ``spec.timeout_s`` itself; a script that blocks the page entirely is
-        the caller's to kill (by closing the editor).
+        The page enforces ``spec.timeout_s`` itself (on its clock, so in simulated seconds under
+        the virtual clock); a script that blocks the page entirely is the caller's to kill (by
+        closing the editor).
         """
         args = {
             "scriptName": spec.script_name,
@@ -198,8 +202,16 @@ class Editor:
             "helperGlobal": spec.helper_global,
             "config": spec.config,
             "timeoutMs": spec.timeout_s * 1000,
+            "clock": spec.clock,
         }
-        return _Evaluated.model_validate(await self.call("evaluate", args)).result_json
+        return EvaluationRun.model_validate(await self.call("evaluate", args))
+
+    async def clock_status(self) -> dict[str, JsonValue]:
+        """The page clock's mode and readings (real and virtual), for checks and diagnostics."""
+        value = await self.call("clockStatus")
+        if not isinstance(value, dict):
+            raise EditorError(f"clockStatus returned {type(value).__name__}, not an object")
+        return value
 
     async def close(self) -> None:
         """Close the context, even when its page is stuck in a busy loop."""

@@ -69,6 +69,9 @@ class EvalTimings(BaseModel):
     script_s: float | None = None
     """Running the evaluation script."""
 
+    script_clock_s: float | None = None
+    """The script's run on the page's clock: simulated seconds under the virtual clock."""
+
     total_s: float = 0.0
     """Everything, from request to result."""
 

@@ -1,9 +1,11 @@
 """Execution-based evaluation: a project, a script, a verdict.
 
 Each evaluation loads the project into a clean VM (a fresh editor page, never the page an agent
-edited) and runs the task's script there with a hard timeout. Whatever goes wrong with the
-project or the script (corrupt .sb3, a script that throws, hangs or returns garbage) comes back
-as an ``EvalResult`` with a classified error; only a broken browser session raises.
+edited) and runs the task's script there with a hard timeout, on the real clock or in virtual
+time (``scratch-gui/clock.js``: simulated time skips ahead, capped at the timeout). Whatever goes
+wrong with the project or the script (corrupt .sb3, a script that throws, hangs or returns
+garbage) comes back as an ``EvalResult`` with a classified error; only a broken browser session
+raises.
 """
 
 from __future__ import annotations
@@ -18,13 +20,26 @@ from workers._editor import Editor
 from workers._editor_pool import EditorPool
 from workers._errors import BridgeError, EditorError, ProjectFormatError
 from workers._eval_result import EvalErrorKind, EvalResult, EvalTimings
-from workers._evaluation_spec import EvaluationSpec
+from workers._evaluation_spec import EvaluationClock, EvaluationSpec
 from workers._profiles import apply_profile
 from workers._report import ReportError, parse_report
 from workers._sb3_reader import read_project_json
 
 KILL_GRACE_S = 5.0
 """Extra time past the in-page timeout before the page itself is killed (a synchronous hang)."""
+
+VIRTUAL_WALL_FACTOR = 2.0
+"""Wall seconds allowed per simulated second of timeout under the virtual clock, before the kill.
+
+Virtual time usually runs several times faster than the wall clock, but a frame still costs real
+CPU, so a project that fills every frame's work budget on a loaded machine can run slower.
+"""
+
+
+def wall_limit_s(timeout_s: float, clock: EvaluationClock) -> float:
+    """Wall seconds after which a script that has not come back is taken to block the page."""
+    return (timeout_s * VIRTUAL_WALL_FACTOR if clock == "virtual" else timeout_s) + KILL_GRACE_S
+
 
 # Failures the page attributes to the project or the script; any other kind is our own fault.
 _PAGE_KINDS: frozenset[str] = frozenset(get_args(EvalErrorKind)) - {"editor_failure"}
@@ -60,7 +75,7 @@ class Evaluator:
     ) -> EvalResult:
         conditions = await apply_profile(editor, spec.profile)  # before the project: it may read the mouse at once
         result = await self._load_and_run(editor, project, spec, timings)
-        result.conditions = conditions
+        result.conditions = conditions.model_copy(update={"clock": spec.clock})
         return result
 
     async def _load_and_run(
@@ -76,14 +91,15 @@ class Evaluator:
         console_start = len(editor.console)
         phase_start = time.perf_counter()
         result_json: str | None = None
+        limit_s = wall_limit_s(spec.timeout_s, spec.clock)
         try:
-            result_json = await asyncio.wait_for(editor.run_evaluation(spec), spec.timeout_s + KILL_GRACE_S)
+            run = await asyncio.wait_for(editor.run_evaluation(spec), limit_s)
+            result_json = run.result_json
+            timings.script_clock_s = run.duration_ms / 1000
         except TimeoutError:
             # The page is stuck in synchronous code; leaving the ``editor()`` block kills it.
             kind: EvalErrorKind = "script_timeout"
-            message = (
-                f"{spec.script_name} blocked the page for over {spec.timeout_s + KILL_GRACE_S:.0f} s and was killed"
-            )
+            message = f"{spec.script_name} blocked the page for over {limit_s:.0f} s and was killed"
         except BridgeError as exc:
             kind, message = _kind(exc), exc.detail
         timings.script_s = time.perf_counter() - phase_start

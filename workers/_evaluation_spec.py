@@ -6,6 +6,9 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
+EvaluationClock = Literal["virtual", "real"]
+"""The page clock an evaluation script runs on: simulated time skipping ahead, or the wall clock."""
+
 
 class EvaluationSpec(BaseModel):
     """Everything besides the project that an evaluation needs, as data that can cross processes."""
@@ -28,10 +31,13 @@ class EvaluationSpec(BaseModel):
     """Global name the helper's exports are published under (upstream: ``EvaluationUtils``)."""
 
     timeout_s: float = Field(gt=0)
-    """Hard limit for the script; past it the result is a ``script_timeout``."""
+    """Hard limit for the script, in simulated seconds under the virtual clock; past it: ``script_timeout``."""
 
     profile: Literal["native", "upstream"] = "native"
     """Page conditions of the evaluation (see ``workers._profiles``); part of a job's identity."""
+
+    clock: EvaluationClock = "real"
+    """Clock of the script's run (see ``scratch-gui/clock.js``); part of a job's identity like the profile."""
 
     config: dict[str, JsonValue] = Field(default_factory=dict)
     """Second argument handed to the script (upstream always passes ``{}``)."""

@@ -16,6 +16,7 @@ from pydantic import BaseModel, ConfigDict
 
 from workers._editor import Editor
 from workers._errors import EditorError
+from workers._evaluation_spec import EvaluationClock
 
 EvaluationProfile = Literal["native", "upstream"]
 
@@ -32,6 +33,9 @@ class ProfileConditions(BaseModel):
     device_pixel_ratio: float
     mouse_known: bool
     """Whether the VM had a mouse position before the project loaded."""
+
+    clock: EvaluationClock = "real"
+    """The clock the script ran on (virtual: simulated time, capped at the spec's timeout)."""
 
 
 async def apply_profile(editor: Editor, profile: EvaluationProfile) -> ProfileConditions:

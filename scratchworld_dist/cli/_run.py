@@ -18,8 +18,11 @@ EXIT_ERRORS = 1
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (overrides output).")
 @click.option("--address", help="Ray cluster to join (default: RAY_ADDRESS, else a private local Ray).")
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (overrides profile).")
+@click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (overrides clock).")
 @click.option("--force", is_flag=True, help="Continue in a run directory that holds another sweep.")
-def run_command(config_file: Path, out: Path | None, address: str | None, profile: str | None, force: bool) -> None:
+def run_command(
+    config_file: Path, out: Path | None, address: str | None, profile: str | None, clock: str | None, force: bool
+) -> None:
     """Run the sweep in CONFIG_FILE; run it again to resume.
 
     Prints the report (also saved as RUN_DIR/report.md). Exits 1 when jobs are left without a
@@ -32,6 +35,8 @@ def run_command(config_file: Path, out: Path | None, address: str | None, profil
         overrides["ray"] = {"address": address}
     if profile is not None:
         overrides["profile"] = profile
+    if clock is not None:
+        overrides["clock"] = clock
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
 
     config = load_sweep_config(config_file, overrides)

@@ -12,7 +12,7 @@ from rich.table import Table
 
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
 from scratchworld_dist.suites import Task, load_suite
-from workers import EvalResult, EvaluationProfile
+from workers import EvalResult, EvaluationClock, EvaluationProfile
 
 EXIT_INVALID = 1
 
@@ -47,6 +47,11 @@ def render_table(rows: list[TaskValidation]) -> Table:
     type=click.Choice(["native", "upstream"]),
     help="Evaluation profile (default: upstream for upstream clones, native for our suites).",
 )
+@click.option(
+    "--clock",
+    type=click.Choice(["virtual", "real"]),
+    help="Evaluation clock (default: virtual for our suites, real for upstream clones).",
+)
 @click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the rows as JSON.")
 def validate_command(
     suite_dir: Path,
@@ -54,6 +59,7 @@ def validate_command(
     task_list: str | None,
     parallel: int,
     profile: EvaluationProfile | None,
+    clock: EvaluationClock | None,
     json_file: Path | None,
 ) -> None:
     """Evaluate every task's golden and initial project in SUITE_DIR.
@@ -69,7 +75,7 @@ def validate_command(
         outcome = result.error.kind if result.error else f"{result.passed}/{result.total}"
         console.print(f"  {task.id} {which}: {outcome} in {result.timings.total_s:.1f}s")
 
-    rows = asyncio.run(validate_tasks(tasks, parallel=parallel, on_evaluated=progress, profile=profile))
+    rows = asyncio.run(validate_tasks(tasks, parallel=parallel, on_evaluated=progress, profile=profile, clock=clock))
     Console().print(render_table(rows))
     if json_file is not None:
         json_file.write_text(json.dumps([row.model_dump() for row in rows], indent=2) + "\n", encoding="utf-8")

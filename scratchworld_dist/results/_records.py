@@ -45,6 +45,9 @@ class JobRow(BaseModel):
     eval_profile: str | None
     """Evaluation profile the verdict was made under (native | upstream); null if none was reached."""
 
+    eval_clock: str | None = None
+    """Clock the verdict was made on (virtual | real); null if none was reached (and in older journals)."""
+
     stop_reason: str
     tests_passed: int
     tests_total: int
@@ -154,6 +157,7 @@ def record_of(
         error_message=result.error_message,
         eval_error_kind=evaluation.error.kind if evaluation is not None and evaluation.error else None,
         eval_profile=evaluation.conditions.profile if evaluation is not None and evaluation.conditions else None,
+        eval_clock=evaluation.conditions.clock if evaluation is not None and evaluation.conditions else None,
         stop_reason=result.stop_reason,
         tests_passed=evaluation.passed if evaluation is not None else 0,
         tests_total=evaluation.total if evaluation is not None else 0,

@@ -107,4 +107,5 @@ class NativeSuiteLoader:
             helper_script=helper,
             helper_global=suite_file.helper_global,
             timeout_s=task_file.timeout_s,
+            default_clock="virtual",
         )

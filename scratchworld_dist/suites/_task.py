@@ -8,7 +8,7 @@ from typing import Literal, get_args
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
 from scratchworld_dist._errors import SuiteError, TaskNotFoundError
-from workers import CompositeAction, EvaluationProfile, EvaluationSpec
+from workers import CompositeAction, EvaluationClock, EvaluationProfile, EvaluationSpec
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
 CATEGORIES: tuple[TaskCategory, ...] = get_args(TaskCategory)
@@ -59,10 +59,16 @@ class Task(BaseModel):
     default_profile: EvaluationProfile = "native"
     """Evaluation profile unless the user picks one (upstream suites: ``upstream``)."""
 
-    def evaluation_spec(self, profile: EvaluationProfile | None = None) -> EvaluationSpec:
+    default_clock: EvaluationClock = "real"
+    """Evaluation clock unless the user picks one (our suite: ``virtual``, checked equivalent by tests)."""
+
+    def evaluation_spec(
+        self, profile: EvaluationProfile | None = None, clock: EvaluationClock | None = None
+    ) -> EvaluationSpec:
         """The script and helper sources, read now, ready to send to a worker."""
         return EvaluationSpec(
             profile=profile or self.default_profile,
+            clock=clock or self.default_clock,
             script_name=self.evaluation_script.name,
             script_source=_read_text(self.evaluation_script),
             helper_name=self.helper_script.name if self.helper_script else None,

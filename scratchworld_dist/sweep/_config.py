@@ -19,6 +19,7 @@ from scratchworld_dist._errors import ConfigError
 from workers import (
     AgentName,
     CoordinateSystem,
+    EvaluationClock,
     EvaluationProfile,
     LLMSettings,
     Mode,
@@ -184,6 +185,8 @@ class SweepConfig(BaseModel):
     """How primitive-mode observations are made (OCR backend and scope)."""
     profile: EvaluationProfile | None = None
     """Evaluation profile (native | upstream); default: the suite's (upstream clones: upstream)."""
+    clock: EvaluationClock | None = None
+    """Evaluation clock (virtual | real); default: the suite's (ours: virtual; upstream clones: real)."""
 
     llm: LLMSettings = Field(default_factory=LLMSettings)
     """The llm agent's conversation protocol and model-call retries."""

@@ -19,6 +19,7 @@ from scratchworld_dist.suites import Task
 from workers import (
     AgentName,
     EpisodeSpec,
+    EvaluationClock,
     EvaluationProfile,
     LLMSettings,
     Mode,
@@ -84,9 +85,11 @@ class TaskContent(BaseModel):
     task_hash: str
 
 
-def read_task(task: Task, profile: EvaluationProfile | None = None) -> TaskContent:
-    """Read a task's files once; the hash covers every byte a worker will see (and the profile)."""
-    spec = task.evaluation_spec(profile)
+def read_task(
+    task: Task, profile: EvaluationProfile | None = None, clock: EvaluationClock | None = None
+) -> TaskContent:
+    """Read a task's files once; the hash covers every byte a worker will see (and profile and clock)."""
+    spec = task.evaluation_spec(profile, clock)
     golden = task.golden_project.read_bytes() if task.golden_project is not None else None
     trajectory = task.trajectory()
     payload = TaskPayload(

@@ -1,0 +1,362 @@
+/*
+ * The page clock: real time, except while an evaluation script runs in virtual time.
+ *
+ * Loaded before every other script, it replaces `Date`, `performance.now` and the timer functions
+ * with versions backed by one timer table. In real mode every timer is also a native timer and the
+ * clocks read the real ones, so editor start-up and agent episodes see ordinary real time. In
+ * virtual mode ("frozen" time, see shared/notes/virtual-time.md) time stands still while JavaScript
+ * runs and moves only when a timer fires: the earliest timer (creation order for ties, as Chromium
+ * does) fires in its own task (a MessageChannel message), so promise callbacks and other tasks run
+ * between two timers as they do in a browser, and the clock jumps to its due time.
+ *
+ * A fake clock alone would hang or slow the VM, which also measures work on the clock, so the VM
+ * gets three patches (installed by `attachVm`): its per-frame work budget and its warp timer use the
+ * real clock; "play sound until done" ends after the sound's length in virtual time (the audio
+ * clock is not a timer); in virtual mode a frame's work also stops after a pass over the threads in
+ * which no block with a side effect ran, since every further pass would repeat it exactly.
+ * `requestAnimationFrame` stays real: the VM steps on an interval timer and draws in its step, and
+ * during our suite's evaluations only the GUI called it (0-2 times per evaluation, measured).
+ *
+ * bridge.js takes the controller from `window.__scratchworldClock` (and deletes it); Python drives
+ * the clock only through bridge calls.
+ */
+(function () {
+  'use strict';
+
+  const RealDate = window.Date;
+  const realPerformanceNow = performance.now.bind(performance);
+  const realSetTimeout = window.setTimeout.bind(window);
+  const realClearTimeout = window.clearTimeout.bind(window);
+  const realSetInterval = window.setInterval.bind(window);
+  const realClearInterval = window.clearInterval.bind(window);
+  const report = (error) => (window.reportError ? window.reportError(error) : realSetTimeout(() => { throw error; }, 0));
+
+  // HTML timer rules: delays are whole milliseconds, and past 5 nested levels at least 4 ms.
+  const NESTING_CLAMP_LEVEL = 5;
+  const NESTED_MIN_DELAY_MS = 4;
+
+  let virtual = false;
+  let offsetMs = 0; // virtual time skipped so far: the clock stays monotonic after an evaluation
+  let virtualNowMs = 0; // the clock while virtual
+  let nextId = 1;
+  let nextSeq = 1;
+  let nesting = 0; // nesting level of the timer whose callback is running
+  let firedVirtual = 0;
+  const timers = new Map(); // id -> {id, seq, due, delay, repeat, nesting, callback, args, backing}
+
+  function now() {
+    return virtual ? virtualNowMs : realPerformanceNow() + offsetMs;
+  }
+
+  function dateNow() {
+    if (!virtual && offsetMs === 0) return RealDate.now();
+    return Math.floor(performance.timeOrigin + now());
+  }
+
+  function toCallback(handler) {
+    if (typeof handler === 'function') return handler;
+    const code = String(handler);
+    return () => (0, eval)(code); // eslint-disable-line no-eval
+  }
+
+  function run(timer) {
+    const outer = nesting;
+    nesting = timer.nesting;
+    try {
+      timer.callback.apply(window, timer.args);
+    } catch (error) {
+      report(error);
+    } finally {
+      nesting = outer;
+    }
+  }
+
+  // Real mode: the native timer decides when; the table keeps the due time for a switch to virtual.
+  function arm(timer, delay) {
+    if (timer.repeat && delay === timer.delay) {
+      timer.backing = {interval: realSetInterval(() => fireReal(timer), delay)};
+    } else {
+      timer.backing = {timeout: realSetTimeout(() => fireReal(timer), delay)};
+    }
+  }
+
+  function disarm(timer) {
+    if (!timer.backing) return;
+    if (timer.backing.interval !== undefined) realClearInterval(timer.backing.interval);
+    else realClearTimeout(timer.backing.timeout);
+    timer.backing = null;
+  }
+
+  function fireReal(timer) {
+    if (timers.get(timer.id) !== timer) return;
+    if (timer.repeat) {
+      timer.due = now() + timer.delay;
+      timer.nesting += 1;
+      if (timer.backing && timer.backing.timeout !== undefined) arm(timer, timer.delay); // first run after a switch
+    } else {
+      timers.delete(timer.id);
+      timer.backing = null;
+    }
+    run(timer);
+  }
+
+  // Virtual mode: one timer per task, the earliest first, ties in creation order.
+  const channel = new MessageChannel();
+  let pumpPending = false;
+
+  function schedulePump() {
+    if (virtual && !pumpPending && timers.size > 0) {
+      pumpPending = true;
+      channel.port2.postMessage(null);
+    }
+  }
+
+  channel.port1.onmessage = () => {
+    pumpPending = false;
+    if (!virtual) return;
+    let next = null;
+    for (const timer of timers.values()) {
+      if (next === null || timer.due < next.due || (timer.due === next.due && timer.seq < next.seq)) next = timer;
+    }
+    if (next === null) return;
+    if (next.due > virtualNowMs) virtualNowMs = next.due;
+    if (next.repeat) {
+      next.nesting += 1;
+      if (next.nesting > NESTING_CLAMP_LEVEL && next.delay < NESTED_MIN_DELAY_MS) next.delay = NESTED_MIN_DELAY_MS;
+      next.due = virtualNowMs + next.delay;
+      next.seq = nextSeq++;
+    } else {
+      timers.delete(next.id);
+    }
+    firedVirtual += 1;
+    run(next);
+    schedulePump();
+  };
+
+  function addTimer(handler, delay, args, repeat) {
+    let ms = Math.trunc(Number(delay)) || 0;
+    if (ms < 0) ms = 0;
+    const level = nesting + 1;
+    if (level > NESTING_CLAMP_LEVEL && ms < NESTED_MIN_DELAY_MS) ms = NESTED_MIN_DELAY_MS;
+    const timer = {
+      id: nextId++, seq: nextSeq++, due: now() + ms, delay: ms, repeat: repeat, nesting: level,
+      callback: toCallback(handler), args: args, backing: null,
+    };
+    timers.set(timer.id, timer);
+    if (virtual) schedulePump();
+    else arm(timer, ms);
+    return timer.id;
+  }
+
+  function clearTimer(id) {
+    const timer = timers.get(Number(id));
+    if (!timer) return;
+    disarm(timer);
+    timers.delete(timer.id);
+  }
+
+  function VirtualDate(...args) {
+    if (!new.target) return new RealDate(dateNow()).toString();
+    return Reflect.construct(RealDate, args.length === 0 ? [dateNow()] : args, new.target);
+  }
+  VirtualDate.prototype = RealDate.prototype;
+  VirtualDate.now = dateNow;
+  VirtualDate.parse = RealDate.parse;
+  VirtualDate.UTC = RealDate.UTC;
+  Object.defineProperty(VirtualDate, 'name', {value: 'Date'});
+
+  window.Date = VirtualDate;
+  Object.defineProperty(performance, 'now', {value: now, writable: true, configurable: true});
+  window.setTimeout = (handler, delay, ...args) => addTimer(handler, delay, args, false);
+  window.setInterval = (handler, delay, ...args) => addTimer(handler, delay, args, true);
+  window.clearTimeout = clearTimer;
+  window.clearInterval = clearTimer;
+
+  /** Start virtual time at the current clock reading (an evaluation is about to run). */
+  function startVirtual() {
+    if (virtual) throw new Error('the clock is already virtual');
+    virtualNowMs = now();
+    for (const timer of timers.values()) disarm(timer);
+    virtual = true;
+    schedulePump();
+  }
+
+  /** Back to real time, keeping the clock monotonic: time goes on at real speed from here. */
+  function stopVirtual() {
+    if (!virtual) return;
+    virtual = false;
+    offsetMs = virtualNowMs - realPerformanceNow();
+    const at = now();
+    for (const timer of timers.values()) arm(timer, Math.max(0, Math.ceil(timer.due - at)));
+  }
+
+  function status() {
+    return {
+      mode: virtual ? 'virtual' : 'real',
+      now: now(),
+      realNow: realPerformanceNow(),
+      dateNow: VirtualDate.now(),
+      realDateNow: RealDate.now(),
+      offsetMs: offsetMs,
+      pendingTimers: timers.size,
+      firedVirtual: firedVirtual,
+      sideEffects: sideEffects,
+    };
+  }
+
+  // ---- The VM patches ----------------------------------------------------------------------------
+
+  const REAL_CLOCK = Object.freeze({now: realPerformanceNow});
+
+  // Blocks that only read state or steer control flow: a pass running nothing else changed nothing,
+  // and, time being frozen, the next pass would do exactly the same. Everything else counts as a
+  // side effect, on the safe side: procedure calls, repeat counters, pick random, extension blocks.
+  const PURE = new Set([
+    'motion_xposition', 'motion_yposition', 'motion_direction',
+    'looks_costumenumbername', 'looks_backdropnumbername', 'looks_size', 'sound_volume',
+    'control_forever', 'control_if', 'control_if_else', 'control_repeat_until', 'control_while',
+    'control_wait_until', 'control_all_at_once', 'control_get_counter',
+    'sensing_touchingobject', 'sensing_touchingcolor', 'sensing_coloristouchingcolor', 'sensing_distanceto',
+    'sensing_timer', 'sensing_keypressed', 'sensing_mousedown', 'sensing_mousex', 'sensing_mousey',
+    'sensing_loudness', 'sensing_loud', 'sensing_of', 'sensing_current', 'sensing_dayssince2000',
+    'sensing_username', 'sensing_userid', 'sensing_answer',
+    'data_variable', 'data_listcontents', 'data_itemoflist', 'data_itemnumoflist', 'data_lengthoflist',
+    'data_listcontainsitem', 'argument_reporter_string_number', 'argument_reporter_boolean',
+    'event_whengreaterthan', 'event_whentouchingobject',
+  ]);
+  // Blocks that poll across frames: only their first call (fresh stack frame) does something.
+  const POLLING = new Set([
+    'control_wait', 'motion_glidesecstoxy', 'motion_glideto', 'event_broadcastandwait',
+    'looks_switchbackdroptoandwait',
+  ]);
+  let sideEffects = 0;
+
+  function isPure(opcode) {
+    return PURE.has(opcode) || (opcode.startsWith('operator_') && opcode !== 'operator_random');
+  }
+
+  function countingBlock(opcode, fn) {
+    if (opcode === 'data_setvariableto') { // setting a variable to the value it has changes nothing
+      return function (args, util) {
+        const variable = util.target.lookupOrCreateVariable(args.VARIABLE.id, args.VARIABLE.name);
+        const before = variable.value;
+        const result = fn.call(this, args, util);
+        if (variable.value !== before) sideEffects += 1;
+        return result;
+      };
+    }
+    if (POLLING.has(opcode)) {
+      return function (args, util) {
+        const ctx = util.thread.peekStackFrame().executionContext;
+        if (!ctx || Object.keys(ctx).length === 0) sideEffects += 1;
+        return fn.call(this, args, util);
+      };
+    }
+    return function (args, util) {
+      sideEffects += 1;
+      if (opcode.startsWith('sound_') && util && util.target) patchSoundPlayers(util.target);
+      return fn.call(this, args, util);
+    };
+  }
+
+  // The frame's work budget on the real clock; in virtual mode also "stop after an idle pass".
+  function sequencerTimer(runtime) {
+    let started = 0;
+    let passes = 0;
+    let mark = '';
+    return {
+      nowObj: REAL_CLOCK,
+      time: realPerformanceNow,
+      start() {
+        started = realPerformanceNow();
+        passes = 0;
+      },
+      timeElapsed() {
+        const elapsed = realPerformanceNow() - started;
+        if (virtual) {
+          const current = `${sideEffects}/${runtime.threads.length}`;
+          if (passes > 0 && current === mark) return Infinity;
+          mark = current;
+        }
+        passes += 1;
+        return elapsed;
+      },
+    };
+  }
+
+  // Threads get their warp timer ("run without screen refresh") on the real clock: frozen, it would
+  // never run out and a warp loop with a wait inside would spin forever.
+  function patchThreads(thread) {
+    const proto = Object.getPrototypeOf(thread);
+    if (Object.prototype.hasOwnProperty.call(proto, 'warpTimer')) return;
+    const key = Symbol('warpTimer');
+    Object.defineProperty(proto, 'warpTimer', {
+      configurable: true,
+      get() { return this[key] || null; },
+      set(timer) {
+        if (timer) timer.nowObj = REAL_CLOCK;
+        this[key] = timer;
+      },
+    });
+    const own = thread.warpTimer;
+    delete thread.warpTimer;
+    thread.warpTimer = own;
+  }
+
+  // Sound players: a sound started in virtual mode ends after its length in virtual time; its real
+  // end (an audio event, on the audio clock) is ignored. Stops and restarts stay immediate. Players
+  // bind handleEvent at construction, so the hook is onEnded, which handleEvent looks up each time.
+  function patchSoundPlayers(target) {
+    const bank = target.sprite && target.sprite.soundBank;
+    const player = bank && Object.values(bank.soundPlayers || {})[0];
+    if (!player) return;
+    const proto = Object.getPrototypeOf(player);
+    if (Object.prototype.hasOwnProperty.call(proto, '__scratchworldClock')) return;
+    Object.defineProperty(proto, '__scratchworldClock', {value: true});
+    const play = proto.play;
+    const onEnded = proto.onEnded;
+    proto.play = function () {
+      const restarting = this.isStarting; // play() then only re-announces the sound already starting
+      const result = play.apply(this, arguments);
+      if (restarting && this.__virtualEnd) return result;
+      this.__virtualEnd = null;
+      if (virtual && this.isPlaying && this.buffer) {
+        const token = {source: this.outputNode};
+        this.__virtualEnd = token;
+        window.setTimeout(() => {
+          if (this.__virtualEnd === token && this.isPlaying) onEnded.call(this);
+        }, (1000 * this.buffer.duration) / (this.playbackRate || 1));
+      }
+      return result;
+    };
+    proto.onEnded = function () {
+      const token = this.__virtualEnd; // the real end of a sound that ends in virtual time
+      if (token && token.source === this.outputNode) return undefined;
+      return onEnded.apply(this, arguments);
+    };
+  }
+
+  function attachVm(vm) {
+    const runtime = vm.runtime;
+    runtime.sequencer.timer = sequencerTimer(runtime);
+    const pushThread = runtime._pushThread;
+    runtime._pushThread = function () {
+      const thread = pushThread.apply(this, arguments);
+      if (thread) patchThreads(thread);
+      return thread;
+    };
+    const getOpcodeFunction = runtime.getOpcodeFunction;
+    const wrapped = new Map();
+    runtime.getOpcodeFunction = function (opcode) {
+      const fn = getOpcodeFunction.call(this, opcode);
+      if (typeof fn !== 'function' || isPure(opcode)) return fn;
+      const cached = wrapped.get(opcode);
+      if (cached && cached.fn === fn) return cached.wrapper;
+      const wrapper = countingBlock(opcode, fn);
+      wrapped.set(opcode, {fn, wrapper});
+      return wrapper;
+    };
+  }
+
+  window.__scratchworldClock = Object.freeze({startVirtual, stopVirtual, status, attachVm, now});
+})();
