@@ -17,6 +17,9 @@
   const clock = window.__scratchworldClock;
   delete window.__scratchworldClock;
   const CLOCKS = ['virtual', 'real'];
+  // Undoing and checking what an evaluation leaves, so that the page can serve the next one.
+  const recycler = window.__scratchworldRecycler;
+  delete window.__scratchworldRecycler;
 
   // Results larger than this are refused rather than shipped across the protocol.
   const MAX_RESULT_CHARS = 2 * 1024 * 1024;
@@ -199,6 +202,8 @@
     if (!/^[A-Za-z_$][\w$]*$/.test(helperGlobal)) {
       throw new BridgeFailure('bad_request', 'helperGlobal must be a JavaScript identifier');
     }
+    recycler.beforeEvaluation(theVm); // before the script's own top-level code runs
+    clock.beginEvaluation();
     let helper = null;
     if (args.helperSource != null) {
       helper = loadModule(args.helperSource, args.helperName || 'helper.js', null);
@@ -238,7 +243,12 @@
     return {resultJson: toJson(outcome), durationMs: durationMs};
   }
 
-  const api = {status, setStageSize, loadProject, saveProject, evaluate, clockStatus: () => clock.status()};
+  const api = {
+    status, setStageSize, loadProject, saveProject, evaluate,
+    clockStatus: () => clock.status(),
+    markClean: () => recycler.markClean(requireVm()),
+    recycle: async () => ({differences: await recycler.recycle(requireVm(), clock)}),
+  };
 
   // The GUI's Blocks component (it owns ScratchBlocks and the visible workspace), found once
   // through React's fiber tree from the workspace element, since the GUI exports no handle.

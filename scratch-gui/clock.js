@@ -17,6 +17,9 @@
  * `requestAnimationFrame` stays real: the VM steps on an interval timer and draws in its step, and
  * during our suite's evaluations only the GUI called it (0-2 times per evaluation, measured).
  *
+ * Timers created during an evaluation are marked, so that a page can be reused: `drainEvaluation`
+ * fires the ones still pending ahead of time and reports what keeps running (recycle.js).
+ *
  * bridge.js takes the controller from `window.__scratchworldClock` (and deletes it); Python drives
  * the clock only through bridge calls.
  */
@@ -42,7 +45,9 @@
   let nextSeq = 1;
   let nesting = 0; // nesting level of the timer whose callback is running
   let firedVirtual = 0;
-  const timers = new Map(); // id -> {id, seq, due, delay, repeat, nesting, callback, args, backing}
+  let evaluating = false; // timers created meanwhile belong to an evaluation (see drainEvaluation)
+  let draining = null; // {resolve, firings, untilMs} while drainEvaluation runs
+  const timers = new Map(); // id -> {id, seq, due, delay, repeat, nesting, fromEvaluation, callback, args, backing}
 
   function now() {
     return virtual ? virtualNowMs : realPerformanceNow() + offsetMs;
@@ -113,9 +118,10 @@
 
   channel.port1.onmessage = () => {
     pumpPending = false;
-    if (!virtual) return;
+    if (!virtual || (draining && drained())) return;
     let next = null;
     for (const timer of timers.values()) {
+      if (draining && !timer.fromEvaluation) continue; // between evaluations only their leftovers fire
       if (next === null || timer.due < next.due || (timer.due === next.due && timer.seq < next.seq)) next = timer;
     }
     if (next === null) return;
@@ -129,6 +135,7 @@
       timers.delete(next.id);
     }
     firedVirtual += 1;
+    if (draining) draining.firings += 1;
     run(next);
     schedulePump();
   };
@@ -140,7 +147,7 @@
     if (level > NESTING_CLAMP_LEVEL && ms < NESTED_MIN_DELAY_MS) ms = NESTED_MIN_DELAY_MS;
     const timer = {
       id: nextId++, seq: nextSeq++, due: now() + ms, delay: ms, repeat: repeat, nesting: level,
-      callback: toCallback(handler), args: args, backing: null,
+      fromEvaluation: evaluating, callback: toCallback(handler), args: args, backing: null,
     };
     timers.set(timer.id, timer);
     if (virtual) schedulePump();
@@ -188,6 +195,64 @@
     offsetMs = virtualNowMs - realPerformanceNow();
     const at = now();
     for (const timer of timers.values()) arm(timer, Math.max(0, Math.ceil(timer.due - at)));
+  }
+
+  // ---- Between evaluations ----------------------------------------------------------------------
+
+  /** Timers created from now until the evaluation is drained (its own and the page's) belong to it. */
+  function beginEvaluation() {
+    evaluating = true;
+  }
+
+  const DRAIN_MAX_FIRINGS = 20000;
+  const DRAIN_MAX_MS = 10 * 60 * 1000;
+
+  function evaluationTimers() {
+    return [...timers.values()].filter((timer) => timer.fromEvaluation);
+  }
+
+  // Checked at the start of a pump task, so that promise callbacks of the last firing have run
+  // (and created their timers) by then.
+  function drained() {
+    const left = evaluationTimers();
+    const done = left.every((timer) => timer.repeat) || draining.firings > DRAIN_MAX_FIRINGS ||
+      virtualNowMs > draining.untilMs;
+    if (done) {
+      const finish = draining.resolve;
+      draining = null;
+      finish(left);
+    }
+    return done;
+  }
+
+  /**
+   * Let the timeouts an evaluation left behind (a race's losing timer, a poll still pending) fire
+   * now, in virtual time and ahead of every other timer, as they would have later; then back to
+   * real time at the real clock, so the next project starts where a fresh page would. Resolves to
+   * what is left: intervals, and timeouts that keep rescheduling themselves, which a reused page
+   * must not carry over.
+   */
+  async function drainEvaluation() {
+    let left = evaluationTimers();
+    if (left.some((timer) => !timer.repeat)) {
+      const wasVirtual = virtual;
+      if (!wasVirtual) startVirtual();
+      left = await new Promise((resolve) => {
+        draining = {resolve, firings: 0, untilMs: virtualNowMs + DRAIN_MAX_MS};
+        schedulePump();
+      });
+      if (!wasVirtual) stopVirtual();
+    }
+    evaluating = false;
+    resync();
+    return left.map((timer) => `${timer.repeat ? 'an interval' : 'a timeout'} of ${timer.delay} ms`);
+  }
+
+  /** Real mode: drop the offset the virtual runs left, so the clocks read real time again. */
+  function resync() {
+    if (virtual || offsetMs === 0) return;
+    for (const timer of timers.values()) timer.due -= offsetMs;
+    offsetMs = 0;
   }
 
   function status() {
@@ -358,5 +423,7 @@
     };
   }
 
-  window.__scratchworldClock = Object.freeze({startVirtual, stopVirtual, status, attachVm, now});
+  window.__scratchworldClock = Object.freeze({
+    startVirtual, stopVirtual, status, attachVm, now, beginEvaluation, drainEvaluation,
+  });
 })();

@@ -94,8 +94,9 @@ async def validate_tasks(
     if parallel < 1:
         raise ValueError("parallel must be at least 1")
     slots = asyncio.Semaphore(parallel)
-    async with BrowserSession(browser) as session, EditorPool(session, spare=parallel) as pool:
-        evaluator = Evaluator(session, pool)  # the next editors start up while evaluations run
+    # Editors are recycled after each evaluation; one spare starts up for a page that cannot be.
+    async with BrowserSession(browser) as session, EditorPool(session, spare=1) as pool:
+        evaluator = Evaluator(session, pool)
 
         async def run(task: Task, which: Which, project: bytes, spec: EvaluationSpec) -> EvalResult:
             async with slots:

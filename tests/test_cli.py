@@ -41,6 +41,7 @@ def test_validate_our_suite_is_green_under_both_clocks(tmp_path: Path) -> None:
             if row["category"] == "debug":
                 assert not row["initial"]["success"], row
         assert "all" in done.stderr and "valid" in done.stderr
+        assert f"profile native, clock {'virtual' if clock == 'default' else clock}" in " ".join(done.stderr.split())
         verdicts[clock] = [
             (row["task_id"], which, *(row[which][key] for key in ("success", "passed", "total", "error")))
             for row in rows

@@ -8,7 +8,10 @@ sound) is compared, and errors, the clock outside evaluations and job identity a
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -43,6 +46,32 @@ async def test_timing_sensitive_blocks_behave_alike_under_both_clocks(evaluator:
     assert virtual.timings.script_clock_s is not None and real.timings.script_clock_s is not None
     assert virtual.timings.script_clock_s == pytest.approx(real.timings.script_clock_s, rel=0.25)
     assert virtual.timings.script_s is not None and virtual.timings.script_s < virtual.timings.script_clock_s
+
+
+@pytest.fixture
+def busy_core() -> Iterator[subprocess.Popen[bytes]]:
+    """Another process spinning on one of the machine's cores (until the test kills it)."""
+    hog = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    try:
+        yield hog
+    finally:
+        hog.kill()
+        hog.wait()
+
+
+async def test_a_busy_core_changes_nothing_in_virtual_time(
+    evaluator: Evaluator, busy_core: subprocess.Popen[bytes]
+) -> None:
+    """Time stands still while the page computes, so load slows an evaluation down but cannot move
+    an event to another frame: the measured times are the same to the millisecond."""
+    source = (DATA / "clock_behaviours.js").read_text()
+    project = timing_project()
+    loaded = await evaluator.evaluate(project, spec(source, "virtual", name="clock_behaviours.js"))
+    assert loaded.error is None and [t.name for t in loaded.tests if not t.passed] == [], loaded.tests
+    busy_core.kill()
+    busy_core.wait()
+    idle = await evaluator.evaluate(project, spec(source, "virtual", name="clock_behaviours.js"))
+    assert [(t.name, t.passed, t.meta) for t in loaded.tests] == [(t.name, t.passed, t.meta) for t in idle.tests]
 
 
 async def test_a_hanging_and_a_throwing_script_are_classified_in_virtual_time(evaluator: Evaluator) -> None:

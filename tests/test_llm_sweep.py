@@ -120,6 +120,7 @@ def test_two_models_run_both_modes_and_the_report_shows_tokens_and_cost(
     assert [(r.outcome, r.error_class, r.attempt) for r in denied] == [("error", "model_auth", 1)] * 2  # not retried
     assert sum(1 for r in server.requests if r.body["model"] == "denied") == 2
     rows = {(r.model, r.mode): r for r in all_rows if r.model != "denied"}
+    assert {(r.eval_profile, r.eval_clock) for r in rows.values()} == {("native", "virtual")}  # our suite's defaults
     assert {key: row.outcome for key, row in rows.items()} == {
         ("mini", "composite"): "passed",
         ("big", "composite"): "passed",

@@ -87,6 +87,10 @@ class _Saved(BaseModel):
     sb3_base64: str = Field(alias="sb3Base64")
 
 
+class _Recycled(BaseModel):
+    differences: list[str]
+
+
 class EvaluationRun(BaseModel):
     """What a script returned (as JSON text) and how long it ran on the page's clock."""
 
@@ -104,6 +108,10 @@ class Editor:
         self.ready_s: float | None = None
         """Seconds from navigation to a ready editor, once ``open`` succeeded."""
         self.page_errors: list[str] = []
+        self.evaluations = 0
+        """Evaluations this editor has run (more than one only when an ``EditorPool`` reuses it)."""
+        self.reusable = True
+        """False once something happened that recycling cannot vouch for (a killed script)."""
         self._crashed = False
         page.on("console", self._on_console)
         page.on("pageerror", lambda exc: self.page_errors.append(str(exc)))
@@ -151,6 +159,7 @@ class Editor:
                 "pass --disable-software-rasterizer"
             )
         self.ready_s = time.monotonic() - started
+        await self.call("markClean")  # what recycling compares a used page with
         return status
 
     async def _not_ready_reason(self, timeout_s: float, exc: PlaywrightError) -> str:
@@ -204,7 +213,18 @@ class Editor:
             "timeoutMs": spec.timeout_s * 1000,
             "clock": spec.clock,
         }
+        self.evaluations += 1
         return EvaluationRun.model_validate(await self.call("evaluate", args))
+
+    async def recycle(self) -> list[str]:
+        """Undo what the last evaluation left in the page (``scratch-gui/recycle.js``).
+
+        Returns what could not be undone or differs from the fresh page; only an editor with no
+        differences may serve another evaluation.
+        """
+        await self.page.mouse.move(0, 0)  # so that the next profile's mouse move is a real move
+        value = _Recycled.model_validate(await self.call("recycle"))
+        return value.differences
 
     async def clock_status(self) -> dict[str, JsonValue]:
         """The page clock's mode and readings (real and virtual), for checks and diagnostics."""

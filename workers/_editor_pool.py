@@ -1,44 +1,69 @@
-"""Editors opened ahead of use, so a run of evaluations does not wait 3-4 s for each editor.
+"""Ready editors for evaluations, so that a run of evaluations does not wait seconds for each editor.
 
-An evaluation needs a clean VM. Resetting a used VM would have to undo everything a project can
-leave behind (threads, clones, timers, pen and video layers, the GUI's state), so the pool never
-reuses an editor: each one is opened in its own browser context, serves one evaluation and is
-closed. What the pool saves is only the waiting: the next editor starts up while the current
-evaluation runs. An editor waiting in the pool costs about a fifth of a core (the GUI keeps
-rendering), so keep ``spare`` at the number of evaluations that run at once.
+Starting an editor (2-4 s of CPU) costs more than a whole evaluation in virtual time, so the pool
+does two things:
+- it reuses editors: after an evaluation, ``Editor.recycle`` undoes what the script left in the
+  page and compares the page with the fresh one (``scratch-gui/recycle.js``; loading the next
+  project resets the VM as Scratch does between projects). An editor with any difference, a
+  killed script or ``max_uses`` evaluations behind it is closed instead;
+- it opens ``spare`` fresh editors ahead, in their own browser contexts, for when no used editor
+  is ready. A waiting editor costs about a fifth of a core (the GUI keeps rendering), so keep
+  ``spare`` small.
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
-from collections import deque
-from contextlib import AbstractAsyncContextManager
+import logging
+from collections import Counter, deque
+from collections.abc import AsyncIterator
 from types import TracebackType
 
 from workers._browser import BrowserSession
-from workers._editor import Editor, opened
+from workers._editor import Editor
 from workers._errors import EditorError
+
+log = logging.getLogger(__name__)
+
+MAX_USES = 40
+"""Evaluations per editor before it is closed anyway (the page's caches only grow)."""
+
+RECYCLE_TIMEOUT_S = 30.0
+"""A page that needs longer to recycle is closed instead (recycling drains leftover timers)."""
 
 
 class EditorPool:
-    """Keeps ``spare`` fresh editors opening in the background; each editor is used once."""
+    """Hands out ready editors: recycled ones first, else fresh ones opened ahead."""
 
-    def __init__(self, session: BrowserSession, spare: int = 1) -> None:
+    def __init__(self, session: BrowserSession, spare: int = 1, max_uses: int = MAX_USES) -> None:
         if spare < 0:
             raise ValueError("spare must be 0 or more")
+        if max_uses < 1:
+            raise ValueError("max_uses must be at least 1")
         self.session = session
         self.spare = spare
+        self.max_uses = max_uses
         self.opened = 0
-        """Editors this pool has started to open (used, waiting, or still starting)."""
+        """Editors this pool has started to open (in use, waiting, or still starting)."""
+        self.reused = 0
+        """Times an editor was handed out again after a clean recycle."""
+        self.discarded: Counter[str] = Counter()
+        """Why used editors were closed instead of reused (first difference, or the reason)."""
 
+        self._ready: deque[Editor] = deque()
+        self._lent: dict[Editor, int] = {}
+        """Editors handed out, with their evaluation count at the time."""
         self._opening: deque[asyncio.Task[Editor]] = deque()
         self._closed = False
 
     async def open_editor(self) -> Editor:
-        """A ready editor nobody has used; the caller closes it."""
+        """A ready editor, clean as if fresh; hand it back with ``release`` (or close it)."""
         if self._closed:
             raise RuntimeError("the editor pool is closed")
+        if self._ready:
+            self.reused += 1
+            return self._lend(self._ready.popleft())
         while self._opening:
             prepared = self._opening.popleft()
             self._refill()
@@ -47,15 +72,54 @@ class EditorPool:
             except EditorError:
                 continue  # the browser may have recovered since; the next one or a direct open decides
             if not editor.page.is_closed():
-                return editor
+                return self._lend(editor)
             await editor.close()
         self._refill()
         self.opened += 1
-        return await self.session.open_editor()
+        return self._lend(await self.session.open_editor())
 
-    def editor(self) -> AbstractAsyncContextManager[Editor]:
-        """A ready, unused editor, closed on exit (the same contract as ``BrowserSession.editor``)."""
-        return opened(self.open_editor())
+    def _lend(self, editor: Editor) -> Editor:
+        self._lent[editor] = editor.evaluations
+        return editor
+
+    async def release(self, editor: Editor) -> None:
+        """Take an editor back: kept for the next evaluation if it recycles clean, else closed."""
+        reason = self._unusable(editor, self._lent.pop(editor, None))
+        if reason is None:
+            try:
+                differences = await asyncio.wait_for(editor.recycle(), RECYCLE_TIMEOUT_S)
+            except (EditorError, TimeoutError) as exc:
+                differences = [f"recycling failed: {type(exc).__name__}"]
+            if not differences and not self._closed:
+                self._ready.append(editor)
+                return
+            reason = differences[0] if differences else "the pool closed"
+            log.info("editor not reused: %s", "; ".join(differences) or reason)
+        self.discarded[reason] += 1
+        await editor.close()
+        self._refill()
+
+    def _unusable(self, editor: Editor, evaluations_when_lent: int | None) -> str | None:
+        if self._closed:
+            return "the pool closed"
+        if not editor.reusable or editor.page.is_closed():
+            return "the page was killed or went away"
+        if evaluations_when_lent is None or editor.evaluations == evaluations_when_lent:
+            return "no evaluation ran (it may have been used otherwise)"
+        if editor.evaluations >= self.max_uses:
+            return f"{self.max_uses} evaluations done"
+        return None
+
+    @contextlib.asynccontextmanager
+    async def editor(self) -> AsyncIterator[Editor]:
+        """A ready editor for one evaluation; released on a normal exit, closed on an exception."""
+        editor = await self.open_editor()
+        try:
+            yield editor
+        except BaseException:
+            await editor.close()
+            raise
+        await self.release(editor)
 
     async def wait_ready(self) -> None:
         """Wait until the spare editors have finished opening (or failed to)."""
@@ -68,11 +132,14 @@ class EditorPool:
             self._opening.append(asyncio.ensure_future(self.session.open_editor()))
 
     async def close(self) -> None:
-        """Close the editors still waiting or opening."""
+        """Close the editors waiting, recycled or still opening."""
         self._closed = True
+        ready, self._ready = list(self._ready), deque()
         opening, self._opening = list(self._opening), deque()
         for task in opening:
             task.cancel()
+        for editor in ready:
+            await editor.close()
         for task in opening:
             with contextlib.suppress(BaseException):
                 editor = await task

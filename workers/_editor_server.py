@@ -23,7 +23,7 @@ from workers._errors import EditorBundleMissingError
 BUNDLE_PACKAGE = "@scratch/scratch-gui-standalone"
 BUNDLE_FILE = "scratch-gui-standalone.js"
 # Files of ours that shadow the bundle's web root.
-OWN_FILES = ("index.html", "clock.js", "bridge.js", "composite.js", "primitive.js", "geometry.js")
+OWN_FILES = ("index.html", "clock.js", "recycle.js", "bridge.js", "composite.js", "primitive.js", "geometry.js")
 
 
 def default_gui_dir() -> Path:

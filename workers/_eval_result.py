@@ -61,7 +61,7 @@ class EvalTimings(BaseModel):
     """Wall-clock seconds spent in each phase."""
 
     editor_ready_s: float | None = None
-    """Fresh editor page until ready (None when a ready editor was reused)."""
+    """Fresh editor page until ready (None when a recycled editor was reused)."""
 
     project_load_s: float | None = None
     """Loading the project into the VM."""

@@ -1,7 +1,8 @@
 """Execution-based evaluation: a project, a script, a verdict.
 
-Each evaluation loads the project into a clean VM (a fresh editor page, never the page an agent
-edited) and runs the task's script there with a hard timeout, on the real clock or in virtual
+Each evaluation loads the project into a clean VM (a fresh editor page, or a used one that
+recycled clean, see ``workers._editor_pool``; never the page an agent edited) and runs the task's
+script there with a hard timeout, on the real clock or in virtual
 time (``scratch-gui/clock.js``: simulated time skips ahead, capped at the timeout). Whatever goes
 wrong with the project or the script (corrupt .sb3, a script that throws, hangs or returns
 garbage) comes back as an ``EvalResult`` with a classified error; only a broken browser session
@@ -46,10 +47,10 @@ _PAGE_KINDS: frozenset[str] = frozenset(get_args(EvalErrorKind)) - {"editor_fail
 
 
 class Evaluator:
-    """Runs evaluations in fresh editors of one browser session; safe to use concurrently."""
+    """Runs evaluations in clean editors of one browser session; safe to use concurrently."""
 
     def __init__(self, session: BrowserSession, pool: EditorPool | None = None) -> None:
-        """With a ``pool``, editors come from it (opened ahead of time, each still used once)."""
+        """With a ``pool``, editors come from it (opened ahead of time, or reused once recycled clean)."""
         self.session = session
         self.pool = pool
 
@@ -63,7 +64,7 @@ class Evaluator:
             return EvalResult.failure("project_invalid", str(exc), timings=timings)
         try:
             async with (self.pool or self.session).editor() as editor:
-                timings.editor_ready_s = editor.ready_s
+                timings.editor_ready_s = editor.ready_s if editor.evaluations == 0 else None
                 result = await self._evaluate_in(editor, project, spec, timings)
         except EditorError as exc:
             result = EvalResult.failure("editor_failure", f"{type(exc).__name__}: {exc}", timings=timings)
@@ -98,6 +99,7 @@ class Evaluator:
             timings.script_clock_s = run.duration_ms / 1000
         except TimeoutError:
             # The page is stuck in synchronous code; leaving the ``editor()`` block kills it.
+            editor.reusable = False
             kind: EvalErrorKind = "script_timeout"
             message = f"{spec.script_name} blocked the page for over {limit_s:.0f} s and was killed"
         except BridgeError as exc:

@@ -69,7 +69,13 @@ def validate_command(
     suite = load_suite(suite_dir, task_list=task_list)
     tasks = suite.select(ids=[t.strip() for t in task_ids.split(",") if t.strip()] if task_ids else None)
     console = Console(stderr=True)
-    console.print(f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s)")
+    conditions = ""
+    if tasks:  # a suite's tasks share their defaults
+        first = tasks[0]
+        conditions = f", profile {profile or first.default_profile}, clock {clock or first.default_clock}"
+    console.print(
+        f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s){conditions}"
+    )
 
     def progress(task: Task, which: Which, result: EvalResult) -> None:
         outcome = result.error.kind if result.error else f"{result.passed}/{result.total}"
