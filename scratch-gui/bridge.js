@@ -248,6 +248,7 @@
     clockStatus: () => clock.status(),
     markClean: () => recycler.markClean(requireVm()),
     recycle: async () => ({differences: await recycler.recycle(requireVm(), clock)}),
+    resume: () => { requireVm().start(); }, // a recycled page's VM steps again
   };
 
   // The GUI's Blocks component (it owns ScratchBlocks and the visible workspace), found once

@@ -84,7 +84,10 @@ async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
     session = worker._session
     assert session is not None
     assert session._browser is not None
-    assert session._browser.contexts == []  # the cancelled episode closed its pages
+    # The cancelled episode closed its pages; only evaluation pages waiting for reuse stay open.
+    assert worker._runner is not None and worker._runner.evaluator.pool is not None
+    waiting = [editor.context for editor in worker._runner.evaluator.pool._ready]
+    assert session._browser.contexts == waiting
     again = await worker.run(*episode(contents["sum_two_numbers"]))
     assert again.outcome == "passed"
 

@@ -220,11 +220,15 @@ class Editor:
         """Undo what the last evaluation left in the page (``scratch-gui/recycle.js``).
 
         Returns what could not be undone or differs from the fresh page; only an editor with no
-        differences may serve another evaluation.
+        differences may serve another evaluation, after ``resume``.
         """
         await self.page.mouse.move(0, 0)  # so that the next profile's mouse move is a real move
         value = _Recycled.model_validate(await self.call("recycle"))
         return value.differences
+
+    async def resume(self) -> None:
+        """Start the VM of a recycled page again (it waits for reuse with its VM stopped)."""
+        await self.call("resume")
 
     async def clock_status(self) -> dict[str, JsonValue]:
         """The page clock's mode and readings (real and virtual), for checks and diagnostics."""

@@ -5,10 +5,11 @@ does two things:
 - it reuses editors: after an evaluation, ``Editor.recycle`` undoes what the script left in the
   page and compares the page with the fresh one (``scratch-gui/recycle.js``; loading the next
   project resets the VM as Scratch does between projects). An editor with any difference, a
-  killed script or ``max_uses`` evaluations behind it is closed instead;
+  killed script or ``max_uses`` evaluations behind it is closed instead. A recycled editor waits
+  with its VM stopped, which costs next to nothing;
 - it opens ``spare`` fresh editors ahead, in their own browser contexts, for when no used editor
-  is ready. A waiting editor costs about a fifth of a core (the GUI keeps rendering), so keep
-  ``spare`` small.
+  is ready. A fresh editor waits with its VM stepping, about a third of a core, so keep ``spare``
+  small.
 """
 
 from __future__ import annotations
@@ -61,9 +62,16 @@ class EditorPool:
         """A ready editor, clean as if fresh; hand it back with ``release`` (or close it)."""
         if self._closed:
             raise RuntimeError("the editor pool is closed")
-        if self._ready:
+        while self._ready:
+            editor = self._ready.popleft()
+            try:
+                await editor.resume()
+            except EditorError:
+                self.discarded["it could not be resumed"] += 1
+                await editor.close()
+                continue
             self.reused += 1
-            return self._lend(self._ready.popleft())
+            return self._lend(editor)
         while self._opening:
             prepared = self._opening.popleft()
             self._refill()

@@ -1,7 +1,8 @@
 """One episode: open the editor on the initial project, let the agent act, evaluate what it left.
 
-The agent works in its own fresh page; the evaluation always runs in another fresh page
-(``Evaluator``), so nothing the agent left running in its VM can influence the verdict.
+The agent works in its own fresh page; the evaluation runs in another, clean page (``Evaluator``
+with an ``EditorPool``: fresh, or recycled after an earlier evaluation and verified clean), so
+nothing the agent left running in its VM can influence the verdict.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from pydantic import JsonValue
 from workers._actions import FINAL_ACTIONS, Action, CompositeAction, InvalidReply, LoadProject, PrimitiveAction
 from workers._browser import BrowserSession
 from workers._editor import Editor
+from workers._editor_pool import EditorPool
 from workers._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
 from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, ErrorClass, StepRecord, TaskPayload, outcome_of
 from workers._errors import BridgeError, EditorError
@@ -36,7 +38,7 @@ class EpisodeRunner:
 
     def __init__(self, session: BrowserSession) -> None:
         self.session = session
-        self.evaluator = Evaluator(session)
+        self.evaluator = Evaluator(session, EditorPool(session, spare=0))  # evaluation pages are reused
         self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
         """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
 
