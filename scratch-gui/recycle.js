@@ -140,10 +140,10 @@
     for (const name of clean.globals) if (!(name in window)) differences.push(`global ${name} was removed`);
   }
 
-  function restoreStorage(storage, saved, label) {
+  function restoreStorage(storage, saved, label, differences) {
     for (const key of storageState(storage).keys()) if (!saved.has(key)) storage.removeItem(key);
     for (const [key, value] of saved) storage.setItem(key, value);
-    if (storage.length !== saved.size) throw new Error(`${label} cannot be restored`);
+    if (storage.length !== saved.size) differences.push(`${label} cannot be restored`);
   }
 
   // Keys the device did not have go (the mouse has no position until a real mouse event).
@@ -200,8 +200,8 @@
     vm.runtime.stopAll();
     restoreListeners(vm, differences);
     restoreGlobals(differences);
-    restoreStorage(localStorage, clean.local, 'localStorage');
-    restoreStorage(sessionStorage, clean.session, 'sessionStorage');
+    restoreStorage(localStorage, clean.local, 'localStorage', differences);
+    restoreStorage(sessionStorage, clean.session, 'sessionStorage', differences);
     restoreDevices(vm);
     if (vm.runtime.turboMode !== clean.turbo) vm.setTurboMode(clean.turbo);
     if (vm.runtime.compatibilityMode !== clean.compatibility) vm.setCompatibilityMode(clean.compatibility);

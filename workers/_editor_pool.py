@@ -17,13 +17,14 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import weakref
 from collections import Counter, deque
 from collections.abc import AsyncIterator
 from types import TracebackType
 
 from workers._browser import BrowserSession
 from workers._editor import Editor
-from workers._errors import EditorError
+from workers._errors import BridgeError, EditorError
 
 log = logging.getLogger(__name__)
 
@@ -53,8 +54,8 @@ class EditorPool:
         """Why used editors were closed instead of reused (first difference, or the reason)."""
 
         self._ready: deque[Editor] = deque()
-        self._lent: dict[Editor, int] = {}
-        """Editors handed out, with their evaluation count at the time."""
+        self._lent: weakref.WeakKeyDictionary[Editor, int] = weakref.WeakKeyDictionary()
+        """Editors handed out, with their evaluation count at the time (callers may close them instead)."""
         self._opening: deque[asyncio.Task[Editor]] = deque()
         self._closed = False
 
@@ -66,7 +67,7 @@ class EditorPool:
             editor = self._ready.popleft()
             try:
                 await editor.resume()
-            except EditorError:
+            except (EditorError, BridgeError):
                 self.discarded["it could not be resumed"] += 1
                 await editor.close()
                 continue
@@ -96,7 +97,7 @@ class EditorPool:
         if reason is None:
             try:
                 differences = await asyncio.wait_for(editor.recycle(), RECYCLE_TIMEOUT_S)
-            except (EditorError, TimeoutError) as exc:
+            except (EditorError, BridgeError, TimeoutError) as exc:
                 differences = [f"recycling failed: {type(exc).__name__}"]
             if not differences and not self._closed:
                 self._ready.append(editor)
