@@ -7,8 +7,9 @@
  * script can change in the page, and this module handles it in two ways:
  * - undone here: listeners the script added to the VM, globals it defined, storage it wrote,
  *   mouse and keyboard state, turbo and compatibility mode, timers it left pending (these fire
- *   ahead of time, see clock.js), and functions it replaced on the VM, its renderer, sequencer and
- *   IO devices, the block primitives, built-in objects and window (put back as they were);
+ *   ahead of time, see clock.js), and functions it replaced on the VM, its renderer, sequencer,
+ *   IO devices and targets (through the stage's prototypes), the block primitives, built-in objects
+ *   and window (put back as they were);
  * - checked here: what could not be undone, intervals still running, and extensions, body nodes,
  *   cookies and runtime options that differ from the fresh page. Any difference is reported, and
  *   the page is closed instead of reused.
@@ -60,6 +61,8 @@
     withPrototypes('runtime', runtime, found);
     withPrototypes('sequencer', runtime.sequencer, found);
     if (vm.renderer) withPrototypes('renderer', vm.renderer, found);
+    const stage = runtime.getTargetForStage(); // its prototypes are every sprite's too
+    if (stage) withPrototypes('stage', stage, found);
     for (const name of IO_DEVICES) if (runtime.ioDevices[name]) withPrototypes(`ioDevices.${name}`, runtime.ioDevices[name], found);
     functionsOf('primitives', runtime._primitives, found);
     return found;
