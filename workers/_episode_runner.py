@@ -1,7 +1,7 @@
 """One episode: open the editor on the initial project, let the agent act, evaluate what it left.
 
-The agent works in its own fresh page; the evaluation runs in another, clean page (``Evaluator``
-with an ``EditorPool``: fresh, or recycled after an earlier evaluation and verified clean), so
+The agent works in its own fresh page; the evaluation runs in another, clean page (``Evaluator``:
+fresh, or with an ``EditorPool`` recycled after an earlier evaluation and verified clean), so
 nothing the agent left running in its VM can influence the verdict.
 """
 
@@ -36,9 +36,10 @@ class AgentCrashedError(Exception):
 class EpisodeRunner:
     """Runs episodes in one browser session; safe to use for several episodes at once."""
 
-    def __init__(self, session: BrowserSession) -> None:
+    def __init__(self, session: BrowserSession, evaluation_pool: EditorPool | None = None) -> None:
+        """With an ``evaluation_pool``, evaluation pages are reused (it closes with the session)."""
         self.session = session
-        self.evaluator = Evaluator(session, EditorPool(session, spare=0))  # evaluation pages are reused
+        self.evaluator = Evaluator(session, evaluation_pool)
         self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
         """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
 

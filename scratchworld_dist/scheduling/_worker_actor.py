@@ -19,6 +19,7 @@ from playwright.async_api import Error as PlaywrightError
 from workers import (
     BrowserConfig,
     BrowserSession,
+    EditorPool,
     EpisodeResult,
     EpisodeRunner,
     EpisodeSpec,
@@ -86,7 +87,8 @@ class EpisodeWorker:
             if self._runner is None or not self._runner.session.connected:
                 await self._drop_browser()
                 self._session = await BrowserSession(BrowserConfig()).start()
-                self._runner = EpisodeRunner(self._session)
+                # Evaluation pages are recycled across this worker's jobs; agent pages never are.
+                self._runner = EpisodeRunner(self._session, EditorPool(self._session, spare=0))
             return self._runner
 
     async def _drop_browser(self) -> None:
