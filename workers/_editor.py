@@ -222,6 +222,8 @@ class Editor:
         Returns what could not be undone or differs from the fresh page; only an editor with no
         differences may serve another evaluation, after ``resume``.
         """
+        self.console.clear()  # the next evaluation gets the whole console allowance
+        self.page_errors.clear()
         await self.page.mouse.move(0, 0)  # so that the next profile's mouse move is a real move
         value = _Recycled.model_validate(await self.call("recycle"))
         return value.differences

@@ -2,11 +2,10 @@
 
 Each evaluation loads the project into a clean VM (a fresh editor page, or a used one that
 recycled clean, see ``workers._editor_pool``; never the page an agent edited) and runs the task's
-script there with a hard timeout, on the real clock or in virtual
-time (``scratch-gui/clock.js``: simulated time skips ahead, capped at the timeout). Whatever goes
-wrong with the project or the script (corrupt .sb3, a script that throws, hangs or returns
-garbage) comes back as an ``EvalResult`` with a classified error; only a broken browser session
-raises.
+script there with a hard timeout, on the real clock or in virtual time (``scratch-gui/clock.js``:
+simulated time skips ahead, capped at the timeout). Whatever goes wrong with the project or the
+script (corrupt .sb3, a script that throws, hangs or returns garbage) comes back as an
+``EvalResult`` with a classified error; only a broken browser session raises.
 """
 
 from __future__ import annotations
