@@ -46,6 +46,7 @@
   let nesting = 0; // nesting level of the timer whose callback is running
   let firedVirtual = 0;
   let evaluating = false; // timers created meanwhile belong to an evaluation (see drainEvaluation)
+  let steppedRuntime = null; // the VM's runtime, whose step interval sets the frame phase
   let draining = null; // {resolve, firings, untilMs} while drainEvaluation runs
   const timers = new Map(); // id -> {id, seq, due, delay, repeat, nesting, fromEvaluation, callback, args, backing}
 
@@ -183,6 +184,10 @@
   function startVirtual() {
     if (virtual) throw new Error('the clock is already virtual');
     virtualNowMs = now();
+    // Start on the VM's next frame, not somewhere inside the current one: the script then meets
+    // the VM at the same phase on every run, so the same project gives the same times to the ms.
+    const frame = steppedRuntime && timers.get(steppedRuntime._steppingInterval);
+    if (frame && frame.due > virtualNowMs) virtualNowMs = frame.due;
     for (const timer of timers.values()) disarm(timer);
     virtual = true;
     schedulePump();
@@ -403,6 +408,7 @@
 
   function attachVm(vm) {
     const runtime = vm.runtime;
+    steppedRuntime = runtime;
     runtime.sequencer.timer = sequencerTimer(runtime);
     const pushThread = runtime._pushThread;
     runtime._pushThread = function () {
