@@ -68,13 +68,18 @@
     return found;
   }
 
+  // Listeners of the VM and the runtime by "owner event", with their emitter and event name.
   function listenersOf(vm) {
     const found = new Map();
     for (const [label, emitter] of [['vm', vm], ['runtime', vm.runtime]]) {
-      for (const event of emitter.eventNames()) found.set(`${label} ${String(event)}`, emitter.listeners(event));
+      for (const event of emitter.eventNames()) {
+        found.set(`${label} ${String(event)}`, {emitter, event, listeners: emitter.listeners(event)});
+      }
     }
     return found;
   }
+
+  const loadedExtensions = (vm) => [...vm.extensionManager._loadedExtensions.keys()].sort().join();
 
   function deviceState(vm) {
     const state = {};
@@ -107,7 +112,7 @@
       turbo: vm.runtime.turboMode,
       compatibility: vm.runtime.compatibilityMode,
       options: JSON.stringify(vm.runtime.runtimeOptions),
-      extensions: [...vm.extensionManager._loadedExtensions.keys()].sort().join(),
+      extensions: loadedExtensions(vm),
       body: bodyNodes(),
       cookie: document.cookie,
     };
@@ -122,16 +127,15 @@
 
   // Listeners added since `beforeScript` go; any other change is reported.
   function restoreListeners(vm, differences) {
-    const now = listenersOf(vm);
-    for (const [key, listeners] of now) {
-      const before = beforeScript.listeners.get(key) || [];
-      const [label, event] = key.split(' ');
-      const emitter = label === 'vm' ? vm : vm.runtime;
+    const listenersBefore = (key) => (beforeScript.listeners.get(key) || {listeners: []}).listeners;
+    for (const [key, {emitter, event, listeners}] of listenersOf(vm)) {
+      const before = listenersBefore(key);
       for (const listener of listeners) if (!before.includes(listener)) emitter.removeListener(event, listener);
     }
     const after = listenersOf(vm);
     for (const key of new Set([...after.keys(), ...beforeScript.listeners.keys()])) {
-      if (!sameList(after.get(key) || [], beforeScript.listeners.get(key) || [])) differences.push(`listeners of ${key} changed`);
+      const now = (after.get(key) || {listeners: []}).listeners;
+      if (!sameList(now, listenersBefore(key))) differences.push(`listeners of ${key} changed`);
     }
   }
 
@@ -209,7 +213,7 @@
     if (vm.runtime.turboMode !== clean.turbo) vm.setTurboMode(clean.turbo);
     if (vm.runtime.compatibilityMode !== clean.compatibility) vm.setCompatibilityMode(clean.compatibility);
     if (JSON.stringify(vm.runtime.runtimeOptions) !== clean.options) differences.push('runtime options changed');
-    const extensions = [...vm.extensionManager._loadedExtensions.keys()].sort().join();
+    const extensions = loadedExtensions(vm);
     if (extensions !== clean.extensions) differences.push(`extensions loaded: ${extensions}`);
     restoreFunctions(vm, differences);
     compareDom(differences);

@@ -71,8 +71,8 @@ def validate_command(
     console = Console(stderr=True)
     conditions = ""
     if tasks:  # a suite's tasks share their defaults
-        first = tasks[0]
-        conditions = f", profile {profile or first.default_profile}, clock {clock or first.default_clock}"
+        spec = tasks[0].evaluation_spec(profile, clock)
+        conditions = f", profile {spec.profile}, clock {spec.clock}"
     console.print(
         f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s){conditions}"
     )
