@@ -54,7 +54,7 @@ def planning() -> None:
             result = EpisodeResult(
                 job_id=job.job_id, attempt=1, outcome="passed", stop_reason="done", started_at=now, finished_at=now
             )
-            store.commit(record_of(job, result, run_name="b", suite_hash="s", harness_version="h", artifact_dir=None))
+            store.commit(record_of(job, result, run_name="b", suite_hash="s", artifact_dir=None))
         store.close()
         started = time.perf_counter()
         decided = RunStore(Path(tmp)).attempts()

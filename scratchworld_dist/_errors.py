@@ -9,6 +9,7 @@ translated at the edge with ``raise ... from exc`` so callers catch one family::
     ├── SuiteError                  a task suite or task file cannot be used (names the file)
     │   └── TaskNotFoundError       a task id that the suite does not have
     ├── ProjectFormatError          bytes that are not a Scratch 3 project (.sb3)
+    │   └── ProjectTooLargeError    a project over the size limits (checked before a browser sees it)
     ├── EditorError                 the Scratch editor cannot be brought up or kept alive
     │   ├── ChromiumNotFoundError   no Chromium executable where we were told to look
     │   ├── EditorBundleMissingError  the npm editor bundle is not installed
@@ -40,6 +41,7 @@ from workers._errors import (
     EditorNotReadyError,
     OCRError,
     ProjectFormatError,
+    ProjectTooLargeError,
     RendererUnavailableError,
     ScratchWorldError,
 )
@@ -54,6 +56,7 @@ __all__ = [
     "EditorNotReadyError",
     "OCRError",
     "ProjectFormatError",
+    "ProjectTooLargeError",
     "RendererUnavailableError",
     "RunDirError",
     "ScratchWorldError",

@@ -31,15 +31,16 @@ from scratchworld_dist.results import (
 from scratchworld_dist.results._manifest import git_commit, now, package_versions
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, ray_runtime
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import HARNESS_VERSION, JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
-from workers import EpisodeResult, ModelSpec
+from scratchworld_dist.sweep import JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
+from workers import EpisodeResult, HarnessFingerprint, ModelSpec, describe_differences, harness_fingerprint
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 
 
 class RunPlan(BaseModel):
-    """A sweep resolved against its suite: the tasks' contents and the full job matrix."""
+    """A sweep resolved against its suite and this harness: the tasks' contents and the full job matrix."""
 
     config: SweepConfig
+    harness: HarnessFingerprint
     suite: SuiteInfo
     contents: list[TaskContent]
     jobs: list[JobSpec]
@@ -62,11 +63,10 @@ class RunSummary(BaseModel):
 class AttemptRecorder:
     """Commits every finished attempt: artifacts first, then its rows (the commit point)."""
 
-    def __init__(self, store: RunStore, run_name: str, suite_hash: str, harness_version: str) -> None:
+    def __init__(self, store: RunStore, run_name: str, suite_hash: str) -> None:
         self.store = store
         self.run_name = run_name
         self.suite_hash = suite_hash
-        self.harness_version = harness_version
 
     def __call__(self, job: JobSpec, result: EpisodeResult) -> None:
         artifact_dir = None
@@ -82,7 +82,6 @@ class AttemptRecorder:
             result,
             run_name=self.run_name,
             suite_hash=self.suite_hash,
-            harness_version=self.harness_version,
             artifact_dir=artifact_dir,
         )
         self.store.commit(record)
@@ -107,7 +106,8 @@ def plan_run(config: SweepConfig) -> RunPlan:
     tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
     if not tasks:
         raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
-    contents = [read_task(task, config.profile, config.clock) for task in tasks]
+    contents = [read_task(task, config.profile, config.clock, config.project_limits) for task in tasks]
+    harness = harness_fingerprint()
     info = SuiteInfo(
         name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
     )
@@ -121,16 +121,18 @@ def plan_run(config: SweepConfig) -> RunPlan:
             config.max_steps,
             config.primitive,
             config.llm,
+            config.project_limits,
+            harness.digest,
         )
     )
-    return RunPlan(config=config, suite=info, contents=contents, jobs=jobs)
+    return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs)
 
 
 def _checked_manifest(plan: RunPlan, run_dir: Path, force: bool) -> RunManifest:
     fresh = RunManifest(
         run_name=plan.config.name,
         schema_version=SCHEMA_VERSION,
-        harness_version=HARNESS_VERSION,
+        harness=plan.harness,
         config=plan.config.model_dump(mode="json"),
         config_hash=config_hash(plan.config),
         suite=plan.suite,
@@ -146,17 +148,26 @@ def _checked_manifest(plan: RunPlan, run_dir: Path, force: bool) -> RunManifest:
         for what, before, after in (
             ("sweep config", old.config_hash, fresh.config_hash),
             ("suite content", old.suite.hash, fresh.suite.hash),
-            ("harness version", old.harness_version, fresh.harness_version),
             ("result schema", old.schema_version, fresh.schema_version),
         )
         if before != after
     ]
+    changes += harness_changes(old.harness, plan.harness)
     if changes and not force:
         raise RunDirError(
             f"{run_dir} holds results of another sweep ({'; '.join(changes)}): choose another --out, or pass "
             "--force to continue here (older rows are kept and reported as stale)"
         )
     return fresh.model_copy(update={"sessions": old.sessions})
+
+
+def harness_changes(old: HarnessFingerprint | None, new: HarnessFingerprint) -> list[str]:
+    """How the harness of a run directory differs from this one, naming the files (empty: the same)."""
+    if old is None:
+        return [f"harness fingerprint (none recorded) -> {new.digest}"]
+    if old.digest == new.digest:
+        return []
+    return [f"harness fingerprint {old.digest} -> {new.digest} (differs in {describe_differences(old, new)})"]
 
 
 def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | None = None) -> RunSummary:
@@ -209,9 +220,9 @@ def _execute(
     summary: RunSummary,
 ) -> RunSummary:
     config = plan.config
-    commit = AttemptRecorder(store, config.name, manifest.suite.hash, manifest.harness_version)
+    commit = AttemptRecorder(store, config.name, manifest.suite.hash)
     needed = {job.task_id for job, _ in todo}
-    with ray_runtime(config.ray.address, config.limits.browser_slots) as slots:
+    with ray_runtime(config.ray.address, config.limits.browser_slots, config.ray.connect_timeout_s) as slots:
         limiters = _rate_limiters([job.model for job, _ in todo])  # they live as long as this driver
         pool = WorkerPool(slots, config.limits.pages_per_worker, config.synthetic)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}

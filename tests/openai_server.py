@@ -116,6 +116,8 @@ class OpenAIServer:
         self._lock = threading.Lock()
         self._requests: list[RecordedRequest] = []
         self._closing = threading.Event()
+        self._open = threading.Event()
+        self._open.set()
         self._httpd: _QuietServer | None = None
         self._thread: threading.Thread | None = None
 
@@ -153,6 +155,13 @@ class OpenAIServer:
         """The ``api_base`` to give a client (ends in ``/v1``)."""
         assert self._httpd is not None, "server not started"
         return f"http://127.0.0.1:{self._httpd.server_address[1]}/v1"
+
+    def hold(self) -> None:
+        """Keep every reply (scripted or not) waiting until ``release``; requests are still recorded."""
+        self._open.clear()
+
+    def release(self) -> None:
+        self._open.set()
 
     def push(self, *behaviours: Behaviour) -> None:
         with self._lock:
@@ -226,6 +235,8 @@ class _Handler(BaseHTTPRequestHandler):
             return
         if behaviour.kind == "hang":
             self.owner._closing.wait(behaviour.seconds)
+        while not self.owner._open.wait(0.05) and not self.owner._closing.is_set():
+            continue  # held: the reply waits for ``release`` (or the server's close)
         self._send_json(200, _completion(behaviour, body))
 
     def _send_error(self, behaviour: Behaviour) -> None:

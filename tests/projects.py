@@ -151,3 +151,25 @@ def timing_project() -> bytes:
         block("looks_say", MESSAGE="sound done"),
     )
     return with_sound(project.to_sb3(), "Speaker", "beep", SOUND_SECONDS)
+
+
+def with_entry(sb3: bytes, name: str, data: bytes, level: int = 1) -> bytes:
+    """The archive with one more entry (deflated), e.g. an asset that inflates to gigabytes."""
+    buffer = io.BytesIO(sb3)
+    with zipfile.ZipFile(buffer, "a", zipfile.ZIP_DEFLATED, compresslevel=level) as archive:
+        archive.writestr(name, data)
+    return buffer.getvalue()
+
+
+def with_declared_size(sb3: bytes, name: str, size: int) -> bytes:
+    """The archive with ``name``'s size as declared in its headers replaced by ``size`` (a lie)."""
+    info = zipfile.ZipFile(io.BytesIO(sb3)).getinfo(name)
+    data = bytearray(sb3)
+    struct.pack_into("<L", data, info.header_offset + 22, size)  # local header: uncompressed size
+    position = 0
+    while (position := sb3.find(b"PK\x01\x02", position)) >= 0:  # central directory entries
+        length = struct.unpack_from("<H", sb3, position + 28)[0]
+        if sb3[position + 46 : position + 46 + length] == name.encode():
+            struct.pack_into("<L", data, position + 24, size)
+        position += 4
+    return bytes(data)

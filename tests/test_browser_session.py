@@ -15,7 +15,7 @@ from scratchworld_dist import (
     EditorNotReadyError,
     RendererUnavailableError,
 )
-from scratchworld_dist.sb3 import Project, block, circle_costume, read_project_json
+from scratchworld_dist.sb3 import Project, block, check_project, circle_costume
 from tests.projects import counter_project
 from workers import BrowserConfig, BrowserSession, EditorAssets, EvaluationSpec, Evaluator
 from workers._editor_server import OWN_FILES
@@ -85,7 +85,7 @@ async def test_cdn_requests_fail_at_once_and_do_not_break_the_editor(session: Br
 async def test_load_and_save_round_trip(session: BrowserSession) -> None:
     async with session.editor() as editor:
         assert await editor.load_project(counter_project("Counter").to_sb3()) == ["Stage", "Counter"]
-        saved = read_project_json(await editor.save_project())
+        saved = check_project(await editor.save_project())
         assert [t["name"] for t in saved["targets"]] == ["Stage", "Counter"]
         opcodes = {b["opcode"] for b in saved["targets"][1]["blocks"].values() if isinstance(b, dict)}
         assert {"event_whenflagclicked", "control_repeat", "looks_say"} <= opcodes

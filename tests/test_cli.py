@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from scratchworld_dist.sb3 import read_project_json
+from scratchworld_dist.sb3 import check_project
 from tests.conftest import REPO, SUITE_DIR
 
 SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))
@@ -119,7 +119,7 @@ def test_committed_projects_are_what_their_sources_build() -> None:
     )
     assert done.returncode == 0, done.stdout
     for golden in SUITE_DIR.glob("*/*/golden.sb3"):
-        read_project_json(golden.read_bytes())
+        check_project(golden.read_bytes())
 
 
 def test_replay_golden_and_custom_trajectories(tmp_path: Path) -> None:
@@ -133,7 +133,7 @@ def test_replay_golden_and_custom_trajectories(tmp_path: Path) -> None:
     assert [step["success"] for step in report["steps"]] == [True, True]
     assert report["eval"]["success"] is True
     assert report["eval"]["passed"] == report["eval"]["total"] >= 3
-    assert read_project_json(saved.read_bytes())["targets"][1]["name"] == "Ball"
+    assert check_project(saved.read_bytes())["targets"][1]["name"] == "Ball"
 
     # A trajectory with a refused action and no fix: the envelope shows the code, the task fails.
     wrong = tmp_path / "wrong.json"

@@ -3,15 +3,32 @@
 from __future__ import annotations
 
 import asyncio
+import contextlib
 from collections.abc import AsyncIterator
 
 import pytest
+from playwright.async_api import Error as PlaywrightError
 
 from scratchworld_dist.scheduling._worker_actor import EpisodeWorker
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
-from workers import Action, AgentName, BrowserSession, EpisodeRunner, EpisodeSpec, LoadProject, Mode, TaskPayload
+from tests.openai_server import OpenAIServer, reply
+from workers import (
+    Action,
+    AgentName,
+    BrowserSession,
+    EpisodeRunner,
+    EpisodeSpec,
+    LLMSettings,
+    LoadProject,
+    Mode,
+    ModelSpec,
+    SyntheticEpisodes,
+    TaskPayload,
+    harness_fingerprint,
+)
+from workers.llm import RetryPolicy
 from workers.primitive import PRIMITIVE_APIS
 
 
@@ -112,6 +129,59 @@ async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
     assert again.outcome == "passed"
     assert worker._session is not None
     assert worker._session._browser is not first_browser
+
+
+async def test_a_crashed_page_takes_no_sibling_episode_with_it(
+    worker: EpisodeWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Two episodes share the worker's browser; one page's renderer dies while both wait on the model."""
+    monkeypatch.setenv("SCRATCHWORLD_TEST_SIBLING_KEY", "sk-sibling")
+    done = reply('Analysis: finished.\n```json\n{"api": "done", "args": {}}\n```')
+    with OpenAIServer(default=done) as server:
+        server.hold()
+        model = ModelSpec(name="m", model="openai/m", api_base=server.url, api_key_env="SCRATCHWORLD_TEST_SIBLING_KEY")
+        retry = RetryPolicy(max_attempts=1, request_timeout_s=120, max_total_s=120)
+        (job,) = plan_jobs(
+            [model], ["composite"], "llm", [contents["sum_two_numbers"]], [0], 5, llm=LLMSettings(retry=retry)
+        )
+        payload = contents["sum_two_numbers"].payload
+        runs = [asyncio.create_task(worker.run(job.episode(attempt, 300), payload)) for attempt in (1, 2)]
+        for _ in range(1200):  # both agents are waiting for their first reply, each with its own page
+            if server.count >= 2:
+                break
+            await asyncio.sleep(0.05)
+        else:
+            pytest.fail("the two episodes never asked the model")
+        assert worker._session is not None and worker._session._browser is not None
+        browser = worker._session._browser
+        first, _ = browser.contexts
+        crashed_page = first.pages[0]
+        cdp = await first.new_cdp_session(crashed_page)
+        crashing = asyncio.ensure_future(cdp.send("Page.crash"))  # the renderer dies before it can answer
+        await crashed_page.wait_for_event("crash")
+        server.release()
+        crashing.cancel()
+        with contextlib.suppress(PlaywrightError, asyncio.CancelledError):
+            await crashing
+        results = await asyncio.gather(*runs)
+    by_outcome = sorted(results, key=lambda r: r.outcome)
+    crashed, sibling = by_outcome[0], by_outcome[1]
+    assert (crashed.outcome, crashed.error_class) == ("error", "editor_failure"), crashed.error_message
+    assert sibling.outcome == "failed", sibling.error_message  # evaluated: "done" without solving
+    assert sibling.evaluation is not None and sibling.evaluation.error is None
+    assert worker._session is not None and worker._session._browser is browser  # never relaunched
+    assert browser.is_connected()
+
+
+async def test_a_job_planned_for_another_harness_is_refused(contents: dict[str, TaskContent]) -> None:
+    worker = EpisodeWorker(worker_index=0, synthetic=SyntheticEpisodes())
+    spec, payload = episode(contents["sum_two_numbers"])
+    assert (await worker.run(spec, payload)).outcome == "passed"
+    foreign = spec.model_copy(update={"harness": "0123456789abcdef"})
+    result = await worker.run(foreign, payload)
+    assert (result.outcome, result.error_class) == ("error", "harness_mismatch")
+    assert "0123456789abcdef" in (result.error_message or "")
+    assert harness_fingerprint().digest in (result.error_message or "")
 
 
 async def test_an_unavailable_agent_is_an_agent_error(worker: EpisodeWorker, contents: dict[str, TaskContent]) -> None:

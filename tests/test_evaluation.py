@@ -7,8 +7,8 @@ import json
 import pytest
 
 from scratchworld_dist.sb3 import Project
-from tests.projects import counter_project
-from workers import EvalResult, EvaluationSpec, Evaluator
+from tests.projects import counter_project, with_declared_size, with_entry
+from workers import MIB, EvalResult, EvaluationSpec, Evaluator, ProjectLimits, outcome_of
 
 COUNTER_TEST = """
 module.exports = async (vm, config, cleanup) => {
@@ -149,6 +149,16 @@ async def test_corrupt_projects_are_refused_before_a_browser_is_spent(
     assert result.error is not None and result.error.kind == "project_invalid"
     assert message in result.error.message
     assert result.timings.editor_ready_s is None
+
+
+async def test_projects_over_the_limits_never_reach_a_page(evaluator: Evaluator) -> None:
+    bomb = with_declared_size(with_entry(counter_project().to_sb3(), "costume.png", bytes(3 * MIB)), "costume.png", 10)
+    result = await evaluator.evaluate(bomb, spec(COUNTER_TEST), ProjectLimits(max_entry_mb=1))
+    assert result.error is not None and result.error.kind == "project_too_large"
+    assert "'costume.png' inflates past the limit of 1 MiB (project_limits.max_entry_mb)" in result.error.message
+    assert result.timings.editor_ready_s is None and result.conditions is None
+    assert outcome_of(result) == ("failed", None)  # the agent's project, like one that does not load
+    assert (await evaluator.evaluate(counter_project().to_sb3(), spec(COUNTER_TEST), ProjectLimits())).success
 
 
 async def test_a_project_the_vm_refuses(evaluator: Evaluator) -> None:

@@ -8,11 +8,13 @@ from pathlib import Path
 
 import pytest
 
+from scratchworld_dist import SuiteError
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import HARNESS_VERSION, NO_MODEL, JobSpec, TaskContent, job_id, plan_jobs, read_task
+from scratchworld_dist.sweep import NO_MODEL, JobSpec, TaskContent, job_id, plan_jobs, read_task
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
 from tests.conftest import SUITE_DIR
-from workers import LLMSettings, ModelSpec, ObservationSettings, RateLimits
+from tests.projects import with_entry
+from workers import MIB, LLMSettings, ModelSpec, ObservationSettings, ProjectLimits, RateLimits, harness_fingerprint
 from workers.llm import RetryPolicy
 
 GPT = ModelSpec(name="gpt", model="openai/gpt-4o", temperature=0.0, api_key_env="OPENAI_API_KEY")
@@ -156,10 +158,15 @@ def test_each_identity_field_changes_the_id(field: str, value: object) -> None:
     assert job_id(**changed) != job_id(**base)  # type: ignore[arg-type]
 
 
-def test_harness_version_is_part_of_the_id(monkeypatch: pytest.MonkeyPatch) -> None:
-    before = job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30)
-    monkeypatch.setattr("scratchworld_dist.sweep._plan.HARNESS_VERSION", HARNESS_VERSION + ".post1")
-    assert job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30) != before
+def test_the_harness_fingerprint_and_project_limits_are_part_of_the_id() -> None:
+    base = job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30)
+    assert base == job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, harness=harness_fingerprint().digest)
+    assert job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, harness="0" * 16) != base
+    smaller = ProjectLimits(max_entry_mb=1)
+    assert job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, project_limits=smaller) != base
+    (job,) = plan_jobs([None], ["composite"], "oracle", contents(SUITE_DIR)[:1], [0], 5, project_limits=smaller)
+    assert job.episode(1, 60).project_limits == smaller
+    assert job.episode(1, 60).harness == harness_fingerprint().digest
 
 
 # --- task content changes ----------------------------------------------------------------------
@@ -282,3 +289,14 @@ def test_the_demo_config_plans_our_whole_suite_for_the_oracle() -> None:
         tasks = sorted(job.task_id for job in planned.jobs if job.mode == mode)
         assert tasks == sorted(task.id for task in load_suite(SUITE_DIR).tasks)
     assert all(content.payload.golden_project for content in planned.contents)  # the oracle needs every golden
+
+
+def test_a_task_project_over_the_limits_fails_the_plan_naming_its_file(suite_copy: Path) -> None:
+    task = load_suite(suite_copy).task("sum_two_numbers")
+    bomb = with_entry(task.initial_project.read_bytes(), "huge.wav", bytes(2 * MIB))
+    task.initial_project.write_bytes(bomb)
+    assert read_task(task).payload.initial_project == bomb  # fine under the defaults
+    with pytest.raises(SuiteError, match=r"initial.sb3: the entry 'huge.wav' is 2.00 MiB, over the limit of 1 MiB"):
+        read_task(task, limits=ProjectLimits(max_entry_mb=1))
+    with pytest.raises(SuiteError, match=r"initial.sb3: the project is .* over project_limits.max_file_mb"):
+        read_task(task, limits=ProjectLimits(max_file_mb=0.01))

@@ -29,8 +29,12 @@ from scratchworld_dist.reports import (
     t_quantile_975,
 )
 from scratchworld_dist.results import JobRecord, JobRow, RunManifest, RunStore, SuiteInfo, write_manifest
+from workers import HarnessFingerprint
 
 T0 = datetime(2026, 1, 1, tzinfo=UTC)
+PARTS = {"workers/_evaluation.py": "e1", "scratch-gui/clock.js": "c1", "package:litellm": "1.106.2"}
+HARNESS = HarnessFingerprint(digest="aaaa111122223333", parts=PARTS)
+OTHER_HARNESS = HarnessFingerprint(digest="bbbb444455556666", parts={**PARTS, "scratch-gui/clock.js": "c2"})
 
 # -- metrics -------------------------------------------------------------------------------
 
@@ -121,7 +125,7 @@ def job(job_id: str, outcome: str = "passed", **fields: Any) -> JobRow:
         "suite_hash": "suite1",
         "seed": 0,
         "max_steps": 50,
-        "harness_version": "0.1.0",
+        "harness_fingerprint": HARNESS.digest,
         "outcome": outcome,
         "error_class": None if decided else "EditorCrashedError",
         "error_message": None if decided else "page died",
@@ -160,7 +164,7 @@ def make_run(
     tasks: int,
     config: dict[str, Any] | None = None,
     suite_hash: str = "suite1",
-    harness: str = "0.1.0",
+    harness: HarnessFingerprint = HARNESS,
     name: str = "sweep",
 ) -> Path:
     store = RunStore(run_dir)
@@ -171,7 +175,7 @@ def make_run(
     manifest = RunManifest(
         run_name=name,
         schema_version=1,
-        harness_version=harness,
+        harness=harness,
         config=config
         if config is not None
         else {"agent": "llm", "models": [{"model": "gpt"}], "modes": ["composite"], "seeds": [0]},
@@ -285,7 +289,8 @@ def test_seed_statistics(tmp_path: Path) -> None:
 
 def other_model_run(run_dir: Path, **manifest: Any) -> Path:
     suite = manifest.get("suite_hash", "suite1")
-    rows = [job(j, "passed", model="claude", suite_hash=suite) for j in ("m1", "m2")]
+    harness = manifest.get("harness", HARNESS).digest
+    rows = [job(j, "passed", model="claude", suite_hash=suite, harness_fingerprint=harness) for j in ("m1", "m2")]
     config = {"agent": "llm", "models": [{"model": "claude"}], "modes": ["composite"], "seeds": [0]}
     return make_run(run_dir, rows, planned=2, tasks=2, config=config, name="sweep-b", **manifest)
 
@@ -318,20 +323,25 @@ def test_a_job_in_two_runs_counts_once(tmp_path: Path) -> None:
     ("manifest", "what", "values"),
     [
         ({"suite_hash": "suite2"}, "suite hash", ("suite1", "suite2")),
-        ({"harness": "0.2.0"}, "harness version", ("0.1.0", "0.2.0")),
+        (
+            {"harness": OTHER_HARNESS},
+            "differ in harness",
+            (HARNESS.digest, OTHER_HARNESS.digest, "scratch-gui/clock.js"),
+        ),
     ],
 )
 def test_incomparable_runs_are_refused_unless_forced(
-    tmp_path: Path, manifest: dict[str, str], what: str, values: tuple[str, str]
+    tmp_path: Path, manifest: dict[str, Any], what: str, values: tuple[str, ...]
 ) -> None:
     first, second = main_run(tmp_path / "a"), other_model_run(tmp_path / "b", **manifest)
-    with pytest.raises(RunDirError, match=f"runs differ in {what}") as caught:
+    with pytest.raises(RunDirError, match=what) as caught:
         build_report([first, second])
     message = str(caught.value)
     assert all(v in message for v in values) and "sweep-b" in message and str(first) in message
     assert "--force" in message
+    assert "workers/_evaluation.py" not in message  # only the parts that differ are named
     forced = build_report([first, second], force=True)
-    assert any(w.startswith(f"merged anyway (--force): runs differ in {what}") for w in forced.warnings)
+    assert any(w.startswith("merged anyway (--force): ") and what in w for w in forced.warnings)
     assert len(forced.rows) == 2
 
 

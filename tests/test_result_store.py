@@ -47,6 +47,7 @@ def spec(n: int) -> JobSpec:
         task_hash=f"{n:016x}",
         seed=n % 3,
         max_steps=10,
+        harness="f1ngerpr1nt00000",
     )
 
 
@@ -104,7 +105,6 @@ def record(n: int, attempt: int = 1, outcome: str = "passed") -> JobRecord:
         episode(job, attempt, outcome),
         run_name="unit",
         suite_hash="suitehash",
-        harness_version="9.9.9",
         artifact_dir=f"artifacts/{job.job_id}/attempt-{attempt}",
     )
 
@@ -161,7 +161,7 @@ def test_record_of_flattens_a_verdict() -> None:
     job = rec.job
     assert (job.run_name, job.job_id, job.attempt, job.task_id, job.seed) == ("unit", "job007", 2, "task_7", 1)
     assert (job.model, job.litellm_model, job.mode, job.agent) == ("gpt", "openai/gpt-4o", "composite", "llm")
-    assert (job.task_hash, job.suite_hash, job.harness_version) == (f"{7:016x}", "suitehash", "9.9.9")
+    assert (job.task_hash, job.suite_hash, job.harness_fingerprint) == (f"{7:016x}", "suitehash", "f1ngerpr1nt00000")
     assert (job.outcome, job.error_class, job.eval_error_kind, job.stop_reason) == ("failed", None, None, "done")
     assert (job.tests_passed, job.tests_total, job.psr) == (1, 2, 0.5)
     assert (job.steps, job.llm_calls, job.input_tokens, job.output_tokens) == (2, 2, 250, 25)
@@ -198,16 +198,14 @@ def test_record_of_keeps_the_evaluation_error_kind() -> None:
         stop_reason="done",
         evaluation=EvalResult.failure("script_error", "TypeError in evaluate.js"),
     )
-    rec = record_of(job, result, run_name="unit", suite_hash="s", harness_version="1", artifact_dir=None)
+    rec = record_of(job, result, run_name="unit", suite_hash="s", artifact_dir=None)
     assert (rec.job.outcome, rec.job.eval_error_kind, rec.job.psr) == ("failed", "script_error", 0.0)
     assert rec.job.worker_node is None and rec.job.artifact_dir is None
 
 
 def test_scripted_agent_rows_carry_no_model() -> None:
     job = spec(3).model_copy(update={"model": None, "agent": "oracle"})
-    rec = record_of(
-        job, episode(job, 1, "passed"), run_name="u", suite_hash="s", harness_version="1", artifact_dir=None
-    )
+    rec = record_of(job, episode(job, 1, "passed"), run_name="u", suite_hash="s", artifact_dir=None)
     assert (rec.job.model, rec.job.litellm_model, rec.job.agent) == ("-", None, "oracle")
 
 

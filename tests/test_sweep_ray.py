@@ -8,7 +8,9 @@ the test so a killed driver's Ray helpers never outlive it.
 from __future__ import annotations
 
 import os
+import shutil
 import signal
+import socket
 import subprocess
 import time
 from collections import Counter
@@ -17,10 +19,13 @@ from pathlib import Path
 import pytest
 import yaml
 
-from scratchworld_dist.results import RunStore, effective_rows
+from scratchworld_dist.reports._runs import load_run
+from scratchworld_dist.results import RunStore, effective_rows, read_manifest
 from scratchworld_dist.suites import load_suite
 from tests.conftest import REPO
 from tests.sweep_driver import SCRATCHWORLD, Driver, run
+from workers._editor_server import OWN_FILES
+from workers._fingerprint import EDITOR_LOCK_FILES
 
 pytestmark = pytest.mark.ray
 
@@ -191,6 +196,83 @@ def test_a_run_dir_of_another_sweep_is_refused(tmp_path: Path, drivers: list[Dri
     code, out = run(drivers, changed, "--force")
     assert code == 0, out
     assert len(RunStore(tmp_path / "run").job_rows()) == 2
+
+
+def edited_editor(tmp_path: Path) -> Path:
+    """A copy of the editor folder whose page clock differs by one comment: another harness."""
+    gui = tmp_path / "gui"
+    gui.mkdir()
+    for name in (*OWN_FILES, *EDITOR_LOCK_FILES):
+        shutil.copy(REPO / "scratch-gui" / name, gui / name)
+    (gui / "node_modules").symlink_to(REPO / "scratch-gui" / "node_modules")
+    (gui / "clock.js").write_text((gui / "clock.js").read_text() + "\n// changed\n")
+    return gui
+
+
+def test_results_of_another_harness_are_refused_then_set_aside(
+    tmp_path: Path, drivers: list[Driver], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    config = write_config(tmp_path, tasks={"ids": TASKS[:2]}, synthetic={"duration_s": 0})
+    run_dir = tmp_path / "run"
+    assert run(drivers, config)[0] == 0
+    before = {row.job_id for row in RunStore(run_dir).job_rows()}
+
+    monkeypatch.setenv("SCRATCHWORLD_GUI_DIR", str(edited_editor(tmp_path)))  # the "upgraded" checkout
+    code, out = run(drivers, config)
+    assert code == 2, out
+    assert "holds results of another sweep" in out and "harness fingerprint" in out
+    assert "scratch-gui/clock.js" in out and "workers/" not in out  # names exactly the file that changed
+    assert "Traceback" not in out
+
+    code, out = run(drivers, config, "--force")
+    assert code == 0, out
+    rows = RunStore(run_dir).job_rows()
+    after = {row.job_id for row in rows} - before
+    assert len(before) == len(after) == 2  # every job is new under the new harness: nothing reused
+    manifest = read_manifest(run_dir)
+    assert manifest is not None and manifest.harness is not None
+    assert {row.harness_fingerprint for row in rows if row.job_id in after} == {manifest.harness.digest}
+    loaded = load_run(run_dir)
+    assert {row.job_id for row in loaded.rows} == after and loaded.stale_rows == 2
+
+    monkeypatch.delenv("SCRATCHWORLD_GUI_DIR")
+    other = write_config(tmp_path, tasks={"ids": TASKS[:2]}, synthetic={"duration_s": 0}, output=str(tmp_path / "b"))
+    assert run(drivers, other)[0] == 0
+    report = subprocess.run(
+        [SCRATCHWORLD, "report", str(run_dir), str(tmp_path / "b")], capture_output=True, text=True, timeout=60
+    )
+    assert report.returncode == 2
+    assert "differ in harness" in report.stderr and "scratch-gui/clock.js" in report.stderr
+
+
+@pytest.mark.parametrize("output", ["/proc/scratchworld-run", "a-file/run"])
+def test_an_unwritable_output_is_one_line_naming_it(tmp_path: Path, output: str) -> None:
+    (tmp_path / "a-file").write_text("not a folder")
+    target = output if output.startswith("/") else str(tmp_path / output)
+    config = write_config(tmp_path, output=target, synthetic={})
+    done = subprocess.run([SCRATCHWORLD, "run", str(config)], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith(f"error: {target}: cannot write results here: "), done.stderr
+    assert "Traceback" not in done.stderr
+
+
+@pytest.mark.parametrize("listener", ["refusing", "silent"])
+def test_a_cluster_that_cannot_be_joined_fails_fast_naming_it(tmp_path: Path, listener: str) -> None:
+    with socket.socket() as silent:  # accepts connections (the kernel does) but never speaks Ray
+        silent.bind(("0.0.0.0", 0))
+        silent.listen()
+        address = "127.0.0.1:9" if listener == "refusing" else f"127.0.0.1:{silent.getsockname()[1]}"
+        config = write_config(tmp_path, ray={"address": address, "connect_timeout_s": 3}, synthetic={})
+        started = time.monotonic()
+        done = subprocess.run([SCRATCHWORLD, "run", str(config)], capture_output=True, text=True, timeout=120)
+        elapsed = time.monotonic() - started
+    assert done.returncode == 2, done.stderr
+    lines = done.stderr.strip().splitlines()
+    assert lines[-1].startswith("error: ") and address in lines[-1]
+    assert ("cannot reach" if listener == "refusing" else "does not answer as a Ray cluster within 3 s") in lines[-1]
+    assert "Traceback" not in done.stderr and "gcs_client" not in done.stderr and "rpc_client" not in done.stderr
+    assert elapsed < 30  # bounded by connect_timeout_s, not Ray's minutes of retries
 
 
 @pytest.mark.parametrize(

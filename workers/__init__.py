@@ -37,7 +37,9 @@ from workers._episode_runner import EpisodeRunner
 from workers._eval_result import VERDICT_ERROR_KINDS, EvalError, EvalErrorKind, EvalResult, EvalTimings, TestVerdict
 from workers._evaluation import Evaluator
 from workers._evaluation_spec import EvaluationClock, EvaluationSpec
+from workers._fingerprint import HarnessFingerprint, describe_differences, harness_fingerprint
 from workers._profiles import EvaluationProfile, ProfileConditions
+from workers._sb3_reader import MIB, ProjectLimits, check_project
 from workers._synthetic import SyntheticEpisodes, run_synthetic
 from workers.llm._limiter import RateLimits
 from workers.llm._settings import CoordinateSystem, LLMSettings
@@ -46,6 +48,7 @@ from workers.primitive._settings import ObservationSettings
 __all__ = [
     "CHROMIUM_ARGS",
     "FINAL_ACTIONS",
+    "MIB",
     "PERMANENT_ERRORS",
     "VERDICT_ERROR_KINDS",
     "Action",
@@ -77,6 +80,7 @@ __all__ = [
     "EvaluationSpec",
     "Evaluator",
     "Failed",
+    "HarnessFingerprint",
     "InvalidReply",
     "LLMSettings",
     "LoadProject",
@@ -86,13 +90,17 @@ __all__ = [
     "Outcome",
     "PrimitiveAction",
     "ProfileConditions",
+    "ProjectLimits",
     "RateLimits",
     "StepRecord",
     "SyntheticEpisodes",
     "TaskPayload",
     "TestVerdict",
     "WorkerInfo",
+    "check_project",
     "composite_action",
+    "describe_differences",
+    "harness_fingerprint",
     "outcome_of",
     "primitive_action",
     "run_synthetic",

@@ -47,6 +47,10 @@ def default_chromium() -> Path:
     return Path(override) if override else DEFAULT_CHROMIUM
 
 
+RESPONSIVE_TIMEOUT_S = 10.0
+"""How long a healthy browser may take to open an empty context, even on a busy machine."""
+
+
 class BrowserConfig(BaseModel):
     """How a worker's Chromium is launched and how long an editor may take to get ready."""
 
@@ -133,6 +137,21 @@ class BrowserSession:
             await self.close()
             raise
         return self
+
+    async def responsive(self, timeout_s: float = RESPONSIVE_TIMEOUT_S) -> bool:
+        """Whether the browser still does its work: it opens and closes an empty context in time.
+
+        An editor failure may be one page's (a renderer crashed) or the whole browser's; only
+        the second is a reason to close the browser under the pages of other episodes.
+        """
+        if not self.connected or self._browser is None:
+            return False
+        try:
+            context = await asyncio.wait_for(self._browser.new_context(), timeout_s)
+        except (PlaywrightError, TimeoutError):
+            return False
+        await _close_quietly(context)
+        return True
 
     async def new_context(self) -> BrowserContext:
         """A fresh, isolated browser context with the pinned viewport and pixel ratio."""

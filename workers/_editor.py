@@ -27,6 +27,7 @@ from workers._errors import (
     RendererUnavailableError,
 )
 from workers._evaluation_spec import EvaluationSpec
+from workers._sb3_reader import ProjectLimits, check_project
 
 _CALL = "([name, args]) => window.scratchworld.call(name, args)"
 _SETTLED = "() => !!(window.scratchworld && window.scratchworld.settled())"
@@ -187,8 +188,13 @@ class Editor:
         except PlaywrightError as exc:
             raise EditorCrashedError(f"could not move the mouse: {exc.message}") from exc
 
-    async def load_project(self, sb3: bytes) -> list[str]:
-        """Load project bytes into the VM; return the names of its targets."""
+    async def load_project(self, sb3: bytes, limits: ProjectLimits | None = None) -> list[str]:
+        """Load project bytes into the VM; return the names of its targets.
+
+        The bytes are checked first (``ProjectFormatError``, ``ProjectTooLargeError``): the page
+        never sees a project over ``limits`` (default: ``ProjectLimits()``).
+        """
+        check_project(sb3, limits)
         value = await self.call("loadProject", {"sb3Base64": base64.b64encode(sb3).decode("ascii")})
         return _Loaded.model_validate(value).targets
 

@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict, Field, JsonValue
 from workers._actions import CompositeAction
 from workers._eval_result import EvalResult
 from workers._evaluation_spec import EvaluationSpec
+from workers._sb3_reader import ProjectLimits
 from workers.llm._limiter import RateLimits
 from workers.llm._settings import CoordinateSystem, LLMSettings
 from workers.primitive._settings import ObservationSettings
@@ -27,6 +28,8 @@ ErrorClass = Literal[
     "editor_failure",  # the editor could not be opened, loaded or evaluated in
     "evaluator_error",  # the evaluation produced no verdict for reasons outside the project
     "agent_error",  # the agent itself crashed (a bug in it)
+    "task_invalid",  # the task's initial project cannot be loaded (over the limits, corrupt): permanent
+    "harness_mismatch",  # the worker runs other code than the driver planned the job for
     "internal_error",  # anything else: a bug in this harness
     # A model call failed for good, by the class of the failure (see workers.llm.ModelErrorClass):
     "model_rate_limited",
@@ -43,7 +46,14 @@ ErrorClass = Literal[
 """Why a job produced no verdict; kept out of SR/PSR, and retried unless it is permanent."""
 
 PERMANENT_ERRORS: frozenset[str] = frozenset(
-    {"model_auth", "model_bad_request", "model_not_found", "model_context_window", "model_content_policy"}
+    {
+        "task_invalid",
+        "model_auth",
+        "model_bad_request",
+        "model_not_found",
+        "model_context_window",
+        "model_content_policy",
+    }
 )
 """Error classes the driver does not retry: the same request would fail the same way."""
 
@@ -103,6 +113,12 @@ class EpisodeSpec(BaseModel):
 
     llm: LLMSettings | None = None
     """The conversation protocol of the ``llm`` agent (None means the defaults)."""
+
+    project_limits: ProjectLimits = Field(default_factory=ProjectLimits)
+    """The largest project the worker loads (initial, loaded by the agent, evaluated)."""
+
+    harness: str | None = None
+    """The harness fingerprint the driver planned the job under; a worker running other code refuses it."""
 
 
 class TaskPayload(BaseModel):

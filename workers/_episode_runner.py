@@ -18,8 +18,9 @@ from workers._editor import Editor
 from workers._editor_pool import EditorPool
 from workers._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
 from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, ErrorClass, StepRecord, TaskPayload, outcome_of
-from workers._errors import BridgeError, EditorError
+from workers._errors import BridgeError, EditorError, ProjectFormatError, ProjectTooLargeError
 from workers._evaluation import Evaluator
+from workers._sb3_reader import ProjectLimits
 from workers.agents import Agent, ConversingAgent, NeedsEditor
 from workers.llm import ModelCallError
 from workers.ocr import RegionOCR
@@ -58,7 +59,11 @@ class EpisodeRunner:
         steps: list[StepRecord] = []
         try:
             async with self.session.editor() as editor:
-                await editor.load_project(task.initial_project)
+                try:
+                    await editor.load_project(task.initial_project, spec.project_limits)
+                except ProjectFormatError as exc:
+                    message = f"the task's initial project cannot be loaded: {exc}"
+                    return _finish(EpisodeResult.errored(spec, "task_invalid", message), started, clock, timings)
                 environment = await self._environment(spec, editor)
                 if isinstance(agent, NeedsEditor):
                     await _begin(agent, editor)
@@ -78,7 +83,7 @@ class EpisodeRunner:
             result = EpisodeResult.errored(spec, cast(ErrorClass, f"model_{exc.error_class}"), str(exc), steps=steps)
             return _finish(_with_images(result, agent), started, clock, timings)
         evaluation_start = time.perf_counter()
-        evaluation = await self.evaluator.evaluate(final_project, task.evaluation)
+        evaluation = await self.evaluator.evaluate(final_project, task.evaluation, spec.project_limits)
         timings.evaluation_s = time.perf_counter() - evaluation_start
         outcome, error_class = outcome_of(evaluation)
         result = EpisodeResult(
@@ -118,7 +123,7 @@ async def _act(
             raise
         except Exception as exc:  # a broken agent is the agent's error, not the harness's
             raise AgentCrashedError(f"the agent raised {type(exc).__name__} at step {index}: {exc}") from exc
-        ok, error_code, error_message, data = await _apply(editor, environment, action)
+        ok, error_code, error_message, data = await _apply(editor, environment, action, spec.project_limits)
         name, args = _describe(action)
         step = StepRecord(
             index=index,
@@ -139,14 +144,18 @@ async def _act(
 
 
 async def _apply(
-    editor: Editor, environment: Environment, action: Action
+    editor: Editor, environment: Environment, action: Action, limits: ProjectLimits
 ) -> tuple[bool, str | None, str | None, JsonValue]:
     """Carry out one action: (ok, error code, error message, data the environment answered)."""
     if isinstance(action, InvalidReply):
         return False, "INVALID_REPLY", action.message, {"reason": action.reason}
     if isinstance(action, LoadProject):
         try:
-            await editor.load_project(action.sb3)
+            await editor.load_project(action.sb3, limits)
+        except ProjectTooLargeError as exc:
+            return False, "project_too_large", str(exc), None
+        except ProjectFormatError as exc:
+            return False, "project_invalid", str(exc), None
         except BridgeError as exc:
             return False, exc.kind, exc.detail, None
     if isinstance(action, CompositeAction | PrimitiveAction):

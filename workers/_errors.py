@@ -15,6 +15,10 @@ class ProjectFormatError(ScratchWorldError):
     """Bytes that cannot be a Scratch 3 project: not a zip, no project.json, bad JSON."""
 
 
+class ProjectTooLargeError(ProjectFormatError):
+    """A project over the size limits (the file, an entry inflated, the whole archive inflated)."""
+
+
 class EditorError(ScratchWorldError):
     """The editor could not be started, made ready, or kept alive."""
 

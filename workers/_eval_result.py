@@ -10,6 +10,7 @@ from workers._profiles import ProfileConditions
 
 EvalErrorKind = Literal[
     "project_invalid",  # the project is not a loadable .sb3 (corrupt zip, bad project.json)
+    "project_too_large",  # the project is over the size limits (checked before the browser sees it)
     "script_invalid",  # the evaluation script or helper does not parse or exports no function
     "script_error",  # the script threw or rejected while testing the project
     "script_timeout",  # the script exceeded its hard timeout (hung or too slow) and was killed

@@ -18,12 +18,12 @@ from typing import cast, get_args
 from workers._browser import BrowserSession
 from workers._editor import Editor
 from workers._editor_pool import EditorPool
-from workers._errors import BridgeError, EditorError, ProjectFormatError
+from workers._errors import BridgeError, EditorError, ProjectFormatError, ProjectTooLargeError
 from workers._eval_result import EvalErrorKind, EvalResult, EvalTimings
 from workers._evaluation_spec import EvaluationClock, EvaluationSpec
 from workers._profiles import apply_profile
 from workers._report import ReportError, parse_report
-from workers._sb3_reader import read_project_json
+from workers._sb3_reader import ProjectLimits, check_project
 
 KILL_GRACE_S = 5.0
 """Extra time past the in-page timeout before the page itself is killed (a synchronous hang)."""
@@ -53,37 +53,40 @@ class Evaluator:
         self.session = session
         self.pool = pool
 
-    async def evaluate(self, project: bytes, spec: EvaluationSpec) -> EvalResult:
+    async def evaluate(self, project: bytes, spec: EvaluationSpec, limits: ProjectLimits | None = None) -> EvalResult:
+        """The verdict on ``project``; one over ``limits`` (default: ``ProjectLimits()``) never reaches a page."""
         started = time.perf_counter()
         timings = EvalTimings()
+        limits = limits or ProjectLimits()
         try:
-            read_project_json(project)
+            check_project(project, limits)
         except ProjectFormatError as exc:
             timings.total_s = time.perf_counter() - started
-            return EvalResult.failure("project_invalid", str(exc), timings=timings)
+            kind: EvalErrorKind = "project_too_large" if isinstance(exc, ProjectTooLargeError) else "project_invalid"
+            return EvalResult.failure(kind, str(exc), timings=timings)
         try:
             async with (self.pool or self.session).editor() as editor:
                 timings.editor_ready_s = editor.ready_s if editor.evaluations == 0 else None
-                result = await self._evaluate_in(editor, project, spec, timings)
+                result = await self._evaluate_in(editor, project, spec, limits, timings)
         except EditorError as exc:
             result = EvalResult.failure("editor_failure", f"{type(exc).__name__}: {exc}", timings=timings)
         result.timings.total_s = time.perf_counter() - started
         return result
 
     async def _evaluate_in(
-        self, editor: Editor, project: bytes, spec: EvaluationSpec, timings: EvalTimings
+        self, editor: Editor, project: bytes, spec: EvaluationSpec, limits: ProjectLimits, timings: EvalTimings
     ) -> EvalResult:
         conditions = await apply_profile(editor, spec.profile)  # before the project: it may read the mouse at once
-        result = await self._load_and_run(editor, project, spec, timings)
+        result = await self._load_and_run(editor, project, spec, limits, timings)
         result.conditions = conditions.model_copy(update={"clock": spec.clock})
         return result
 
     async def _load_and_run(
-        self, editor: Editor, project: bytes, spec: EvaluationSpec, timings: EvalTimings
+        self, editor: Editor, project: bytes, spec: EvaluationSpec, limits: ProjectLimits, timings: EvalTimings
     ) -> EvalResult:
         phase_start = time.perf_counter()
         try:
-            await editor.load_project(project)
+            await editor.load_project(project, limits)
         except BridgeError as exc:
             return EvalResult.failure(_kind(exc), exc.detail, timings=timings)
         timings.project_load_s = time.perf_counter() - phase_start

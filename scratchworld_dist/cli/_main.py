@@ -50,4 +50,7 @@ def main() -> None:
     except ScratchWorldError as exc:
         click.echo(f"error: {exc}", err=True)
         sys.exit(EXIT_USER_ERROR)
+    except OSError as exc:  # a file or folder the user named cannot be used: say which, no traceback
+        click.echo(f"error: {exc}", err=True)
+        sys.exit(EXIT_USER_ERROR)
     sys.exit(code if isinstance(code, int) else 0)

@@ -13,12 +13,12 @@ from scratchworld_dist.reports import FORMATS, ReportFormat, build_report, rende
 @click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="md", show_default=True, help="Output format.")
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), help="Write here instead of stdout.")
-@click.option("--force", is_flag=True, help="Merge runs of different suites or harness versions anyway.")
+@click.option("--force", is_flag=True, help="Merge runs of different suites or harnesses anyway.")
 def report_command(run_dirs: tuple[Path, ...], fmt: ReportFormat, out: Path | None, force: bool) -> None:
     """Summarize the results in RUN_DIR(s): SR per category, PSR, coverage, errors, cost.
 
     Several run directories merge into one report; they must share a suite and a harness
-    version unless --force.
+    (fingerprint) unless --force.
     """
     report = build_report(list(run_dirs), force=force)
     text = render(report, fmt)

@@ -19,7 +19,7 @@ def status_command(run_dir: Path) -> None:
     manifest = read_manifest(run_dir)
     if manifest is None:
         raise RunDirError(f"{run_dir}: no manifest.json here; is this a run directory?")
-    rows = [r for r in RunStore(run_dir).job_rows() if r.suite_hash == manifest.suite.hash]
+    rows = [r for r in RunStore(run_dir).job_rows() if manifest.is_current(r.suite_hash, r.harness_fingerprint)]
     effective = list(effective_rows(rows))
     outcomes = Counter(r.outcome for r in effective)
     errors = Counter(r.error_class or "?" for r in effective if r.outcome == "error")
@@ -27,7 +27,10 @@ def status_command(run_dir: Path) -> None:
     missing = max(manifest.planned_jobs - len(effective), 0)
     console = Console()
     console.print(f"[bold]{manifest.run_name}[/bold]  {run_dir}")
-    console.print(f"suite {manifest.suite.name} ({manifest.suite.tasks} tasks, hash {manifest.suite.hash})")
+    harness = manifest.harness.digest if manifest.harness else "-"
+    console.print(
+        f"suite {manifest.suite.name} ({manifest.suite.tasks} tasks, hash {manifest.suite.hash}); harness {harness}"
+    )
     console.print(
         f"{decided}/{manifest.planned_jobs} decided: passed {outcomes['passed']}, failed {outcomes['failed']}; "
         f"error {outcomes['error']}; not yet run {missing}; attempts recorded {len(rows)}"

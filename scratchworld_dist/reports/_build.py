@@ -31,7 +31,7 @@ def build_report(run_dirs: Sequence[Path], *, force: bool = False) -> RunReport:
     """Merge the results of ``run_dirs`` into one report.
 
     Raises ``RunDirError`` for a directory that is not a run or has no results, and for runs
-    of different suites or harness versions unless ``force`` (then the report carries a warning).
+    of different suites or harnesses unless ``force`` (then the report carries a warning).
     """
     if not run_dirs:
         raise RunDirError("no run directory given")
@@ -76,7 +76,7 @@ def _run_info(run: LoadedRun) -> RunInfo:
         run_name=run.manifest.run_name,
         suite_name=run.manifest.suite.name,
         suite_hash=run.manifest.suite.hash,
-        harness_version=run.manifest.harness_version,
+        harness=run.manifest.harness.digest if run.manifest.harness else "-",
         planned_jobs=run.manifest.planned_jobs,
         recorded_jobs=len(effective),
         determinate=decided,

@@ -131,7 +131,7 @@ def _runs(report: RunReport) -> list[_Block]:
     header += ["missing", "stale rows", "attempts", "cost of all attempts"]
     rows = [
         [
-            *(r.run_name, r.path, r.suite_name, r.suite_hash, r.harness_version, str(r.planned_jobs)),
+            *(r.run_name, r.path, r.suite_name, r.suite_hash, r.harness, str(r.planned_jobs)),
             *(str(n) for n in (r.recorded_jobs, r.determinate, r.errors, r.missing, r.stale_rows, r.attempts)),
             _usd(r.attempts_cost_usd),
         ]

@@ -1,8 +1,9 @@
 """Reading run directories for a report, and deciding whether their results may be merged.
 
-Results are only comparable within one suite (same task contents) and one harness version
-(same verdict logic), so runs that differ in either are refused unless forced, and rows left
-over from an older suite inside a run are set aside.
+Results are only comparable within one suite (same task contents) and one harness (same code
+and editor, by fingerprint), so runs that differ in either are refused unless forced, and rows
+left over from an older suite or harness inside a run (a run continued with ``--force``) are set
+aside.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from pathlib import Path
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.results import MANIFEST_NAME, JobRow, RunManifest, RunStore, read_manifest
+from workers import describe_differences
 
 
 @dataclass(frozen=True)
@@ -25,7 +27,7 @@ class LoadedRun:
     """Every attempt row whose suite hash matches the manifest (duplicates included)."""
 
     stale_rows: int
-    """Rows whose suite hash differs from the manifest's: results of an older suite."""
+    """Rows whose suite hash or harness fingerprint differs from the manifest's: results of an older suite or code."""
 
     @property
     def name(self) -> str:
@@ -42,20 +44,27 @@ def load_run(path: Path) -> LoadedRun:
     rows = RunStore(path).job_rows()
     if not rows:
         raise RunDirError(f"{path}: no job results yet (run {manifest.run_name!r} has not finished any job)")
-    current = [r for r in rows if r.suite_hash == manifest.suite.hash]
+    current = [r for r in rows if manifest.is_current(r.suite_hash, r.harness_fingerprint)]
     return LoadedRun(path=path, manifest=manifest, rows=current, stale_rows=len(rows) - len(current))
 
 
 def check_compatible(runs: Sequence[LoadedRun], *, force: bool) -> list[str]:
     """Warnings for runs that differ in suite or harness; without ``force`` those raise instead."""
     problems = []
-    for what, value in (
-        ("suite hash", lambda run: run.manifest.suite.hash),
-        ("harness version", lambda run: run.manifest.harness_version),
-    ):
-        if len({value(run) for run in runs}) > 1:
-            values = ", ".join(f"{run.name}: {value(run)}" for run in runs)
-            problems.append(f"runs differ in {what} ({values})")
+    if len({run.manifest.suite.hash for run in runs}) > 1:
+        values = ", ".join(f"{run.name}: {run.manifest.suite.hash}" for run in runs)
+        problems.append(f"runs differ in suite hash ({values})")
+    first = runs[0]
+    for run in runs[1:]:
+        ours, theirs = first.manifest.harness, run.manifest.harness
+        if ours is None or theirs is None:
+            if ours is not theirs:
+                problems.append(f"{first.name} and {run.name} differ in harness (one has no fingerprint)")
+        elif ours.digest != theirs.digest:
+            problems.append(
+                f"{first.name} and {run.name} differ in harness {ours.digest} / {theirs.digest} "
+                f"(files: {describe_differences(ours, theirs)})"
+            )
     if problems and not force:
         raise RunDirError(f"refusing to merge incomparable results: {'; '.join(problems)}; use --force to merge anyway")
     return [f"merged anyway (--force): {p}; their numbers are not comparable" for p in problems]

@@ -128,7 +128,9 @@ class RunInfo(BaseModel):
     run_name: str
     suite_name: str
     suite_hash: str
-    harness_version: str
+    harness: str
+    """The run's harness fingerprint (``-`` for runs older than fingerprints)."""
+
     planned_jobs: int
     recorded_jobs: int
     """Distinct jobs of the current suite with at least one attempt."""
@@ -139,7 +141,7 @@ class RunInfo(BaseModel):
     """``planned_jobs - recorded_jobs``: never run, lost, or still running."""
 
     stale_rows: int
-    """Attempt rows from an older suite (their suite hash differs from the manifest): excluded."""
+    """Attempt rows from an older suite or harness (hash or fingerprint differs from the manifest): excluded."""
 
     attempts: int
     attempts_cost_usd: float

@@ -14,6 +14,7 @@ from typing import Any
 from pydantic import BaseModel, Field, ValidationError
 
 from scratchworld_dist._errors import RunDirError
+from workers import HarnessFingerprint
 
 MANIFEST_NAME = "manifest.json"
 _PACKAGES = ("scratchworld-dist", "ray", "pyarrow", "playwright", "pydantic", "litellm")
@@ -45,7 +46,9 @@ class Session(BaseModel):
 class RunManifest(BaseModel):
     run_name: str
     schema_version: int
-    harness_version: str
+    harness: HarnessFingerprint | None = None
+    """The fingerprint of the code and editor the run's jobs are planned for (None: an older run)."""
+
     config: dict[str, Any]
     config_hash: str
     suite: SuiteInfo
@@ -55,6 +58,10 @@ class RunManifest(BaseModel):
     packages: dict[str, str] = Field(default_factory=dict)
     git_commit: str | None = None
     sessions: list[Session] = Field(default_factory=list)
+
+    def is_current(self, suite_hash: str, harness: str | None) -> bool:
+        """Whether a row of this suite and harness belongs to the run as it stands (others are stale)."""
+        return suite_hash == self.suite.hash and harness == (self.harness.digest if self.harness else None)
 
     @property
     def started_at(self) -> datetime | None:
@@ -109,5 +116,8 @@ def write_manifest(run_dir: Path, manifest: RunManifest) -> None:
     """Replace the manifest atomically: readers see the old or the new one, never half."""
     path = run_dir / MANIFEST_NAME
     tmp = path.with_name(f".{MANIFEST_NAME}.{os.getpid()}.tmp")
-    tmp.write_text(json.dumps(manifest.model_dump(mode="json"), indent=2) + "\n", encoding="utf-8")
-    os.replace(tmp, path)
+    try:
+        tmp.write_text(json.dumps(manifest.model_dump(mode="json"), indent=2) + "\n", encoding="utf-8")
+        os.replace(tmp, path)
+    except OSError as exc:
+        raise RunDirError(f"{path}: cannot write the run manifest: {exc.strerror or exc}") from exc

@@ -33,7 +33,9 @@ class JobRow(BaseModel):
     suite_hash: str
     seed: int
     max_steps: int
-    harness_version: str
+    harness_fingerprint: str | None
+    """Digest of the code and editor that ran the job (see ``workers.harness_fingerprint``); null in older runs."""
+
     outcome: str
     """``passed`` (all tests), ``failed`` (evaluated, not all pass) or ``error`` (no verdict)."""
 
@@ -131,7 +133,6 @@ def record_of(
     *,
     run_name: str,
     suite_hash: str,
-    harness_version: str,
     artifact_dir: str | None,
 ) -> JobRecord:
     """Flatten a worker's result into rows; the job's identity comes from the plan, not the worker."""
@@ -151,7 +152,7 @@ def record_of(
         suite_hash=suite_hash,
         seed=job.seed,
         max_steps=job.max_steps,
-        harness_version=harness_version,
+        harness_fingerprint=job.harness,
         outcome=result.outcome,
         error_class=result.error_class,
         error_message=result.error_message,

@@ -11,7 +11,7 @@ from pydantic import BaseModel
 
 from scratchworld_dist.results._records import JobRow, StepRow, TestRow
 
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 """Bumped on any incompatible change to a table; stored in every shard's metadata."""
 
 _ARROW_TYPES: dict[Any, pa.DataType] = {

@@ -50,6 +50,12 @@ def _write_atomic(path: Path, data: bytes, *, sync: bool = True) -> None:
     os.replace(tmp, path)
 
 
+def unwritable(run_dir: Path, exc: OSError) -> RunDirError:
+    """The one-line error for a run directory that cannot take results (where, and the OS's reason)."""
+    where = f" ({exc.filename})" if exc.filename and str(exc.filename) != str(run_dir) else ""
+    return RunDirError(f"{run_dir}: cannot write results here: {exc.strerror or exc}{where}")
+
+
 def _read_segment(path: Path) -> list[JobRecord]:
     """Records of a segment; a torn last line (the driver died mid-write) is dropped."""
     records: list[JobRecord] = []
@@ -94,6 +100,13 @@ class RunStore:
 
     def open_for_writing(self) -> None:
         """Take the run directory's lock and fold leftovers of a crashed run into shards."""
+        try:
+            self._open_for_writing()
+        except OSError as exc:
+            self.close()
+            raise unwritable(self.run_dir, exc) from exc
+
+    def _open_for_writing(self) -> None:
         self.run_dir.mkdir(parents=True, exist_ok=True)
         lock = (self.run_dir / ".lock").open("ab")
         try:
@@ -113,6 +126,12 @@ class RunStore:
         """Make one attempt durable; after this returns, a driver crash cannot lose it."""
         if self._lock is None:
             raise RuntimeError("open_for_writing() first")
+        try:
+            self._append(record)
+        except OSError as exc:  # e.g. the disk filled up: stop with what is committed so far
+            raise unwritable(self.run_dir, exc) from exc
+
+    def _append(self, record: JobRecord) -> None:
         if self._segment is None:
             self._segment_number += 1
             self._segment = self._segment_path(self._segment_number).open("ab")
@@ -126,8 +145,11 @@ class RunStore:
     def write_artifact(self, job_id: str, attempt: int, name: str, data: bytes) -> str:
         """Store one file of an attempt; returns its folder relative to the run directory."""
         folder = self.artifacts_dir / job_id / f"attempt-{attempt}"
-        (folder / name).parent.mkdir(parents=True, exist_ok=True)
-        _write_atomic(folder / name, data, sync=False)  # survives the driver's death; shards are synced
+        try:
+            (folder / name).parent.mkdir(parents=True, exist_ok=True)
+            _write_atomic(folder / name, data, sync=False)  # survives the driver's death; shards are synced
+        except OSError as exc:
+            raise unwritable(self.run_dir, exc) from exc
         return str(folder.relative_to(self.run_dir))
 
     def flush(self) -> None:
@@ -136,7 +158,10 @@ class RunStore:
             return
         self._segment.close()
         self._segment = None
-        self._compact(self._segment_number, self._segment_path(self._segment_number))
+        try:
+            self._compact(self._segment_number, self._segment_path(self._segment_number))
+        except OSError as exc:  # the journal segment stays; the next open compacts it
+            raise unwritable(self.run_dir, exc) from exc
 
     def close(self) -> None:
         self.flush()

@@ -12,7 +12,7 @@ from scratchworld_dist.sb3._builder import (
     rect_costume,
     variable,
 )
-from workers._sb3_reader import read_project_json
+from workers._sb3_reader import check_project
 
 __all__ = [
     "Block",
@@ -21,9 +21,9 @@ __all__ = [
     "Target",
     "backdrop_costume",
     "block",
+    "check_project",
     "circle_costume",
     "list_contents",
-    "read_project_json",
     "rect_costume",
     "variable",
 ]

@@ -1,10 +1,24 @@
-"""Starting and joining Ray: a private local instance by default, a cluster by address."""
+"""Starting and joining Ray: a private local instance by default, a cluster by address.
+
+Joining is checked first, within a bounded time, so that a wrong address fails in seconds with
+one line naming it, instead of Ray retrying for minutes and printing its internal warnings: a
+TCP connection to the address, then a GCS handshake in a child process (whose output is kept
+from the user). Ray 2.60 clusters started on a machine that holds a token (any local Ray run
+writes ``~/.ray/auth_token``) require token authentication; when the handshake is refused for
+that reason, a driver holding a token (``~/.ray/auth_token``, ``RAY_AUTH_TOKEN``,
+``RAY_AUTH_TOKEN_PATH``) presents it.
+"""
 
 from __future__ import annotations
 
 import os
-from collections.abc import Iterator
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
+from pathlib import Path
 
 import ray
 
@@ -16,18 +30,93 @@ BROWSER_RESOURCE = "browser"
 LOCAL_OBJECT_STORE_BYTES = 512 * 2**20
 """Projects and scripts are small; a modest store keeps a laptop's /dev/shm free."""
 
+_GCS_HANDSHAKE = "import sys\nfrom ray._raylet import GcsClient\nprint(GcsClient(address=sys.argv[1]).cluster_id)\n"
+"""Run in a child process: Ray's client retries silently for minutes and logs to stderr."""
+
 
 class RayUnavailableError(ScratchWorldError):
     """Ray could not be started or joined, or offers no browser slots."""
 
 
+def _token_available() -> bool:
+    path = os.environ.get("RAY_AUTH_TOKEN_PATH")
+    return bool(os.environ.get("RAY_AUTH_TOKEN")) or Path(path or Path.home() / ".ray" / "auth_token").is_file()
+
+
+def check_joinable(address: str, timeout_s: float) -> None:
+    """Raise ``RayUnavailableError`` unless the cluster at ``address`` answers as a Ray cluster in time."""
+    from ray._private.services import canonicalize_bootstrap_address
+
+    deadline = time.monotonic() + timeout_s
+    try:
+        target = canonicalize_bootstrap_address(address) if not address.startswith("ray://") else address[6:]
+    except (ConnectionError, ValueError) as exc:
+        raise RayUnavailableError(f"cannot join the Ray cluster at {address}: {exc}") from exc
+    if target is None:
+        raise RayUnavailableError(f"cannot join the Ray cluster at {address}: no running cluster found")
+    host, _, port = target.rpartition(":")
+    where = address if target == address else f"{address} (Ray connects to {target})"
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=timeout_s):
+            pass
+    except (OSError, ValueError) as exc:
+        if isinstance(exc, TimeoutError):
+            reason = f"no answer within {timeout_s:g} s (ray.connect_timeout_s)"
+        else:
+            reason = getattr(exc, "strerror", None) or str(exc)
+        raise RayUnavailableError(
+            f"cannot reach the Ray cluster at {where}: {reason}; is `ray start --head` running there, "
+            "and is its port open to this machine?"
+        ) from exc
+    if address.startswith("ray://"):
+        return  # a Ray Client server: its own protocol, joined by ray.init
+    failure = _handshake(target, deadline, os.environ)
+    if failure == "auth" and "RAY_AUTH_MODE" not in os.environ and _token_available():
+        # The cluster wants the token this machine holds: present it (only then: a driver in token
+        # mode makes the workers of a cluster without authentication fail).
+        failure = _handshake(target, deadline, {**os.environ, "RAY_AUTH_MODE": "token"})
+        if failure is None:
+            os.environ["RAY_AUTH_MODE"] = "token"
+    if failure == "timeout":
+        raise RayUnavailableError(
+            f"{where} accepts connections but does not answer as a Ray cluster within {timeout_s:g} s "
+            "(ray.connect_timeout_s)"
+        )
+    if failure == "auth":
+        raise RayUnavailableError(
+            f"the Ray cluster at {where} requires its authentication token: copy the head's token "
+            "(`ray get-auth-token` there) to ~/.ray/auth_token here, or set RAY_AUTH_TOKEN"
+        )
+    if failure is not None:
+        raise RayUnavailableError(f"{where} did not answer as a Ray cluster: {failure}")
+
+
+def _handshake(target: str, deadline: float, env: Mapping[str, str]) -> str | None:
+    """None when the GCS at ``target`` answers; else ``timeout``, ``auth`` or the child's last line."""
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", _GCS_HANDSHAKE, target],
+            capture_output=True,
+            text=True,
+            timeout=max(deadline - time.monotonic(), 1.0),
+            env=dict(env),
+        )
+    except subprocess.TimeoutExpired:
+        return "timeout"
+    if done.returncode == 0:
+        return None
+    if "InvalidAuthToken" in done.stderr or "AuthenticationError" in done.stderr:
+        return "auth"
+    return (done.stderr.strip().splitlines() or ["no output"])[-1][:300]
+
+
 @contextmanager
-def ray_runtime(address: str | None, browser_slots: int | None) -> Iterator[int]:
+def ray_runtime(address: str | None, browser_slots: int | None, connect_timeout_s: float = 30.0) -> Iterator[int]:
     """Run Ray for the duration of the block; yields the number of browser slots available.
 
     Without an address a private instance is started (``address='local'``), even when a
     ``ray start`` cluster runs on this machine; with one, that cluster's nodes must declare
-    ``--resources='{"browser": N}'``.
+    ``--resources='{"browser": N}'``, and it must answer within ``connect_timeout_s``.
     """
     already = ray.is_initialized()
     if not already:
@@ -44,6 +133,7 @@ def ray_runtime(address: str | None, browser_slots: int | None) -> Iterator[int]
                     configure_logging=False,
                 )
             else:
+                check_joinable(address, connect_timeout_s)
                 ray.init(address=address, log_to_driver=False, configure_logging=False)
         except (ConnectionError, ValueError, RuntimeError) as exc:
             raise RayUnavailableError(f"could not start or join Ray ({address or 'local'}): {exc}") from exc

@@ -2,7 +2,13 @@
 
 Whatever happens inside an episode comes back as an ``EpisodeResult`` (an error outcome at
 worst); only the death of the process itself is left to Ray and the driver. The browser is
-started on first use and started again if it dies, so a restarted actor heals itself.
+started on first use and started again if it dies, so a restarted actor heals itself. An
+episode whose editor failed closes its browser only if that browser stopped answering: a page
+that crashed takes nobody else with it, and a late failure never closes a browser that was
+started after it.
+
+A worker refuses jobs planned for another harness (the driver's fingerprint differs from the
+code this process runs), so no node produces verdicts under ids that name other code.
 """
 
 from __future__ import annotations
@@ -26,6 +32,7 @@ from workers import (
     SyntheticEpisodes,
     TaskPayload,
     WorkerInfo,
+    harness_fingerprint,
     run_synthetic,
 )
 from workers._errors import EditorError
@@ -57,8 +64,7 @@ class EpisodeWorker:
             result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
         except TimeoutError:
             result = EpisodeResult.errored(spec, "episode_timeout", f"episode exceeded {spec.timeout_s:g} s")
-        except (EditorError, PlaywrightError) as exc:  # the browser itself broke: start a new one
-            await self._drop_browser()
+        except (EditorError, PlaywrightError) as exc:  # the browser could not be started
             result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         except Exception as exc:  # the worker must answer, whatever broke: the driver records it
             detail = "".join(traceback.format_exception_only(exc)).strip()
@@ -70,6 +76,13 @@ class EpisodeWorker:
         return result.model_copy(update=update)
 
     async def _run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
+        ours = harness_fingerprint().digest
+        if spec.harness is not None and spec.harness != ours:
+            message = (
+                f"{self.info_.hostname} (node {self.info_.node_id[:12]}) runs harness {ours}, "
+                f"the job was planned for {spec.harness}: update this node's checkout"
+            )
+            return EpisodeResult.errored(spec, "harness_mismatch", message)
         if self.synthetic is not None:
             return await run_synthetic(spec, task, self.synthetic)
         try:
@@ -77,9 +90,12 @@ class EpisodeWorker:
         except AgentUnavailableError as exc:
             return EpisodeResult.errored(spec, "agent_error", str(exc))
         runner = await self._browser()
-        result = await runner.run(spec, task, agent)
+        try:
+            result = await runner.run(spec, task, agent)
+        except (EditorError, PlaywrightError) as exc:
+            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         if result.error_class == "editor_failure":
-            await self._drop_browser()
+            await self._drop_if_broken(runner.session)
         return result
 
     async def _browser(self) -> EpisodeRunner:
@@ -90,6 +106,14 @@ class EpisodeWorker:
                 # Evaluation pages are recycled across this worker's jobs; agent pages never are.
                 self._runner = EpisodeRunner(self._session, EditorPool(self._session, spare=0))
             return self._runner
+
+    async def _drop_if_broken(self, session: BrowserSession) -> None:
+        """Close the browser an episode failed in if it no longer answers; never another one."""
+        if await session.responsive():
+            return  # only the episode's own page broke: its siblings carry on
+        if session is self._session:
+            self._session = self._runner = None
+        await session.close()
 
     async def _drop_browser(self) -> None:
         session, self._session, self._runner = self._session, None, None

@@ -9,18 +9,17 @@ from scratchworld_dist.sweep._config import (
     load_sweep_config,
 )
 from scratchworld_dist.sweep._plan import (
-    HARNESS_VERSION,
     NO_MODEL,
     JobSpec,
     TaskContent,
     job_id,
     plan_jobs,
+    read_project,
     read_task,
     suite_hash,
 )
 
 __all__ = [
-    "HARNESS_VERSION",
     "NO_MODEL",
     "JobSpec",
     "Limits",
@@ -32,6 +31,7 @@ __all__ = [
     "job_id",
     "load_sweep_config",
     "plan_jobs",
+    "read_project",
     "read_task",
     "suite_hash",
 ]

@@ -25,6 +25,7 @@ from workers import (
     Mode,
     ModelSpec,
     ObservationSettings,
+    ProjectLimits,
     RateLimits,
     SyntheticEpisodes,
 )
@@ -148,6 +149,9 @@ class RayConfig(BaseModel):
     address: str | None = None
     """``auto`` or ``host:port`` of a running cluster; ``RAY_ADDRESS`` also works."""
 
+    connect_timeout_s: float = Field(default=30.0, gt=0)
+    """How long joining the cluster at ``address`` may take before the run fails, naming it."""
+
 
 def _step_limits(value: Any) -> int | dict[Mode, int]:
     """A positive step limit, or one per mode (``{composite: 50, primitive: 300}``)."""
@@ -190,6 +194,9 @@ class SweepConfig(BaseModel):
 
     llm: LLMSettings = Field(default_factory=LLMSettings)
     """The llm agent's conversation protocol and model-call retries."""
+
+    project_limits: ProjectLimits = Field(default_factory=ProjectLimits)
+    """The largest project a worker loads (task projects are checked when the sweep is planned)."""
 
     limits: Limits = Field(default_factory=Limits)
     output: Path | None = None

@@ -1,9 +1,10 @@
 """Planning: the job matrix model x mode x task x seed, each job named by what decides its outcome.
 
 A job id is a hash of everything that can change the job's result (model and its parameters,
-mode, agent, the task's content, seed, step limit, harness version), so a changed task or config
-is a new job and a stale result is never reused; identical jobs keep their id across runs,
-which is what resume relies on.
+mode, agent, the task's content, seed, step limit, project limits, and the harness fingerprint:
+the digest of the code and editor that run it), so a changed task, config or harness is a new
+job and a stale result is never reused; identical jobs keep their id across runs, which is what
+resume relies on.
 """
 
 from __future__ import annotations
@@ -11,12 +12,14 @@ from __future__ import annotations
 import hashlib
 import json
 from collections.abc import Iterator, Mapping
-from importlib.metadata import version
+from pathlib import Path
 
 from pydantic import BaseModel, ConfigDict
 
+from scratchworld_dist._errors import ProjectFormatError, SuiteError
 from scratchworld_dist.suites import Task
 from workers import (
+    MIB,
     AgentName,
     EpisodeSpec,
     EvaluationClock,
@@ -25,11 +28,11 @@ from workers import (
     Mode,
     ModelSpec,
     ObservationSettings,
+    ProjectLimits,
     TaskPayload,
+    check_project,
+    harness_fingerprint,
 )
-
-HARNESS_VERSION = version("scratchworld-dist")
-"""Recorded with every job; bump the package version when a change can alter verdicts."""
 
 NO_MODEL = "-"
 """Model label of scripted agents (oracle, noop) that call no model."""
@@ -55,6 +58,10 @@ class JobSpec(BaseModel):
     llm: LLMSettings | None = None
     """The llm agent's conversation protocol (None for scripted agents)."""
 
+    project_limits: ProjectLimits = ProjectLimits()
+    harness: str
+    """The harness fingerprint the job was planned under (part of its id)."""
+
     @property
     def model_name(self) -> str:
         return self.model.name if self.model is not None else NO_MODEL
@@ -72,6 +79,8 @@ class JobSpec(BaseModel):
             observation=self.observation,
             llm=self.llm,
             timeout_s=timeout_s,
+            project_limits=self.project_limits,
+            harness=self.harness,
         )
 
 
@@ -85,18 +94,41 @@ class TaskContent(BaseModel):
     task_hash: str
 
 
+def read_project(path: Path, limits: ProjectLimits) -> bytes:
+    """A task's project, read only if its size is within the limits and checked to be a project."""
+    try:
+        size = path.stat().st_size
+        if size > limits.max_file_mb * MIB:
+            raise SuiteError(f"the project is {size / MIB:.1f} MiB, over project_limits.max_file_mb", path)
+        data = path.read_bytes()
+    except OSError as exc:
+        raise SuiteError(f"cannot read the project: {exc.strerror or exc}", path) from exc
+    try:
+        check_project(data, limits)
+    except ProjectFormatError as exc:
+        raise SuiteError(str(exc), path) from exc
+    return data
+
+
 def read_task(
-    task: Task, profile: EvaluationProfile | None = None, clock: EvaluationClock | None = None
+    task: Task,
+    profile: EvaluationProfile | None = None,
+    clock: EvaluationClock | None = None,
+    limits: ProjectLimits | None = None,
 ) -> TaskContent:
-    """Read a task's files once; the hash covers every byte a worker will see (and profile and clock)."""
+    """Read a task's files once; the hash covers every byte a worker will see (and profile and clock).
+
+    Its projects are checked against ``limits`` here, so a task no worker would load fails the plan.
+    """
+    limits = limits or ProjectLimits()
     spec = task.evaluation_spec(profile, clock)
-    golden = task.golden_project.read_bytes() if task.golden_project is not None else None
+    golden = read_project(task.golden_project, limits) if task.golden_project is not None else None
     trajectory = task.trajectory()
     payload = TaskPayload(
         task_id=task.id,
         category=task.category,
         instruction=task.instruction,
-        initial_project=task.initial_project.read_bytes(),
+        initial_project=read_project(task.initial_project, limits),
         golden_project=golden,
         golden_trajectory=trajectory,
         evaluation=spec,
@@ -134,7 +166,10 @@ def job_id(
     max_steps: int,
     observation: ObservationSettings | None = None,
     llm: LLMSettings | None = None,
+    project_limits: ProjectLimits | None = None,
+    harness: str | None = None,
 ) -> str:
+    """The job's name: a hash of everything that can change its result (``harness``: this code's fingerprint)."""
     identity: dict[str, object] = {
         "model": None if model is None else model.identity(),
         "mode": mode,
@@ -142,7 +177,8 @@ def job_id(
         "task": [task_id, task_hash],
         "seed": seed,
         "max_steps": max_steps,
-        "harness": HARNESS_VERSION,
+        "project_limits": (project_limits or ProjectLimits()).model_dump(mode="json"),
+        "harness": harness or harness_fingerprint().digest,
     }
     if observation is not None:  # only primitive jobs have one, so composite ids stay as they were
         identity["observation"] = observation.model_dump(mode="json")
@@ -161,8 +197,12 @@ def plan_jobs(
     max_steps: int | Mapping[Mode, int],
     observation: ObservationSettings | None = None,
     llm: LLMSettings | None = None,
+    project_limits: ProjectLimits | None = None,
+    harness: str | None = None,
 ) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks."""
+    limits = project_limits or ProjectLimits()
+    harness = harness or harness_fingerprint().digest
     for model in models:
         for mode in modes:
             steps = max_steps if isinstance(max_steps, int) else max_steps[mode]
@@ -171,8 +211,11 @@ def plan_jobs(
             for seed in seeds:
                 for content in tasks:
                     task = content.task
+                    name = job_id(
+                        model, mode, agent, content.task_hash, task.id, seed, steps, settings, protocol, limits, harness
+                    )
                     yield JobSpec(
-                        job_id=job_id(model, mode, agent, content.task_hash, task.id, seed, steps, settings, protocol),
+                        job_id=name,
                         model=model,
                         mode=mode,
                         agent=agent,
@@ -183,4 +226,6 @@ def plan_jobs(
                         max_steps=steps,
                         observation=settings,
                         llm=protocol,
+                        project_limits=limits,
+                        harness=harness,
                     )
