@@ -1,9 +1,12 @@
 """One Chromium per worker process; every editor gets a fresh browser context.
 
 A fresh context is the isolation unit: nothing a previous project did (VM state, globals,
-storage, mouse history) can reach the next one. The editor is served from 127.0.0.1 and every
-other host name fails to resolve inside Chromium, so the sprite library's CDN requests fail at
-once instead of slowing or breaking a session.
+storage, mouse history) can reach the next one. The editor is served from 127.0.0.1, and the
+page reaches nothing else: Chromium sends every request, loopback included, to the editor
+server as its proxy, which serves the editor's own files and refuses the rest (see
+``workers._editor_server``); UDP (WebRTC) is off, and host names do not resolve. So the sprite
+library's CDN requests fail at once, and no task, project or agent can make a page talk to the
+node's other services.
 """
 
 from __future__ import annotations
@@ -39,7 +42,14 @@ CHROMIUM_ARGS: tuple[str, ...] = (
     "--autoplay-policy=no-user-gesture-required",
     # Offline here: every host but the loopback editor server fails to resolve, immediately.
     "--host-resolver-rules=MAP * ~NOTFOUND , EXCLUDE 127.0.0.1",
+    # No UDP from pages (WebRTC would reach any port); what goes over TCP goes through the proxy.
+    "--webrtc-ip-handling-policy=disable_non_proxied_udp",
 )
+
+
+def isolation_args(proxy: str) -> tuple[str, ...]:
+    """Every request of every page goes to ``proxy`` (the editor server), loopback included."""
+    return (f"--proxy-server={proxy}", "--proxy-bypass-list=<-loopback>")
 
 
 def default_chromium() -> Path:
@@ -108,6 +118,11 @@ class BrowserSession:
         return self._server.url
 
     @property
+    def refused_requests(self) -> list[str]:
+        """The latest requests pages of this session made to anything but the editor (all refused)."""
+        return self._server.refusals.latest if self._server is not None else []
+
+    @property
     def connected(self) -> bool:
         """Open and its Chromium still alive; a session that is not must be replaced."""
         return self._state is _State.OPEN and self._browser is not None and self._browser.is_connected()
@@ -128,7 +143,7 @@ class BrowserSession:
             self._browser = await self._playwright.chromium.launch(
                 executable_path=str(executable),
                 headless=True,
-                args=[*CHROMIUM_ARGS, *self.config.extra_args],
+                args=[*CHROMIUM_ARGS, *isolation_args(self._server.proxy), *self.config.extra_args],
             )
         except PlaywrightError as exc:
             await self.close()

@@ -1,16 +1,24 @@
-"""A static file server for the editor, bound to 127.0.0.1 only.
+"""A static file server for the editor, bound to 127.0.0.1 only, and the page's only way out.
 
 The bundle's webpack ``publicPath`` is ``/``, so its ``chunks/``, ``static/`` and ``libraries/``
 must sit at the web root next to our ``index.html`` and ``bridge.js``. A threaded stdlib server
 in the worker process does that with no extra dependency; Playwright routing was the
 alternative, but it pipes every response body through Python (see benchmarks/editor_startup.py).
+
+The same server is the browser's HTTP proxy for every destination, loopback included
+(``BrowserSession`` launches Chromium so), and it answers only requests for its own origin:
+whatever the page is made to fetch elsewhere (by a task's script, a project, or an agent's
+clicks: images, workers, WebSockets, extension services) is refused here and noted, so nothing
+on the node's loopback or network (Ray, model servers, dashboards) is reachable from a page.
 """
 
 from __future__ import annotations
 
+import logging
 import os
 import sys
 import threading
+from collections import deque
 from functools import cached_property
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -19,6 +27,11 @@ from typing import BinaryIO
 from urllib.parse import unquote, urlsplit
 
 from workers._errors import EditorBundleMissingError
+
+log = logging.getLogger(__name__)
+
+REFUSALS_KEPT = 200
+"""Refused requests remembered per server (the oldest are forgotten)."""
 
 BUNDLE_PACKAGE = "@scratch/scratch-gui-standalone"
 BUNDLE_FILE = "scratch-gui-standalone.js"
@@ -59,6 +72,23 @@ class EditorAssets:
 
 class _Handler(SimpleHTTPRequestHandler):
     assets: EditorAssets
+    refusals: Refusals
+
+    def parse_request(self) -> bool:
+        """Go on only with a request for our own origin, whether sent directly or as a proxy request."""
+        if not super().parse_request():
+            return False
+        origins = {f"127.0.0.1:{self.server.server_address[1]}", f"localhost:{self.server.server_address[1]}"}
+        target = urlsplit(self.path)
+        if target.scheme:  # absolute form: the browser uses us as its proxy
+            own = target.scheme == "http" and target.netloc in origins
+        else:  # origin form (a CONNECT's authority parses as a path here, and is refused below)
+            own = self.command != "CONNECT" and self.path.startswith("/") and self.headers.get("Host") in origins
+        if not own:
+            self.refusals.note(f"{self.command} {self.path}")
+            self.close_connection = True
+            self.send_error(403, "the editor page may load the editor's own files only")
+        return own
 
     def send_head(self) -> BinaryIO | None:  # type: ignore[override]
         if self.assets.resolve(self.path) is None:
@@ -80,6 +110,26 @@ class _Handler(SimpleHTTPRequestHandler):
         """Requests are not worth a log line each."""
 
 
+class Refusals:
+    """Requests the server refused (the page tried to reach something else): a count and the latest."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._latest: deque[str] = deque(maxlen=REFUSALS_KEPT)
+        self.count = 0
+
+    def note(self, request: str) -> None:
+        with self._lock:
+            self.count += 1
+            self._latest.append(request[:300])
+        log.info("refused a request from the editor page: %s", request[:300])
+
+    @property
+    def latest(self) -> list[str]:
+        with self._lock:
+            return list(self._latest)
+
+
 class _Server(ThreadingHTTPServer):
     daemon_threads = True
 
@@ -97,10 +147,12 @@ class EditorServer:
         self._port = port
         self._httpd: ThreadingHTTPServer | None = None
         self._thread: threading.Thread | None = None
+        self.refusals = Refusals()
+        """What pages served by this server tried to reach besides it."""
 
     @cached_property
     def _handler(self) -> type[_Handler]:
-        return type("EditorRequestHandler", (_Handler,), {"assets": self.assets})
+        return type("EditorRequestHandler", (_Handler,), {"assets": self.assets, "refusals": self.refusals})
 
     @property
     def url(self) -> str:
@@ -108,6 +160,13 @@ class EditorServer:
             raise RuntimeError("the editor server is not running")
         host, port = self._httpd.server_address[:2]
         return f"http://{host}:{port}/index.html"
+
+    @property
+    def proxy(self) -> str:
+        """This server as a browser's proxy (``--proxy-server``)."""
+        if self._httpd is None:
+            raise RuntimeError("the editor server is not running")
+        return f"http://127.0.0.1:{self._httpd.server_address[1]}"
 
     def start(self) -> EditorServer:
         if self._httpd is not None:
