@@ -30,9 +30,11 @@ from scratchworld_dist.results import (
 )
 from scratchworld_dist.results._manifest import git_commit, now, package_versions
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, ray_runtime
+from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
 from workers import EpisodeResult, HarnessFingerprint, ModelSpec, describe_differences, harness_fingerprint
+from workers._node import NodeReport, describe_node
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 
 
@@ -101,13 +103,14 @@ def config_hash(config: SweepConfig) -> str:
     return hashlib.sha256(json.dumps(shaping, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def plan_run(config: SweepConfig) -> RunPlan:
+def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> RunPlan:
+    """The sweep's jobs under ``harness`` (default: this machine's code, editor and browser)."""
+    harness = harness or harness_fingerprint()
     suite = load_suite(config.suite, task_list=config.tasks.task_list)
     tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
     if not tasks:
         raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
     contents = [read_task(task, config.profile, config.clock, config.project_limits) for task in tasks]
-    harness = harness_fingerprint()
     info = SuiteInfo(
         name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
     )
@@ -171,8 +174,22 @@ def harness_changes(old: HarnessFingerprint | None, new: HarnessFingerprint) -> 
 
 
 def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | None = None) -> RunSummary:
+    """Run or resume the sweep. On a cluster, its nodes are checked first (the driver's code, one editor
+    and one browser among them) and the jobs are planned under their environment."""
     console = console or Console(stderr=True)
-    plan = plan_run(config)
+    if config.ray.address is None:  # a private local Ray: this machine is the only node
+        local = describe_node(browser_slots=config.limits.browser_slots or os.cpu_count() or 1)
+        return _run_plan(plan_run(config, local.harness), [local], force, console)
+    with ray_runtime(config.ray.address, config.limits.browser_slots, config.ray.connect_timeout_s):
+        nodes = inspect_nodes()
+        harness = agreed_harness(nodes, harness_fingerprint())
+        slots = sum(node.browser_slots for node in nodes)
+        console.print(f"{len(nodes)} node(s) with {slots} browser slot(s) run harness {harness.digest}")
+        return _run_plan(plan_run(config, harness), nodes, force, console)
+
+
+def _run_plan(plan: RunPlan, nodes: list[NodeReport], force: bool, console: Console) -> RunSummary:
+    config = plan.config
     run_dir = config.run_dir()
     store = RunStore(run_dir)
     manifest = _checked_manifest(plan, run_dir, force)
@@ -184,7 +201,13 @@ def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | No
             last, decided = attempts.get(job.job_id, (0, False))
             if not decided:
                 todo.append((job, last + 1))
-        session = Session(started_at=now(), host=socket.gethostname(), pid=os.getpid(), planned=len(todo))
+        session = Session(
+            started_at=now(),
+            host=socket.gethostname(),
+            pid=os.getpid(),
+            planned=len(todo),
+            nodes=[node.summary() for node in nodes],
+        )
         manifest.sessions.append(session)
         write_manifest(run_dir, manifest)
         console.print(

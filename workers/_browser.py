@@ -57,7 +57,7 @@ def default_chromium() -> Path:
     return Path(override) if override else DEFAULT_CHROMIUM
 
 
-RESPONSIVE_TIMEOUT_S = 10.0
+RESPONSIVE_TIMEOUT_S = 30.0
 """How long a healthy browser may take to open an empty context, even on a busy machine."""
 
 

@@ -1,26 +1,32 @@
 """The harness fingerprint: one digest of everything on a node that can change a verdict or an episode.
 
 A hand-bumped version number goes stale the first time a change forgets to bump it; a digest of
-the files themselves cannot. The fingerprint covers the worker code (episodes, evaluation,
-agents, prompts, observations), the page-side JavaScript, the lock of the editor bundle, and the
-versions of the packages that drive the browser, the model calls and OCR. It is part of every
-job's id, recorded per row and in the run manifest, and each node of a cluster reports its own,
-so results made by different code are never taken for one another.
+the things themselves cannot. The fingerprint has two kinds of parts:
 
-The digest of each part is kept, so two fingerprints can say which files differ.
+- the code: the worker code (episodes, evaluation, agents, prompts, observations), the page-side
+  JavaScript, the lock of the editor bundle, and the versions of the packages that drive the
+  browser, the model calls and OCR; the driver and every node compute these from their checkout;
+- the environment a node renders in: the editor bundle actually installed and the Chromium
+  version (``editor:`` and ``browser:`` parts), which only a node with browsers can tell.
+
+The digest over both is part of every job's id, recorded per row and in the run manifest, so
+results made by other code or another browser are never taken for one another; each part's own
+digest is kept, so two fingerprints can say which files differ.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import subprocess
 from functools import cache
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 from pydantic import BaseModel, ConfigDict
 
-from workers._editor_server import OWN_FILES, default_gui_dir
+from workers._browser import default_chromium
+from workers._editor_server import BUNDLE_FILE, BUNDLE_PACKAGE, OWN_FILES, default_gui_dir
 
 WORKERS_DIR = Path(__file__).resolve().parent
 REPO_DIR = WORKERS_DIR.parent
@@ -34,9 +40,12 @@ EDITOR_LOCK_FILES = ("package.json", "package-lock.json")
 EPISODE_PACKAGES = ("playwright", "litellm", "rapidocr", "onnxruntime", "opencv-python-headless", "numpy")
 """Packages whose version can change what an agent sees or what a model call returns."""
 
+ENVIRONMENT_PARTS = ("editor:bundle", "browser:chromium")
+"""The parts a node's installation decides rather than its checkout."""
+
 
 class HarnessFingerprint(BaseModel):
-    """A digest over named parts (files by path, packages by ``package:<name>``), and the parts."""
+    """A digest over named parts (files by path, ``package:``, ``editor:``, ``browser:``), and the parts."""
 
     model_config = ConfigDict(frozen=True)
 
@@ -44,12 +53,29 @@ class HarnessFingerprint(BaseModel):
     """16 hex digits over every part; what job ids and rows carry."""
 
     parts: dict[str, str]
-    """Each part's own digest (files) or version (packages), for saying what differs."""
+    """Each part's own digest (files) or version (packages, browser), for saying what differs."""
 
     def differences(self, other: HarnessFingerprint) -> list[str]:
-        """The parts that differ between two fingerprints, each once, in order."""
+        """The parts that differ between two fingerprints, in order."""
         names = sorted(set(self.parts) | set(other.parts))
         return [name for name in names if self.parts.get(name) != other.parts.get(name)]
+
+    @property
+    def code(self) -> HarnessFingerprint:
+        """The fingerprint of the checkout alone (what a driver without browsers can compute)."""
+        return fingerprint({k: v for k, v in self.parts.items() if k not in ENVIRONMENT_PARTS})
+
+    @property
+    def environment(self) -> dict[str, str]:
+        return {k: v for k, v in self.parts.items() if k in ENVIRONMENT_PARTS}
+
+    def with_environment(self, environment: dict[str, str]) -> HarnessFingerprint:
+        return fingerprint({**self.code.parts, **environment})
+
+
+def fingerprint(parts: dict[str, str]) -> HarnessFingerprint:
+    canonical = json.dumps(parts, sort_keys=True, separators=(",", ":")).encode()
+    return HarnessFingerprint(digest=hashlib.sha256(canonical).hexdigest()[:16], parts=parts)
 
 
 def describe_differences(ours: HarnessFingerprint, theirs: HarnessFingerprint, limit: int = 8) -> str:
@@ -73,8 +99,8 @@ def _package_version(name: str) -> str:
         return "absent"
 
 
-def fingerprint_of(workers_dir: Path, repo_dir: Path, gui_dir: Path) -> HarnessFingerprint:
-    """The fingerprint of a checkout: its worker code, page files and editor lock, and this environment's packages."""
+def code_parts(workers_dir: Path, repo_dir: Path, gui_dir: Path) -> dict[str, str]:
+    """A checkout's parts: its worker code, page files and editor lock, and this environment's packages."""
     parts: dict[str, str] = {}
     for path in sorted(workers_dir.rglob("*.py")):
         parts[f"workers/{path.relative_to(workers_dir).as_posix()}"] = _file_digest(path)
@@ -84,11 +110,27 @@ def fingerprint_of(workers_dir: Path, repo_dir: Path, gui_dir: Path) -> HarnessF
         parts[f"scratch-gui/{name}"] = _file_digest(gui_dir / name)
     for name in EPISODE_PACKAGES:
         parts[f"package:{name}"] = _package_version(name)
-    canonical = json.dumps(parts, sort_keys=True, separators=(",", ":")).encode()
-    return HarnessFingerprint(digest=hashlib.sha256(canonical).hexdigest()[:16], parts=parts)
+    return parts
+
+
+def environment_parts(gui_dir: Path, chromium: Path) -> dict[str, str]:
+    """What this machine renders with: the installed editor bundle (version and digest) and Chromium."""
+    dist = gui_dir / "node_modules" / BUNDLE_PACKAGE
+    try:
+        bundle_version = json.loads((dist / "package.json").read_text(encoding="utf-8")).get("version", "?")
+        editor = f"{bundle_version} {_file_digest(dist / 'dist' / BUNDLE_FILE)}"
+    except (OSError, ValueError):
+        editor = "missing"
+    try:
+        done = subprocess.run([str(chromium), "--version"], capture_output=True, text=True, timeout=60, check=True)
+        browser = " ".join(done.stdout.split()[:2]) or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        browser = "missing"
+    return {"editor:bundle": editor, "browser:chromium": browser}
 
 
 @cache
 def harness_fingerprint() -> HarnessFingerprint:
-    """This process's harness, computed once (the files do not change under a running sweep)."""
-    return fingerprint_of(WORKERS_DIR, REPO_DIR, default_gui_dir())
+    """This process's harness, code and environment, computed once (nothing changes under a running sweep)."""
+    gui_dir = default_gui_dir()
+    return fingerprint({**code_parts(WORKERS_DIR, REPO_DIR, gui_dir), **environment_parts(gui_dir, default_chromium())})

@@ -15,6 +15,7 @@ from pydantic import BaseModel, Field, ValidationError
 
 from scratchworld_dist._errors import RunDirError
 from workers import HarnessFingerprint
+from workers._node import NodeSummary
 
 MANIFEST_NAME = "manifest.json"
 _PACKAGES = ("scratchworld-dist", "ray", "pyarrow", "playwright", "pydantic", "litellm")
@@ -41,6 +42,9 @@ class Session(BaseModel):
     submitted: int = 0
     budget_stop: str | None = None
     """Why this session left jobs unstarted: the sweep's model spend reached its budget."""
+
+    nodes: list[NodeSummary] = Field(default_factory=list)
+    """The nodes with browsers this session ran on (checked to run the run's harness)."""
 
 
 class RunManifest(BaseModel):

@@ -51,6 +51,8 @@ class EpisodeWorker:
             pid=os.getpid(),
             worker_index=worker_index,
         )
+        self.harness = harness_fingerprint().digest
+        """The harness this process runs (its code, editor and browser): jobs planned for another are refused."""
         self._session: BrowserSession | None = None
         self._runner: EpisodeRunner | None = None
         self._starting = asyncio.Lock()
@@ -76,10 +78,9 @@ class EpisodeWorker:
         return result.model_copy(update=update)
 
     async def _run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
-        ours = harness_fingerprint().digest
-        if spec.harness is not None and spec.harness != ours:
+        if spec.harness is not None and spec.harness != self.harness:
             message = (
-                f"{self.info_.hostname} (node {self.info_.node_id[:12]}) runs harness {ours}, "
+                f"{self.info_.hostname} (node {self.info_.node_id[:12]}) runs harness {self.harness}, "
                 f"the job was planned for {spec.harness}: update this node's checkout"
             )
             return EpisodeResult.errored(spec, "harness_mismatch", message)
