@@ -77,8 +77,9 @@ async def test_cdn_requests_fail_at_once_and_do_not_break_the_editor(session: Br
         await editor.page.click('button[aria-label="Choose a Sprite"]')  # opens the sprite library
         await asyncio.wait_for(enough.wait(), 20)
         assert time.monotonic() - started < 10
-        assert set(failed) == {"net::ERR_NAME_NOT_RESOLVED"}
+        assert set(failed) == {"net::ERR_TUNNEL_CONNECTION_FAILED"}  # the editor server, the page's proxy, refused
         assert finished == []
+        assert "CONNECT cdn.assets.scratch.mit.edu:443" in session.refused_requests
         assert (await editor.status()).vm  # still answering
 
 
