@@ -17,6 +17,7 @@ import signal
 import socket
 import subprocess
 import sys
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -52,7 +53,7 @@ class Cluster:
     """`ray start` processes sharing a temp dir of their own, so that only they are stopped afterwards."""
 
     def __init__(self, root: Path) -> None:
-        self.temp_dir = root / "ray"
+        self.temp_dir = Path(tempfile.mkdtemp(prefix="sw-ray-", dir="/tmp"))  # Ray's socket paths must be short
         self.token = root / "token"
         self.token.write_text(secrets.token_hex(32))
         with socket.socket() as probe:
@@ -61,18 +62,19 @@ class Cluster:
         self.address = f"127.0.0.1:{self.port}"
 
     def env(self, checkout: Path | None = None) -> dict[str, str]:
+        """The driver's environment: the token at hand, no authentication mode set (it finds out)."""
         env = {**os.environ, "RAY_AUTH_TOKEN_PATH": str(self.token)}
-        env.pop("RAY_AUTH_MODE", None)
-        env.pop("RAY_ADDRESS", None)
+        for name in ("RAY_AUTH_MODE", "RAY_ADDRESS", "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"):
+            env.pop(name, None)
         if checkout is not None:
             env["PYTHONPATH"] = str(checkout)
         return env
 
     def start(self, *args: str, checkout: Path | None = None) -> None:
+        """`ray start` as the README's recipe says: token authentication on, the token from a file."""
         command = [RAY, "start", *args, "--num-cpus", "1", "--disable-usage-stats", "--temp-dir", str(self.temp_dir)]
-        done = subprocess.run(
-            command, cwd=checkout or REPO, env=self.env(checkout), capture_output=True, text=True, timeout=120
-        )
+        env = {**self.env(checkout), "RAY_AUTH_MODE": "token", "SCRATCHWORLD_TEST_CLUSTER": str(self.temp_dir)}
+        done = subprocess.run(command, cwd=checkout or REPO, env=env, capture_output=True, text=True, timeout=120)
         assert done.returncode == 0, done.stdout + done.stderr
 
     def head(self) -> None:
@@ -82,10 +84,13 @@ class Cluster:
         self.start("--address", self.address, "--resources", f'{{"browser": {browsers}}}', checkout=checkout)
 
     def stop(self) -> None:
-        found = subprocess.run(["pgrep", "-f", str(self.temp_dir)], capture_output=True, text=True)
-        for pid in found.stdout.split():
-            with contextlib.suppress(ProcessLookupError):
-                os.kill(int(pid), signal.SIGKILL)
+        """Kill every process of this cluster: all inherited its marker (Ray renames some, e.g. its agents)."""
+        marker = f"SCRATCHWORLD_TEST_CLUSTER={self.temp_dir}".encode()
+        for proc in Path("/proc").iterdir():
+            with contextlib.suppress(OSError, ValueError):
+                if proc.name.isdigit() and marker in (proc / "environ").read_bytes().split(b"\0"):
+                    os.kill(int(proc.name), signal.SIGKILL)
+        shutil.rmtree(self.temp_dir, ignore_errors=True)
 
 
 @pytest.fixture
@@ -114,8 +119,15 @@ def sweep(tmp_path: Path, cluster: Cluster, name: str) -> Path:
 
 
 def run(config: Path, cluster: Cluster) -> subprocess.CompletedProcess[str]:
+    """The driver, started outside any checkout: Ray puts the driver's working directory first on
+    every worker's path, which on this one machine would be this repository."""
     return subprocess.run(
-        [SCRATCHWORLD, "run", str(config)], cwd=REPO, env=cluster.env(), capture_output=True, text=True, timeout=900
+        [SCRATCHWORLD, "run", str(config)],
+        cwd=config.parent,
+        env=cluster.env(),
+        capture_output=True,
+        text=True,
+        timeout=900,
     )
 
 

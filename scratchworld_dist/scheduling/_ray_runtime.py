@@ -76,7 +76,7 @@ def check_joinable(address: str, timeout_s: float) -> None:
         # mode makes the workers of a cluster without authentication fail).
         failure = _handshake(target, deadline, {**os.environ, "RAY_AUTH_MODE": "token"})
         if failure is None:
-            os.environ["RAY_AUTH_MODE"] = "token"
+            _enable_token_auth()
     if failure == "timeout":
         raise RayUnavailableError(
             f"{where} accepts connections but does not answer as a Ray cluster within {timeout_s:g} s "
@@ -89,6 +89,13 @@ def check_joinable(address: str, timeout_s: float) -> None:
         )
     if failure is not None:
         raise RayUnavailableError(f"{where} did not answer as a Ray cluster: {failure}")
+
+
+def _enable_token_auth() -> None:
+    """Token mode for this process from now on: Ray reads its config once, so it must be told to read it again."""
+    from ray._private.authentication.authentication_token_setup import _enable_token_auth as enable
+
+    enable()  # sets RAY_AUTH_MODE=token and re-initialises Ray's config (Ray 2.60)
 
 
 def _handshake(target: str, deadline: float, env: Mapping[str, str]) -> str | None:
