@@ -48,3 +48,15 @@ def test_missing_bundle_is_a_clear_error(tmp_path: Path) -> None:
         (tmp_path / name).write_bytes((real.gui_dir / name).read_bytes())
     with pytest.raises(EditorBundleMissingError, match="npm ci"):
         EditorAssets(tmp_path)
+
+
+def test_a_symlinked_node_modules_is_served(tmp_path: Path) -> None:
+    """node_modules may be a link (a shared install, a git worktree, pnpm): its files are inside the root."""
+    real = EditorAssets()
+    for name in OWN_FILES:
+        (tmp_path / name).write_bytes((real.gui_dir / name).read_bytes())
+    (tmp_path / "node_modules").symlink_to((real.gui_dir / "node_modules").resolve(), target_is_directory=True)
+    with EditorServer(EditorAssets(tmp_path)) as server:
+        base = server.url.rsplit("/", 1)[0]
+        status, bundle = _get(f"{base}/scratch-gui-standalone.js")
+        assert status == 200 and len(bundle) > 10_000_000
