@@ -180,6 +180,28 @@ def test_real_episodes_in_the_browser(tmp_path: Path, drivers: list[Driver]) -> 
     assert row.stop_reason == "done"
 
 
+def test_a_sweep_mixes_synthetic_and_real_episodes(tmp_path: Path, drivers: list[Driver]) -> None:
+    synthetic = {"tasks": ["sum_two_numbers", "quiz_score"], "fail_tasks": ["quiz_score"]}
+    config = write_config(
+        tmp_path, tasks={"ids": ["bouncing_ball_stuck", *synthetic["tasks"]]}, synthetic=synthetic, seeds=2
+    )
+    code, out = run(drivers, config)
+    assert code == 0, out
+    rows = RunStore(tmp_path / "run").job_rows()
+    assert sorted((row.task_id, row.outcome, row.steps, row.tests_total) for row in rows) == [
+        ("bouncing_ball_stuck", "passed", 3, 3),  # the oracle's two actions, then done; the task's own tests
+        ("bouncing_ball_stuck", "passed", 3, 3),
+        ("quiz_score", "failed", 1, 2),  # synthetic: one step, two tests
+        ("quiz_score", "failed", 1, 2),
+        ("sum_two_numbers", "passed", 1, 2),
+        ("sum_two_numbers", "passed", 1, 2),
+    ]
+    real = [row for row in rows if row.task_id == "bouncing_ball_stuck"]
+    assert all((tmp_path / "run" / str(row.artifact_dir) / "final.sb3").is_file() for row in real)
+    assert {row.eval_profile for row in real} == {"native"}  # evaluated in an editor
+    assert {row.eval_profile for row in rows if row not in real} == {None}
+
+
 def test_a_run_dir_of_another_sweep_is_refused(tmp_path: Path, drivers: list[Driver]) -> None:
     config = write_config(tmp_path, tasks={"ids": TASKS[:1]}, synthetic={"duration_s": 0})
     assert run(drivers, config)[0] == 0

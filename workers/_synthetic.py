@@ -1,7 +1,9 @@
 """Browserless episodes: the scheduler, results and reports exercised without an editor.
 
-Used by ``benchmarks/scheduler.py`` and by cluster smoke tests; a synthetic episode waits for
-its duration and reports a verdict decided by the task id, as a real one would.
+Used by ``benchmarks/scheduler.py``, ``benchmarks/chaos.py`` and by cluster smoke tests; a
+synthetic episode waits for its duration and reports a verdict decided by the task id, as a real
+one would. ``tasks`` limits them to some tasks, so one sweep can mix cheap synthetic jobs with
+real browser episodes (the rest of the matrix).
 """
 
 from __future__ import annotations
@@ -25,6 +27,13 @@ class SyntheticEpisodes(BaseModel):
 
     fail_tasks: list[str] = Field(default_factory=list)
     """Task ids whose episodes fail one of their two tests; every other task passes."""
+
+    tasks: list[str] | None = None
+    """Task ids that run as synthetic episodes; the others run for real. None: every task."""
+
+    def covers(self, task_id: str) -> bool:
+        """Whether the jobs of ``task_id`` are synthetic."""
+        return self.tasks is None or task_id in self.tasks
 
 
 async def run_synthetic(spec: EpisodeSpec, task: TaskPayload, behaviour: SyntheticEpisodes) -> EpisodeResult:

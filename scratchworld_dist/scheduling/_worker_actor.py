@@ -70,7 +70,7 @@ class EpisodeWorker:
         return result.model_copy(update=update)
 
     async def _run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
-        if self.synthetic is not None:
+        if self.synthetic is not None and self.synthetic.covers(task.task_id):
             return await run_synthetic(spec, task, self.synthetic)
         try:
             agent = agent_for(spec, task)
