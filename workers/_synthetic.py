@@ -25,6 +25,10 @@ class SyntheticEpisodes(BaseModel):
     duration_s: float = Field(default=0.0, ge=0)
     """How long each episode takes."""
 
+    startup_s: float = Field(default=0.0, ge=0)
+    """How long a worker takes to start, and to restart after it died (a browser worker's imports
+    and launch take seconds on a busy node)."""
+
     fail_tasks: list[str] = Field(default_factory=list)
     """Task ids whose episodes fail one of their two tests; every other task passes."""
 

@@ -38,6 +38,8 @@ class EpisodeWorker:
 
     def __init__(self, worker_index: int, synthetic: SyntheticEpisodes | None = None) -> None:
         self.synthetic = synthetic
+        if synthetic is not None:
+            time.sleep(synthetic.startup_s)
         self.info_ = WorkerInfo(
             node_id=ray.get_runtime_context().get_node_id() if ray.is_initialized() else "local",
             hostname=socket.gethostname(),
