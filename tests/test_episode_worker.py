@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import asyncio
+import contextlib
 from collections.abc import AsyncIterator
 
 import pytest
+from playwright.async_api import Error as PlaywrightError
 
 from scratchworld_dist.scheduling._worker_actor import EpisodeWorker
 from scratchworld_dist.suites import load_suite
@@ -112,6 +114,32 @@ async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
     assert again.outcome == "passed"
     assert worker._session is not None
     assert worker._session._browser is not first_browser
+
+
+async def test_a_crashed_page_fails_its_own_episode_only(
+    worker: EpisodeWorker, contents: dict[str, TaskContent]
+) -> None:
+    """A renderer that dies (killed, out of memory) takes its page down, not the browser or the other pages."""
+    runs = [asyncio.create_task(worker.run(*episode(contents["sum_two_numbers"]))) for _ in range(2)]
+    for _ in range(600):
+        session = worker._session
+        contexts = session._browser.contexts if session is not None and session._browser is not None else []
+        if len([c for c in contexts if c.pages]) >= 2:
+            break
+        await asyncio.sleep(0.05)
+    else:
+        pytest.fail("the episodes never opened their pages")
+    browser = session._browser
+    page = next(c for c in browser.contexts if c.pages).pages[0]
+    cdp = await page.context.new_cdp_session(page)
+    with contextlib.suppress(PlaywrightError, TimeoutError):  # the crash cuts the answer off
+        await asyncio.wait_for(cdp.send("Page.crash"), 5)
+    results = await asyncio.gather(*runs)
+    assert sorted((r.outcome, r.error_class) for r in results) == [("error", "editor_failure"), ("passed", None)]
+    assert "crashed" in next(r.error_message or "" for r in results if r.outcome == "error")
+    assert worker._session is session and session._browser is browser  # the browser was kept
+    again = await worker.run(*episode(contents["sum_two_numbers"]))
+    assert again.outcome == "passed"
 
 
 async def test_an_unavailable_agent_is_an_agent_error(worker: EpisodeWorker, contents: dict[str, TaskContent]) -> None:

@@ -32,6 +32,9 @@ from workers._errors import EditorError
 from workers.agents import AgentUnavailableError, agent_for
 from workers.llm import close_litellm_clients
 
+BROWSER_CHECK_S = 10.0
+"""How long a browser may take to open a context before it counts as broken."""
+
 
 class EpisodeWorker:
     """Runs episodes for the driver; construct through ``ray.remote`` (see ``WorkerPool``)."""
@@ -80,8 +83,8 @@ class EpisodeWorker:
             return EpisodeResult.errored(spec, "agent_error", str(exc))
         runner = await self._browser()
         result = await runner.run(spec, task, agent)
-        if result.error_class == "editor_failure":
-            await self._drop_browser()
+        if result.error_class == "editor_failure" and not await _usable(runner.session):
+            await self._drop_browser(runner.session)
         return result
 
     async def _browser(self) -> EpisodeRunner:
@@ -93,7 +96,10 @@ class EpisodeWorker:
                 self._runner = EpisodeRunner(self._session, EditorPool(self._session, spare=0))
             return self._runner
 
-    async def _drop_browser(self) -> None:
+    async def _drop_browser(self, session: BrowserSession | None = None) -> None:
+        """Close the browser; given the ``session`` an episode used, only while it is still the current one."""
+        if session is not None and session is not self._session:
+            return  # another episode already replaced it
         session, self._session, self._runner = self._session, None, None
         if session is not None:
             await session.close()
@@ -101,3 +107,19 @@ class EpisodeWorker:
     async def close(self) -> None:
         await self._drop_browser()
         await close_litellm_clients()  # LiteLLM's HTTP sessions belong to this actor's event loop
+
+
+async def _usable(session: BrowserSession) -> bool:
+    """Whether the browser still opens contexts after an editor failure.
+
+    A page whose renderer crashed (killed, out of memory) leaves the browser and its other pages
+    alive; replacing the browser then would fail every other episode it runs.
+    """
+    if not session.connected:
+        return False
+    try:
+        context = await asyncio.wait_for(session.new_context(), BROWSER_CHECK_S)
+        await context.close()
+    except (EditorError, PlaywrightError, TimeoutError):
+        return False
+    return True
