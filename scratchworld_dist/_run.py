@@ -111,6 +111,9 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
     if not tasks:
         raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
     contents = [read_task(task, config.profile, config.clock, config.project_limits) for task in tasks]
+    unknown = sorted(set(config.synthetic.tasks or []) - {t.id for t in tasks}) if config.synthetic else []
+    if unknown:
+        raise ConfigError(f"synthetic.tasks names task(s) not in the selection: {', '.join(unknown)}")
     info = SuiteInfo(
         name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
     )
@@ -126,6 +129,7 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
             config.llm,
             config.project_limits,
             harness.digest,
+            config.synthetic,
         )
     )
     return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs)

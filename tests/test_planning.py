@@ -14,7 +14,16 @@ from scratchworld_dist.sweep import NO_MODEL, JobSpec, TaskContent, job_id, plan
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
 from tests.conftest import SUITE_DIR
 from tests.projects import with_entry
-from workers import MIB, LLMSettings, ModelSpec, ObservationSettings, ProjectLimits, RateLimits, harness_fingerprint
+from workers import (
+    MIB,
+    LLMSettings,
+    ModelSpec,
+    ObservationSettings,
+    ProjectLimits,
+    RateLimits,
+    SyntheticEpisodes,
+    harness_fingerprint,
+)
 from workers.llm import RetryPolicy
 
 GPT = ModelSpec(name="gpt", model="openai/gpt-4o", temperature=0.0, api_key_env="OPENAI_API_KEY")
@@ -300,3 +309,15 @@ def test_a_task_project_over_the_limits_fails_the_plan_naming_its_file(suite_cop
         read_task(task, limits=ProjectLimits(max_entry_mb=1))
     with pytest.raises(SuiteError, match=r"initial.sb3: the project is .* over project_limits.max_file_mb"):
         read_task(task, limits=ProjectLimits(max_file_mb=0.01))
+
+
+def test_a_synthetic_stand_in_never_shares_an_id_with_the_real_job(ours: list[TaskContent]) -> None:
+    real = {job.task_id: job.job_id for job in plan_jobs([None], ["composite"], "oracle", ours, [0], 5)}
+    mixed = SyntheticEpisodes(tasks=["sum_two_numbers"])
+    planned = {
+        job.task_id: job.job_id for job in plan_jobs([None], ["composite"], "oracle", ours, [0], 5, synthetic=mixed)
+    }
+    assert planned["sum_two_numbers"] != real["sum_two_numbers"]
+    assert {k: v for k, v in planned.items() if k != "sum_two_numbers"} == {
+        k: v for k, v in real.items() if k != "sum_two_numbers"
+    }

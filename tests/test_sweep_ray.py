@@ -83,7 +83,8 @@ def test_resume_after_killing_the_driver_loses_and_duplicates_nothing(tmp_path: 
 
 
 def test_jobs_of_a_killed_worker_are_rescheduled(tmp_path: Path, drivers: list[Driver]) -> None:
-    config = write_config(tmp_path, seeds=3, synthetic={"duration_s": 1.5})
+    # Workers restart in seconds (imports, browser); Ray fails calls sent to one meanwhile.
+    config = write_config(tmp_path, seeds=3, synthetic={"duration_s": 1.5, "startup_s": 5}, limits={"browser_slots": 2})
     run_dir = tmp_path / "run"
     driver = Driver(config)
     drivers.append(driver)
@@ -96,14 +97,18 @@ def test_jobs_of_a_killed_worker_are_rescheduled(tmp_path: Path, drivers: list[D
     assert code == 0, out
     rows = RunStore(run_dir).job_rows()
     died = [row for row in rows if row.error_class == "worker_died"]
-    assert died, "the killed worker's in-flight job must be recorded"
+    # Its in-flight job is recorded; no job is sent to it until it is back.
+    assert len(died) == 1, [(row.task_id, row.attempt, row.started_at) for row in died]
     assert all(row.outcome == "error" and row.attempt == 1 for row in died)
     effective = list(effective_rows(rows))
     assert len(effective) == 36
     assert {row.outcome for row in effective} == {"passed"}
     retried = {row.job_id for row in died}
     assert {(row.job_id, row.attempt) for row in rows if row.job_id in retried} >= {(job, 2) for job in retried}
-    assert victim not in {row.worker_pid for row in rows if row.finished_at > died[0].finished_at}
+    later = [row for row in rows if row.finished_at > died[0].finished_at]
+    assert victim not in {row.worker_pid for row in later}
+    (index,) = {row.worker_index for row in rows if row.worker_pid == victim}
+    assert index in {row.worker_index for row in later}  # the restarted worker takes jobs again
 
 
 def test_episode_timeout_is_recorded_retried_and_kept_out_of_verdicts(tmp_path: Path, drivers: list[Driver]) -> None:
@@ -183,6 +188,28 @@ def test_real_episodes_in_the_browser(tmp_path: Path, drivers: list[Driver]) -> 
     assert row.outcome == "failed"  # a debug task's initial project must fail
     assert row.tests_passed < row.tests_total
     assert row.stop_reason == "done"
+
+
+def test_a_sweep_mixes_synthetic_and_real_episodes(tmp_path: Path, drivers: list[Driver]) -> None:
+    synthetic = {"tasks": ["sum_two_numbers", "quiz_score"], "fail_tasks": ["quiz_score"]}
+    config = write_config(
+        tmp_path, tasks={"ids": ["bouncing_ball_stuck", *synthetic["tasks"]]}, synthetic=synthetic, seeds=2
+    )
+    code, out = run(drivers, config)
+    assert code == 0, out
+    rows = RunStore(tmp_path / "run").job_rows()
+    assert sorted((row.task_id, row.outcome, row.steps, row.tests_total) for row in rows) == [
+        ("bouncing_ball_stuck", "passed", 3, 3),  # the oracle's two actions, then done; the task's own tests
+        ("bouncing_ball_stuck", "passed", 3, 3),
+        ("quiz_score", "failed", 1, 2),  # synthetic: one step, two tests
+        ("quiz_score", "failed", 1, 2),
+        ("sum_two_numbers", "passed", 1, 2),
+        ("sum_two_numbers", "passed", 1, 2),
+    ]
+    real = [row for row in rows if row.task_id == "bouncing_ball_stuck"]
+    assert all((tmp_path / "run" / str(row.artifact_dir) / "final.sb3").is_file() for row in real)
+    assert {row.eval_profile for row in real} == {"native"}  # evaluated in an editor
+    assert {row.eval_profile for row in rows if row not in real} == {None}
 
 
 def test_a_run_dir_of_another_sweep_is_refused(tmp_path: Path, drivers: list[Driver]) -> None:

@@ -1,7 +1,9 @@
 """Browserless episodes: the scheduler, results and reports exercised without an editor.
 
-Used by ``benchmarks/scheduler.py`` and by cluster smoke tests; a synthetic episode waits for
-its duration and reports a verdict decided by the task id, as a real one would.
+Used by ``benchmarks/scheduler.py``, ``benchmarks/chaos.py`` and by cluster smoke tests; a
+synthetic episode waits for its duration and reports a verdict decided by the task id, as a real
+one would. ``tasks`` limits them to some tasks, so one sweep can mix cheap synthetic jobs with
+real browser episodes (the rest of the matrix).
 """
 
 from __future__ import annotations
@@ -23,8 +25,19 @@ class SyntheticEpisodes(BaseModel):
     duration_s: float = Field(default=0.0, ge=0)
     """How long each episode takes."""
 
+    startup_s: float = Field(default=0.0, ge=0)
+    """How long a worker takes to start, and to restart after it died (a browser worker's imports
+    and launch take seconds on a busy node)."""
+
     fail_tasks: list[str] = Field(default_factory=list)
     """Task ids whose episodes fail one of their two tests; every other task passes."""
+
+    tasks: list[str] | None = None
+    """Task ids that run as synthetic episodes; the others run for real. None: every task."""
+
+    def covers(self, task_id: str) -> bool:
+        """Whether the jobs of ``task_id`` are synthetic."""
+        return self.tasks is None or task_id in self.tasks
 
 
 async def run_synthetic(spec: EpisodeSpec, task: TaskPayload, behaviour: SyntheticEpisodes) -> EpisodeResult:

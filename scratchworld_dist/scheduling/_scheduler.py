@@ -4,7 +4,9 @@ Each worker gets at most ``pages`` jobs at a time, so a job's clock starts when 
 a dead worker costs only its own jobs. Failures are classified, never lost:
 
 - a worker that dies (OOM, crash, kill) fails its calls with ``RayActorError``; those attempts
-  are recorded as ``worker_died`` and retried, and Ray restarts the worker;
+  are recorded as ``worker_died`` and retried, and Ray restarts the worker. Until it answers
+  again it gets no job: Ray fails every call sent to a restarting actor, so it would otherwise
+  turn the queue into ``worker_died`` errors for as long as its restart takes;
 - a worker that stops answering past a job's timeout plus a grace period is restarted by the
   driver; the overdue job is recorded as ``episode_timeout``, its neighbours are re-sent as the
   same attempt (they did nothing wrong);
@@ -32,6 +34,14 @@ DEADLINE_GRACE_S = 30.0
 
 WAIT_SLICE_S = 0.5
 """Longest single ``ray.wait``; bounds how late deadlines are noticed."""
+
+
+@dataclass
+class _Down:
+    """A worker that died or was restarted, and the call that tells when it answers again."""
+
+    probe: ray.ObjectRef
+    since: float
 
 
 @dataclass
@@ -98,16 +108,24 @@ class Scheduler:
         self.spent_usd = spent_usd
         self._flights: dict[ray.ObjectRef, _Flight] = {}
         self._load = [0] * len(pool)
+        self._down: dict[int, _Down] = {}
 
     def run(self, jobs: Iterable[tuple[JobSpec, int]]) -> None:
         """Run each (job, first attempt) to a final outcome or until its retries are spent."""
         queue: deque[tuple[JobSpec, int]] = deque(jobs)
         first = {job.job_id: attempt for job, attempt in queue}
         while queue or self._flights:
+            self._probe_down()
             while queue and len(self._flights) < self.capacity and not self.over_budget:
-                self._submit(*queue.popleft())
-            if not self._flights:  # the budget is spent: what is queued stays unstarted
-                break
+                worker = self._free_worker()
+                if worker is None:
+                    break
+                self._submit(worker, *queue.popleft())
+            if not self._flights:
+                if self.over_budget:  # what is queued stays unstarted
+                    break
+                ray.wait([down.probe for down in self._down.values()], timeout=WAIT_SLICE_S)  # all restarting
+                continue
             for flight, result in self._collect():
                 if result is None:  # its worker was restarted because of another job
                     queue.appendleft((flight.job, flight.attempt))
@@ -126,8 +144,34 @@ class Scheduler:
     def over_budget(self) -> bool:
         return self.budget_usd is not None and self.spent_usd + self.stats.cost_usd >= self.budget_usd
 
-    def _submit(self, job: JobSpec, attempt: int) -> None:
-        worker = min(range(len(self._load)), key=self._load.__getitem__)
+    def _free_worker(self) -> int | None:
+        """The least loaded worker that is up and has a page free."""
+        free = [w for w in range(len(self._load)) if w not in self._down and self._load[w] < self.pool.pages]
+        return min(free, key=self._load.__getitem__, default=None)
+
+    def _mark_down(self, worker: int) -> None:
+        if worker not in self._down:
+            self._down[worker] = _Down(self.pool.handles[worker].info.remote(), time.monotonic())
+
+    def _probe_down(self) -> None:
+        """Take back the workers that answer again.
+
+        One still failing past the episode timeout is taken back anyway: its jobs then fail and
+        are recorded, as for a worker that is gone for good.
+        """
+        for worker, down in list(self._down.items()):
+            ready, _ = ray.wait([down.probe], timeout=0)
+            if not ready:
+                continue
+            try:
+                ray.get(down.probe)
+            except RayError:
+                if time.monotonic() - down.since < self.timeout_s:
+                    down.probe = self.pool.handles[worker].info.remote()
+                    continue
+            del self._down[worker]
+
+    def _submit(self, worker: int, job: JobSpec, attempt: int) -> None:
         handle = self.pool.handles[worker]
         ref = handle.run.remote(job.episode(attempt, self.timeout_s), self.payloads[job.task_id])
         deadline = time.monotonic() + self.timeout_s + DEADLINE_GRACE_S
@@ -155,6 +199,7 @@ class Scheduler:
         try:
             return ray.get(ref, timeout=60)
         except RayActorError as exc:
+            self._mark_down(flight.worker)
             if flight.collateral:
                 return None
             return self._lost(flight, "worker_died", f"the worker died during the episode: {_first_line(exc)}")
@@ -172,6 +217,7 @@ class Scheduler:
                 if other.worker == flight.worker:
                     other.collateral = True
             self.pool.restart(flight.worker)
+            self._mark_down(flight.worker)
             self.stats.restarts += 1
             message = f"no answer {self.timeout_s + DEADLINE_GRACE_S:g} s after the episode started; worker restarted"
             finished.append((flight, self._lost(flight, "episode_timeout", message)))

@@ -45,6 +45,8 @@ class EpisodeWorker:
 
     def __init__(self, worker_index: int, synthetic: SyntheticEpisodes | None = None) -> None:
         self.synthetic = synthetic
+        if synthetic is not None:
+            time.sleep(synthetic.startup_s)
         self.info_ = WorkerInfo(
             node_id=ray.get_runtime_context().get_node_id() if ray.is_initialized() else "local",
             hostname=socket.gethostname(),
@@ -84,7 +86,7 @@ class EpisodeWorker:
                 f"the job was planned for {spec.harness}: update this node's checkout"
             )
             return EpisodeResult.errored(spec, "harness_mismatch", message)
-        if self.synthetic is not None:
+        if self.synthetic is not None and self.synthetic.covers(task.task_id):
             return await run_synthetic(spec, task, self.synthetic)
         try:
             agent = agent_for(spec, task)

@@ -204,7 +204,7 @@ class SweepConfig(BaseModel):
 
     ray: RayConfig = Field(default_factory=RayConfig)
     synthetic: SyntheticEpisodes | None = None
-    """Run browserless synthetic episodes instead (scheduler checks and benchmarks)."""
+    """Run browserless synthetic episodes instead, for all tasks or those in ``synthetic.tasks`` (benchmarks)."""
 
     @field_validator("seeds", mode="before")
     @classmethod

@@ -29,6 +29,7 @@ from workers import (
     ModelSpec,
     ObservationSettings,
     ProjectLimits,
+    SyntheticEpisodes,
     TaskPayload,
     check_project,
     harness_fingerprint,
@@ -168,8 +169,10 @@ def job_id(
     llm: LLMSettings | None = None,
     project_limits: ProjectLimits | None = None,
     harness: str | None = None,
+    synthetic: SyntheticEpisodes | None = None,
 ) -> str:
-    """The job's name: a hash of everything that can change its result (``harness``: this code's fingerprint)."""
+    """The job's name: a hash of everything that can change its result (``harness``: this code's fingerprint;
+    ``synthetic``: the behaviour of a browserless stand-in episode, never to be taken for a real one)."""
     identity: dict[str, object] = {
         "model": None if model is None else model.identity(),
         "mode": mode,
@@ -184,6 +187,8 @@ def job_id(
         identity["observation"] = observation.model_dump(mode="json")
     if llm is not None:  # only llm jobs have one
         identity["llm"] = llm.identity()
+    if synthetic is not None:  # only synthetic jobs
+        identity["synthetic"] = synthetic.model_dump(mode="json")
     canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(canonical.encode()).hexdigest()[:24]
 
@@ -199,6 +204,7 @@ def plan_jobs(
     llm: LLMSettings | None = None,
     project_limits: ProjectLimits | None = None,
     harness: str | None = None,
+    synthetic: SyntheticEpisodes | None = None,
 ) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks."""
     limits = project_limits or ProjectLimits()
@@ -211,8 +217,10 @@ def plan_jobs(
             for seed in seeds:
                 for content in tasks:
                     task = content.task
+                    stand_in = synthetic if synthetic is not None and synthetic.covers(task.id) else None
                     name = job_id(
-                        model, mode, agent, content.task_hash, task.id, seed, steps, settings, protocol, limits, harness
+                        *(model, mode, agent, content.task_hash, task.id, seed, steps, settings, protocol),
+                        *(limits, harness, stand_in),
                     )
                     yield JobSpec(
                         job_id=name,
