@@ -50,7 +50,8 @@ class EditorAssets:
 
     def __init__(self, gui_dir: Path | None = None) -> None:
         self.gui_dir = (gui_dir or default_gui_dir()).resolve()
-        self.dist_dir = self.gui_dir / "node_modules" / BUNDLE_PACKAGE / "dist"
+        # Resolved like every requested path, so a bundle installed through a symlink is served too.
+        self.dist_dir = (self.gui_dir / "node_modules" / BUNDLE_PACKAGE / "dist").resolve()
         for name in OWN_FILES:
             if not (self.gui_dir / name).is_file():
                 raise EditorBundleMissingError(f"{self.gui_dir / name} is missing (it ships with the repository)")
