@@ -31,14 +31,19 @@
     }
   }
 
+  // What a script threw, in at most 2000 characters (a script may throw megabytes).
   function describe(reason) {
-    if (reason instanceof Error) return `${reason.name}: ${reason.message}`;
-    if (typeof reason === 'string') return reason;
-    try {
-      return JSON.stringify(reason).slice(0, 2000);
-    } catch (e) {
-      return String(reason);
+    let text;
+    if (reason instanceof Error) text = `${reason.name}: ${reason.message}`;
+    else if (typeof reason === 'string') text = reason;
+    else {
+      try {
+        text = JSON.stringify(reason);
+      } catch (e) {
+        text = 'an unprintable value';
+      }
     }
+    return String(text).slice(0, 2000);
   }
 
   function requireVm() {
@@ -170,7 +175,7 @@
   }
 
   // Turns whatever a script returned into JSON text: cycles and functions are dropped, not fatal.
-  function toJson(value) {
+  function toJson(value, scriptName) {
     const seen = new WeakSet();
     let text;
     try {
@@ -184,10 +189,11 @@
         return item;
       });
     } catch (reason) {
-      throw new BridgeFailure('result_invalid', `the result cannot be serialised: ${describe(reason)}`);
+      throw new BridgeFailure('result_invalid', `${scriptName}: the result cannot be serialised: ${describe(reason)}`);
     }
     if (text.length > MAX_RESULT_CHARS) {
-      throw new BridgeFailure('result_invalid', `the result is ${text.length} characters long (limit ${MAX_RESULT_CHARS})`);
+      throw new BridgeFailure(
+        'result_invalid', `${scriptName}: the result is ${text.length} characters long (limit ${MAX_RESULT_CHARS})`);
     }
     return text;
   }
@@ -240,7 +246,7 @@
       const unit = clockMode === 'virtual' ? 's of virtual time' : 's';
       throw new BridgeFailure('script_timeout', `${scriptName} did not finish within ${timeoutMs / 1000} ${unit}`);
     }
-    return {resultJson: toJson(outcome), durationMs: durationMs};
+    return {resultJson: toJson(outcome, scriptName), durationMs: durationMs};
   }
 
   const api = {

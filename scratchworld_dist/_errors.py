@@ -32,6 +32,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from pydantic import ValidationError
+
 from workers._errors import (
     BridgeError,
     ChromiumNotFoundError,
@@ -62,6 +64,7 @@ __all__ = [
     "ScratchWorldError",
     "SuiteError",
     "TaskNotFoundError",
+    "validation_summary",
 ]
 
 
@@ -86,3 +89,10 @@ class ConfigError(ScratchWorldError):
 
 class RunDirError(ScratchWorldError):
     """A run directory cannot be used as asked (another sweep, another suite, unreadable shards)."""
+
+
+def validation_summary(exc: ValidationError, limit: int = 3) -> str:
+    """Pydantic's complaints on one line (``field: problem; ...``), without the input it echoes."""
+    problems = [f"{'.'.join(map(str, e['loc'])) or 'value'}: {e['msg']}" for e in exc.errors()[:limit]]
+    more = exc.error_count() - len(problems)
+    return "; ".join(problems) + (f" (and {more} more)" if more > 0 else "")

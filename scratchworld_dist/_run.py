@@ -216,7 +216,8 @@ def _run_plan(plan: RunPlan, nodes: list[NodeReport], force: bool, console: Cons
         write_manifest(run_dir, manifest)
         console.print(
             f"{config.name}: {len(plan.jobs)} job(s) planned over {plan.suite.tasks} task(s) of {plan.suite.name}; "
-            f"{len(plan.jobs) - len(todo)} already decided, {len(todo)} to run -> {run_dir}"
+            f"{len(plan.jobs) - len(todo)} already decided, {len(todo)} to run -> {run_dir}",
+            markup=False,  # the suite's name and the path are the user's text
         )
         summary = RunSummary(
             run_dir=run_dir,

@@ -35,7 +35,7 @@ from workers._episode import (
 )
 from workers._episode_runner import EpisodeRunner
 from workers._eval_result import VERDICT_ERROR_KINDS, EvalError, EvalErrorKind, EvalResult, EvalTimings, TestVerdict
-from workers._evaluation import Evaluator
+from workers._evaluation import Evaluator, project_refusal
 from workers._evaluation_spec import EvaluationClock, EvaluationSpec
 from workers._fingerprint import HarnessFingerprint, describe_differences, harness_fingerprint
 from workers._profiles import EvaluationProfile, ProfileConditions
@@ -103,5 +103,6 @@ __all__ = [
     "harness_fingerprint",
     "outcome_of",
     "primitive_action",
+    "project_refusal",
     "run_synthetic",
 ]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, TypeVar
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue
+from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError
 
 
 class Done(BaseModel):
@@ -76,21 +76,27 @@ FINAL_ACTIONS = frozenset({"done", "failed"})
 """Actions that end the episode."""
 
 
-def composite_action(request: dict[str, JsonValue]) -> Done | Failed | CompositeAction:
+def composite_action(request: dict[str, JsonValue]) -> Done | Failed | InvalidReply | CompositeAction:
     """An agent's ``{"api": ..., "args": {...}}`` as a composite action; ``done``/``failed`` end the episode."""
     return _agent_action(request, CompositeAction)
 
 
-def primitive_action(request: dict[str, JsonValue]) -> Done | Failed | PrimitiveAction:
+def primitive_action(request: dict[str, JsonValue]) -> Done | Failed | InvalidReply | PrimitiveAction:
     """An agent's ``{"api": ..., "args": {...}}`` as a primitive action; ``done``/``failed`` end the episode."""
     return _agent_action(request, PrimitiveAction)
 
 
-def _agent_action(request: dict[str, JsonValue], kind: type[_ApiAction]) -> Done | Failed | _ApiAction:
+def _agent_action(request: dict[str, JsonValue], kind: type[_ApiAction]) -> Done | Failed | InvalidReply | _ApiAction:
+    """The action, or (for arguments that are no action's, e.g. nested past any depth) an invalid reply
+    that costs the agent its step: a model's garbage is its mistake, never an agent crash."""
     api, args = request.get("api"), request.get("args") or {}
     if api == "done":
         return Done()
     if api == "failed":
         reason = args.get("reason", "") if isinstance(args, dict) else ""
         return Failed(reason=str(reason))
-    return kind(api=str(api), args=args if isinstance(args, dict) else {"_invalid": args})
+    try:
+        return kind(api=str(api), args=args if isinstance(args, dict) else {"_invalid": args})
+    except ValidationError as exc:
+        problem = exc.errors()[0]["msg"]
+        return InvalidReply(reason="bad_args", message=f"the arguments of {str(api)[:100]!r} are not usable: {problem}")

@@ -7,6 +7,7 @@ nothing the agent left running in its VM can influence the verdict.
 
 from __future__ import annotations
 
+import json
 import time
 from typing import cast
 
@@ -25,6 +26,10 @@ from workers.agents import Agent, ConversingAgent, NeedsEditor
 from workers.llm import ModelCallError
 from workers.ocr import RegionOCR
 from workers.primitive import ObservationSettings, PrimitiveObserver, region_ocr
+
+MAX_LOGGED_ARGS = 16_384
+"""Arguments longer than this (as JSON characters) are logged by size: no action accepts that much
+(the longest value any takes is 10,000 characters), and a runaway payload would fill every row and file."""
 
 PRIMITIVE_STAGE = "small"
 """Primitive episodes show the small stage, like the upstream harness (more room for blocks)."""
@@ -171,7 +176,8 @@ def _describe(action: Action) -> tuple[str, dict[str, JsonValue]]:
     if isinstance(action, LoadProject):
         return action.name, {"sb3_bytes": len(action.sb3)}
     if isinstance(action, CompositeAction | PrimitiveAction):
-        return action.api, action.args
+        size = len(json.dumps(action.args, ensure_ascii=False))
+        return action.api, action.args if size <= MAX_LOGGED_ARGS else {"args_chars": size}
     return action.name, action.model_dump(exclude={"name"})
 
 

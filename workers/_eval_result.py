@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import re
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue
+from pydantic import BaseModel, ConfigDict, Field, JsonValue, field_validator
 
 from workers._profiles import ProfileConditions
 
@@ -17,6 +18,11 @@ EvalErrorKind = Literal[
     "result_invalid",  # the script returned something that is not a test report
     "editor_failure",  # the browser or editor broke: infrastructure, not the project's fault
 ]
+
+MAX_MESSAGE = 2000
+"""The longest error message kept (the cause fits; a script that throws a megabyte does not)."""
+
+_CONTROL = re.compile(r"[\x00-\x1f\x7f]")
 
 VERDICT_ERROR_KINDS: frozenset[EvalErrorKind] = frozenset({"script_error", "script_timeout"})
 """Errors that upstream ScratchWorld scores as a failed project (PSR 0) rather than dropping."""
@@ -31,7 +37,15 @@ class EvalError(BaseModel):
     """Stable class of the failure."""
 
     message: str
-    """Human-readable cause, naming the script or file involved."""
+    """Human-readable cause, naming the script or file involved: one line of at most ``MAX_MESSAGE`` characters."""
+
+    @field_validator("message")
+    @classmethod
+    def _one_line(cls, message: str) -> str:
+        """Scripts and projects write these words (a thrown error, the VM's complaint): line breaks and
+        control characters would forge lines in logs and terminals, and a megabyte would bloat every row."""
+        line = " ".join(_CONTROL.sub(" ", message).split())
+        return line if len(line) <= MAX_MESSAGE else line[: MAX_MESSAGE - 1] + "…"
 
 
 class TestVerdict(BaseModel):

@@ -41,6 +41,19 @@ def wall_limit_s(timeout_s: float, clock: EvaluationClock) -> float:
     return (timeout_s * VIRTUAL_WALL_FACTOR if clock == "virtual" else timeout_s) + KILL_GRACE_S
 
 
+def project_refusal(project: bytes, limits: ProjectLimits, name: str | None = None) -> EvalResult | None:
+    """Why no page may see ``project`` (not a project, or over ``limits``) as a failed evaluation, else None.
+
+    ``name`` (e.g. the file the bytes came from) starts the message, so it names the culprit.
+    """
+    try:
+        check_project(project, limits)
+    except ProjectFormatError as exc:
+        kind: EvalErrorKind = "project_too_large" if isinstance(exc, ProjectTooLargeError) else "project_invalid"
+        return EvalResult.failure(kind, f"{name}: {exc}" if name else str(exc))
+    return None
+
+
 # Failures the page attributes to the project or the script; any other kind is our own fault.
 _PAGE_KINDS: frozenset[str] = frozenset(get_args(EvalErrorKind)) - {"editor_failure"}
 
@@ -58,12 +71,10 @@ class Evaluator:
         started = time.perf_counter()
         timings = EvalTimings()
         limits = limits or ProjectLimits()
-        try:
-            check_project(project, limits)
-        except ProjectFormatError as exc:
-            timings.total_s = time.perf_counter() - started
-            kind: EvalErrorKind = "project_too_large" if isinstance(exc, ProjectTooLargeError) else "project_invalid"
-            return EvalResult.failure(kind, str(exc), timings=timings)
+        refusal = project_refusal(project, limits)
+        if refusal is not None:
+            refusal.timings.total_s = time.perf_counter() - started
+            return refusal
         try:
             async with (self.pool or self.session).editor() as editor:
                 timings.editor_ready_s = editor.ready_s if editor.evaluations == 0 else None

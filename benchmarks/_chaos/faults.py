@@ -15,8 +15,9 @@ import time
 from collections import Counter
 from typing import Literal
 
-from _chaos.cluster import LocalCluster, Proc
 from pydantic import BaseModel
+
+from _chaos.cluster import LocalCluster, Proc
 
 FaultKind = Literal["driver", "worker", "renderer", "browser"]
 

@@ -7,28 +7,43 @@ from pathlib import Path
 
 import click
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
+from rich.text import Text
 
+from scratchworld_dist._files import read_file
 from scratchworld_dist.suites import load_suite
-from workers import BrowserSession, EvalResult, EvaluationClock, EvaluationProfile, Evaluator
+from workers import (
+    MIB,
+    BrowserSession,
+    EvalResult,
+    EvaluationClock,
+    EvaluationProfile,
+    EvaluationSpec,
+    Evaluator,
+    ProjectLimits,
+    project_refusal,
+)
 
 EXIT_NOT_PASSED = 1
 EXIT_NO_VERDICT = 3
 
 
-async def _evaluate(
-    project: bytes, suite_dir: Path, task_id: str, profile: EvaluationProfile | None, clock: EvaluationClock | None
-) -> EvalResult:
-    task = load_suite(suite_dir).task(task_id)
-    spec = task.evaluation_spec(profile, clock)
+async def _evaluate(project: bytes, spec: EvaluationSpec) -> EvalResult:
     async with BrowserSession() as session:
         return await Evaluator(session).evaluate(project, spec)
 
 
+def read_project_file(path: Path) -> bytes:
+    """The bytes of a project file named on the command line, read no further than the project limit."""
+    return read_file(path, int(ProjectLimits().max_file_mb * MIB))
+
+
 def render_result(result: EvalResult, console: Console) -> None:
+    """The verdict; what the script or project wrote is shown as text, never read as markup."""
     table = Table("test", "passed", "note")
     for test in result.tests:
-        table.add_row(test.name, "yes" if test.passed else "no", test.error or "")
+        table.add_row(Text(test.name), "yes" if test.passed else "no", Text(test.error or ""))
     if result.tests:
         console.print(table)
     if result.conditions is not None:
@@ -38,13 +53,14 @@ def render_result(result: EvalResult, console: Console) -> None:
             f"clock {c.clock}"
         )
     if result.error:
-        console.print(f"[red]no verdict[/red] ({result.error.kind}): {result.error.message}")
+        # One line whatever the terminal's width, so logs and pipes keep the cause whole.
+        console.print(f"[red]no verdict[/red] ({result.error.kind}): {escape(result.error.message)}", soft_wrap=True)
     else:
         console.print(
             f"passed {result.passed}/{result.total} (PSR {result.psr:.2f}): {'SUCCESS' if result.success else 'FAIL'}"
         )
     for warning in result.warnings:
-        console.print(f"[yellow]warning[/yellow]: {warning}")
+        console.print(f"[yellow]warning[/yellow]: {escape(warning)}", soft_wrap=True)
 
 
 @click.command("evaluate")
@@ -66,9 +82,14 @@ def evaluate_command(
 ) -> None:
     """Evaluate PROJECT (.sb3) against TASK_ID of the suite in SUITE_DIR.
 
-    Exit status: 0 all tests passed, 1 some failed, 3 no verdict (the evaluation itself failed).
+    Exit status: 0 all tests passed, 1 some failed, 3 no verdict (the evaluation itself failed, or
+    PROJECT is not a loadable project), 2 unusable arguments (e.g. a PROJECT file over the project
+    size limit, or not a regular file).
     """
-    result = asyncio.run(_evaluate(project.read_bytes(), suite_dir, task_id, profile, clock))
+    spec = load_suite(suite_dir).task(task_id).evaluation_spec(profile, clock)
+    data = read_project_file(project)
+    # A project no page may see is refused here, naming the file, before a browser starts.
+    result = project_refusal(data, ProjectLimits(), name=str(project)) or asyncio.run(_evaluate(data, spec))
     render_result(result, Console())
     if json_file is not None:
         json_file.write_text(result.model_dump_json(indent=2) + "\n", encoding="utf-8")

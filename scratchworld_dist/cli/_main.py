@@ -39,9 +39,9 @@ def main() -> None:
     try:
         # Outside standalone mode click returns the exit code of ``Exit`` instead of raising.
         code = cli(standalone_mode=False)
-    except click.ClickException as exc:
-        exc.show()
-        sys.exit(exc.exit_code)
+    except click.ClickException as exc:  # a bad argument, option or file: one line and exit 2, like our own errors
+        click.echo(f"error: {_click_message(exc)}", err=True)
+        sys.exit(EXIT_USER_ERROR)
     except click.exceptions.Abort:
         sys.exit(EXIT_INTERRUPTED)
     except KeyboardInterrupt:
@@ -54,3 +54,12 @@ def main() -> None:
         click.echo(f"error: {exc}", err=True)
         sys.exit(EXIT_USER_ERROR)
     sys.exit(code if isinstance(code, int) else 0)
+
+
+def _click_message(exc: click.ClickException) -> str:
+    """Click's message on one line, with the command it concerns and where to read its usage."""
+    message = " ".join(exc.format_message().split())
+    context = getattr(exc, "ctx", None)
+    if isinstance(exc, click.UsageError) and context is not None:
+        return f"{context.command_path}: {message} (see {context.command_path} --help)"
+    return message

@@ -15,10 +15,20 @@ import click
 from rich.console import Console
 from rich.markup import escape
 
-from scratchworld_dist.cli._evaluate import EXIT_NO_VERDICT, EXIT_NOT_PASSED, render_result
+from scratchworld_dist._errors import ProjectFormatError
+from scratchworld_dist.cli._evaluate import EXIT_NO_VERDICT, EXIT_NOT_PASSED, read_project_file, render_result
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.suites._task import read_trajectory
-from workers import ActionEnvelope, BrowserSession, CompositeAction, EvalResult, Evaluator
+from scratchworld_dist.sweep import read_project
+from workers import (
+    ActionEnvelope,
+    BrowserSession,
+    CompositeAction,
+    EvalResult,
+    Evaluator,
+    ProjectLimits,
+    check_project,
+)
 from workers import _composite as composite
 
 
@@ -38,7 +48,7 @@ async def _replay(
                     else f"[red]{envelope.error.code if envelope.error else '?'}[/red] "
                     f"{escape(envelope.error.message if envelope.error else '')}"
                 )
-                console.print(f"{number:>3} {action.api} {escape(json.dumps(action.args))} -> {outcome}")
+                console.print(f"{number:>3} {escape(action.api)} {escape(json.dumps(action.args))} -> {outcome}")
             if show_final:
                 console.print((await composite.observe(editor)).text, markup=False, highlight=False)
             final = await editor.save_project()
@@ -70,9 +80,8 @@ def replay_command(
         if task.golden_trajectory is None:
             raise click.UsageError(f"task {task_id} has no golden trajectory; give a TRAJECTORY file")
     console = Console()
-    envelopes, final, result = asyncio.run(
-        _replay(task.initial_project.read_bytes(), actions, task.evaluation_spec(), console, show_final)
-    )
+    initial = read_project(task.initial_project, ProjectLimits())
+    envelopes, final, result = asyncio.run(_replay(initial, actions, task.evaluation_spec(), console, show_final))
     render_result(result, console)
     if save is not None:
         save.write_bytes(final)
@@ -104,5 +113,10 @@ async def _observe_all(project: bytes) -> list[str]:
 @click.argument("project", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 def observe_command(project: Path) -> None:
     """Print the composite observation of every target of PROJECT (.sb3)."""
-    for text in asyncio.run(_observe_all(project.read_bytes())):
+    data = read_project_file(project)
+    try:
+        check_project(data)  # before a browser starts; the message names the file
+    except ProjectFormatError as exc:
+        raise ProjectFormatError(f"{project}: {exc}") from exc
+    for text in asyncio.run(_observe_all(data)):
         click.echo(text + "\n" + "=" * 60)

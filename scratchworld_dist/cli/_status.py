@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 from rich.console import Console
+from rich.markup import escape
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.results import RunStore, effective_rows, read_manifest
@@ -26,17 +27,18 @@ def status_command(run_dir: Path) -> None:
     decided = outcomes["passed"] + outcomes["failed"]
     missing = max(manifest.planned_jobs - len(effective), 0)
     console = Console()
-    console.print(f"[bold]{manifest.run_name}[/bold]  {run_dir}")
+    console.print(f"[bold]{escape(manifest.run_name)}[/bold]  {escape(str(run_dir))}")
     harness = manifest.harness.digest if manifest.harness else "-"
     console.print(
-        f"suite {manifest.suite.name} ({manifest.suite.tasks} tasks, hash {manifest.suite.hash}); harness {harness}"
+        f"suite {manifest.suite.name} ({manifest.suite.tasks} tasks, hash {manifest.suite.hash}); harness {harness}",
+        markup=False,
     )
     console.print(
         f"{decided}/{manifest.planned_jobs} decided: passed {outcomes['passed']}, failed {outcomes['failed']}; "
         f"error {outcomes['error']}; not yet run {missing}; attempts recorded {len(rows)}"
     )
     if errors:
-        console.print("errors: " + ", ".join(f"{kind} {count}" for kind, count in errors.most_common()))
+        console.print("errors: " + ", ".join(f"{kind} {count}" for kind, count in errors.most_common()), markup=False)
     for number, session in enumerate(manifest.sessions, start=1):
         end = session.finished_at.isoformat(timespec="seconds") if session.finished_at else "did not finish"
         console.print(

@@ -8,7 +8,9 @@ from pathlib import Path
 
 import click
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
+from rich.text import Text
 
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
 from scratchworld_dist.suites import Task, load_suite
@@ -21,7 +23,7 @@ def _cell(check: ProjectCheck | None) -> str:
     if check is None:
         return "-"
     if check.error:
-        return f"[red]error[/red] {check.error.split(':', 1)[0]}"
+        return f"[red]error[/red] {escape(check.error.split(':', 1)[0])}"
     colour = "green" if check.success else "yellow"
     return f"[{colour}]{check.passed}/{check.total}[/{colour}] ({check.wall_s:.1f}s)"
 
@@ -30,10 +32,10 @@ def render_table(rows: list[TaskValidation]) -> Table:
     table = Table("task", "category", "golden", "initial", "verdict")
     for row in rows:
         failures, warnings = row.failures(), row.warnings()
-        verdict = "[red]" + "; ".join(failures) + "[/red]" if failures else "ok"
+        verdict = "[red]" + escape("; ".join(failures)) + "[/red]" if failures else "ok"
         if warnings:
-            verdict += " [yellow](" + "; ".join(warnings) + ")[/yellow]"
-        table.add_row(row.task_id, row.category, _cell(row.golden), _cell(row.initial), verdict)
+            verdict += " [yellow](" + escape("; ".join(warnings)) + ")[/yellow]"
+        table.add_row(Text(row.task_id), row.category, _cell(row.golden), _cell(row.initial), verdict)
     return table
 
 
@@ -74,12 +76,13 @@ def validate_command(
         spec = tasks[0].evaluation_spec(profile, clock)
         conditions = f", profile {spec.profile}, clock {spec.clock}"
     console.print(
-        f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s){conditions}"
+        f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s){conditions}",
+        markup=False,
     )
 
     def progress(task: Task, which: Which, result: EvalResult) -> None:
         outcome = result.error.kind if result.error else f"{result.passed}/{result.total}"
-        console.print(f"  {task.id} {which}: {outcome} in {result.timings.total_s:.1f}s")
+        console.print(f"  {task.id} {which}: {outcome} in {result.timings.total_s:.1f}s", markup=False)
 
     rows = asyncio.run(validate_tasks(tasks, parallel=parallel, on_evaluated=progress, profile=profile, clock=clock))
     Console().print(render_table(rows))

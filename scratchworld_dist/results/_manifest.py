@@ -13,7 +13,7 @@ from typing import Any
 
 from pydantic import BaseModel, Field, ValidationError
 
-from scratchworld_dist._errors import RunDirError
+from scratchworld_dist._errors import RunDirError, validation_summary
 from workers import HarnessFingerprint
 from workers._node import NodeSummary
 
@@ -112,8 +112,10 @@ def read_manifest(run_dir: Path) -> RunManifest | None:
         return None
     try:
         return RunManifest.model_validate_json(path.read_bytes())
-    except (OSError, ValidationError) as exc:
-        raise RunDirError(f"{path}: unreadable run manifest: {exc}") from exc
+    except OSError as exc:
+        raise RunDirError(f"{path}: unreadable run manifest: {exc.strerror or exc}") from exc
+    except ValidationError as exc:
+        raise RunDirError(f"{path}: not a run manifest: {validation_summary(exc)}") from exc
 
 
 def write_manifest(run_dir: Path, manifest: RunManifest) -> None:

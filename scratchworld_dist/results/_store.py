@@ -28,7 +28,7 @@ import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 from pydantic import ValidationError
 
-from scratchworld_dist._errors import RunDirError
+from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist.results._records import JobRecord, JobRow
 from scratchworld_dist.results._schema import SCHEMAS
 
@@ -68,8 +68,28 @@ def _read_segment(path: Path) -> list[JobRecord]:
         except ValidationError as exc:
             if number == len(lines):
                 break
-            raise RunDirError(f"{path}:{number}: corrupt journal line: {exc}") from exc
+            raise RunDirError(f"{path}:{number}: corrupt journal line: {validation_summary(exc)}") from exc
     return records
+
+
+_KEYS: dict[str, tuple[str, ...]] = {
+    "jobs": ("job_id", "attempt", "outcome"),
+    "steps": ("job_id", "attempt", "step"),
+    "tests": ("job_id", "attempt", "test_index"),
+}
+"""Columns every shard of a table has had in every schema version: a file without them is not one."""
+
+
+def _check_shard(path: Path, table: str) -> None:
+    """Refuse, naming it, a file in a table's folder that is not one of its shards (torn, or foreign)."""
+    try:
+        schema = pq.read_schema(path)
+    except (OSError, pa.ArrowInvalid) as exc:
+        raise RunDirError(f"{path}: unreadable shard ({' '.join(str(exc).split())})") from exc
+    missing = [name for name in _KEYS[table] if name not in schema.names]
+    if b"scratchworld_schema_version" not in (schema.metadata or {}) or missing:
+        lacks = f"lacks column(s) {', '.join(missing)}" if missing else "has no scratchworld_schema_version"
+        raise RunDirError(f"{path}: not a shard of the {table} table ({lacks}); move it out of the run directory")
 
 
 def _to_table(records: list[JobRecord], table: str) -> pa.Table:
@@ -105,6 +125,9 @@ class RunStore:
         except OSError as exc:
             self.close()
             raise unwritable(self.run_dir, exc) from exc
+        except RunDirError:  # e.g. a corrupt journal: the lock is not kept by a store that cannot write
+            self.close()
+            raise
 
     def _open_for_writing(self) -> None:
         self.run_dir.mkdir(parents=True, exist_ok=True)
@@ -223,10 +246,14 @@ class RunStore:
         folder = self.table_dir(table)
         segments = self._segments()  # listed before the shards: a segment gone by then has its jobs shard
         done = set(self._parts("jobs"))
-        files = [str(path) for n, path in sorted(self._parts(table).items()) if n in done]
+        files = [path for n, path in sorted(self._parts(table).items()) if n in done]
+        for path in files:
+            _check_shard(path, table)
         if files:
             try:
-                parts.append(ds.dataset(files, schema=schema, format="parquet").to_table(columns=columns))
+                parts.append(
+                    ds.dataset([str(f) for f in files], schema=schema, format="parquet").to_table(columns=columns)
+                )
             except (OSError, pa.ArrowInvalid) as exc:
                 raise RunDirError(f"{folder}: unreadable shard: {exc}") from exc
         pending = [r for n, path in segments if n not in done for r in _read_segment(path)]
@@ -239,7 +266,13 @@ class RunStore:
         return pa.concat_tables(parts)
 
     def job_rows(self) -> list[JobRow]:
-        return [JobRow.model_validate(row) for row in self.read_table("jobs").to_pylist()]
+        rows = self.read_table("jobs").to_pylist()
+        try:
+            return [JobRow.model_validate(row) for row in rows]
+        except ValidationError as exc:
+            raise RunDirError(
+                f"{self.table_dir('jobs')}: a row is not a job of a run: {validation_summary(exc)}"
+            ) from exc
 
     def cost_usd(self) -> float:
         """Model spend of every attempt recorded here."""

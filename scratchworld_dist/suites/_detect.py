@@ -40,6 +40,6 @@ def load_suite(path: str | Path, task_list: str | None = None) -> Suite:
     """Load the suite at ``path``, detecting its layout; ``task_list`` picks an upstream list."""
     root = Path(path).expanduser().absolute()
     if not root.is_dir():
-        raise SuiteError("no such directory", root)
+        raise SuiteError("not a directory" if root.exists() else "no such directory", root)
     loader, suite_root = loader_for(root)
     return loader.load(suite_root, task_list)

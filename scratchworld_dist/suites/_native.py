@@ -18,7 +18,7 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field
 
 from scratchworld_dist.suites._problems import SuiteProblems
-from scratchworld_dist.suites._task import CATEGORIES, Suite, Task, sort_tasks
+from scratchworld_dist.suites._task import CATEGORIES, Suite, Task, sort_tasks, task_id_problem
 
 SUITE_FILE = "suite.json"
 TASK_FILE = "task.json"
@@ -30,7 +30,9 @@ class SuiteFile(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     format: Literal["scratchworld_dist/1"]
-    name: str = Field(min_length=1)
+    name: str = Field(min_length=1, pattern=r"^[^\x00-\x1f\x7f]*$")
+    """Shown in every message and report: no line breaks or escape sequences."""
+
     helper: str | None = None
     helper_global: str = Field(default="EvaluationUtils", pattern=r"^[A-Za-z_$][\w$]*$")
 
@@ -87,6 +89,10 @@ class NativeSuiteLoader:
         self, task_dir: Path, category: str, suite_file: SuiteFile, helper: Path | None, problems: SuiteProblems
     ) -> Task | None:
         before = len(problems.items)
+        bad_id = task_id_problem(task_dir.name)
+        if bad_id is not None:  # named by its folder: the name itself may hold a line break
+            problems.add(task_dir.parent, bad_id)
+            return None
         task_file = problems.read_model(task_dir / TASK_FILE, TaskFile)
         for required in ("initial.sb3", "evaluate.js"):
             if not (task_dir / required).is_file():

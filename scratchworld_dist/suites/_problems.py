@@ -9,6 +9,7 @@ from typing import Any, TypeVar
 from pydantic import BaseModel, ValidationError
 
 from scratchworld_dist._errors import SuiteError
+from scratchworld_dist._files import read_text
 
 ModelT = TypeVar("ModelT", bound=BaseModel)
 
@@ -26,7 +27,7 @@ class SuiteProblems:
     def read_json(self, path: Path) -> Any | None:
         """The parsed file, or None with the reason recorded."""
         try:
-            return json.loads(path.read_text(encoding="utf-8"))
+            return json.loads(read_text(path))
         except FileNotFoundError:
             self.add(path, "missing")
         except (OSError, UnicodeDecodeError) as exc:

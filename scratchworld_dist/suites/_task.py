@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
 from scratchworld_dist._errors import SuiteError, TaskNotFoundError
+from scratchworld_dist._files import read_file, read_text
 from workers import CompositeAction, EvaluationClock, EvaluationProfile, EvaluationSpec
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
@@ -16,6 +18,22 @@ CATEGORIES: tuple[TaskCategory, ...] = get_args(TaskCategory)
 SuiteKind = Literal["scratchworld_dist", "upstream"]
 
 _TRAJECTORY = TypeAdapter(list[CompositeAction])
+
+_TASK_ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,127}$")
+
+
+def task_id_problem(task_id: str) -> str | None:
+    """Why ``task_id`` (a folder or file name) cannot name a task, or None.
+
+    Ids appear in every message, table and result row: a newline, an escape sequence or markup in
+    one would forge lines on a terminal or in a log, so an id is a plain name.
+    """
+    if _TASK_ID.match(task_id):
+        return None
+    return (
+        f"task id {task_id[:200]!r} is not a plain name: use letters, digits, '.', '_' and '-' "
+        "(at most 128, starting with a letter or digit)"
+    )
 
 
 class Task(BaseModel):
@@ -87,7 +105,7 @@ class Task(BaseModel):
 def read_trajectory(path: Path) -> list[CompositeAction]:
     """A trajectory file: a JSON list of ``{"api": ..., "args": {...}}`` objects."""
     try:
-        return _TRAJECTORY.validate_json(path.read_bytes())
+        return _TRAJECTORY.validate_json(read_file(path))
     except OSError as exc:
         raise SuiteError(f"cannot read the trajectory: {exc}", path) from exc
     except ValidationError as exc:
@@ -97,7 +115,7 @@ def read_trajectory(path: Path) -> list[CompositeAction]:
 
 def _read_text(path: Path) -> str:
     try:
-        return path.read_text(encoding="utf-8")
+        return read_text(path)
     except (OSError, UnicodeDecodeError) as exc:
         raise SuiteError(f"cannot read the script: {exc}", path) from exc
 

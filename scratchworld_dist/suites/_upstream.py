@@ -20,7 +20,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field
 
 from scratchworld_dist.suites._problems import SuiteProblems
-from scratchworld_dist.suites._task import CATEGORIES, Suite, Task, sort_tasks
+from scratchworld_dist.suites._task import CATEGORIES, Suite, Task, sort_tasks, task_id_problem
 
 UPSTREAM_TIMEOUT_S = 120.0
 SCRIPTS_DIR = Path("scratch-bench-api/api/evaluation_scripts")
@@ -111,6 +111,10 @@ class UpstreamSuiteLoader:
     def _load_task(
         self, root: Path, path: Path, folder_category: str, helper: Path, problems: SuiteProblems
     ) -> Task | None:
+        bad_id = task_id_problem(path.stem)
+        if bad_id is not None:  # named by its folder: the name itself may hold a line break
+            problems.add(path.parent, bad_id)
+            return None
         task_file = problems.read_model(path, UpstreamTaskFile)
         if task_file is None:
             return None
@@ -124,7 +128,11 @@ class UpstreamSuiteLoader:
         initial = root / PROJECTS_DIR / task_file.initial_project
         script = root / SCRIPTS_DIR / f"{task_id}.js"
         ok = True
-        if not initial.is_file():
+        named = Path(task_file.initial_project)
+        if named.is_absolute() or ".." in named.parts:  # a task file may not point at files elsewhere
+            problems.add(path, f"initial_project {task_file.initial_project!r} is outside {PROJECTS_DIR}/")
+            ok = False
+        elif not initial.is_file():
             problems.add(path, f"initial_project {task_file.initial_project!r} does not exist at {initial}")
             ok = False
         if not script.is_file():

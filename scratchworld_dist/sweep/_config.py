@@ -16,6 +16,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, PlainValidator, ValidationError, field_validator, model_validator
 
 from scratchworld_dist._errors import ConfigError
+from scratchworld_dist._files import read_text
 from workers import (
     AgentName,
     CoordinateSystem,
@@ -264,13 +265,13 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     """Read, validate and resolve a sweep config; raises ``ConfigError`` listing every problem."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_text(path)
     except (OSError, UnicodeDecodeError) as exc:
         raise ConfigError(f"cannot read the config: {exc}", path) from exc
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
-        raise ConfigError(f"not valid YAML: {exc}", path) from exc
+        raise ConfigError(f"not valid YAML: {_yaml_problem(exc)}", path) from exc
     if not isinstance(data, dict):
         raise ConfigError("the config must be a mapping of fields (name, suite, agent, ...)", path)
     data.update(overrides or {})
@@ -289,6 +290,16 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):
         resolved["ray"] = RayConfig(address=os.environ["RAY_ADDRESS"])
     return config.model_copy(update=resolved)
+
+
+def _yaml_problem(exc: yaml.YAMLError) -> str:
+    """The parser's complaint and where, on one line; never the offending line itself (it may hold a secret)."""
+    if not isinstance(exc, yaml.MarkedYAMLError):
+        return type(exc).__name__
+    problem = ", ".join(part for part in (exc.context, exc.problem) if part) or type(exc).__name__
+    mark = exc.problem_mark or exc.context_mark
+    where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
+    return where + " ".join(problem.split())
 
 
 def _resolve(base: Path, path: Path) -> Path:

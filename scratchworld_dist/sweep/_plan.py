@@ -17,6 +17,7 @@ from pathlib import Path
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import ProjectFormatError, SuiteError
+from scratchworld_dist._files import FileTooLargeError, read_file
 from scratchworld_dist.suites import Task
 from workers import (
     MIB,
@@ -98,10 +99,9 @@ class TaskContent(BaseModel):
 def read_project(path: Path, limits: ProjectLimits) -> bytes:
     """A task's project, read only if its size is within the limits and checked to be a project."""
     try:
-        size = path.stat().st_size
-        if size > limits.max_file_mb * MIB:
-            raise SuiteError(f"the project is {size / MIB:.1f} MiB, over project_limits.max_file_mb", path)
-        data = path.read_bytes()
+        data = read_file(path, int(limits.max_file_mb * MIB))
+    except FileTooLargeError as exc:
+        raise SuiteError(f"the project is {exc.strerror}, over project_limits.max_file_mb", path) from exc
     except OSError as exc:
         raise SuiteError(f"cannot read the project: {exc.strerror or exc}", path) from exc
     try:
