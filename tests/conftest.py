@@ -21,6 +21,16 @@ UPSTREAM_DIR = Path(os.environ.get("SCRATCHWORLD_UPSTREAM_DATA", REPO.parent / "
 DATA = Path(__file__).resolve().parent / "data"
 
 
+BROWSER_FIXTURES = frozenset({"session", "evaluator"})
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """A test that uses the shared browser is a browser test, whichever module it is in."""
+    for item in items:
+        if BROWSER_FIXTURES & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.browser)
+
+
 @pytest.fixture(scope="session")
 async def session() -> AsyncIterator[BrowserSession]:
     """One browser for every test that needs an editor (each editor still gets a fresh context)."""

@@ -270,6 +270,7 @@ async def test_a_script_that_tries_the_network_is_refused_at_the_boundary(sessio
     assert wanted in session.refused_requests
 
 
+@pytest.mark.browser
 def test_evaluate_prints_what_a_script_wrote_as_text(cli: Callable[..., Ran], tmp_path: Path) -> None:
     """Test names and notes with markup and escape sequences (once a crash of the renderer) are shown as written."""
     task = bad.native_suite(tmp_path / "suite")
@@ -283,6 +284,7 @@ def test_evaluate_prints_what_a_script_wrote_as_text(cli: Callable[..., Ran], tm
     assert "passed 1/2" in done.out
 
 
+@pytest.mark.browser
 def test_evaluate_a_script_that_throws_is_one_line(cli: Callable[..., Ran], tmp_path: Path) -> None:
     task = bad.native_suite(tmp_path / "suite")
     (task / "evaluate.js").write_text(

@@ -20,6 +20,8 @@ from tests.projects import counter_project
 from workers import BrowserConfig, BrowserSession, EditorAssets, EvaluationSpec, Evaluator
 from workers._editor_server import OWN_FILES
 
+pytestmark = pytest.mark.browser
+
 
 async def test_ready_editor_has_vm_workspace_and_swiftshader(session: BrowserSession) -> None:
     async with session.editor() as editor:

@@ -13,6 +13,8 @@ import pytest
 from scratchworld_dist.sb3 import check_project
 from tests.conftest import REPO, SUITE_DIR
 
+pytestmark = pytest.mark.browser
+
 SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))
 
 

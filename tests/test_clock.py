@@ -23,6 +23,8 @@ from tests.projects import counter_project, timing_project
 from workers import BrowserSession, EvaluationClock, EvaluationSpec, Evaluator
 from workers._evaluation import KILL_GRACE_S, wall_limit_s
 
+pytestmark = pytest.mark.browser
+
 CLOCKS: tuple[EvaluationClock, ...] = ("virtual", "real")
 
 

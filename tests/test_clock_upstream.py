@@ -70,6 +70,8 @@ from pydantic import JsonValue
 from tests.conftest import DATA
 from workers import BrowserSession, EditorPool, EvaluationClock, EvaluationSpec, Evaluator
 
+pytestmark = pytest.mark.browser
+
 TOLERANCE_MS = 150.0
 """Times of corresponding events (and path points) may differ this much, plus the real run's frame lag."""
 

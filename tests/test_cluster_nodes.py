@@ -31,7 +31,7 @@ from tests.sweep_driver import SCRATCHWORLD
 from workers import harness_fingerprint
 from workers._node import NodeReport
 
-pytestmark = pytest.mark.ray
+pytestmark = [pytest.mark.ray, pytest.mark.browser]
 
 RAY = str(Path(sys.executable).with_name("ray"))
 TASKS = ["sum_two_numbers", "quiz_score", "bouncing_ball_stuck"]

@@ -13,6 +13,8 @@ from tests.conftest import SUITE_DIR
 from workers import ActionEnvelope, BrowserSession, Editor, EvaluationSpec, Evaluator
 from workers import _composite as composite
 
+pytestmark = pytest.mark.browser
+
 
 def base_project() -> Project:
     """Cat: when flag clicked, move 10, turn 15, say "hi"; a forever loop holding one move; a global score."""

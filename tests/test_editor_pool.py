@@ -15,6 +15,8 @@ from tests.projects import counter_project
 from tests.test_evaluation import CHECK_CLEAN, LEAKY, evaluate, spec
 from workers import BrowserSession, EditorPool, Evaluator
 
+pytestmark = pytest.mark.browser
+
 # Everything a script can change in the page that recycling undoes.
 LEAKS_UNDONE = """
 module.exports = async (vm) => {

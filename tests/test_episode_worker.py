@@ -31,6 +31,8 @@ from workers import (
 from workers.llm import RetryPolicy
 from workers.primitive import PRIMITIVE_APIS
 
+pytestmark = pytest.mark.browser
+
 
 @pytest.fixture(scope="module")
 def contents() -> dict[str, TaskContent]:
@@ -55,6 +57,7 @@ def episode(
 async def test_oracle_replays_its_trajectory_and_noop_fails_side_by_side(
     worker: EpisodeWorker, contents: dict[str, TaskContent]
 ) -> None:
+
     content = contents["bouncing_ball_stuck"]
     oracle, primitive, noop = await asyncio.gather(
         worker.run(*episode(content)),

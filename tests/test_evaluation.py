@@ -10,6 +10,8 @@ from scratchworld_dist.sb3 import Project
 from tests.projects import counter_project, with_declared_size, with_entry
 from workers import MIB, EvalResult, EvaluationSpec, Evaluator, ProjectLimits, outcome_of
 
+pytestmark = pytest.mark.browser
+
 COUNTER_TEST = """
 module.exports = async (vm, config, cleanup) => {
   const said = [];

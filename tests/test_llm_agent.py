@@ -27,7 +27,7 @@ from workers.llm import RetryPolicy, load_litellm
 from workers.primitive import PrimitiveObservation
 
 FAST = RetryPolicy(max_attempts=2, initial_backoff_s=0.01, max_backoff_s=0.02, request_timeout_s=10, max_total_s=30)
-pytestmark = pytest.mark.usefixtures("litellm_clients")
+pytestmark = [pytest.mark.usefixtures("litellm_clients"), pytest.mark.browser]
 
 KEY_ENV = "SCRATCHWORLD_TEST_AGENT_KEY"
 SECRET = "sk-agent-test-5d1e9b27c4"

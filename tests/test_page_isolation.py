@@ -31,6 +31,8 @@ WEB_SERVICES = (
     "synthesis-service.scratch.mit.edu",
 )
 
+pytestmark = pytest.mark.browser
+
 EVERY_WAY_OUT = """
 module.exports = async (vm, config) => {
   const base = `http://127.0.0.1:${config.port}`;

@@ -12,6 +12,8 @@ from workers import BrowserSession, Editor
 from workers.primitive import Gestures
 from workers.primitive._gestures import GestureError, key_name
 
+pytestmark = pytest.mark.browser
+
 CANVAS = "svg.blocklySvg > .blocklyWorkspace > .blocklyBlockCanvas"
 QUIZ = SUITE_DIR / "extend" / "quiz_score" / "initial.sb3"
 

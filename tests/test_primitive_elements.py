@@ -26,6 +26,8 @@ from workers.primitive._elements import (
     settle,
 )
 
+pytestmark = pytest.mark.browser
+
 QUIZ = SUITE_DIR / "extend" / "quiz_score" / "initial.sb3"
 CATEGORIES = ["Motion", "Looks", "Sound", "Events", "Control", "Sensing", "Operators", "Variables", "My Blocks"]
 # A CSS-module class with its build hash, e.g. sprite-selector_sprite-wrapper_df7cJ.

@@ -25,6 +25,8 @@ from workers import (
 )
 from workers.primitive import PrimitiveObservation
 
+pytestmark = pytest.mark.browser
+
 
 @pytest.fixture(scope="module")
 def content() -> TaskContent:

@@ -19,6 +19,8 @@ from workers import _composite as composite
 from workers.agents._primitive_oracle import OracleDivergenceError, PrimitiveOracle
 from workers.primitive import Gestures
 
+pytestmark = pytest.mark.browser
+
 ALL_TASKS = sorted(p.parent.name for p in SUITE_DIR.glob("*/*/golden_trajectory.json"))
 
 Tamper = Callable[[int, PrimitiveAction], PrimitiveAction]

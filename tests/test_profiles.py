@@ -10,6 +10,8 @@ from tests.conftest import SUITE_DIR
 from tests.projects import counter_project
 from workers import EvaluationSpec, Evaluator
 
+pytestmark = pytest.mark.browser
+
 # Reports what the page looks like to an evaluation script, as tests whose names carry the values.
 PROBE = """module.exports = async (vm) => {
   const canvas = vm.renderer.gl.canvas;

@@ -160,6 +160,7 @@ def test_jobs_spread_over_a_two_node_cluster(tmp_path: Path, drivers: list[Drive
         cluster.shutdown()
 
 
+@pytest.mark.browser
 def test_real_episodes_in_the_browser(tmp_path: Path, drivers: list[Driver]) -> None:
     oracle = write_config(tmp_path, tasks={"ids": TASKS[:2]}, limits={"episode_timeout_s": 240})
     code, out = run(drivers, oracle)
@@ -190,6 +191,7 @@ def test_real_episodes_in_the_browser(tmp_path: Path, drivers: list[Driver]) -> 
     assert row.stop_reason == "done"
 
 
+@pytest.mark.browser
 def test_a_sweep_mixes_synthetic_and_real_episodes(tmp_path: Path, drivers: list[Driver]) -> None:
     synthetic = {"tasks": ["sum_two_numbers", "quiz_score"], "fail_tasks": ["quiz_score"]}
     config = write_config(

@@ -4,7 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from scratchworld_dist import load_suite, validate_tasks
+
+pytestmark = pytest.mark.browser
 
 
 async def test_upstream_projects_under_the_upstream_contract(upstream_clone: Path) -> None:
