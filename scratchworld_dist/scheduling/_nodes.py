@@ -73,7 +73,3 @@ def _environment(report: NodeReport) -> str:
     parts = report.harness.environment
     return f"editor {parts.get('editor:bundle', '?')} and {parts.get('browser:chromium', '?')}"
 
-
-def local_node(browser_slots: int) -> NodeReport:
-    """The driver's own machine, as the single node of a private local Ray."""
-    return describe_node(browser_slots=browser_slots)
