@@ -18,8 +18,8 @@ from pathlib import Path
 
 from pydantic import JsonValue
 
-from workers import BrowserSession, Editor
-from workers import _composite as composite
+from workers import composite
+from workers.editor import BrowserSession, Editor
 
 REPO = Path(__file__).resolve().parents[1]
 MAZE = REPO.parent / "shared" / "scratchworld-upstream" / "scratch-gui" / "static" / "maze_starter.sb3"

@@ -21,7 +21,7 @@ from pathlib import Path
 from playwright.async_api import Route
 
 from scratchworld_dist import load_suite, validate_tasks
-from workers import BrowserSession, Editor, EditorAssets
+from workers.editor import BrowserSession, Editor, EditorAssets
 
 REPO = Path(__file__).resolve().parents[1]
 UPSTREAM_PONG = REPO.parent / "shared" / "scratchworld-upstream" / "scratch-gui" / "static" / "pong_starter_golden.sb3"

@@ -24,7 +24,9 @@ import time
 from pathlib import Path
 
 from scratchworld_dist import load_suite
-from workers import BrowserSession, EditorPool, EvalResult, EvaluationClock, EvaluationProfile, Evaluator
+from workers.contract import EvalResult, EvaluationClock, EvaluationProfile
+from workers.editor import BrowserSession, EditorPool
+from workers.evaluation import Evaluator
 
 REPO = Path(__file__).resolve().parents[1]
 CLOCKS: tuple[EvaluationClock, EvaluationClock] = ("virtual", "real")

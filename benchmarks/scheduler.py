@@ -30,7 +30,7 @@ from scratchworld_dist.results import RunStore, record_of
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, ray_runtime
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, plan_jobs, read_task
-from workers import EpisodeResult, ModelSpec, SyntheticEpisodes
+from workers.contract import EpisodeResult, ModelSpec, SyntheticEpisodes
 
 REPO = Path(__file__).resolve().parents[1]
 CONTENTS = [read_task(task) for task in load_suite(REPO / "tasks").tasks]

@@ -21,7 +21,7 @@ translated at the edge with ``raise ... from exc`` so callers catch one family::
     ├── ReplyParseError             a model reply holds no usable action (the message is shown to the model)
     └── ModelCallError              a model call failed for good (classified; never carries the API key)
 
-The root and the editor errors live in ``workers._errors`` (the worker side imports nothing
+The root and the editor errors live in ``workers.contract`` (the worker side imports nothing
 from the driver side); the suite errors are the driver's own.
 
 Evaluation never raises for a bad project or a bad script: those become an ``EvalResult``
@@ -34,7 +34,7 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from workers._errors import (
+from workers.contract import (
     BridgeError,
     ChromiumNotFoundError,
     EditorBundleMissingError,

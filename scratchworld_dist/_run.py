@@ -33,9 +33,9 @@ from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, r
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
-from workers import EpisodeResult, HarnessFingerprint, ModelSpec, describe_differences, harness_fingerprint
-from workers._node import NodeReport, describe_node
+from workers.contract import EpisodeResult, HarnessFingerprint, ModelSpec, NodeReport, describe_differences
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
+from workers.node import describe_node, harness_fingerprint
 
 
 class RunPlan(BaseModel):

@@ -9,21 +9,15 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import Callable
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from pydantic import BaseModel
 
 from scratchworld_dist.suites import Task
-from workers import (
-    BrowserConfig,
-    BrowserSession,
-    EditorPool,
-    EvalResult,
-    EvaluationClock,
-    EvaluationProfile,
-    EvaluationSpec,
-    Evaluator,
-)
+from workers.contract import EvalResult, EvaluationClock, EvaluationProfile, EvaluationSpec
+
+if TYPE_CHECKING:
+    from workers.editor import BrowserConfig
 
 Which = Literal["golden", "initial"]
 
@@ -93,6 +87,10 @@ async def validate_tasks(
     """
     if parallel < 1:
         raise ValueError("parallel must be at least 1")
+    # The browser stack loads here, not with the package: reports and status never need it.
+    from workers.editor import BrowserSession, EditorPool
+    from workers.evaluation import Evaluator
+
     slots = asyncio.Semaphore(parallel)
     # Editors are recycled after each evaluation; one spare starts up for a page that cannot be.
     async with BrowserSession(browser) as session, EditorPool(session, spare=1) as pool:

@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING
 
 import pytest
 
-from workers import BrowserSession, Evaluator
+from workers.editor import BrowserSession
+from workers.evaluation import Evaluator
 
 if TYPE_CHECKING:
     from tests.sweep_driver import Driver

@@ -35,21 +35,21 @@ from tests.conftest import SUITE_DIR
 from tests.loopback import LoopbackListener
 from tests.projects import counter_project, with_entry
 from tests.sweep_driver import SCRATCHWORLD
-from workers import (
+from workers import composite
+from workers.contract import (
     Action,
-    BrowserSession,
     Done,
     EpisodeResult,
-    EpisodeRunner,
     EvaluationSpec,
-    Evaluator,
     ObservationSettings,
     StepRecord,
     composite_action,
     primitive_action,
 )
-from workers import _composite as composite
-from workers._eval_result import MAX_MESSAGE
+from workers.contract._eval_result import MAX_MESSAGE
+from workers.editor import BrowserSession
+from workers.episode import EpisodeRunner
+from workers.evaluation import Evaluator
 
 # -- the checks every case shares -----------------------------------------------------------------
 

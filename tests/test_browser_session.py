@@ -17,8 +17,10 @@ from scratchworld_dist import (
 )
 from scratchworld_dist.sb3 import Project, block, check_project, circle_costume
 from tests.projects import counter_project
-from workers import BrowserConfig, BrowserSession, EditorAssets, EvaluationSpec, Evaluator
-from workers._editor_server import OWN_FILES
+from workers.contract import EvaluationSpec
+from workers.editor import BrowserConfig, BrowserSession, EditorAssets
+from workers.evaluation import Evaluator
+from workers.node import OWN_FILES
 
 pytestmark = pytest.mark.browser
 

@@ -20,8 +20,10 @@ from scratchworld_dist import load_suite
 from scratchworld_dist.sweep import plan_jobs, read_task
 from tests.conftest import DATA, SUITE_DIR
 from tests.projects import counter_project, timing_project
-from workers import BrowserSession, EvaluationClock, EvaluationSpec, Evaluator
-from workers._evaluation import KILL_GRACE_S, wall_limit_s
+from workers.contract import EvaluationClock, EvaluationSpec
+from workers.editor import BrowserSession
+from workers.evaluation import Evaluator, wall_limit_s
+from workers.evaluation._evaluator import KILL_GRACE_S
 
 pytestmark = pytest.mark.browser
 

@@ -68,7 +68,9 @@ import pytest
 from pydantic import JsonValue
 
 from tests.conftest import DATA
-from workers import BrowserSession, EditorPool, EvaluationClock, EvaluationSpec, Evaluator
+from workers.contract import EvaluationClock, EvaluationSpec
+from workers.editor import BrowserSession, EditorPool
+from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
 

@@ -28,8 +28,8 @@ from scratchworld_dist.results import RunStore, read_manifest
 from scratchworld_dist.scheduling._nodes import NodeMismatchError, agreed_harness
 from tests.conftest import REPO
 from tests.sweep_driver import SCRATCHWORLD
-from workers import harness_fingerprint
-from workers._node import NodeReport
+from workers.contract import NodeReport
+from workers.node import harness_fingerprint
 
 pytestmark = [pytest.mark.ray, pytest.mark.browser]
 
@@ -150,14 +150,14 @@ def test_a_node_from_another_checkout_runs_jobs_and_a_differing_one_is_refused(
     assert manifest.harness == harness_fingerprint()  # the driver's code, the node's (here identical) browser
 
     other = checkout_copy(tmp_path / "clone-c")
-    evaluation = other / "workers" / "_evaluation.py"
+    evaluation = other / "workers" / "evaluation" / "_evaluator.py"
     evaluation.write_text(evaluation.read_text() + "\n# a local change\n")
     cluster.node(other, browsers=1)
     refused = run(sweep(tmp_path, cluster, "second"), cluster)
     assert refused.returncode == 2
     message = refused.stderr.strip().splitlines()[-1]
     assert message.startswith("error: refusing nodes that would produce verdicts for another harness")
-    assert f"harness at {other}" in message and "differs in workers/_evaluation.py)" in message
+    assert f"harness at {other}" in message and "differs in workers/evaluation/_evaluator.py)" in message
     assert str(same) not in message  # the node that matches is not blamed
     assert "Traceback" not in refused.stderr
     assert not (tmp_path / "second" / "jobs").exists() or not RunStore(tmp_path / "second").job_rows()

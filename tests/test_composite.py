@@ -10,8 +10,10 @@ import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
 from tests.conftest import SUITE_DIR
-from workers import ActionEnvelope, BrowserSession, Editor, EvaluationSpec, Evaluator
-from workers import _composite as composite
+from workers import composite
+from workers.contract import ActionEnvelope, EvaluationSpec
+from workers.editor import BrowserSession, Editor
+from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
 

@@ -13,7 +13,8 @@ import pytest
 
 from tests.projects import counter_project
 from tests.test_evaluation import CHECK_CLEAN, LEAKY, evaluate, spec
-from workers import BrowserSession, EditorPool, Evaluator
+from workers.editor import BrowserSession, EditorPool
+from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
 

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist import EditorBundleMissingError
-from workers import EditorAssets, EditorServer
-from workers._editor_server import OWN_FILES
+from workers.editor import EditorAssets, EditorServer
+from workers.node import OWN_FILES
 
 
 def _get(url: str) -> tuple[int, bytes]:

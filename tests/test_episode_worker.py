@@ -9,26 +9,25 @@ from collections.abc import AsyncIterator
 import pytest
 from playwright.async_api import Error as PlaywrightError
 
-from scratchworld_dist.scheduling._worker_actor import EpisodeWorker
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
-from workers import (
+from workers.contract import (
     Action,
     AgentName,
-    BrowserSession,
-    EpisodeRunner,
     EpisodeSpec,
     LLMSettings,
     LoadProject,
     Mode,
     ModelSpec,
+    RetryPolicy,
     SyntheticEpisodes,
     TaskPayload,
-    harness_fingerprint,
 )
-from workers.llm import RetryPolicy
+from workers.editor import BrowserSession
+from workers.episode import EpisodeRunner, EpisodeWorker
+from workers.node import harness_fingerprint
 from workers.primitive import PRIMITIVE_APIS
 
 pytestmark = pytest.mark.browser

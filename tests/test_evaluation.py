@@ -8,7 +8,8 @@ import pytest
 
 from scratchworld_dist.sb3 import Project
 from tests.projects import counter_project, with_declared_size, with_entry
-from workers import MIB, EvalResult, EvaluationSpec, Evaluator, ProjectLimits, outcome_of
+from workers.contract import MIB, EvalResult, EvaluationSpec, ProjectLimits, outcome_of
+from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
 

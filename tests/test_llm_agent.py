@@ -12,18 +12,12 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply, status
-from workers import (
-    BrowserSession,
-    EpisodeRunner,
-    EpisodeSpec,
-    LLMSettings,
-    Mode,
-    ModelSpec,
-    ObservationSettings,
-)
 from workers.agents import LLMAgent
 from workers.agents._coordinates import smart_resize, to_page
-from workers.llm import RetryPolicy, load_litellm
+from workers.contract import EpisodeSpec, LLMSettings, Mode, ModelSpec, ObservationSettings, RetryPolicy
+from workers.editor import BrowserSession
+from workers.episode import EpisodeRunner
+from workers.llm import load_litellm
 from workers.primitive import PrimitiveObservation
 
 FAST = RetryPolicy(max_attempts=2, initial_backoff_s=0.01, max_backoff_s=0.02, request_timeout_s=10, max_total_s=30)

@@ -19,14 +19,8 @@ from tests.openai_server import (
     reply,
     status,
 )
-from workers import ModelSpec
-from workers.llm import (
-    CircuitBreaker,
-    ModelCallError,
-    ModelClient,
-    RetryPolicy,
-    load_litellm,
-)
+from workers.contract import ModelSpec, RetryPolicy
+from workers.llm import CircuitBreaker, ModelCallError, ModelClient, load_litellm
 from workers.llm._client import _parse_retry_after
 
 pytestmark = pytest.mark.usefixtures("litellm_clients")
@@ -113,18 +107,23 @@ async def test_server_errors_are_retried_until_success(server: OpenAIServer) -> 
 async def test_persistent_server_error_stops_after_max_attempts(server: OpenAIServer) -> None:
     server.default = status(500)
     error = await failure(client(server))
-    assert (error.error_class, error.transient, error.attempts, error.status_code) == ("provider_error", True, 4, 500)
+    assert (error.error_class, error.transient, error.attempts, error.status_code) == (
+        "model_provider_error",
+        True,
+        4,
+        500,
+    )
     assert server.count == 4
 
 
 @pytest.mark.parametrize(
     ("behaviour", "error_class"),
     [
-        (status(401), "auth"),
-        (status(403), "auth"),
-        (status(400), "bad_request"),
-        (status(404), "not_found"),
-        (context_length_error(), "context_window"),
+        (status(401), "model_auth"),
+        (status(403), "model_auth"),
+        (status(400), "model_bad_request"),
+        (status(404), "model_not_found"),
+        (context_length_error(), "model_context_window"),
     ],
 )
 async def test_permanent_errors_are_not_retried(server: OpenAIServer, behaviour: object, error_class: str) -> None:
@@ -139,7 +138,7 @@ async def test_hang_past_request_timeout_is_a_timeout(server: OpenAIServer) -> N
     policy = FAST.model_copy(update={"request_timeout_s": 1.0, "max_attempts": 1})
     started = time.monotonic()
     error = await failure(client(server, policy))
-    assert (error.error_class, error.transient) == ("timeout", True)
+    assert (error.error_class, error.transient) == ("model_timeout", True)
     assert 0.9 <= time.monotonic() - started < 3
 
 
@@ -150,7 +149,9 @@ async def test_timeout_is_retried(server: OpenAIServer) -> None:
     assert (completion.text, completion.attempts) == ("after the hang", 2)
 
 
-@pytest.mark.parametrize(("behaviour", "error_class"), [(drop(), "connection"), (malformed(), "provider_error")])
+@pytest.mark.parametrize(
+    ("behaviour", "error_class"), [(drop(), "model_connection"), (malformed(), "model_provider_error")]
+)
 async def test_dropped_and_malformed_answers_are_retried_then_classified(
     server: OpenAIServer, behaviour: object, error_class: str
 ) -> None:
@@ -168,7 +169,7 @@ async def test_refused_connection_is_a_connection_error() -> None:
     spec = ModelSpec(name="test", model="openai/test-model", api_base=url, api_key_env=KEY_ENV)
     policy = FAST.model_copy(update={"max_attempts": 2})
     error = await failure(ModelClient(spec, policy, breaker=CircuitBreaker("refused")))
-    assert (error.error_class, error.attempts) == ("connection", 2)
+    assert (error.error_class, error.attempts) == ("model_connection", 2)
 
 
 async def test_max_total_bounds_the_whole_call(server: OpenAIServer) -> None:
@@ -185,7 +186,7 @@ async def test_retry_after_beyond_the_total_budget_fails_at_once(server: OpenAIS
     policy = FAST.model_copy(update={"max_total_s": 5.0})
     started = time.monotonic()
     error = await failure(client(server, policy))
-    assert (error.error_class, error.attempts, server.count) == ("rate_limited", 1, 1)
+    assert (error.error_class, error.attempts, server.count) == ("model_rate_limited", 1, 1)
     assert time.monotonic() - started < 1
 
 
@@ -194,11 +195,11 @@ async def test_circuit_breaker_opens_fails_fast_and_recovers(server: OpenAIServe
     breaker = CircuitBreaker("flaky", failures=2, window_s=60, cooldown_s=0.5)
     model_client = client(server, FAST.model_copy(update={"max_attempts": 2}), breaker=breaker)
     for _ in range(2):
-        assert (await failure(model_client)).error_class == "provider_error"
+        assert (await failure(model_client)).error_class == "model_provider_error"
     assert (server.count, breaker.state) == (4, "open")
 
     error = await failure(model_client)
-    assert (error.error_class, error.attempts, error.transient) == ("circuit_open", 0, True)
+    assert (error.error_class, error.attempts, error.transient) == ("model_circuit_open", 0, True)
     assert server.count == 4  # failed fast: no request
 
     await asyncio.sleep(0.55)
@@ -226,7 +227,7 @@ async def test_api_key_reaches_the_server_but_no_log_or_error(
         error = await failure(model_client)
 
     assert {r.headers["authorization"] for r in server.requests} == {f"Bearer {SECRET}"}
-    assert error.error_class == "auth"
+    assert error.error_class == "model_auth"
     assert "Incorrect API key provided" in str(error)
     rendered = "".join(traceback.format_exception(error))
     assert SECRET not in rendered
@@ -239,7 +240,7 @@ async def test_missing_key_variable_fails_without_a_request(
 ) -> None:
     monkeypatch.delenv(KEY_ENV)
     error = await failure(client(server))
-    assert (error.error_class, error.attempts, server.count) == ("auth", 0, 0)
+    assert (error.error_class, error.attempts, server.count) == ("model_auth", 0, 0)
     assert KEY_ENV in str(error)
 
 
@@ -249,7 +250,7 @@ async def test_no_credentials_at_all_is_auth_and_not_retried(
     monkeypatch.delenv("OPENAI_API_KEY", raising=False)
     spec = ModelSpec(name="test", model="openai/test-model", api_base=server.url)  # no api_key_env either
     error = await failure(ModelClient(spec, FAST, breaker=CircuitBreaker("no-key", failures=1000)))
-    assert (error.error_class, error.transient, error.attempts, server.count) == ("auth", False, 1, 0)
+    assert (error.error_class, error.transient, error.attempts, server.count) == ("model_auth", False, 1, 0)
 
 
 async def test_base_url_from_the_environment(server: OpenAIServer, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -258,7 +259,7 @@ async def test_base_url_from_the_environment(server: OpenAIServer, monkeypatch: 
     assert server.count == 1
     monkeypatch.delenv("SCRATCHWORLD_TEST_BASE_URL")
     error = await failure(client(server, api_base=None, api_base_env="SCRATCHWORLD_TEST_BASE_URL"))
-    assert (error.error_class, error.attempts, server.count) == ("bad_request", 0, 1)
+    assert (error.error_class, error.attempts, server.count) == ("model_bad_request", 0, 1)
     assert "SCRATCHWORLD_TEST_BASE_URL" in str(error)
 
 

@@ -10,15 +10,13 @@ from collections.abc import Iterator
 import pytest
 
 from tests.openai_server import OpenAIServer, reply, status
-from workers import ModelSpec
+from workers.contract import ModelSpec, RateLimits, RetryPolicy
 from workers.llm import (
     CircuitBreaker,
     Grant,
     LocalLimiterHandle,
     ModelClient,
-    RateLimits,
     RateLimitState,
-    RetryPolicy,
     Wait,
     close_litellm_clients,
     get_or_create_limiter,

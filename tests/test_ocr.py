@@ -12,15 +12,8 @@ import cv2
 import numpy as np
 import pytest
 
-from workers.ocr import (
-    OCRError,
-    PaddleOCRBackend,
-    RapidOCRBackend,
-    Region,
-    RegionOCR,
-    TextBox,
-    ocr_backend,
-)
+from workers.contract import OCRError
+from workers.ocr import PaddleOCRBackend, RapidOCRBackend, Region, RegionOCR, TextBox, ocr_backend
 from workers.ocr._paddle import boxes_from_paddle
 
 FONT = cv2.FONT_HERSHEY_SIMPLEX

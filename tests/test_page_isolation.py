@@ -21,8 +21,10 @@ import pytest
 
 from tests.loopback import LoopbackListener
 from tests.projects import counter_project
-from workers import BrowserConfig, BrowserSession, EvaluationSpec, Evaluator, ObservationSettings, primitive_action
-from workers._environment import PrimitiveEnvironment
+from workers.contract import EvaluationSpec, ObservationSettings, primitive_action
+from workers.editor import BrowserConfig, BrowserSession
+from workers.episode import PrimitiveEnvironment
+from workers.evaluation import Evaluator
 from workers.primitive import PrimitiveObserver
 
 WEB_SERVICES = (

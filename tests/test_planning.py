@@ -14,17 +14,17 @@ from scratchworld_dist.sweep import NO_MODEL, JobSpec, TaskContent, job_id, plan
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
 from tests.conftest import SUITE_DIR
 from tests.projects import with_entry
-from workers import (
+from workers.contract import (
     MIB,
     LLMSettings,
     ModelSpec,
     ObservationSettings,
     ProjectLimits,
     RateLimits,
+    RetryPolicy,
     SyntheticEpisodes,
-    harness_fingerprint,
 )
-from workers.llm import RetryPolicy
+from workers.node import harness_fingerprint
 
 GPT = ModelSpec(name="gpt", model="openai/gpt-4o", temperature=0.0, api_key_env="OPENAI_API_KEY")
 CLAUDE = ModelSpec(name="claude", model="anthropic/claude-sonnet", max_tokens=1024)

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import pytest
 
 from tests.conftest import SUITE_DIR
-from workers import BrowserSession, Editor
+from workers.editor import BrowserSession, Editor
 from workers.primitive import Gestures
 from workers.primitive._gestures import GestureError, key_name
 

@@ -12,7 +12,7 @@ import pytest
 from pydantic import ValidationError
 
 from tests.conftest import REPO, SUITE_DIR
-from workers import BrowserSession, Editor
+from workers.editor import BrowserSession, Editor
 from workers.primitive._elements import (
     LEGEND,
     DomElement,

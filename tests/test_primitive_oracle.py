@@ -14,9 +14,11 @@ import pytest
 from scratchworld_dist.sb3 import Project, block, circle_costume
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
-from workers import BrowserSession, CompositeAction, Done, Editor, EvalResult, Evaluator, PrimitiveAction
-from workers import _composite as composite
+from workers import composite
 from workers.agents._primitive_oracle import OracleDivergenceError, PrimitiveOracle
+from workers.contract import CompositeAction, Done, EvalResult, PrimitiveAction
+from workers.editor import BrowserSession, Editor
+from workers.evaluation import Evaluator
 from workers.primitive import Gestures
 
 pytestmark = pytest.mark.browser

@@ -8,7 +8,8 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from tests.projects import counter_project
-from workers import EvaluationSpec, Evaluator
+from workers.contract import EvaluationSpec
+from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from workers._report import ReportError, parse_report
+from workers.evaluation import ReportError, parse_report
 
 
 def test_full_upstream_report() -> None:

@@ -29,7 +29,7 @@ from scratchworld_dist.reports import (
     t_quantile_975,
 )
 from scratchworld_dist.results import JobRecord, JobRow, RunManifest, RunStore, SuiteInfo, write_manifest
-from workers import HarnessFingerprint
+from workers.contract import HarnessFingerprint
 
 T0 = datetime(2026, 1, 1, tzinfo=UTC)
 PARTS = {"workers/_evaluation.py": "e1", "scratch-gui/clock.js": "c1", "package:litellm": "1.106.2"}

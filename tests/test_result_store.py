@@ -30,7 +30,7 @@ from scratchworld_dist.results import (
 )
 from scratchworld_dist.results import _store as store_module
 from scratchworld_dist.sweep import JobSpec
-from workers import EpisodeResult, EpisodeTimings, EvalResult, ModelSpec, StepRecord, TestVerdict, WorkerInfo
+from workers.contract import EpisodeResult, EpisodeTimings, EvalResult, ModelSpec, StepRecord, TestVerdict, WorkerInfo
 
 MODEL = ModelSpec(name="gpt", model="openai/gpt-4o", temperature=0.0, api_key_env="OPENAI_API_KEY")
 T0 = 1_790_000_000.25  # a unix time with a fraction, to check sub-second precision survives Parquet

@@ -10,7 +10,7 @@ import yaml
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.sweep import ModelConfig, SweepConfig, load_sweep_config
-from workers import ModelSpec
+from workers.contract import ModelSpec
 
 
 @pytest.fixture(autouse=True)

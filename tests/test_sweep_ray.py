@@ -24,8 +24,8 @@ from scratchworld_dist.results import RunStore, effective_rows, read_manifest
 from scratchworld_dist.suites import load_suite
 from tests.conftest import REPO
 from tests.sweep_driver import SCRATCHWORLD, Driver, run
-from workers._editor_server import OWN_FILES
-from workers._fingerprint import EDITOR_LOCK_FILES
+from workers.node import OWN_FILES
+from workers.node._fingerprint import EDITOR_LOCK_FILES
 
 pytestmark = pytest.mark.ray
 

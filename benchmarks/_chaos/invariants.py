@@ -14,7 +14,7 @@ from pydantic import BaseModel
 from scratchworld_dist._run import RunPlan
 from scratchworld_dist.reports import build_report
 from scratchworld_dist.results import JobRow, RunStore, effective_rows, read_manifest
-from workers import ErrorClass
+from workers.contract import ErrorClass
 
 VERDICTS = ("passed", "failed")
 

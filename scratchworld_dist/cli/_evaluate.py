@@ -13,23 +13,17 @@ from rich.text import Text
 
 from scratchworld_dist._files import read_file
 from scratchworld_dist.suites import load_suite
-from workers import (
-    MIB,
-    BrowserSession,
-    EvalResult,
-    EvaluationClock,
-    EvaluationProfile,
-    EvaluationSpec,
-    Evaluator,
-    ProjectLimits,
-    project_refusal,
-)
+from workers.contract import MIB, EvalResult, EvaluationClock, EvaluationProfile, EvaluationSpec, ProjectLimits
 
 EXIT_NOT_PASSED = 1
 EXIT_NO_VERDICT = 3
 
 
 async def _evaluate(project: bytes, spec: EvaluationSpec) -> EvalResult:
+    # The browser stack loads with the command that needs it: ``report`` and ``status`` never do.
+    from workers.editor import BrowserSession
+    from workers.evaluation import Evaluator
+
     async with BrowserSession() as session:
         return await Evaluator(session).evaluate(project, spec)
 
@@ -89,6 +83,8 @@ def evaluate_command(
     spec = load_suite(suite_dir).task(task_id).evaluation_spec(profile, clock)
     data = read_project_file(project)
     # A project no page may see is refused here, naming the file, before a browser starts.
+    from workers.evaluation import project_refusal
+
     result = project_refusal(data, ProjectLimits(), name=str(project)) or asyncio.run(_evaluate(data, spec))
     render_result(result, Console())
     if json_file is not None:

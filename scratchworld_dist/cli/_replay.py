@@ -20,21 +20,17 @@ from scratchworld_dist.cli._evaluate import EXIT_NO_VERDICT, EXIT_NOT_PASSED, re
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.suites._task import read_trajectory
 from scratchworld_dist.sweep import read_project
-from workers import (
-    ActionEnvelope,
-    BrowserSession,
-    CompositeAction,
-    EvalResult,
-    Evaluator,
-    ProjectLimits,
-    check_project,
-)
-from workers import _composite as composite
+from workers.contract import ActionEnvelope, CompositeAction, EvalResult, ProjectLimits, check_project
 
 
 async def _replay(
     project: bytes, actions: list[CompositeAction], task_spec: object, console: Console, show_final: bool
 ) -> tuple[list[ActionEnvelope], bytes, EvalResult]:
+    # The browser stack loads with the command that needs it: ``report`` and ``status`` never do.
+    from workers import composite
+    from workers.editor import BrowserSession
+    from workers.evaluation import Evaluator
+
     envelopes: list[ActionEnvelope] = []
     async with BrowserSession() as session:
         async with session.editor() as editor:
@@ -99,6 +95,9 @@ def replay_command(
 
 
 async def _observe_all(project: bytes) -> list[str]:
+    from workers import composite
+    from workers.editor import BrowserSession
+
     texts = []
     async with BrowserSession() as session, session.editor() as editor:
         await editor.load_project(project)

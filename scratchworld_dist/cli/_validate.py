@@ -14,7 +14,7 @@ from rich.text import Text
 
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
 from scratchworld_dist.suites import Task, load_suite
-from workers import EvalResult, EvaluationClock, EvaluationProfile
+from workers.contract import EvalResult, EvaluationClock, EvaluationProfile
 
 EXIT_INVALID = 1
 

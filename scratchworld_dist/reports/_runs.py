@@ -14,7 +14,7 @@ from pathlib import Path
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.results import MANIFEST_NAME, JobRow, RunManifest, RunStore, read_manifest
-from workers import describe_differences
+from workers.contract import describe_differences
 
 
 @dataclass(frozen=True)

@@ -14,8 +14,7 @@ from typing import Any
 from pydantic import BaseModel, Field, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
-from workers import HarnessFingerprint
-from workers._node import NodeSummary
+from workers.contract import HarnessFingerprint, NodeSummary
 
 MANIFEST_NAME = "manifest.json"
 _PACKAGES = ("scratchworld-dist", "ray", "pyarrow", "playwright", "pydantic", "litellm")

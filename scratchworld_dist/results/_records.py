@@ -12,7 +12,7 @@ from datetime import UTC, datetime
 from pydantic import BaseModel, ConfigDict, Field
 
 from scratchworld_dist.sweep import JobSpec
-from workers import EpisodeResult
+from workers.contract import EpisodeResult
 
 
 class JobRow(BaseModel):

@@ -12,7 +12,7 @@ from scratchworld_dist.sb3._builder import (
     rect_costume,
     variable,
 )
-from workers._sb3_reader import check_project
+from workers.contract import check_project
 
 __all__ = [
     "Block",

@@ -12,8 +12,8 @@ from ray.exceptions import GetTimeoutError, RayError
 from ray.util.scheduling_strategies import NodeAffinitySchedulingStrategy
 
 from scratchworld_dist.scheduling._ray_runtime import BROWSER_RESOURCE, RayUnavailableError
-from workers import HarnessFingerprint, describe_differences
-from workers._node import NodeReport, describe_node
+from workers.contract import HarnessFingerprint, NodeReport, describe_differences
+from workers.node import describe_node
 
 INSPECT_TIMEOUT_S = 120.0
 """How long a node may take to describe itself (it may first have to start a Python worker)."""
@@ -72,4 +72,3 @@ def _code_differences(driver: HarnessFingerprint, report: NodeReport) -> str:
 def _environment(report: NodeReport) -> str:
     parts = report.harness.environment
     return f"editor {parts.get('editor:bundle', '?')} and {parts.get('browser:chromium', '?')}"
-

@@ -6,8 +6,8 @@ import ray
 from ray.actor import ActorHandle
 
 from scratchworld_dist.scheduling._ray_runtime import BROWSER_RESOURCE, RayUnavailableError
-from scratchworld_dist.scheduling._worker_actor import EpisodeWorker
-from workers import SyntheticEpisodes
+from workers.contract import SyntheticEpisodes
+from workers.episode import EpisodeWorker
 
 
 class WorkerPool:

@@ -27,7 +27,7 @@ from ray.exceptions import GetTimeoutError, RayActorError, RayError
 
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.sweep import JobSpec
-from workers import PERMANENT_ERRORS, EpisodeResult, ErrorClass
+from workers.contract import PERMANENT_ERRORS, EpisodeResult, ErrorClass
 
 DEADLINE_GRACE_S = 30.0
 """How long past its own timeout a worker may stay silent before the driver restarts it."""

@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
 from scratchworld_dist._errors import SuiteError, TaskNotFoundError
 from scratchworld_dist._files import read_file, read_text
-from workers import CompositeAction, EvaluationClock, EvaluationProfile, EvaluationSpec
+from workers.contract import CompositeAction, EvaluationClock, EvaluationProfile, EvaluationSpec
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
 CATEGORIES: tuple[TaskCategory, ...] = get_args(TaskCategory)

@@ -17,7 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field, PlainValidator, ValidationErr
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
-from workers import (
+from workers.contract import (
     AgentName,
     CoordinateSystem,
     EvaluationClock,

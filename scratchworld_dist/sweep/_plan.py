@@ -19,7 +19,7 @@ from pydantic import BaseModel, ConfigDict
 from scratchworld_dist._errors import ProjectFormatError, SuiteError
 from scratchworld_dist._files import FileTooLargeError, read_file
 from scratchworld_dist.suites import Task
-from workers import (
+from workers.contract import (
     MIB,
     AgentName,
     EpisodeSpec,
@@ -33,8 +33,8 @@ from workers import (
     SyntheticEpisodes,
     TaskPayload,
     check_project,
-    harness_fingerprint,
 )
+from workers.node import harness_fingerprint
 
 NO_MODEL = "-"
 """Model label of scripted agents (oracle, noop) that call no model."""

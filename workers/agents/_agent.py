@@ -4,13 +4,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
-from workers._actions import Action
-from workers._editor import Editor
-from workers._episode import EpisodeSpec, StepRecord, TaskPayload
-from workers._errors import ScratchWorldError
+from workers.contract import Action, EpisodeSpec, ScratchWorldError, StepRecord, TaskPayload
+from workers.editor import Editor
 
 if TYPE_CHECKING:
-    from workers._environment import Observation
+    from workers.episode import Observation
 
 
 class AgentUnavailableError(ScratchWorldError):

@@ -12,8 +12,7 @@ import math
 
 from pydantic import JsonValue
 
-from workers._episode import ModelSpec
-from workers.llm import CoordinateSystem
+from workers.contract import CoordinateSystem, ModelSpec
 
 SCREEN = (1280, 720)
 """The viewport the screenshots show, in page pixels."""

@@ -21,20 +21,28 @@ from typing import Any
 
 from pydantic import JsonValue
 
-from workers._actions import Action, InvalidReply, composite_action, primitive_action
-from workers._composite import CompositeObservation
-from workers._episode import EpisodeSpec, ModelSpec, StepRecord, TaskPayload
 from workers.agents._coordinates import coordinate_system, to_page
 from workers.agents._prompts import result_text, system_prompt
+from workers.composite import CompositeObservation
+from workers.contract import (
+    Action,
+    EpisodeSpec,
+    InvalidReply,
+    LLMSettings,
+    ModelSpec,
+    RetryPolicy,
+    StepRecord,
+    TaskPayload,
+    composite_action,
+    primitive_action,
+)
 from workers.llm import (
     Completion,
-    LLMSettings,
     LocalLimiterHandle,
     ModelClient,
     RateLimiterHandle,
     RayLimiterHandle,
     ReplyParseError,
-    RetryPolicy,
     model_key,
     parse_reply,
 )

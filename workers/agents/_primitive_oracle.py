@@ -26,10 +26,9 @@ from typing import Any
 
 from pydantic import JsonValue
 
-from workers import _composite as composite
-from workers._actions import Action, CompositeAction, Done, PrimitiveAction
-from workers._editor import Editor
-from workers._errors import BridgeError, ScratchWorldError
+from workers import composite
+from workers.contract import Action, BridgeError, CompositeAction, Done, PrimitiveAction, ScratchWorldError
+from workers.editor import Editor
 
 CATEGORIES = {
     "motion_": "Motion",

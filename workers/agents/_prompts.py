@@ -11,8 +11,8 @@ import json
 
 from pydantic import JsonValue
 
-from workers._episode import Mode
-from workers.llm import EXPECTED_FORMAT, CoordinateSystem
+from workers.contract import CoordinateSystem, Mode
+from workers.llm import EXPECTED_FORMAT
 from workers.primitive import LEGEND
 
 COMPOSITE_ACTIONS = """\

@@ -6,7 +6,7 @@ suite); the no-op agent shows what the untouched initial project scores.
 
 from __future__ import annotations
 
-from workers._actions import Action, CompositeAction, Done, LoadProject
+from workers.contract import Action, CompositeAction, Done, LoadProject
 
 
 class OracleAgent:

@@ -8,13 +8,12 @@ from workers.llm._breaker import BreakerState, CircuitBreaker, circuit_breaker
 from workers.llm._client import (
     Completion,
     ModelClient,
-    RetryPolicy,
     close_litellm_clients,
     estimate_tokens,
     load_litellm,
     model_key,
 )
-from workers.llm._errors import ModelCallError, ModelErrorClass, ParseFailure, ReplyParseError
+from workers.llm._errors import ModelCallError, ParseFailure, ReplyParseError
 from workers.llm._limiter import (
     LIMITER_NAMESPACE,
     Grant,
@@ -24,7 +23,6 @@ from workers.llm._limiter import (
     Outcome,
     RateLimiterActor,
     RateLimiterHandle,
-    RateLimits,
     RateLimitState,
     RayLimiterHandle,
     Slot,
@@ -33,7 +31,6 @@ from workers.llm._limiter import (
 )
 from workers.llm._parsing import EXPECTED_FORMAT, ParsedReply, parse_reply
 from workers.llm._repair import repair_json
-from workers.llm._settings import CoordinateSystem, LLMSettings
 
 __all__ = [
     "EXPECTED_FORMAT",
@@ -41,25 +38,20 @@ __all__ = [
     "BreakerState",
     "CircuitBreaker",
     "Completion",
-    "CoordinateSystem",
     "Grant",
-    "LLMSettings",
     "LimiterStats",
     "LocalLimiterHandle",
     "LocalRateLimiter",
     "ModelCallError",
     "ModelClient",
-    "ModelErrorClass",
     "Outcome",
     "ParseFailure",
     "ParsedReply",
     "RateLimitState",
     "RateLimiterActor",
     "RateLimiterHandle",
-    "RateLimits",
     "RayLimiterHandle",
     "ReplyParseError",
-    "RetryPolicy",
     "Slot",
     "Wait",
     "circuit_breaker",

@@ -2,7 +2,7 @@
 
 Only calls that failed for good on transient errors (retries exhausted: the provider is down or
 throttling hard) count. Any answer from the provider, even a 400, shows it is up and closes the
-circuit. While open, calls fail at once with ``ModelCallError("circuit_open")``; after the
+circuit. While open, calls fail at once with ``ModelCallError("model_circuit_open")``; after the
 cool-down a single trial call goes through, and its result closes or re-opens the circuit.
 """
 
@@ -61,7 +61,7 @@ class CircuitBreaker:
         assert self._opened_at is not None
         wait = max(0.0, self._opened_at + self.cooldown_s - self._clock())
         raise ModelCallError(
-            "circuit_open",
+            "model_circuit_open",
             f"{self.key}: circuit open after {self.failures} failed calls; next trial in {wait:.0f} s",
             transient=True,
             attempts=0,

@@ -19,17 +19,15 @@ import sys
 import threading
 import time
 from types import ModuleType
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel
 from tenacity import AsyncRetrying, RetryCallState, retry_if_exception
 
+from workers.contract import ModelErrorClass, ModelSpec, RetryPolicy
 from workers.llm._breaker import CircuitBreaker, circuit_breaker
-from workers.llm._errors import ModelCallError, ModelErrorClass
+from workers.llm._errors import ModelCallError
 from workers.llm._limiter import RateLimiterHandle
-
-if TYPE_CHECKING:
-    from workers._episode import ModelSpec
 
 logger = logging.getLogger(__name__)
 
@@ -38,30 +36,6 @@ IMAGE_TOKENS = 1000
 
 DEFAULT_COMPLETION_TOKENS = 1024
 """Completion tokens assumed for the estimate when the spec sets no ``max_tokens``."""
-
-
-class RetryPolicy(BaseModel):
-    """How hard to try one model call, and when to stop calling a failing model at all."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    max_attempts: int = Field(default=6, ge=1)
-    initial_backoff_s: float = Field(default=1.0, ge=0)
-    max_backoff_s: float = Field(default=60.0, ge=0)
-    """Cap of the exponential backoff; each wait is uniform in [0, min(cap, initial * 2**n)]."""
-
-    max_retry_after_s: float = Field(default=120.0, ge=0)
-    """Cap on a provider's ``Retry-After``."""
-
-    max_total_s: float = Field(default=600.0, gt=0)
-    """Wall-clock bound of one ``complete`` call, waits and attempts included."""
-
-    request_timeout_s: float = Field(default=300.0, gt=0)
-    breaker_failures: int = Field(default=5, ge=1)
-    """Failed calls (retries exhausted) within ``breaker_window_s`` that open the model's circuit."""
-
-    breaker_window_s: float = Field(default=300.0, gt=0)
-    breaker_cooldown_s: float = Field(default=60.0, ge=0)
 
 
 class Completion(BaseModel):
@@ -300,7 +274,7 @@ class ModelClient:
         value = os.environ.get(name)
         if not value:
             message = f"{self.spec.name}: environment variable {name} (the model's base URL) is not set"
-            raise ModelCallError("bad_request", message, transient=False, attempts=0)
+            raise ModelCallError("model_bad_request", message, transient=False, attempts=0)
         return value
 
     def _api_key(self) -> str | None:
@@ -310,7 +284,7 @@ class ModelClient:
         value = os.environ.get(name)
         if not value:
             raise ModelCallError(
-                "auth", f"{self.spec.name}: environment variable {name} is not set", transient=False, attempts=0
+                "model_auth", f"{self.spec.name}: environment variable {name} is not set", transient=False, attempts=0
             )
         return value
 
@@ -348,46 +322,48 @@ def _classify(litellm: ModuleType, exc: BaseException) -> tuple[ModelErrorClass 
     the cause chain decides between ``connection`` and ``provider_error``.
     """
     if isinstance(exc, litellm.ContextWindowExceededError):
-        return "context_window", False
+        return "model_context_window", False
     if isinstance(exc, litellm.ContentPolicyViolationError):
-        return "content_policy", False
+        return "model_content_policy", False
     if isinstance(exc, (litellm.AuthenticationError, litellm.PermissionDeniedError)):
-        return "auth", False
+        return "model_auth", False
     if isinstance(exc, litellm.NotFoundError):
-        return "not_found", False
+        return "model_not_found", False
     if isinstance(exc, (litellm.BadRequestError, litellm.UnprocessableEntityError)):
-        return "bad_request", False
+        return "model_bad_request", False
     if isinstance(exc, litellm.RateLimitError):
-        return "rate_limited", True
+        return "model_rate_limited", True
     if isinstance(exc, litellm.Timeout):
-        return "timeout", True
+        return "model_timeout", True
     if isinstance(exc, litellm.APIConnectionError):
-        return "connection", True
+        return "model_connection", True
     openai_errors = _openai_error_types()
     for cause in _chain(exc):
         if type(cause) is openai_errors[2]:  # raised by the SDK before any request: no credentials
-            return "auth", False
+            return "model_auth", False
         if isinstance(cause, openai_errors[1]):
-            return "timeout", True
+            return "model_timeout", True
         if isinstance(cause, openai_errors[0]):
-            return "connection", True
+            return "model_connection", True
     if isinstance(exc, (litellm.InternalServerError, litellm.ServiceUnavailableError, litellm.BadGatewayError)):
-        return "provider_error", True
+        return "model_provider_error", True
     status = getattr(exc, "status_code", None)
     if isinstance(status, int) and isinstance(exc, (litellm.APIError, litellm.APIResponseValidationError)):
-        return _STATUS_CLASSES.get(status) or (("provider_error", True) if status >= 500 else ("bad_request", False))
+        return _STATUS_CLASSES.get(status) or (
+            ("model_provider_error", True) if status >= 500 else ("model_bad_request", False)
+        )
     if isinstance(exc, (litellm.APIError, litellm.APIResponseValidationError)):
-        return "provider_error", True
+        return "model_provider_error", True
     return None, False
 
 
 _STATUS_CLASSES: dict[int, tuple[ModelErrorClass, bool]] = {
-    401: ("auth", False),
-    403: ("auth", False),
-    404: ("not_found", False),
-    408: ("timeout", True),
-    413: ("context_window", False),
-    429: ("rate_limited", True),
+    401: ("model_auth", False),
+    403: ("model_auth", False),
+    404: ("model_not_found", False),
+    408: ("model_timeout", True),
+    413: ("model_context_window", False),
+    429: ("model_rate_limited", True),
 }
 """Classes of the status codes LiteLLM leaves as a plain ``APIError`` (e.g. 403 from an OpenAI-compatible server)."""
 

@@ -9,24 +9,10 @@ from __future__ import annotations
 
 from typing import Literal
 
-from workers._errors import ScratchWorldError
+from workers.contract import ModelErrorClass, ScratchWorldError
 
 ParseFailure = Literal["no_json", "invalid_json", "missing_api", "bad_api", "bad_args"]
 """Why a reply could not be parsed."""
-
-ModelErrorClass = Literal[
-    "rate_limited",  # 429 from the provider
-    "provider_error",  # 5xx, a malformed answer, or another server-side failure
-    "timeout",  # the request outlived its timeout
-    "connection",  # refused, reset or dropped connection
-    "auth",  # 401/403: key missing, wrong or not allowed
-    "bad_request",  # 400/422: the request itself is wrong
-    "not_found",  # 404: unknown model or route
-    "context_window",  # the prompt does not fit the model
-    "content_policy",  # the provider refused the content
-    "circuit_open",  # recent calls to this model all failed; failing fast during the cool-down
-]
-"""What went wrong with a model call, as reported in results."""
 
 
 class ReplyParseError(ScratchWorldError):

@@ -28,7 +28,9 @@ from collections.abc import AsyncIterator
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel
+
+from workers.contract import RateLimits
 
 logger = logging.getLogger(__name__)
 
@@ -39,26 +41,6 @@ LIMITER_NAMESPACE = "scratchworld"
 """Ray namespace of the named limiter actors (the driver's and the workers' must agree)."""
 
 _TOMBSTONES = 4096
-
-
-class RateLimits(BaseModel):
-    """The budgets one model (one key and endpoint) may use across the whole cluster."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    requests_per_minute: int | None = Field(default=None, gt=0)
-    tokens_per_minute: int | None = Field(default=None, gt=0)
-    """Prompt plus completion tokens; a call is charged its estimate, then corrected to its usage."""
-
-    max_concurrency: int = Field(default=8, ge=1)
-    """Upper bound of the AIMD window: calls in flight at once."""
-
-    burst_s: float = Field(default=1.0, gt=0)
-    """Seconds' worth of each per-minute budget that may go out at once; providers enforce per-minute
-    limits at a finer grain, so a full minute's burst invites 429s."""
-
-    lease_s: float = Field(default=900.0, gt=0)
-    """A slot not released within this long is reclaimed (its holder crashed or was lost)."""
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """OCR of editor screenshots behind one interface: rapidocr by default, PaddleOCR as an extra, plus a region cache."""
 
-from workers._errors import OCRError
+from workers.contract import OCRError
 from workers.ocr._backend import OCRBackend, TextBox
 from workers.ocr._factory import ocr_backend
 from workers.ocr._paddle import PaddleOCRBackend

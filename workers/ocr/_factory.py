@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from workers._errors import OCRError
+from workers.contract import OCRError
 from workers.ocr._backend import OCRBackend
 from workers.ocr._paddle import PaddleOCRBackend
 from workers.ocr._rapid import RapidOCRBackend

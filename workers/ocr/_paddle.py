@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from workers._errors import OCRError
+from workers.contract import OCRError
 from workers.ocr._backend import TextBox, box_from_quad, check_image
 
 PADDLE_EXTRA = "pip install 'scratchworld-dist[paddle]'"

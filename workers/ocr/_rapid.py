@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from workers._errors import OCRError
+from workers.contract import OCRError
 from workers.ocr._backend import TextBox, box_from_quad, check_image
 
 DET_MODEL = "PP-OCRv6_det_small.onnx"

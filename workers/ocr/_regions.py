@@ -10,7 +10,7 @@ from collections import OrderedDict
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from workers._errors import OCRError
+from workers.contract import OCRError
 from workers.ocr._backend import OCRBackend, TextBox, check_image
 
 _CacheKey = tuple[str, tuple[int, ...], bytes]

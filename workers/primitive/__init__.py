@@ -3,14 +3,12 @@
 from workers.primitive._elements import LEGEND, Element, fuse, render
 from workers.primitive._gestures import PRIMITIVE_APIS, Gestures
 from workers.primitive._observation import ObservationTimings, PrimitiveObservation, PrimitiveObserver, region_ocr
-from workers.primitive._settings import ObservationSettings
 
 __all__ = [
     "LEGEND",
     "PRIMITIVE_APIS",
     "Element",
     "Gestures",
-    "ObservationSettings",
     "ObservationTimings",
     "PrimitiveObservation",
     "PrimitiveObserver",

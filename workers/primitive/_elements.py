@@ -17,7 +17,7 @@ from typing import Literal, Protocol
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from workers._editor import Editor
+from workers.editor import Editor
 
 ElementSource = Literal["dom", "ocr"]
 BlockWhere = Literal["canvas", "flyout"]

@@ -16,7 +16,7 @@ from playwright.async_api import Error as PlaywrightError
 from playwright.async_api import Page
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError, model_validator
 
-from workers._envelope import ActionEnvelope
+from workers.contract import ActionEnvelope
 
 PRIMITIVE_APIS = ("click", "double_click", "drag_and_drop", "scroll", "type", "key", "hotkey")
 """The gestures an agent may use besides ``done`` and ``failed``."""

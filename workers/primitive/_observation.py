@@ -21,10 +21,10 @@ import numpy as np
 from playwright.async_api import CDPSession, Page
 from pydantic import BaseModel, ConfigDict, Field
 
-from workers._editor import Editor
-from workers.ocr import OCRBackend, OCRError, Region, RegionOCR, TextBox, ocr_backend
+from workers.contract import ObservationSettings, OCRError
+from workers.editor import Editor
+from workers.ocr import OCRBackend, Region, RegionOCR, TextBox, ocr_backend
 from workers.primitive._elements import Element, fuse, read_dom, render, settle
-from workers.primitive._settings import ObservationSettings
 
 SETTLE_MAX_MS = 2000
 _T = TypeVar("_T")

@@ -23,66 +23,23 @@ from functools import cache
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
-from pydantic import BaseModel, ConfigDict
+from workers.contract import HarnessFingerprint, fingerprint
+from workers.node._installation import (
+    BUNDLE_FILE,
+    BUNDLE_PACKAGE,
+    OWN_FILES,
+    REPO_DIR,
+    default_chromium,
+    default_gui_dir,
+)
 
-from workers._browser import default_chromium
-from workers._editor_server import BUNDLE_FILE, BUNDLE_PACKAGE, OWN_FILES, default_gui_dir
-
-WORKERS_DIR = Path(__file__).resolve().parent
-REPO_DIR = WORKERS_DIR.parent
-
-EPISODE_CODE_OUTSIDE_WORKERS = ("scratchworld_dist/scheduling/_worker_actor.py",)
-"""Driver-side modules that run inside a worker process (the actor that runs episodes)."""
+WORKERS_DIR = REPO_DIR / "workers"
 
 EDITOR_LOCK_FILES = ("package.json", "package-lock.json")
 """Which editor bundle ``npm ci`` installs, byte for byte."""
 
 EPISODE_PACKAGES = ("playwright", "litellm", "rapidocr", "onnxruntime", "opencv-python-headless", "numpy")
 """Packages whose version can change what an agent sees or what a model call returns."""
-
-ENVIRONMENT_PARTS = ("editor:bundle", "browser:chromium")
-"""The parts a node's installation decides rather than its checkout."""
-
-
-class HarnessFingerprint(BaseModel):
-    """A digest over named parts (files by path, ``package:``, ``editor:``, ``browser:``), and the parts."""
-
-    model_config = ConfigDict(frozen=True)
-
-    digest: str
-    """16 hex digits over every part; what job ids and rows carry."""
-
-    parts: dict[str, str]
-    """Each part's own digest (files) or version (packages, browser), for saying what differs."""
-
-    def differences(self, other: HarnessFingerprint) -> list[str]:
-        """The parts that differ between two fingerprints, in order."""
-        names = sorted(set(self.parts) | set(other.parts))
-        return [name for name in names if self.parts.get(name) != other.parts.get(name)]
-
-    @property
-    def code(self) -> HarnessFingerprint:
-        """The fingerprint of the checkout alone (what a driver without browsers can compute)."""
-        return fingerprint({k: v for k, v in self.parts.items() if k not in ENVIRONMENT_PARTS})
-
-    @property
-    def environment(self) -> dict[str, str]:
-        return {k: v for k, v in self.parts.items() if k in ENVIRONMENT_PARTS}
-
-    def with_environment(self, environment: dict[str, str]) -> HarnessFingerprint:
-        return fingerprint({**self.code.parts, **environment})
-
-
-def fingerprint(parts: dict[str, str]) -> HarnessFingerprint:
-    canonical = json.dumps(parts, sort_keys=True, separators=(",", ":")).encode()
-    return HarnessFingerprint(digest=hashlib.sha256(canonical).hexdigest()[:16], parts=parts)
-
-
-def describe_differences(ours: HarnessFingerprint, theirs: HarnessFingerprint, limit: int = 8) -> str:
-    """``workers/_editor.py, package:litellm (+3 more)``: the first few differing parts."""
-    differing = ours.differences(theirs)
-    shown = ", ".join(differing[:limit])
-    return shown + (f" (+{len(differing) - limit} more)" if len(differing) > limit else "")
 
 
 def _file_digest(path: Path) -> str:
@@ -99,13 +56,11 @@ def _package_version(name: str) -> str:
         return "absent"
 
 
-def code_parts(workers_dir: Path, repo_dir: Path, gui_dir: Path) -> dict[str, str]:
+def code_parts(workers_dir: Path, gui_dir: Path) -> dict[str, str]:
     """A checkout's parts: its worker code, page files and editor lock, and this environment's packages."""
     parts: dict[str, str] = {}
     for path in sorted(workers_dir.rglob("*.py")):
         parts[f"workers/{path.relative_to(workers_dir).as_posix()}"] = _file_digest(path)
-    for name in EPISODE_CODE_OUTSIDE_WORKERS:
-        parts[name] = _file_digest(repo_dir / name)
     for name in (*OWN_FILES, *EDITOR_LOCK_FILES):
         parts[f"scratch-gui/{name}"] = _file_digest(gui_dir / name)
     for name in EPISODE_PACKAGES:
@@ -133,4 +88,4 @@ def environment_parts(gui_dir: Path, chromium: Path) -> dict[str, str]:
 def harness_fingerprint() -> HarnessFingerprint:
     """This process's harness, code and environment, computed once (nothing changes under a running sweep)."""
     gui_dir = default_gui_dir()
-    return fingerprint({**code_parts(WORKERS_DIR, REPO_DIR, gui_dir), **environment_parts(gui_dir, default_chromium())})
+    return fingerprint({**code_parts(WORKERS_DIR, gui_dir), **environment_parts(gui_dir, default_chromium())})

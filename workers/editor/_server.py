@@ -26,23 +26,13 @@ from types import TracebackType
 from typing import BinaryIO
 from urllib.parse import unquote, urlsplit
 
-from workers._errors import EditorBundleMissingError
+from workers.contract import EditorBundleMissingError
+from workers.node._installation import BUNDLE_FILE, BUNDLE_PACKAGE, OWN_FILES, default_gui_dir
 
 log = logging.getLogger(__name__)
 
 REFUSALS_KEPT = 200
 """Refused requests remembered per server (the oldest are forgotten)."""
-
-BUNDLE_PACKAGE = "@scratch/scratch-gui-standalone"
-BUNDLE_FILE = "scratch-gui-standalone.js"
-# Files of ours that shadow the bundle's web root.
-OWN_FILES = ("index.html", "clock.js", "recycle.js", "bridge.js", "composite.js", "primitive.js", "geometry.js")
-
-
-def default_gui_dir() -> Path:
-    """The repository's ``scratch-gui/`` folder, or ``SCRATCHWORLD_GUI_DIR`` when set."""
-    override = os.environ.get("SCRATCHWORLD_GUI_DIR")
-    return Path(override) if override else Path(__file__).resolve().parents[1] / "scratch-gui"
 
 
 class EditorAssets:

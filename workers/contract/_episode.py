@@ -10,17 +10,30 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
-from workers._actions import CompositeAction
-from workers._eval_result import EvalResult
-from workers._evaluation_spec import EvaluationSpec
-from workers._sb3_reader import ProjectLimits
-from workers.llm._limiter import RateLimits
-from workers.llm._settings import CoordinateSystem, LLMSettings
-from workers.primitive._settings import ObservationSettings
+from workers.contract._actions import CompositeAction
+from workers.contract._eval_result import EvalResult
+from workers.contract._evaluation_spec import EvaluationSpec
+from workers.contract._model import LLMSettings, ModelSpec
+from workers.contract._observation_settings import ObservationSettings
+from workers.contract._sb3 import ProjectLimits
 
 Mode = Literal["composite", "primitive"]
 AgentName = Literal["oracle", "noop", "llm"]
 Outcome = Literal["passed", "failed", "error"]
+
+ModelErrorClass = Literal[
+    "model_rate_limited",  # 429 from the provider
+    "model_provider_error",  # 5xx, a malformed answer, or another server-side failure
+    "model_timeout",  # the request outlived its timeout
+    "model_connection",  # refused, reset or dropped connection
+    "model_auth",  # 401/403: key missing, wrong or not allowed
+    "model_bad_request",  # 400/422: the request itself is wrong
+    "model_not_found",  # 404: unknown model or route
+    "model_context_window",  # the prompt does not fit the model
+    "model_content_policy",  # the provider refused the content
+    "model_circuit_open",  # recent calls to this model all failed; failing fast during the cool-down
+]
+"""Why a model call failed for good; a job it ends has this as its error class."""
 
 ErrorClass = Literal[
     "episode_timeout",  # the episode ran past its limit and was cancelled
@@ -31,17 +44,7 @@ ErrorClass = Literal[
     "task_invalid",  # the task's initial project cannot be loaded (over the limits, corrupt): permanent
     "harness_mismatch",  # the worker runs other code than the driver planned the job for
     "internal_error",  # anything else: a bug in this harness
-    # A model call failed for good, by the class of the failure (see workers.llm.ModelErrorClass):
-    "model_rate_limited",
-    "model_provider_error",
-    "model_timeout",
-    "model_connection",
-    "model_circuit_open",
-    "model_auth",  # permanent from here on: retrying the job cannot help
-    "model_bad_request",
-    "model_not_found",
-    "model_context_window",
-    "model_content_policy",
+    ModelErrorClass,
 ]
 """Why a job produced no verdict; kept out of SR/PSR, and retried unless it is permanent."""
 
@@ -56,40 +59,6 @@ PERMANENT_ERRORS: frozenset[str] = frozenset(
     }
 )
 """Error classes the driver does not retry: the same request would fail the same way."""
-
-
-class ModelSpec(BaseModel):
-    """A model as LiteLLM addresses it, with the parameters that change its answers."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    name: str
-    """Label used in reports (defaults to the LiteLLM model string)."""
-
-    model: str
-    """LiteLLM model string, e.g. ``openai/gpt-4o``."""
-
-    temperature: float | None = None
-    max_tokens: int | None = Field(default=None, gt=0)
-    api_base: str | None = None
-    api_key_env: str | None = None
-    """Name of the environment variable that holds the key on the worker; never the key."""
-
-    api_base_env: str | None = None
-    """Name of the environment variable that holds the base URL on the worker (e.g. a vLLM server)."""
-
-    params: dict[str, JsonValue] = Field(default_factory=dict)
-    """Further LiteLLM keyword arguments (e.g. ``top_p``)."""
-
-    coordinates: CoordinateSystem | None = None
-    """How the model writes screen positions in primitive mode; None: chosen by the model's name."""
-
-    rate_limits: RateLimits | None = None
-    """Cluster-wide budgets for this model (not part of a job's identity)."""
-
-    def identity(self) -> dict[str, object]:
-        """The fields that can change a job's result (labels, key names and pacing cannot)."""
-        return self.model_dump(mode="json", exclude={"name", "api_key_env", "rate_limits"})
 
 
 class EpisodeSpec(BaseModel):

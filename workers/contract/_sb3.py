@@ -18,7 +18,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from workers._errors import ProjectFormatError, ProjectTooLargeError
+from workers.contract._errors import ProjectFormatError, ProjectTooLargeError
 
 MIB = 1024 * 1024
 _CHUNK = MIB

@@ -22,22 +22,13 @@ import traceback
 import ray
 from playwright.async_api import Error as PlaywrightError
 
-from workers import (
-    BrowserConfig,
-    BrowserSession,
-    EditorPool,
-    EpisodeResult,
-    EpisodeRunner,
-    EpisodeSpec,
-    SyntheticEpisodes,
-    TaskPayload,
-    WorkerInfo,
-    harness_fingerprint,
-    run_synthetic,
-)
-from workers._errors import EditorError
 from workers.agents import AgentUnavailableError, agent_for
+from workers.contract import EditorError, EpisodeResult, EpisodeSpec, SyntheticEpisodes, TaskPayload, WorkerInfo
+from workers.editor import BrowserConfig, BrowserSession, EditorPool
+from workers.episode._runner import EpisodeRunner
+from workers.episode._synthetic import run_synthetic
 from workers.llm import close_litellm_clients
+from workers.node import harness_fingerprint
 
 
 class EpisodeWorker:

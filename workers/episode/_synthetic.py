@@ -11,33 +11,16 @@ from __future__ import annotations
 import asyncio
 import time
 
-from pydantic import BaseModel, ConfigDict, Field
-
-from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, StepRecord, TaskPayload
-from workers._eval_result import EvalResult, TestVerdict
-
-
-class SyntheticEpisodes(BaseModel):
-    """How synthetic episodes behave."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    duration_s: float = Field(default=0.0, ge=0)
-    """How long each episode takes."""
-
-    startup_s: float = Field(default=0.0, ge=0)
-    """How long a worker takes to start, and to restart after it died (a browser worker's imports
-    and launch take seconds on a busy node)."""
-
-    fail_tasks: list[str] = Field(default_factory=list)
-    """Task ids whose episodes fail one of their two tests; every other task passes."""
-
-    tasks: list[str] | None = None
-    """Task ids that run as synthetic episodes; the others run for real. None: every task."""
-
-    def covers(self, task_id: str) -> bool:
-        """Whether the jobs of ``task_id`` are synthetic."""
-        return self.tasks is None or task_id in self.tasks
+from workers.contract import (
+    EpisodeResult,
+    EpisodeSpec,
+    EpisodeTimings,
+    EvalResult,
+    StepRecord,
+    SyntheticEpisodes,
+    TaskPayload,
+    TestVerdict,
+)
 
 
 async def run_synthetic(spec: EpisodeSpec, task: TaskPayload, behaviour: SyntheticEpisodes) -> EpisodeResult:

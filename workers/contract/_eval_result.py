@@ -7,7 +7,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, field_validator
 
-from workers._profiles import ProfileConditions
+from workers.contract._evaluation_spec import EvaluationClock, EvaluationProfile
 
 EvalErrorKind = Literal[
     "project_invalid",  # the project is not a loadable .sb3 (corrupt zip, bad project.json)
@@ -26,6 +26,21 @@ _CONTROL = re.compile(r"[\x00-\x1f\x7f]")
 
 VERDICT_ERROR_KINDS: frozenset[EvalErrorKind] = frozenset({"script_error", "script_timeout"})
 """Errors that upstream ScratchWorld scores as a failed project (PSR 0) rather than dropping."""
+
+
+class ProfileConditions(BaseModel):
+    """What the page looked like when the script ran."""
+
+    model_config = ConfigDict(frozen=True)
+
+    profile: EvaluationProfile
+    stage_canvas: tuple[int, int]
+    device_pixel_ratio: float
+    mouse_known: bool
+    """Whether the VM had a mouse position before the project loaded."""
+
+    clock: EvaluationClock = "real"
+    """The clock the script ran on (virtual: simulated time, capped at the spec's timeout)."""
 
 
 class EvalError(BaseModel):

@@ -9,6 +9,9 @@ from pydantic import BaseModel, ConfigDict, Field, JsonValue
 EvaluationClock = Literal["virtual", "real"]
 """The page clock an evaluation script runs on: simulated time skipping ahead, or the wall clock."""
 
+EvaluationProfile = Literal["native", "upstream"]
+"""The page conditions of an evaluation (see ``workers.evaluation._profiles``)."""
+
 
 class EvaluationSpec(BaseModel):
     """Everything besides the project that an evaluation needs, as data that can cross processes."""
@@ -33,8 +36,8 @@ class EvaluationSpec(BaseModel):
     timeout_s: float = Field(gt=0)
     """Hard limit for the script, in simulated seconds under the virtual clock; past it: ``script_timeout``."""
 
-    profile: Literal["native", "upstream"] = "native"
-    """Page conditions of the evaluation (see ``workers._profiles``); part of a job's identity."""
+    profile: EvaluationProfile = "native"
+    """Page conditions of the evaluation; part of a job's identity."""
 
     clock: EvaluationClock = "real"
     """Clock of the script's run (see ``scratch-gui/clock.js``); part of a job's identity like the profile."""

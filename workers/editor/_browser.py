@@ -4,7 +4,7 @@ A fresh context is the isolation unit: nothing a previous project did (VM state,
 storage, mouse history) can reach the next one. The editor is served from 127.0.0.1, and the
 page reaches nothing else: Chromium sends every request, loopback included, to the editor
 server as its proxy, which serves the editor's own files and refuses the rest (see
-``workers._editor_server``); UDP (WebRTC) is off, and host names do not resolve. So the sprite
+``workers.editor._server``); UDP (WebRTC) is off, and host names do not resolve. So the sprite
 library's CDN requests fail at once, and no task, project or agent can make a page talk to the
 node's other services.
 """
@@ -14,7 +14,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import enum
-import os
 from contextlib import AbstractAsyncContextManager
 from pathlib import Path
 from types import TracebackType
@@ -23,11 +22,10 @@ from playwright.async_api import Browser, BrowserContext, Playwright, async_play
 from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel, ConfigDict, Field
 
-from workers._editor import Editor, opened
-from workers._editor_server import EditorAssets, EditorServer
-from workers._errors import ChromiumNotFoundError, EditorCrashedError, EditorError
-
-DEFAULT_CHROMIUM = Path("/usr/bin/chromium")
+from workers.contract import ChromiumNotFoundError, EditorCrashedError, EditorError
+from workers.editor._editor import Editor, opened
+from workers.editor._server import EditorAssets, EditorServer
+from workers.node._installation import default_chromium
 
 CHROMIUM_ARGS: tuple[str, ...] = (
     "--headless",
@@ -50,11 +48,6 @@ CHROMIUM_ARGS: tuple[str, ...] = (
 def isolation_args(proxy: str) -> tuple[str, ...]:
     """Every request of every page goes to ``proxy`` (the editor server), loopback included."""
     return (f"--proxy-server={proxy}", "--proxy-bypass-list=<-loopback>")
-
-
-def default_chromium() -> Path:
-    override = os.environ.get("SCRATCHWORLD_CHROMIUM")
-    return Path(override) if override else DEFAULT_CHROMIUM
 
 
 RESPONSIVE_TIMEOUT_S = 30.0

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 
-from workers._editor import Editor
-from workers._envelope import ActionEnvelope
+from workers.contract import ActionEnvelope
+from workers.editor import Editor
 
 
 class TargetName(BaseModel):

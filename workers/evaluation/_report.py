@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from workers._eval_result import TestVerdict
+from workers.contract import TestVerdict
 
 
 class ReportError(ValueError):

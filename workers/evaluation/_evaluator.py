@@ -1,7 +1,7 @@
 """Execution-based evaluation: a project, a script, a verdict.
 
 Each evaluation loads the project into a clean VM (a fresh editor page, or a used one that
-recycled clean, see ``workers._editor_pool``; never the page an agent edited) and runs the task's
+recycled clean, see ``workers.editor._pool``; never the page an agent edited) and runs the task's
 script there with a hard timeout, on the real clock or in virtual time (``scratch-gui/clock.js``:
 simulated time skips ahead, capped at the timeout). Whatever goes wrong with the project or the
 script (corrupt .sb3, a script that throws, hangs or returns garbage) comes back as an
@@ -15,15 +15,22 @@ import json
 import time
 from typing import cast, get_args
 
-from workers._browser import BrowserSession
-from workers._editor import Editor
-from workers._editor_pool import EditorPool
-from workers._errors import BridgeError, EditorError, ProjectFormatError, ProjectTooLargeError
-from workers._eval_result import EvalErrorKind, EvalResult, EvalTimings
-from workers._evaluation_spec import EvaluationClock, EvaluationSpec
-from workers._profiles import apply_profile
-from workers._report import ReportError, parse_report
-from workers._sb3_reader import ProjectLimits, check_project
+from workers.contract import (
+    BridgeError,
+    EditorError,
+    EvalErrorKind,
+    EvalResult,
+    EvalTimings,
+    EvaluationClock,
+    EvaluationSpec,
+    ProjectFormatError,
+    ProjectLimits,
+    ProjectTooLargeError,
+    check_project,
+)
+from workers.editor import BrowserSession, Editor, EditorPool
+from workers.evaluation._profiles import apply_profile
+from workers.evaluation._report import ReportError, parse_report
 
 KILL_GRACE_S = 5.0
 """Extra time past the in-page timeout before the page itself is killed (a synchronous hang)."""

@@ -22,9 +22,9 @@ from collections import Counter, deque
 from collections.abc import AsyncIterator
 from types import TracebackType
 
-from workers._browser import BrowserSession
-from workers._editor import Editor
-from workers._errors import BridgeError, EditorError
+from workers.contract import BridgeError, EditorError
+from workers.editor._browser import BrowserSession
+from workers.editor._editor import Editor
 
 log = logging.getLogger(__name__)
 

@@ -10,32 +10,10 @@ device pixel ratio are pinned by the browser session and checked here.
 
 from __future__ import annotations
 
-from typing import Literal
-
-from pydantic import BaseModel, ConfigDict
-
-from workers._editor import Editor
-from workers._errors import EditorError
-from workers._evaluation_spec import EvaluationClock
-
-EvaluationProfile = Literal["native", "upstream"]
+from workers.contract import EditorError, EvaluationProfile, ProfileConditions
+from workers.editor import Editor
 
 _STAGE_SIZE: dict[EvaluationProfile, str] = {"native": "large", "upstream": "small"}
-
-
-class ProfileConditions(BaseModel):
-    """What the page looked like when the script ran."""
-
-    model_config = ConfigDict(frozen=True)
-
-    profile: EvaluationProfile
-    stage_canvas: tuple[int, int]
-    device_pixel_ratio: float
-    mouse_known: bool
-    """Whether the VM had a mouse position before the project loaded."""
-
-    clock: EvaluationClock = "real"
-    """The clock the script ran on (virtual: simulated time, capped at the spec's timeout)."""
 
 
 async def apply_profile(editor: Editor, profile: EvaluationProfile) -> ProfileConditions:

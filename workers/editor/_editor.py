@@ -19,15 +19,16 @@ from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError
 from pydantic.alias_generators import to_camel
 
-from workers._errors import (
+from workers.contract import (
     BridgeError,
     EditorCrashedError,
     EditorError,
     EditorNotReadyError,
+    EvaluationSpec,
+    ProjectLimits,
     RendererUnavailableError,
+    check_project,
 )
-from workers._evaluation_spec import EvaluationSpec
-from workers._sb3_reader import ProjectLimits, check_project
 
 _CALL = "([name, args]) => window.scratchworld.call(name, args)"
 _SETTLED = "() => !!(window.scratchworld && window.scratchworld.settled())"

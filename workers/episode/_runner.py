@@ -9,23 +9,36 @@ from __future__ import annotations
 
 import json
 import time
-from typing import cast
 
 from pydantic import JsonValue
 
-from workers._actions import FINAL_ACTIONS, Action, CompositeAction, InvalidReply, LoadProject, PrimitiveAction
-from workers._browser import BrowserSession
-from workers._editor import Editor
-from workers._editor_pool import EditorPool
-from workers._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
-from workers._episode import EpisodeResult, EpisodeSpec, EpisodeTimings, ErrorClass, StepRecord, TaskPayload, outcome_of
-from workers._errors import BridgeError, EditorError, ProjectFormatError, ProjectTooLargeError
-from workers._evaluation import Evaluator
-from workers._sb3_reader import ProjectLimits
 from workers.agents import Agent, ConversingAgent, NeedsEditor
+from workers.contract import (
+    FINAL_ACTIONS,
+    Action,
+    BridgeError,
+    CompositeAction,
+    EditorError,
+    EpisodeResult,
+    EpisodeSpec,
+    EpisodeTimings,
+    InvalidReply,
+    LoadProject,
+    ObservationSettings,
+    PrimitiveAction,
+    ProjectFormatError,
+    ProjectLimits,
+    ProjectTooLargeError,
+    StepRecord,
+    TaskPayload,
+    outcome_of,
+)
+from workers.editor import BrowserSession, Editor, EditorPool
+from workers.episode._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
+from workers.evaluation import Evaluator
 from workers.llm import ModelCallError
 from workers.ocr import RegionOCR
-from workers.primitive import ObservationSettings, PrimitiveObserver, region_ocr
+from workers.primitive import PrimitiveObserver, region_ocr
 
 MAX_LOGGED_ARGS = 16_384
 """Arguments longer than this (as JSON characters) are logged by size: no action accepts that much
@@ -85,7 +98,7 @@ class EpisodeRunner:
             result = EpisodeResult.errored(spec, "agent_error", str(exc), steps=steps)
             return _finish(result, started, clock, timings)
         except ModelCallError as exc:  # the model cannot be reached or refuses: no verdict about it
-            result = EpisodeResult.errored(spec, cast(ErrorClass, f"model_{exc.error_class}"), str(exc), steps=steps)
+            result = EpisodeResult.errored(spec, exc.error_class, str(exc), steps=steps)
             return _finish(_with_images(result, agent), started, clock, timings)
         evaluation_start = time.perf_counter()
         evaluation = await self.evaluator.evaluate(final_project, task.evaluation, spec.project_limits)

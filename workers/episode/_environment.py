@@ -11,12 +11,10 @@ from typing import Protocol
 
 from playwright.async_api import Error as PlaywrightError
 
-from workers import _composite as composite
-from workers._actions import CompositeAction, PrimitiveAction
-from workers._composite import CompositeObservation
-from workers._editor import Editor
-from workers._envelope import ActionEnvelope
-from workers._errors import EditorCrashedError
+from workers import composite
+from workers.composite import CompositeObservation
+from workers.contract import ActionEnvelope, CompositeAction, EditorCrashedError, PrimitiveAction
+from workers.editor import Editor
 from workers.primitive import Gestures, PrimitiveObservation, PrimitiveObserver
 
 Observation = CompositeObservation | PrimitiveObservation

@@ -1,0 +1,49 @@
+"""What importing a part of the package loads: the driver, reports and plugins never pull in the browser stack.
+
+Each import runs in a fresh interpreter, since this test process has long loaded everything.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+BROWSER_STACK = ("playwright", "cv2", "numpy", "rapidocr", "onnxruntime", "litellm", "ray", "pyarrow")
+
+
+def loaded_after(statement: str) -> set[str]:
+    probe = f"import json, sys\n{statement}\nprint(json.dumps(sorted(sys.modules)))"
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    return {name.split(".")[0] for name in json.loads(done.stdout.splitlines()[-1])}
+
+
+@pytest.mark.parametrize(
+    ("statement", "allowed"),
+    [
+        ("import scratchworld_dist", ()),
+        ("import workers.contract", ()),
+        ("import workers.node; workers.node.harness_fingerprint()", ()),
+        # Reports and status read Parquet (pyarrow, which brings numpy), but start no browser.
+        ("from scratchworld_dist.cli import main", ("pyarrow", "numpy")),
+        ("import scratchworld_dist.reports, scratchworld_dist.results", ("pyarrow", "numpy")),
+    ],
+)
+def test_an_import_loads_only_what_it_needs(statement: str, allowed: tuple[str, ...]) -> None:
+    heavy = loaded_after(statement) & set(BROWSER_STACK)
+    assert heavy <= set(allowed), f"{statement} loads {sorted(heavy - set(allowed))}"
+
+
+def test_the_cli_loads_the_browser_stack_only_for_commands_that_need_it(tmp_path: Path) -> None:
+    missing = json.dumps(str(tmp_path / "no-run"))
+    loaded = loaded_after(
+        "from click.testing import CliRunner\n"
+        "from scratchworld_dist.cli._main import cli\n"
+        f"assert CliRunner().invoke(cli, ['status', {missing}]).exit_code != 0\n"
+        f"assert CliRunner().invoke(cli, ['report', {missing}]).exit_code != 0"
+    )
+    assert not loaded & {"playwright", "cv2", "ray", "litellm"}, sorted(loaded & set(BROWSER_STACK))
