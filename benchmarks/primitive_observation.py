@@ -16,9 +16,9 @@ import statistics
 import time
 from pathlib import Path
 
-from workers.contract import ObservationSettings
+from workers.contract import ObservationSettings, PrimitiveObservation
 from workers.editor import BrowserSession
-from workers.primitive import Gestures, PrimitiveObservation, PrimitiveObserver, region_ocr
+from workers.primitive import Gestures, PrimitiveObserver, region_ocr
 
 REPO = Path(__file__).resolve().parents[1]
 DEFAULT_PROJECT = REPO / "tasks" / "extend" / "quiz_score" / "initial.sb3"

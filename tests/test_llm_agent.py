@@ -14,11 +14,18 @@ from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply, status
 from workers.agents import LLMAgent
 from workers.agents._coordinates import smart_resize, to_page
-from workers.contract import EpisodeSpec, LLMSettings, Mode, ModelSpec, ObservationSettings, RetryPolicy
+from workers.contract import (
+    EpisodeSpec,
+    LLMSettings,
+    Mode,
+    ModelSpec,
+    ObservationSettings,
+    PrimitiveObservation,
+    RetryPolicy,
+)
 from workers.editor import BrowserSession
 from workers.episode import EpisodeRunner
 from workers.llm import load_litellm
-from workers.primitive import PrimitiveObservation
 
 FAST = RetryPolicy(max_attempts=2, initial_backoff_s=0.01, max_backoff_s=0.02, request_timeout_s=10, max_total_s=30)
 pytestmark = [pytest.mark.usefixtures("litellm_clients"), pytest.mark.browser]

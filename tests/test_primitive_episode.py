@@ -11,11 +11,19 @@ import pytest
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
-from workers.composite import CompositeObservation
-from workers.contract import Action, CompositeAction, Done, EpisodeSpec, Mode, ObservationSettings, PrimitiveAction
+from workers.contract import (
+    Action,
+    CompositeAction,
+    CompositeObservation,
+    Done,
+    EpisodeSpec,
+    Mode,
+    ObservationSettings,
+    PrimitiveAction,
+    PrimitiveObservation,
+)
 from workers.editor import BrowserSession
 from workers.episode import EpisodeRunner
-from workers.primitive import PrimitiveObservation
 
 pytestmark = pytest.mark.browser
 

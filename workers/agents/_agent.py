@@ -2,13 +2,10 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Protocol, runtime_checkable
+from typing import Protocol, runtime_checkable
 
-from workers.contract import Action, EpisodeSpec, ScratchWorldError, StepRecord, TaskPayload
+from workers.contract import Action, EpisodeSpec, Observation, ScratchWorldError, StepRecord, TaskPayload
 from workers.editor import Editor
-
-if TYPE_CHECKING:
-    from workers.episode import Observation
 
 
 class AgentUnavailableError(ScratchWorldError):

@@ -23,13 +23,14 @@ from pydantic import JsonValue
 
 from workers.agents._coordinates import coordinate_system, to_page
 from workers.agents._prompts import result_text, system_prompt
-from workers.composite import CompositeObservation
 from workers.contract import (
     Action,
+    CompositeObservation,
     EpisodeSpec,
     InvalidReply,
     LLMSettings,
     ModelSpec,
+    PrimitiveObservation,
     RetryPolicy,
     StepRecord,
     TaskPayload,
@@ -46,7 +47,6 @@ from workers.llm import (
     model_key,
     parse_reply,
 )
-from workers.primitive import PrimitiveObservation
 
 _clients: dict[tuple[str, RetryPolicy], ModelClient] = {}
 _local_limiters: dict[str, LocalLimiterHandle] = {}

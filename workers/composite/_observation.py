@@ -2,30 +2,10 @@
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue
+from pydantic import BaseModel, JsonValue
 
-from workers.contract import ActionEnvelope
+from workers.contract import ActionEnvelope, CompositeObservation
 from workers.editor import Editor
-
-
-class TargetName(BaseModel):
-    model_config = ConfigDict(frozen=True, populate_by_name=True)
-
-    name: str
-    is_stage: bool = Field(alias="isStage")
-
-
-class CompositeObservation(BaseModel):
-    """The text an agent reads, and what it describes."""
-
-    model_config = ConfigDict(frozen=True, populate_by_name=True)
-
-    text: str
-    editing_target: str = Field(alias="editingTarget")
-    block_count: int = Field(alias="blockCount")
-    targets: list[TargetName]
-    """Every target of the project (stage first), for switching with select_sprite/select_stage."""
-
 
 MAX_CHOICES = 12
 """Dropdown choices listed per field in the block catalog (key menus have 40+)."""

@@ -67,6 +67,15 @@ from workers.contract._harness import (
 )
 from workers.contract._model import CoordinateSystem, LLMSettings, ModelSpec, RateLimits, RetryPolicy
 from workers.contract._observation_settings import ObservationSettings
+from workers.contract._observations import (
+    CompositeObservation,
+    Element,
+    ElementSource,
+    Observation,
+    ObservationTimings,
+    PrimitiveObservation,
+    TargetName,
+)
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
 from workers.contract._synthetic import SyntheticEpisodes
 
@@ -83,12 +92,15 @@ __all__ = [
     "BridgeError",
     "ChromiumNotFoundError",
     "CompositeAction",
+    "CompositeObservation",
     "CoordinateSystem",
     "Done",
     "EditorBundleMissingError",
     "EditorCrashedError",
     "EditorError",
     "EditorNotReadyError",
+    "Element",
+    "ElementSource",
     "EpisodeResult",
     "EpisodeSpec",
     "EpisodeTimings",
@@ -111,9 +123,12 @@ __all__ = [
     "NodeReport",
     "NodeSummary",
     "OCRError",
+    "Observation",
     "ObservationSettings",
+    "ObservationTimings",
     "Outcome",
     "PrimitiveAction",
+    "PrimitiveObservation",
     "ProfileConditions",
     "ProjectFormatError",
     "ProjectLimits",
@@ -124,6 +139,7 @@ __all__ = [
     "ScratchWorldError",
     "StepRecord",
     "SyntheticEpisodes",
+    "TargetName",
     "TaskPayload",
     "TestVerdict",
     "WorkerInfo",

@@ -1,7 +1,7 @@
 """Episodes: an agent acting in an environment until it stops, then the evaluation; and the Ray actor that runs them."""
 
 from workers.episode._actor import EpisodeWorker
-from workers.episode._environment import CompositeEnvironment, Environment, Observation, PrimitiveEnvironment
+from workers.episode._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
 from workers.episode._runner import EpisodeRunner
 from workers.episode._synthetic import run_synthetic
 
@@ -10,7 +10,6 @@ __all__ = [
     "Environment",
     "EpisodeRunner",
     "EpisodeWorker",
-    "Observation",
     "PrimitiveEnvironment",
     "run_synthetic",
 ]

@@ -12,12 +12,17 @@ from typing import Protocol
 from playwright.async_api import Error as PlaywrightError
 
 from workers import composite
-from workers.composite import CompositeObservation
-from workers.contract import ActionEnvelope, CompositeAction, EditorCrashedError, PrimitiveAction
+from workers.contract import (
+    ActionEnvelope,
+    CompositeAction,
+    CompositeObservation,
+    EditorCrashedError,
+    Observation,
+    PrimitiveAction,
+    PrimitiveObservation,
+)
 from workers.editor import Editor
-from workers.primitive import Gestures, PrimitiveObservation, PrimitiveObserver
-
-Observation = CompositeObservation | PrimitiveObservation
+from workers.primitive import Gestures, PrimitiveObserver
 
 
 class Environment(Protocol):

@@ -17,9 +17,9 @@ from typing import Literal, Protocol
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from workers.contract import Element, ElementSource
 from workers.editor import Editor
 
-ElementSource = Literal["dom", "ocr"]
 BlockWhere = Literal["canvas", "flyout"]
 
 RENDER_TEXT_LIMIT = 100
@@ -104,38 +104,6 @@ class DomSnapshot(BaseModel):
     pixel_regions: list[PixelRegion] = Field(alias="pixelRegions")
     elapsed_ms: float = Field(default=0.0, alias="elapsedMs")
     """Time the pass took in the page."""
-
-
-class Element(BaseModel):
-    """One entry of the list an agent reads; ``index`` is how it names the element."""
-
-    model_config = ConfigDict(frozen=True)
-
-    index: int
-    """Position in the list, 0-based; valid only for the observation it came with."""
-
-    type: str
-    """A DOM type (``blocks``, ``buttons``, ...) or ``text`` for text read off the screen."""
-
-    text: str
-    x: int
-    """Left edge in page pixels (the screenshot's, at device pixel ratio 1)."""
-
-    y: int
-    """Top edge in page pixels."""
-
-    width: int
-    height: int
-    source: ElementSource = "dom"
-    """``dom``: from the page itself; ``ocr``: recognised in the screenshot."""
-
-    opcode: str | None = None
-    block_id: str | None = None
-
-    @property
-    def center(self) -> tuple[float, float]:
-        """The point an index resolves to."""
-        return self.x + self.width / 2, self.y + self.height / 2
 
 
 class _Boxlike(Protocol):

@@ -19,40 +19,14 @@ from typing import TypeVar
 import cv2
 import numpy as np
 from playwright.async_api import CDPSession, Page
-from pydantic import BaseModel, ConfigDict, Field
 
-from workers.contract import ObservationSettings, OCRError
+from workers.contract import ObservationSettings, ObservationTimings, OCRError, PrimitiveObservation
 from workers.editor import Editor
 from workers.ocr import OCRBackend, Region, RegionOCR, TextBox, ocr_backend
-from workers.primitive._elements import Element, fuse, read_dom, render, settle
+from workers.primitive._elements import fuse, read_dom, render, settle
 
 SETTLE_MAX_MS = 2000
 _T = TypeVar("_T")
-
-
-class ObservationTimings(BaseModel):
-    settle_ms: float = 0.0
-    screenshot_ms: float = 0.0
-    dom_ms: float = 0.0
-    ocr_ms: float = 0.0
-    total_ms: float = 0.0
-
-
-class PrimitiveObservation(BaseModel):
-    """One observation: the PNG, the element list and its rendering for a prompt."""
-
-    model_config = ConfigDict(frozen=True)
-
-    screenshot_png: bytes = Field(repr=False)
-    elements: list[Element]
-    text: str
-    """The element list as an agent reads it, one ``index  type  text  (x, y) WxH`` line each."""
-
-    settled: bool
-    """False when the page was still changing when the settle wait ran out."""
-
-    warnings: list[str] = Field(default_factory=list)
-    timings: ObservationTimings = Field(default_factory=ObservationTimings)
 
 
 def region_ocr(settings: ObservationSettings) -> RegionOCR | None:
