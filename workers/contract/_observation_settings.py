@@ -1,4 +1,4 @@
-"""Settings of primitive observations, kept apart so the driver can validate them cheaply."""
+"""Settings of primitive observations: part of a primitive job's identity, validated by the driver."""
 
 from __future__ import annotations
 
