@@ -72,4 +72,3 @@ def _code_differences(driver: HarnessFingerprint, report: NodeReport) -> str:
 def _environment(report: NodeReport) -> str:
     parts = report.harness.environment
     return f"editor {parts.get('editor:bundle', '?')} and {parts.get('browser:chromium', '?')}"
-
