@@ -179,8 +179,9 @@ async def session(listener: LoopbackListener) -> AsyncIterator[BrowserSession]:
 
 
 async def refused(session: BrowserSession, listener: LoopbackListener, wanted: Callable[[list[str]], bool]) -> None:
-    """Wait (bounded) until the refusals show the attempts, or something reached the listener."""
-    for _ in range(400):
+    """Wait (bounded: 60 s, for a loaded machine) until the refusals show the attempts, or something
+    reached the listener."""
+    for _ in range(1200):
         if wanted(session.refused_requests) or listener.connections or listener.datagrams:
             return
         await asyncio.sleep(0.05)

@@ -112,7 +112,8 @@ class BrowserSession:
 
     @property
     def refused_requests(self) -> list[str]:
-        """The latest requests pages of this session made to anything but the editor (all refused)."""
+        """The latest distinct requests this session's pages (or Chromium itself) made to anything but the editor;
+        all were refused."""
         return self._server.refusals.latest if self._server is not None else []
 
     @property

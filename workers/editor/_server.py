@@ -18,7 +18,7 @@ import logging
 import os
 import sys
 import threading
-from collections import deque
+from collections import OrderedDict
 from functools import cached_property
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -32,7 +32,7 @@ from workers.node._installation import BUNDLE_FILE, BUNDLE_PACKAGE, OWN_FILES, d
 log = logging.getLogger(__name__)
 
 REFUSALS_KEPT = 200
-"""Refused requests remembered per server (the oldest are forgotten)."""
+"""Distinct refused requests remembered per server (the least recent are forgotten)."""
 
 
 class EditorAssets:
@@ -102,18 +102,26 @@ class _Handler(SimpleHTTPRequestHandler):
 
 
 class Refusals:
-    """Requests the server refused (the page tried to reach something else): a count and the latest."""
+    """Requests the server refused (a page, or Chromium itself, tried to reach something else): a count,
+    and the latest distinct ones, so the browser's own repeated background calls (autofill, sign-in,
+    component updates, all refused) cannot push a page's attempts out of view."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._latest: deque[str] = deque(maxlen=REFUSALS_KEPT)
+        self._latest: OrderedDict[str, None] = OrderedDict()
         self.count = 0
 
     def note(self, request: str) -> None:
+        request = request[:300]
         with self._lock:
             self.count += 1
-            self._latest.append(request[:300])
-        log.info("refused a request from the editor page: %s", request[:300])
+            first = request not in self._latest
+            self._latest[request] = None
+            self._latest.move_to_end(request)
+            while len(self._latest) > REFUSALS_KEPT:
+                self._latest.popitem(last=False)
+        if first:
+            log.info("refused a request from the editor page: %s", request)
 
     @property
     def latest(self) -> list[str]:
