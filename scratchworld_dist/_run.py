@@ -33,6 +33,7 @@ from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, r
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
+from workers.agent_api import agent_class, agent_code
 from workers.contract import EpisodeResult, HarnessFingerprint, ModelSpec, NodeReport, describe_differences
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 from workers.node import describe_node, harness_fingerprint
@@ -130,6 +131,7 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
             config.project_limits,
             harness.digest,
             config.synthetic,
+            agent_code(agent_class(config.agent.name)),
         )
     )
     return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs)

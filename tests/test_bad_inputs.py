@@ -36,6 +36,7 @@ from tests.loopback import LoopbackListener
 from tests.projects import counter_project, with_entry
 from tests.sweep_driver import SCRATCHWORLD
 from workers import composite
+from workers.agent_api import AgentBase
 from workers.contract import (
     Action,
     Done,
@@ -396,15 +397,16 @@ def test_a_report_that_cannot_be_written_keeps_the_run(
 # -- agent actions: error envelopes from a real environment, never a crash --------------------------
 
 
-class Scripted:
+class Scripted(AgentBase):
     """Sends the catalog's requests as an agent's replies would arrive (through the same conversion), then done."""
 
     def __init__(self, requests: list[dict[str, object]], mode: str, observes: bool) -> None:
+        super().__init__()
         convert = composite_action if mode == "composite" else primitive_action
         self.plan: list[Action] = [convert(request) for request in requests] + [Done()]  # type: ignore[arg-type]
-        self.observes = observes
+        self.observes = observes  # type: ignore[misc]
 
-    async def act(self, observation: object) -> Action:
+    async def act(self, observation: object, last: object) -> Action:
         return self.plan.pop(0)
 
 

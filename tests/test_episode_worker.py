@@ -13,14 +13,16 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
+from workers.agent_api import AgentBase, StepResult
 from workers.contract import (
     Action,
-    AgentName,
+    AgentRef,
     EpisodeSpec,
     LLMSettings,
     LoadProject,
     Mode,
     ModelSpec,
+    Observation,
     RetryPolicy,
     SyntheticEpisodes,
     TaskPayload,
@@ -47,7 +49,7 @@ async def worker() -> AsyncIterator[EpisodeWorker]:
 
 
 def episode(
-    content: TaskContent, agent: AgentName = "oracle", timeout_s: float = 120, mode: Mode = "composite"
+    content: TaskContent, agent: AgentRef | str = "oracle", timeout_s: float = 120, mode: Mode = "composite"
 ) -> tuple[EpisodeSpec, TaskPayload]:
     (job,) = plan_jobs([None], [mode], agent, [content], [0], 60)
     return job.episode(1, timeout_s), content.payload
@@ -193,28 +195,32 @@ async def test_an_unavailable_agent_is_an_agent_error(worker: EpisodeWorker, con
     assert worker._session is None  # no browser was started for nothing
 
 
-class CrashingAgent:
+class CrashingAgent(AgentBase):
     observes = False
+    privileged = True  # it loads projects
 
     def __init__(self) -> None:
+        super().__init__()
         self.calls = 0
 
-    async def act(self, observation: str | None) -> Action:
+    async def act(self, observation: Observation | None, last: StepResult | None) -> Action:
         self.calls += 1
         if self.calls > 1:
             raise RuntimeError("model output could not be parsed")
         return LoadProject(sb3=b"not a zip")
 
 
-class BusyAgent:
+class BusyAgent(AgentBase):
     """Never says done: reloads the project it was given, forever."""
 
     observes = False
+    privileged = True
 
     def __init__(self, sb3: bytes) -> None:
+        super().__init__()
         self.sb3 = sb3
 
-    async def act(self, observation: str | None) -> Action:
+    async def act(self, observation: Observation | None, last: StepResult | None) -> Action:
         return LoadProject(sb3=self.sb3)
 
 
@@ -227,9 +233,11 @@ async def test_agent_crash_step_limit_and_rejected_actions(
 
     crashed = await runner.run(spec, payload, CrashingAgent())
     assert (crashed.outcome, crashed.error_class) == ("error", "agent_error")
-    assert "RuntimeError at step 1: model output could not be parsed" in (crashed.error_message or "")
-    (rejected,) = crashed.steps  # the first action was carried out (and refused) before the crash
+    assert "raised at step 1: RuntimeError: model output could not be parsed" in (crashed.error_message or "")
+    rejected, trace = crashed.steps  # the first action was carried out (and refused) before the crash
     assert (rejected.action, rejected.ok, rejected.error_code) == ("load_project", False, "project_invalid")
+    assert (trace.action, trace.ok, trace.error_code) == ("agent_error", False, "agent_error")
+    assert "Traceback" in (trace.error_message or "") and "in act" in (trace.error_message or "")
 
     busy = await runner.run(spec, payload, BusyAgent(payload.golden_project or b""))
     assert busy.stop_reason == "max_steps"

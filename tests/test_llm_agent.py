@@ -12,7 +12,8 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply, status
-from workers.agents import LLMAgent
+from workers.agent_api import TaskContext
+from workers.agents import EpisodeModels, LLMAgent
 from workers.agents._coordinates import smart_resize, to_page
 from workers.contract import (
     EpisodeSpec,
@@ -69,6 +70,26 @@ def episode(
     return job.episode(1, 300)
 
 
+async def no_catalog() -> None:
+    return None
+
+
+def context_for(spec: EpisodeSpec, content: TaskContent, models: EpisodeModels) -> TaskContext:
+    """The context an episode would give the agent, without an editor."""
+    return TaskContext(
+        task_id=content.task.id,
+        category=content.task.category,
+        instruction=content.payload.instruction,
+        mode=spec.mode,
+        max_steps=spec.max_steps,
+        seed=spec.seed,
+        block_catalog=no_catalog,
+        model=spec.model,
+        connect=models.connect,
+        llm=spec.llm,
+    )
+
+
 def user_texts(body: dict[str, Any]) -> list[str]:
     """The text of every user message of a request, image parts left out."""
     texts = []
@@ -98,7 +119,7 @@ async def test_canned_replies_solve_a_task_in_composite_mode(
     server.push(*(reply(answer(a), prompt_tokens=1000, completion_tokens=100) for a in trajectory))
     server.push(reply(answer({"api": "done", "args": {}}), prompt_tokens=1000, completion_tokens=100))
     spec = episode(content, server)
-    result = await EpisodeRunner(session).run(spec, content.payload, LLMAgent(spec, content.payload))
+    result = await EpisodeRunner(session).run(spec, content.payload, LLMAgent())
 
     assert result.outcome == "passed", result.evaluation
     assert result.stop_reason == "done"
@@ -141,7 +162,7 @@ async def test_an_unparsable_reply_costs_the_step_and_is_fed_back(
         reply(answer({"api": "done"})),
     )
     spec = episode(content, server)
-    result = await EpisodeRunner(session).run(spec, content.payload, LLMAgent(spec, content.payload))
+    result = await EpisodeRunner(session).run(spec, content.payload, LLMAgent())
     unparsable, refused, done = result.steps
     assert (unparsable.action, unparsable.ok, unparsable.error_code) == ("invalid_reply", False, "INVALID_REPLY")
     assert unparsable.llm_calls == 1  # a wasted step still costs its call
@@ -159,7 +180,7 @@ async def test_the_papers_protocol_shows_no_results(
 ) -> None:
     server.push(reply("no action here"), reply(answer({"api": "done"})))
     spec = episode(content, server, llm=LLMSettings(show_action_result=False))
-    await EpisodeRunner(session).run(spec, content.payload, LLMAgent(spec, content.payload))
+    await EpisodeRunner(session).run(spec, content.payload, LLMAgent())
     assert not any("Result of your previous action" in text for text in user_texts(server.requests[1].body))
 
 
@@ -168,7 +189,7 @@ async def test_a_permanent_model_error_ends_the_job_with_its_class(
 ) -> None:
     server.push(reply(answer({"api": "add_block", "args": {"blockType": "looks_say"}})), status(401))
     spec = episode(content, server)
-    result = await EpisodeRunner(session).run(spec, content.payload, LLMAgent(spec, content.payload))
+    result = await EpisodeRunner(session).run(spec, content.payload, LLMAgent())
     assert (result.outcome, result.error_class) == ("error", "model_auth")
     assert len(result.steps) == 1 and result.steps[0].ok  # what happened before is kept
     assert SECRET not in (result.error_message or "")
@@ -185,7 +206,7 @@ async def test_primitive_turns_send_the_newest_screenshot_and_map_model_coordina
         reply(answer({"api": "done"})),
     )
     spec = episode(content, server, mode="primitive", model="openai/qwen3-vl-8b")
-    agent = LLMAgent(spec, content.payload)
+    agent = LLMAgent()
     result = await EpisodeRunner(session).run(spec, content.payload, agent)
     click, scroll, _ = result.steps
     assert (click.action, click.args, click.ok) == ("click", {"x": 640.0, "y": 360.0}, True)
@@ -210,11 +231,15 @@ async def test_history_window_and_screenshots_follow_the_settings(
 ) -> None:
     server.push(*(reply(answer({"api": "click", "args": {"x": 1, "y": 2}})) for _ in range(4)))
     settings = LLMSettings(history_messages=4, last_screenshot_only=last_only)
-    agent = LLMAgent(episode(content, server, mode="primitive", llm=settings), content.payload)
-    await agent.brief(None)
+    spec = episode(content, server, mode="primitive", llm=settings)
+    models = EpisodeModels(FAST, spec.seed)
+    agent = LLMAgent()
+    await agent.start(context_for(spec, content, models))
     for turn in range(4):
         png = b"\x89PNG-turn-" + bytes([turn])
-        await agent.act(PrimitiveObservation(screenshot_png=png, elements=[], text=f"{turn}  canvas", settled=True))
+        observation = PrimitiveObservation(screenshot_png=png, elements=[], text=f"{turn}  canvas", settled=True)
+        await agent.act(observation, None)
+        models.drain()
     assert [image_parts(r.body) for r in server.requests] == images
     # System prompt, then at most 4 messages that start with a user turn.
     assert [[m["role"] for m in r.body["messages"]] for r in server.requests] == [
@@ -223,7 +248,7 @@ async def test_history_window_and_screenshots_follow_the_settings(
         ["system", "user", "assistant", "user"],
         ["system", "user", "assistant", "user"],
     ]
-    assert len(agent.images) == 4
+    assert len(models.images) == 4
 
 
 def test_coordinate_conventions() -> None:

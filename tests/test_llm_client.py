@@ -19,8 +19,8 @@ from tests.openai_server import (
     reply,
     status,
 )
-from workers.contract import ModelSpec, RetryPolicy
-from workers.llm import CircuitBreaker, ModelCallError, ModelClient, load_litellm
+from workers.contract import ModelCallError, ModelSpec, RetryPolicy
+from workers.llm import CircuitBreaker, ModelClient, load_litellm
 from workers.llm._client import _parse_retry_after
 
 pytestmark = pytest.mark.usefixtures("litellm_clients")

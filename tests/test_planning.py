@@ -94,7 +94,7 @@ def test_job_fields_come_from_the_plan(ours: list[TaskContent]) -> None:
     content = ours[3]
     (job,) = plan_jobs([CLAUDE], ["primitive"], "llm", [content], seeds=[4], max_steps=12)
     assert job.model == CLAUDE and job.model_name == "claude"
-    assert (job.mode, job.agent, job.seed, job.max_steps) == ("primitive", "llm", 4, 12)
+    assert (job.mode, job.agent.name, job.seed, job.max_steps) == ("primitive", "llm", 4, 12)
     assert (job.task_id, job.category, job.task_hash) == (content.task.id, content.task.category, content.task_hash)
     assert job.observation == ObservationSettings()
     assert job.llm == LLMSettings()
@@ -292,7 +292,7 @@ def test_the_demo_config_plans_our_whole_suite_for_the_oracle() -> None:
 
     config = load_sweep_config(SUITE_DIR.parent / "configs" / "demo.yaml")
     planned = plan_run(config)
-    assert (config.agent, config.modes, config.seeds) == ("oracle", ["composite", "primitive"], [0])
+    assert (config.agent.name, config.modes, config.seeds) == ("oracle", ["composite", "primitive"], [0])
     assert config.suite == SUITE_DIR
     for mode in config.modes:
         tasks = sorted(job.task_id for job in planned.jobs if job.mode == mode)

@@ -11,6 +11,7 @@ import pytest
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
+from workers.agent_api import AgentBase, StepResult
 from workers.contract import (
     Action,
     CompositeAction,
@@ -18,6 +19,7 @@ from workers.contract import (
     Done,
     EpisodeSpec,
     Mode,
+    Observation,
     ObservationSettings,
     PrimitiveAction,
     PrimitiveObservation,
@@ -38,16 +40,17 @@ def episode(content: TaskContent, mode: Mode, observation: ObservationSettings |
     return job.episode(1, 120)
 
 
-class ClickByText:
+class ClickByText(AgentBase):
     """Observes, clicks the element with a given text by its index, then checks what changed."""
 
     observes = True
 
     def __init__(self, kind: str, text: str) -> None:
+        super().__init__()
         self.kind, self.text = kind, text
         self.seen: list[PrimitiveObservation] = []
 
-    async def act(self, observation: object) -> Action:
+    async def act(self, observation: Observation | None, last: StepResult | None) -> Action:
         assert isinstance(observation, PrimitiveObservation)
         self.seen.append(observation)
         if len(self.seen) == 1:
@@ -96,16 +99,17 @@ async def test_a_broken_ocr_backend_degrades_to_a_dom_list_with_a_warning(
     assert any(e.type == "blocks" for e in agent.seen[0].elements)
 
 
-class OtherModesAction:
+class OtherModesAction(AgentBase):
     """Sends one action of the other mode, then stops."""
 
     observes = True
 
     def __init__(self, action: Action) -> None:
+        super().__init__()
         self.plan: list[Action] = [action, Done()]
         self.seen: list[object] = []
 
-    async def act(self, observation: object) -> Action:
+    async def act(self, observation: Observation | None, last: StepResult | None) -> Action:
         self.seen.append(observation)
         return self.plan.pop(0)
 

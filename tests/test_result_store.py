@@ -30,7 +30,16 @@ from scratchworld_dist.results import (
 )
 from scratchworld_dist.results import _store as store_module
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import EpisodeResult, EpisodeTimings, EvalResult, ModelSpec, StepRecord, TestVerdict, WorkerInfo
+from workers.contract import (
+    AgentRef,
+    EpisodeResult,
+    EpisodeTimings,
+    EvalResult,
+    ModelSpec,
+    StepRecord,
+    TestVerdict,
+    WorkerInfo,
+)
 
 MODEL = ModelSpec(name="gpt", model="openai/gpt-4o", temperature=0.0, api_key_env="OPENAI_API_KEY")
 T0 = 1_790_000_000.25  # a unix time with a fraction, to check sub-second precision survives Parquet
@@ -204,7 +213,7 @@ def test_record_of_keeps_the_evaluation_error_kind() -> None:
 
 
 def test_scripted_agent_rows_carry_no_model() -> None:
-    job = spec(3).model_copy(update={"model": None, "agent": "oracle"})
+    job = spec(3).model_copy(update={"model": None, "agent": AgentRef(name="oracle")})
     rec = record_of(job, episode(job, 1, "passed"), run_name="u", suite_hash="s", artifact_dir=None)
     assert (rec.job.model, rec.job.litellm_model, rec.job.agent) == ("-", None, "oracle")
 

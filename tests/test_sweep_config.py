@@ -47,7 +47,7 @@ def test_minimal_config_and_defaults(tmp_path: Path) -> None:
     config = load_sweep_config(write(tmp_path, minimal()))
     assert config.name == "smoke"
     assert config.suite == Path("/suites/ours")
-    assert config.agent == "oracle"
+    assert config.agent.name == "oracle"
     assert config.models == []
     assert config.modes == ["composite"]
     assert config.seeds == [0]
@@ -82,7 +82,7 @@ def test_full_config_keeps_every_field(tmp_path: Path) -> None:
             ),
         )
     )
-    assert config.agent == "llm"
+    assert config.agent.name == "llm"
     assert config.modes == ["primitive", "composite"]
     assert config.tasks.categories == ["debug"] and config.tasks.ids == ["quiz_score"]
     assert config.max_steps == 7
@@ -141,7 +141,7 @@ def test_duplicate_or_empty_seeds_and_modes_are_refused(tmp_path: Path, fields: 
         ({"primitive": {"ocr": "tesseract"}}, ["primitive.ocr: "]),
         ({"limits": {"episode_timeout_s": "soon"}}, ["limits.episode_timeout_s: ", "number"]),
         ({"limits": {"retries": -1}}, ["limits.retries: ", "greater than or equal to 0"]),
-        ({"agent": "gpt"}, ["agent: ", "'oracle', 'noop' or 'llm'"]),
+        ({"agent": "gpt"}, ["agent: ", "agent 'gpt' is not registered (registered: llm, noop, oracle)"]),
         ({"modes": ["mixed"]}, ["modes.0: "]),
         ({"name": "has space"}, ["name: ", "pattern"]),
         ({"tasks": {"categories": ["games"]}}, ["tasks.categories.0: "]),
@@ -318,7 +318,7 @@ def test_every_shipped_config_loads_and_points_at_our_suite(path: Path) -> None:
 def test_local_llm_config_reads_endpoint_and_key_from_the_environment() -> None:
     config = load_sweep_config(Path(__file__).resolve().parents[1] / "configs" / "local-llm.yaml")
     (model,) = config.model_specs()
-    assert model is not None and config.agent == "llm" and config.modes == ["composite"]
+    assert model is not None and config.agent.name == "llm" and config.modes == ["composite"]
     assert (model.model, model.api_base_env, model.api_key_env) == (
         "openai/local",
         "SCRATCHWORLD_LLM_BASE_URL",

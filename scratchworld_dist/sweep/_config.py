@@ -17,8 +17,10 @@ from pydantic import BaseModel, ConfigDict, Field, PlainValidator, ValidationErr
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
+from workers.agent_api import agent_class, agent_code, agent_params
 from workers.contract import (
-    AgentName,
+    AgentRef,
+    AgentUnavailableError,
     CoordinateSystem,
     EvaluationClock,
     EvaluationProfile,
@@ -179,7 +181,9 @@ class SweepConfig(BaseModel):
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
     suite: Path
     tasks: TaskSelection = Field(default_factory=TaskSelection)
-    agent: AgentName = "oracle"
+    agent: AgentRef = Field(default_factory=lambda: AgentRef(name="oracle"))
+    """Who acts: a registered name (oracle, noop, llm, a plugin's) or ``package.module:Class``,
+    optionally as ``{name, params, label}``; the agent is imported and its params validated here."""
     models: list[ModelConfig] = Field(default_factory=list)
     modes: list[Mode] = Field(default_factory=lambda: ["composite"], min_length=1)
     seeds: list[int] = Field(default_factory=lambda: [0], min_length=1)
@@ -238,10 +242,25 @@ class SweepConfig(BaseModel):
                 raise ValueError(f"max_steps has no limit for mode {', '.join(missing)}")
         return self
 
+    @field_validator("agent")
+    @classmethod
+    def _agent_available(cls, agent: AgentRef) -> AgentRef:
+        try:
+            found = agent_class(agent.name)
+            agent_params(found, agent)
+        except AgentUnavailableError as exc:
+            raise ValueError(str(exc)) from None
+        if getattr(found, "privileged", False) and agent_code(found) is not None:
+            raise ValueError(
+                f"agent {agent.name} declares privileged = True, which would show it the solution: "
+                "only the harness's own oracles may be privileged"
+            )
+        return agent
+
     @model_validator(mode="after")
     def _models_fit_agent(self) -> SweepConfig:
-        if self.agent == "llm" and not self.models:
-            raise ValueError("agent 'llm' needs at least one entry under models")
+        if getattr(agent_class(self.agent.name), "needs_model", False) and not self.models:
+            raise ValueError(f"agent {self.agent.name!r} needs at least one entry under models")
         settings = [m.spec().identity() for m in self.models]
         if any(settings.count(s) > 1 for s in settings):
             raise ValueError("two models have identical settings; their jobs would be the same jobs")
@@ -252,10 +271,8 @@ class SweepConfig(BaseModel):
         return self
 
     def model_specs(self) -> list[ModelSpec | None]:
-        """The models of the matrix; scripted agents (oracle, noop) use none."""
-        if self.agent != "llm" and not self.models:
-            return [None]
-        return [m.spec() for m in self.models]
+        """The models of the matrix; a sweep without models (scripted agents) has one model-less column."""
+        return [m.spec() for m in self.models] or [None]
 
     def run_dir(self) -> Path:
         return self.output if self.output is not None else Path("results") / self.name

@@ -21,7 +21,7 @@ from scratchworld_dist._files import FileTooLargeError, read_file
 from scratchworld_dist.suites import Task
 from workers.contract import (
     MIB,
-    AgentName,
+    AgentRef,
     EpisodeSpec,
     EvaluationClock,
     EvaluationProfile,
@@ -48,7 +48,10 @@ class JobSpec(BaseModel):
     job_id: str
     model: ModelSpec | None
     mode: Mode
-    agent: AgentName
+    agent: AgentRef
+    agent_code: str | None = None
+    """Digest of a plugin agent's code (None for the built-in agents, which the harness fingerprint covers)."""
+
     task_id: str
     category: str
     task_hash: str
@@ -58,7 +61,7 @@ class JobSpec(BaseModel):
     """How primitive observations are made (None in composite mode)."""
 
     llm: LLMSettings | None = None
-    """The llm agent's conversation protocol (None for scripted agents)."""
+    """The conversation protocol of model-driven agents (None for jobs without a model)."""
 
     project_limits: ProjectLimits = ProjectLimits()
     harness: str
@@ -75,6 +78,7 @@ class JobSpec(BaseModel):
             task_id=self.task_id,
             mode=self.mode,
             agent=self.agent,
+            agent_code=self.agent_code,
             model=self.model,
             seed=self.seed,
             max_steps=self.max_steps,
@@ -160,7 +164,7 @@ def suite_hash(contents: list[TaskContent]) -> str:
 def job_id(
     model: ModelSpec | None,
     mode: str,
-    agent: str,
+    agent: AgentRef | str,
     task_hash: str,
     task_id: str,
     seed: int,
@@ -170,13 +174,17 @@ def job_id(
     project_limits: ProjectLimits | None = None,
     harness: str | None = None,
     synthetic: SyntheticEpisodes | None = None,
+    agent_code: str | None = None,
 ) -> str:
     """The job's name: a hash of everything that can change its result (``harness``: this code's fingerprint;
-    ``synthetic``: the behaviour of a browserless stand-in episode, never to be taken for a real one)."""
+    ``synthetic``: the behaviour of a browserless stand-in episode, never to be taken for a real one;
+    ``agent_code``: a plugin agent's code digest)."""
+    ref = AgentRef.model_validate(agent)
     identity: dict[str, object] = {
         "model": None if model is None else model.identity(),
         "mode": mode,
-        "agent": agent,
+        # A built-in agent without parameters is named by its name alone (ids stay as they were).
+        "agent": ref.name if not ref.params and agent_code is None else {**ref.identity(), "code": agent_code},
         "task": [task_id, task_hash],
         "seed": seed,
         "max_steps": max_steps,
@@ -185,7 +193,7 @@ def job_id(
     }
     if observation is not None:  # only primitive jobs have one, so composite ids stay as they were
         identity["observation"] = observation.model_dump(mode="json")
-    if llm is not None:  # only llm jobs have one
+    if llm is not None:  # only jobs with a model have one
         identity["llm"] = llm.identity()
     if synthetic is not None:  # only synthetic jobs
         identity["synthetic"] = synthetic.model_dump(mode="json")
@@ -196,7 +204,7 @@ def job_id(
 def plan_jobs(
     models: list[ModelSpec | None],
     modes: list[Mode],
-    agent: AgentName,
+    agent: AgentRef,
     tasks: list[TaskContent],
     seeds: list[int],
     max_steps: int | Mapping[Mode, int],
@@ -205,6 +213,7 @@ def plan_jobs(
     project_limits: ProjectLimits | None = None,
     harness: str | None = None,
     synthetic: SyntheticEpisodes | None = None,
+    agent_code: str | None = None,
 ) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks."""
     limits = project_limits or ProjectLimits()
@@ -213,20 +222,21 @@ def plan_jobs(
         for mode in modes:
             steps = max_steps if isinstance(max_steps, int) else max_steps[mode]
             settings = (observation or ObservationSettings()) if mode == "primitive" else None
-            protocol = (llm or LLMSettings()) if agent == "llm" else None
+            protocol = (llm or LLMSettings()) if model is not None else None
             for seed in seeds:
                 for content in tasks:
                     task = content.task
                     stand_in = synthetic if synthetic is not None and synthetic.covers(task.id) else None
                     name = job_id(
                         *(model, mode, agent, content.task_hash, task.id, seed, steps, settings, protocol),
-                        *(limits, harness, stand_in),
+                        *(limits, harness, stand_in, agent_code),
                     )
                     yield JobSpec(
                         job_id=name,
                         model=model,
                         mode=mode,
                         agent=agent,
+                        agent_code=agent_code,
                         task_id=task.id,
                         category=task.category,
                         task_hash=content.task_hash,

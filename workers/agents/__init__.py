@@ -1,16 +1,15 @@
-"""Agents: who decides the next action of an episode."""
+"""The built-in agents, registered like any plugin (``scratchworld.agents`` entry points), and the
+model-call record every agent's calls go through."""
 
-from workers.agents._agent import Agent, AgentUnavailableError, ConversingAgent, NeedsEditor, agent_for
 from workers.agents._llm_agent import LLMAgent
+from workers.agents._model_calls import EpisodeModels, StepCalls, shared_client
 from workers.agents._scripted import NoopAgent, OracleAgent
 
 __all__ = [
-    "Agent",
-    "AgentUnavailableError",
-    "ConversingAgent",
+    "EpisodeModels",
     "LLMAgent",
-    "NeedsEditor",
     "NoopAgent",
     "OracleAgent",
-    "agent_for",
+    "StepCalls",
+    "shared_client",
 ]

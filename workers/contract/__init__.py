@@ -1,9 +1,9 @@
 """The contract between the driver and its workers: the data and errors both sides share.
 
-Pydantic models (what an episode is given and returns, the actions an agent takes and what
-the environment answers, evaluation specs and verdicts, model and observation settings, project
-limits, the harness fingerprint) and the single exception hierarchy. It imports pydantic and
-the standard library only, so the driver, reports and plugins load it without a browser stack.
+Pydantic models (what an episode is given and returns, the actions an agent takes, what it sees
+and what the environment answers, evaluation specs and verdicts, model and observation settings,
+project limits, the harness fingerprint) and the single exception hierarchy. It imports pydantic
+and the standard library only, so the driver, reports and plugins load it without a browser stack.
 """
 
 from workers.contract._actions import (
@@ -21,13 +21,12 @@ from workers.contract._actions import (
 from workers.contract._envelope import ActionEnvelope, ActionFailure
 from workers.contract._episode import (
     PERMANENT_ERRORS,
-    AgentName,
+    AgentRef,
     EpisodeResult,
     EpisodeSpec,
     EpisodeTimings,
     ErrorClass,
     Mode,
-    ModelErrorClass,
     Outcome,
     StepRecord,
     TaskPayload,
@@ -35,12 +34,15 @@ from workers.contract._episode import (
     outcome_of,
 )
 from workers.contract._errors import (
+    AgentUnavailableError,
     BridgeError,
     ChromiumNotFoundError,
     EditorBundleMissingError,
     EditorCrashedError,
     EditorError,
     EditorNotReadyError,
+    ModelCallError,
+    ModelErrorClass,
     OCRError,
     ProjectFormatError,
     ProjectTooLargeError,
@@ -88,7 +90,8 @@ __all__ = [
     "Action",
     "ActionEnvelope",
     "ActionFailure",
-    "AgentName",
+    "AgentRef",
+    "AgentUnavailableError",
     "BridgeError",
     "ChromiumNotFoundError",
     "CompositeAction",
@@ -118,6 +121,7 @@ __all__ = [
     "LLMSettings",
     "LoadProject",
     "Mode",
+    "ModelCallError",
     "ModelErrorClass",
     "ModelSpec",
     "NodeReport",

@@ -6,11 +6,13 @@ the driver never sends paths a remote node could not open, only the bytes and so
 
 from __future__ import annotations
 
-from typing import Literal
+import re
+from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue
+from pydantic import BaseModel, ConfigDict, Field, JsonValue, field_validator, model_validator
 
 from workers.contract._actions import CompositeAction
+from workers.contract._errors import ModelErrorClass
 from workers.contract._eval_result import EvalResult
 from workers.contract._evaluation_spec import EvaluationSpec
 from workers.contract._model import LLMSettings, ModelSpec
@@ -18,22 +20,7 @@ from workers.contract._observation_settings import ObservationSettings
 from workers.contract._sb3 import ProjectLimits
 
 Mode = Literal["composite", "primitive"]
-AgentName = Literal["oracle", "noop", "llm"]
 Outcome = Literal["passed", "failed", "error"]
-
-ModelErrorClass = Literal[
-    "model_rate_limited",  # 429 from the provider
-    "model_provider_error",  # 5xx, a malformed answer, or another server-side failure
-    "model_timeout",  # the request outlived its timeout
-    "model_connection",  # refused, reset or dropped connection
-    "model_auth",  # 401/403: key missing, wrong or not allowed
-    "model_bad_request",  # 400/422: the request itself is wrong
-    "model_not_found",  # 404: unknown model or route
-    "model_context_window",  # the prompt does not fit the model
-    "model_content_policy",  # the provider refused the content
-    "model_circuit_open",  # recent calls to this model all failed; failing fast during the cool-down
-]
-"""Why a model call failed for good; a job it ends has this as its error class."""
 
 ErrorClass = Literal[
     "episode_timeout",  # the episode ran past its limit and was cancelled
@@ -61,6 +48,46 @@ PERMANENT_ERRORS: frozenset[str] = frozenset(
 """Error classes the driver does not retry: the same request would fail the same way."""
 
 
+_AGENT_NAME = re.compile(r"[A-Za-z_][\w.-]*(:[A-Za-z_][\w.]*)?")
+
+
+class AgentRef(BaseModel):
+    """Which agent acts, with which parameters: a registered name, or ``package.module:Class``.
+
+    Name and parameters are part of a job's identity (the parameters are validated by the
+    agent's own model before anything runs); the label only names it in reports.
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    name: str = Field(max_length=200)
+    """A name registered under the ``scratchworld.agents`` entry points, or ``package.module:Class``."""
+
+    params: dict[str, JsonValue] = Field(default_factory=dict)
+    label: str | None = Field(default=None, max_length=200)
+    """How reports name the agent (default: its name)."""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _from_name(cls, value: Any) -> Any:
+        return {"name": value} if isinstance(value, str) else value
+
+    @field_validator("name")
+    @classmethod
+    def _plain(cls, name: str) -> str:
+        if not _AGENT_NAME.fullmatch(name):
+            raise ValueError(f"{name!r} is neither a registered agent name nor package.module:Class")
+        return name
+
+    @property
+    def display(self) -> str:
+        return self.label or self.name
+
+    def identity(self) -> dict[str, JsonValue]:
+        """What can change a job's result: the agent and its parameters (not the label)."""
+        return {"name": self.name, "params": self.params}
+
+
 class EpisodeSpec(BaseModel):
     """One job as a worker sees it: who acts, in which mode, for how long."""
 
@@ -70,7 +97,10 @@ class EpisodeSpec(BaseModel):
     attempt: int = Field(ge=1)
     task_id: str
     mode: Mode
-    agent: AgentName
+    agent: AgentRef
+    agent_code: str | None = None
+    """Digest of a plugin agent's code as the driver found it; a worker with other code refuses the job."""
+
     model: ModelSpec | None
     seed: int
     max_steps: int = Field(gt=0)
@@ -81,7 +111,7 @@ class EpisodeSpec(BaseModel):
     """How primitive observations are made (primitive mode; None means the defaults)."""
 
     llm: LLMSettings | None = None
-    """The conversation protocol of the ``llm`` agent (None means the defaults)."""
+    """The conversation protocol and retry policy of model calls (None means the defaults)."""
 
     project_limits: ProjectLimits = Field(default_factory=ProjectLimits)
     """The largest project the worker loads (initial, loaded by the agent, evaluated)."""

@@ -6,6 +6,22 @@ Playwright errors are translated here at the edge with ``raise ... from exc``.
 
 from __future__ import annotations
 
+from typing import Literal
+
+ModelErrorClass = Literal[
+    "model_rate_limited",  # 429 from the provider
+    "model_provider_error",  # 5xx, a malformed answer, or another server-side failure
+    "model_timeout",  # the request outlived its timeout
+    "model_connection",  # refused, reset or dropped connection
+    "model_auth",  # 401/403: key missing, wrong or not allowed
+    "model_bad_request",  # 400/422: the request itself is wrong
+    "model_not_found",  # 404: unknown model or route
+    "model_context_window",  # the prompt does not fit the model
+    "model_content_policy",  # the provider refused the content
+    "model_circuit_open",  # recent calls to this model all failed; failing fast during the cool-down
+]
+"""Why a model call failed for good; a job it ends has this as its error class."""
+
 
 class ScratchWorldError(Exception):
     """Root of every error raised on purpose by scratchworld_dist and its workers."""
@@ -54,3 +70,26 @@ class BridgeError(ScratchWorldError):
 
 class OCRError(ScratchWorldError):
     """An OCR backend cannot run: a missing package or model file, or the engine failed."""
+
+
+class ModelCallError(ScratchWorldError):
+    """A model call failed after the retries its class allows; the message never holds the API key."""
+
+    def __init__(
+        self,
+        error_class: ModelErrorClass,
+        message: str,
+        *,
+        transient: bool,
+        attempts: int,
+        status_code: int | None = None,
+    ) -> None:
+        super().__init__(message)
+        self.error_class: ModelErrorClass = error_class
+        self.transient = transient
+        self.attempts = attempts
+        self.status_code = status_code
+
+
+class AgentUnavailableError(ScratchWorldError):
+    """An agent cannot be found, imported or built with its parameters, or lacks what it needs."""

@@ -22,8 +22,16 @@ import traceback
 import ray
 from playwright.async_api import Error as PlaywrightError
 
-from workers.agents import AgentUnavailableError, agent_for
-from workers.contract import EditorError, EpisodeResult, EpisodeSpec, SyntheticEpisodes, TaskPayload, WorkerInfo
+from workers.agent_api import agent_code, build_agent
+from workers.contract import (
+    AgentUnavailableError,
+    EditorError,
+    EpisodeResult,
+    EpisodeSpec,
+    SyntheticEpisodes,
+    TaskPayload,
+    WorkerInfo,
+)
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
 from workers.episode._runner import EpisodeRunner
 from workers.episode._synthetic import run_synthetic
@@ -80,9 +88,20 @@ class EpisodeWorker:
         if self.synthetic is not None and self.synthetic.covers(task.task_id):
             return await run_synthetic(spec, task, self.synthetic)
         try:
-            agent = agent_for(spec, task)
+            agent = build_agent(spec.agent)
         except AgentUnavailableError as exc:
             return EpisodeResult.errored(spec, "agent_error", str(exc))
+        if getattr(agent, "needs_model", False) and spec.model is None:
+            return EpisodeResult.errored(
+                spec, "agent_error", f"agent {spec.agent.name} needs a model; the job has none"
+            )
+        code = agent_code(type(agent))
+        if code != spec.agent_code:
+            message = (
+                f"{self.info_.hostname} (node {self.info_.node_id[:12]}) has agent {spec.agent.name} "
+                f"with code {code}, the job was planned for {spec.agent_code}: install the same version here"
+            )
+            return EpisodeResult.errored(spec, "harness_mismatch", message)
         runner = await self._browser()
         try:
             result = await runner.run(spec, task, agent)

@@ -26,6 +26,9 @@ from workers.primitive import Gestures, PrimitiveObserver
 
 
 class Environment(Protocol):
+    editor: Editor
+    """The page the agent works in."""
+
     async def observe(self) -> Observation: ...
 
     async def execute(self, action: CompositeAction | PrimitiveAction) -> ActionEnvelope: ...

@@ -7,23 +7,32 @@ nothing the agent left running in its VM can influence the verdict.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import time
+import traceback
+from collections.abc import Awaitable
+from typing import TypeVar
 
 from pydantic import JsonValue
 
-from workers.agents import Agent, ConversingAgent, NeedsEditor
+from workers.agent_api import Agent, EpisodeEnd, Privileges, StepResult, TaskContext
+from workers.agents import EpisodeModels
 from workers.contract import (
     FINAL_ACTIONS,
     Action,
     BridgeError,
     CompositeAction,
+    Done,
     EditorError,
     EpisodeResult,
     EpisodeSpec,
     EpisodeTimings,
+    Failed,
     InvalidReply,
+    LLMSettings,
     LoadProject,
+    ModelCallError,
     ObservationSettings,
     PrimitiveAction,
     ProjectFormatError,
@@ -36,7 +45,6 @@ from workers.contract import (
 from workers.editor import BrowserSession, Editor, EditorPool
 from workers.episode._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
 from workers.evaluation import Evaluator
-from workers.llm import ModelCallError
 from workers.ocr import RegionOCR
 from workers.primitive import PrimitiveObserver, region_ocr
 
@@ -44,12 +52,21 @@ MAX_LOGGED_ARGS = 16_384
 """Arguments longer than this (as JSON characters) are logged by size: no action accepts that much
 (the longest value any takes is 10,000 characters), and a runaway payload would fill every row and file."""
 
+_T = TypeVar("_T")
+
+ACTION_TYPES = (Done, Failed, LoadProject, InvalidReply, CompositeAction, PrimitiveAction)
+"""What ``act`` may return (the members of ``Action``)."""
+
 PRIMITIVE_STAGE = "small"
 """Primitive episodes show the small stage, like the upstream harness (more room for blocks)."""
 
 
 class AgentCrashedError(Exception):
-    """The agent raised instead of returning an action."""
+    """The agent raised instead of doing its part; ``trace`` is its traceback for the trajectory."""
+
+    def __init__(self, message: str, trace: str) -> None:
+        super().__init__(message)
+        self.trace = trace
 
 
 class EpisodeRunner:
@@ -75,6 +92,7 @@ class EpisodeRunner:
         started, clock = time.time(), time.perf_counter()
         timings = EpisodeTimings()
         steps: list[StepRecord] = []
+        models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed)
         try:
             async with self.session.editor() as editor:
                 try:
@@ -83,23 +101,41 @@ class EpisodeRunner:
                     message = f"the task's initial project cannot be loaded: {exc}"
                     return _finish(EpisodeResult.errored(spec, "task_invalid", message), started, clock, timings)
                 environment = await self._environment(spec, editor)
-                if isinstance(agent, NeedsEditor):
-                    await _begin(agent, editor)
-                if isinstance(agent, ConversingAgent):
-                    await agent.brief(await environment.block_catalog())
-                timings.setup_s = time.perf_counter() - clock
-                stop_reason = await _act(agent, editor, environment, spec, steps)
+                context = _context(spec, task, agent, editor, environment, models)
+                stop_reason = "internal_error"
+                try:
+                    await _guarded(agent.start(context), "failed to start")
+                    timings.setup_s = time.perf_counter() - clock
+                    stop_reason = await _act(agent, environment, spec, steps, models)
+                except ModelCallError as exc:
+                    stop_reason = exc.error_class
+                    raise
+                except AgentCrashedError:
+                    stop_reason = "agent_error"
+                    raise
+                except (EditorError, BridgeError):
+                    stop_reason = "editor_failure"
+                    raise
+                finally:
+                    ended = agent.finish(EpisodeEnd(stop_reason=stop_reason, steps=len(steps)))
+                    if stop_reason in (*FINAL_ACTIONS, "max_steps"):
+                        await _guarded(ended, "failed to finish")
+                    else:  # the episode is an error already: the agent's own failure to finish adds nothing
+                        with contextlib.suppress(Exception):
+                            await ended
+                    _book_late_calls(steps, models, stop_reason)
                 timings.agent_s = time.perf_counter() - clock - timings.setup_s
                 final_project = await editor.save_project()
         except (EditorError, BridgeError) as exc:
             result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=steps)
             return _finish(result, started, clock, timings)
         except AgentCrashedError as exc:
+            steps.append(_crash_step(len(steps), exc))
             result = EpisodeResult.errored(spec, "agent_error", str(exc), steps=steps)
-            return _finish(result, started, clock, timings)
+            return _finish(_with_images(result, models), started, clock, timings)
         except ModelCallError as exc:  # the model cannot be reached or refuses: no verdict about it
             result = EpisodeResult.errored(spec, exc.error_class, str(exc), steps=steps)
-            return _finish(_with_images(result, agent), started, clock, timings)
+            return _finish(_with_images(result, models), started, clock, timings)
         evaluation_start = time.perf_counter()
         evaluation = await self.evaluator.evaluate(final_project, task.evaluation, spec.project_limits)
         timings.evaluation_s = time.perf_counter() - evaluation_start
@@ -115,33 +151,66 @@ class EpisodeRunner:
             steps=steps,
             final_project=final_project,
         )
-        return _finish(_with_images(result, agent), started, clock, timings)
+        return _finish(_with_images(result, models), started, clock, timings)
 
 
-async def _begin(agent: NeedsEditor, editor: Editor) -> None:
+def _context(
+    spec: EpisodeSpec,
+    task: TaskPayload,
+    agent: Agent,
+    editor: Editor,
+    environment: Environment,
+    models: EpisodeModels,
+) -> TaskContext:
+    privileges = None
+    if getattr(agent, "privileged", False):
+        privileges = Privileges(
+            initial_project=task.initial_project,
+            golden_project=task.golden_project,
+            golden_trajectory=task.golden_trajectory,
+            editor=editor,
+        )
+    return TaskContext(
+        task_id=task.task_id,
+        category=task.category,
+        instruction=task.instruction,
+        mode=spec.mode,
+        max_steps=spec.max_steps,
+        seed=spec.seed,
+        block_catalog=environment.block_catalog,
+        model=spec.model,
+        connect=models.connect,
+        llm=spec.llm,
+        privileges=privileges,
+    )
+
+
+async def _guarded(call: Awaitable[_T], doing: str) -> _T:
+    """Await one of the agent's calls: the editor's and the model's failures pass, the agent's own are its error."""
     try:
-        await agent.begin(editor)
-    except (EditorError, BridgeError):
+        return await call
+    except (EditorError, BridgeError, ModelCallError, AgentCrashedError):
         raise
-    except Exception as exc:
-        raise AgentCrashedError(f"the agent failed to start: {type(exc).__name__}: {exc}") from exc
+    except Exception as exc:  # a broken agent is the agent's error, not the harness's
+        raise AgentCrashedError(f"the agent {doing}: {type(exc).__name__}: {exc}", _trace(exc)) from exc
 
 
 async def _act(
-    agent: Agent, editor: Editor, environment: Environment, spec: EpisodeSpec, steps: list[StepRecord]
+    agent: Agent, environment: Environment, spec: EpisodeSpec, steps: list[StepRecord], models: EpisodeModels
 ) -> str:
     """The agent loop; returns why it stopped."""
+    last: StepResult | None = None
     for index in range(spec.max_steps):
         step_start = time.perf_counter()
-        observation = await environment.observe() if agent.observes else None
+        observation = await environment.observe() if getattr(agent, "observes", True) else None
         observation_s = time.perf_counter() - step_start
-        try:
-            action = await agent.act(observation)
-        except (EditorError, BridgeError, ModelCallError):
-            raise
-        except Exception as exc:  # a broken agent is the agent's error, not the harness's
-            raise AgentCrashedError(f"the agent raised {type(exc).__name__} at step {index}: {exc}") from exc
-        ok, error_code, error_message, data = await _apply(editor, environment, action, spec.project_limits)
+        action = await _guarded(agent.act(observation, last), f"raised at step {index}")
+        if not isinstance(action, ACTION_TYPES):
+            message = f"the agent returned a {type(action).__name__} at step {index}, not an action"
+            raise AgentCrashedError(message, message)
+        ok, error_code, error_message, data = await _apply(
+            environment, action, spec.project_limits, privileged=getattr(agent, "privileged", False)
+        )
         name, args = _describe(action)
         step = StepRecord(
             index=index,
@@ -154,22 +223,26 @@ async def _act(
             latency_s=time.perf_counter() - step_start,
             observation_s=observation_s,
             warnings=list(getattr(observation, "warnings", [])),
+            **models.drain().as_update(),
         )
-        steps.append(agent.after_step(step) if isinstance(agent, ConversingAgent) else step)
+        steps.append(step)
+        last = StepResult(ok=ok, error_code=error_code, error_message=error_message, data=data)
         if action.name in FINAL_ACTIONS:
             return action.name
     return "max_steps"
 
 
 async def _apply(
-    editor: Editor, environment: Environment, action: Action, limits: ProjectLimits
+    environment: Environment, action: Action, limits: ProjectLimits, *, privileged: bool
 ) -> tuple[bool, str | None, str | None, JsonValue]:
     """Carry out one action: (ok, error code, error message, data the environment answered)."""
     if isinstance(action, InvalidReply):
         return False, "INVALID_REPLY", action.message, {"reason": action.reason}
+    if isinstance(action, LoadProject) and not privileged:
+        return False, "PRIVILEGED_ACTION", "only privileged agents (oracles) may replace the whole project", None
     if isinstance(action, LoadProject):
         try:
-            await editor.load_project(action.sb3, limits)
+            await environment.editor.load_project(action.sb3, limits)
         except ProjectTooLargeError as exc:
             return False, "project_too_large", str(exc), None
         except ProjectFormatError as exc:
@@ -194,10 +267,47 @@ def _describe(action: Action) -> tuple[str, dict[str, JsonValue]]:
     return action.name, action.model_dump(exclude={"name"})
 
 
-def _with_images(result: EpisodeResult, agent: Agent) -> EpisodeResult:
-    if isinstance(agent, ConversingAgent) and agent.images:
-        return result.model_copy(update={"images": dict(agent.images)})
+def _with_images(result: EpisodeResult, models: EpisodeModels) -> EpisodeResult:
+    if models.images:
+        return result.model_copy(update={"images": dict(models.images)})
     return result
+
+
+TRACE_LIMIT = 8_000
+"""Characters of an agent's traceback kept in its trajectory."""
+
+
+def _trace(exc: BaseException) -> str:
+    text = "".join(traceback.format_exception(exc))
+    return text if len(text) <= TRACE_LIMIT else "...\n" + text[-TRACE_LIMIT:]
+
+
+def _book_late_calls(steps: list[StepRecord], models: EpisodeModels, stop_reason: str) -> None:
+    """Model calls made after the last action (in ``finish``, e.g. a self-evaluation), or before a first
+    action that never came, are booked too: no call goes uncounted."""
+    calls = models.drain()
+    if not calls.llm_calls:
+        return
+    if not steps:  # the agent broke (or its model failed) before its first action
+        message = "model calls made before the episode ended without an action"
+        steps.append(StepRecord(index=0, action="start", ok=False, error_code=stop_reason, error_message=message))
+    last = steps[-1]
+    earlier_reply = [{"role": "assistant", "content": last.reply}] if last.reply else []
+    steps[-1] = last.model_copy(
+        update={
+            "llm_calls": last.llm_calls + calls.llm_calls,
+            "input_tokens": last.input_tokens + calls.input_tokens,
+            "output_tokens": last.output_tokens + calls.output_tokens,
+            "cost_usd": last.cost_usd + calls.cost_usd,
+            "prompt": [*last.prompt, *earlier_reply, *calls.prompt],
+            "reply": calls.reply,
+        }
+    )
+
+
+def _crash_step(index: int, exc: AgentCrashedError) -> StepRecord:
+    """The trajectory's last entry when the agent raised: what it raised, with its traceback."""
+    return StepRecord(index=index, action="agent_error", ok=False, error_code="agent_error", error_message=exc.trace)
 
 
 def _finish(result: EpisodeResult, started: float, clock: float, timings: EpisodeTimings) -> EpisodeResult:

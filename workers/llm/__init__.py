@@ -13,7 +13,7 @@ from workers.llm._client import (
     load_litellm,
     model_key,
 )
-from workers.llm._errors import ModelCallError, ParseFailure, ReplyParseError
+from workers.llm._errors import ParseFailure, ReplyParseError
 from workers.llm._limiter import (
     LIMITER_NAMESPACE,
     Grant,
@@ -42,7 +42,6 @@ __all__ = [
     "LimiterStats",
     "LocalLimiterHandle",
     "LocalRateLimiter",
-    "ModelCallError",
     "ModelClient",
     "Outcome",
     "ParseFailure",

@@ -15,7 +15,7 @@ from collections import deque
 from collections.abc import Callable
 from typing import Literal
 
-from workers.llm._errors import ModelCallError
+from workers.contract import ModelCallError
 
 logger = logging.getLogger(__name__)
 

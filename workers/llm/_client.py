@@ -24,9 +24,8 @@ from typing import Any
 from pydantic import BaseModel
 from tenacity import AsyncRetrying, RetryCallState, retry_if_exception
 
-from workers.contract import ModelErrorClass, ModelSpec, RetryPolicy
+from workers.contract import ModelCallError, ModelErrorClass, ModelSpec, RetryPolicy
 from workers.llm._breaker import CircuitBreaker, circuit_breaker
-from workers.llm._errors import ModelCallError
 from workers.llm._limiter import RateLimiterHandle
 
 logger = logging.getLogger(__name__)
