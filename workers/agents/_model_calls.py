@@ -20,7 +20,7 @@ from typing import Any
 from pydantic import JsonValue
 
 from workers.agent_api import ModelHandle, ModelReply
-from workers.contract import ModelSpec, RetryPolicy
+from workers.contract import ModelSpec, RetryPolicy, StepRecord
 from workers.llm import LocalLimiterHandle, ModelClient, RateLimiterHandle, RayLimiterHandle, model_key
 
 _clients: dict[tuple[str, RetryPolicy], ModelClient] = {}
@@ -61,15 +61,22 @@ class StepCalls:
     prompt: list[JsonValue] = field(default_factory=list)
     reply: str | None = None
 
-    def as_update(self) -> dict[str, Any]:
-        return {
-            "llm_calls": self.llm_calls,
-            "input_tokens": self.input_tokens,
-            "output_tokens": self.output_tokens,
-            "cost_usd": self.cost_usd,
-            "prompt": self.prompt,
-            "reply": self.reply,
-        }
+    def booked_on(self, step: StepRecord) -> StepRecord:
+        """``step`` with these calls added: counts summed, and the messages continuing its record (its
+        own reply first, as the conversation saw it), the newest reply becoming the step's."""
+        if not self.llm_calls:
+            return step
+        earlier_reply: list[JsonValue] = [{"role": "assistant", "content": step.reply}] if step.reply else []
+        return step.model_copy(
+            update={
+                "llm_calls": step.llm_calls + self.llm_calls,
+                "input_tokens": step.input_tokens + self.input_tokens,
+                "output_tokens": step.output_tokens + self.output_tokens,
+                "cost_usd": step.cost_usd + self.cost_usd,
+                "prompt": [*step.prompt, *earlier_reply, *self.prompt],
+                "reply": self.reply,
+            }
+        )
 
 
 class EpisodeModels:

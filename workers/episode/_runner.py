@@ -223,9 +223,8 @@ async def _act(
             latency_s=time.perf_counter() - step_start,
             observation_s=observation_s,
             warnings=list(getattr(observation, "warnings", [])),
-            **models.drain().as_update(),
         )
-        steps.append(step)
+        steps.append(models.drain().booked_on(step))
         last = StepResult(ok=ok, error_code=error_code, error_message=error_message, data=data)
         if action.name in FINAL_ACTIONS:
             return action.name
@@ -291,18 +290,7 @@ def _book_late_calls(steps: list[StepRecord], models: EpisodeModels, stop_reason
     if not steps:  # the agent broke (or its model failed) before its first action
         message = "model calls made before the episode ended without an action"
         steps.append(StepRecord(index=0, action="start", ok=False, error_code=stop_reason, error_message=message))
-    last = steps[-1]
-    earlier_reply = [{"role": "assistant", "content": last.reply}] if last.reply else []
-    steps[-1] = last.model_copy(
-        update={
-            "llm_calls": last.llm_calls + calls.llm_calls,
-            "input_tokens": last.input_tokens + calls.input_tokens,
-            "output_tokens": last.output_tokens + calls.output_tokens,
-            "cost_usd": last.cost_usd + calls.cost_usd,
-            "prompt": [*last.prompt, *earlier_reply, *calls.prompt],
-            "reply": calls.reply,
-        }
-    )
+    steps[-1] = calls.booked_on(steps[-1])
 
 
 def _crash_step(index: int, exc: AgentCrashedError) -> StepRecord:
