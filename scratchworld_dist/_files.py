@@ -46,3 +46,14 @@ def read_file(path: Path, limit: int = MAX_TEXT_BYTES) -> bytes:
 def read_text(path: Path, limit: int = MAX_TEXT_BYTES) -> str:
     """The UTF-8 text of the regular file at ``path``; raises ``OSError`` or ``UnicodeDecodeError``."""
     return read_file(path, limit).decode("utf-8")
+
+
+def write_atomic(path: Path, data: bytes, *, sync: bool = True) -> None:
+    """Temp file + rename: readers see the old file or the new one, never a torn one."""
+    tmp = path.with_name(f".{path.name}.tmp")
+    with tmp.open("wb") as handle:
+        handle.write(data)
+        if sync:
+            handle.flush()
+            os.fsync(handle.fileno())
+    os.replace(tmp, path)

@@ -12,12 +12,15 @@ import json
 import os
 import socket
 from pathlib import Path
+from typing import Any
 
 import ray
 from pydantic import BaseModel
+from ray.exceptions import RayError
 from rich.console import Console
 
 from scratchworld_dist._errors import ConfigError, RunDirError
+from scratchworld_dist.memory import JobItems, StoreInfo, offline_source, source_digest, start_memory_service
 from scratchworld_dist.results import (
     SCHEMA_VERSION,
     RunManifest,
@@ -32,9 +35,9 @@ from scratchworld_dist.results._manifest import git_commit, now, package_version
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, ray_runtime
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
-from workers.agent_api import agent_class, agent_code
-from workers.contract import EpisodeResult, HarnessFingerprint, ModelSpec, NodeReport, describe_differences
+from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
+from workers.agent_api import agent_class, agent_code, agent_params, extra_models
+from workers.contract import EpisodeResult, HarnessFingerprint, Mode, ModelSpec, NodeReport, describe_differences
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 from workers.node import describe_node, harness_fingerprint
 
@@ -47,6 +50,8 @@ class RunPlan(BaseModel):
     suite: SuiteInfo
     contents: list[TaskContent]
     jobs: list[JobSpec]
+    memory_sources: dict[tuple[str, Mode], list[JobItems]] = {}
+    """Offline memory: the previous run's proposals per (model name, mode)."""
 
 
 class RunSummary(BaseModel):
@@ -66,12 +71,18 @@ class RunSummary(BaseModel):
 class AttemptRecorder:
     """Commits every finished attempt: artifacts first, then its rows (the commit point)."""
 
-    def __init__(self, store: RunStore, run_name: str, suite_hash: str) -> None:
+    def __init__(self, store: RunStore, run_name: str, suite_hash: str, memory: Any = None) -> None:
+        """``memory``: the memory service, handed each job's proposals before its rows are committed."""
         self.store = store
         self.run_name = run_name
         self.suite_hash = suite_hash
+        self.memory = memory
 
     def __call__(self, job: JobSpec, result: EpisodeResult) -> None:
+        if self.memory is not None and job.memory is not None:
+            info = StoreInfo(model=job.model_name, mode=job.mode, seed=job.seed)
+            entry = JobItems(job_id=job.job_id, wave=job.memory.wave, outcome=result.outcome, items=result.memory_items)
+            ray.get(self.memory.record.remote(job.memory.store, info, entry))
         artifact_dir = None
         if result.final_project is not None:
             artifact_dir = self.store.write_artifact(job.job_id, result.attempt, "final.sb3", result.final_project)
@@ -99,6 +110,7 @@ def config_hash(config: SweepConfig) -> str:
         "ray": True,
         "llm": {"retry"},
         "models": {"__all__": {"rate_limits"}},
+        "memory": {"from_run"},
     }
     shaping = config.model_dump(mode="json", exclude=pacing)  # type: ignore[arg-type]
     return hashlib.sha256(json.dumps(shaping, sort_keys=True).encode()).hexdigest()[:16]
@@ -118,6 +130,9 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
     info = SuiteInfo(
         name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
     )
+    found = agent_class(config.agent.name)
+    helpers = extra_models(agent_params(found, config.agent))
+    sources = offline_sources(config) if config.memory is not None else {}
     jobs = list(
         plan_jobs(
             config.model_specs(),
@@ -131,10 +146,24 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
             config.project_limits,
             harness.digest,
             config.synthetic,
-            agent_code(agent_class(config.agent.name)),
+            agent_code(found),
+            helpers,
+            config.memory,
+            {stream: source_digest(entries) for stream, entries in sources.items()},
         )
     )
-    return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs)
+    return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs, memory_sources=sources)
+
+
+def offline_sources(config: SweepConfig) -> dict[tuple[str, Mode], list[JobItems]]:
+    """Offline memory's items per (model name, mode), read from the previous run (empty for online memory)."""
+    memory = config.memory
+    if memory is None or memory.from_run is None:
+        return {}
+    if not memory.from_run.is_dir():
+        raise ConfigError(f"memory.from_run: {memory.from_run} is not a run directory")
+    names = [spec.name if spec is not None else NO_MODEL for spec in config.model_specs()]
+    return {(name, mode): offline_source(memory.from_run, name, mode) for name in names for mode in config.modes}
 
 
 def _checked_manifest(plan: RunPlan, run_dir: Path, force: bool) -> RunManifest:
@@ -250,10 +279,15 @@ def _execute(
     summary: RunSummary,
 ) -> RunSummary:
     config = plan.config
-    commit = AttemptRecorder(store, config.name, manifest.suite.hash)
     needed = {job.task_id for job, _ in todo}
     with ray_runtime(config.ray.address, config.limits.browser_slots, config.ray.connect_timeout_s) as slots:
-        limiters = _rate_limiters([job.model for job, _ in todo])  # they live as long as this driver
+        limiters = _rate_limiters([model for job, _ in todo for model in (job.model, *job.extra_models)])
+        memory = None
+        if config.memory is not None:
+            memory = start_memory_service(
+                store.run_dir, config.agent, config.memory, config.llm.retry, plan.memory_sources
+            )
+        commit = AttemptRecorder(store, config.name, manifest.suite.hash, memory)
         pool = WorkerPool(slots, config.limits.pages_per_worker, config.synthetic)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
         scheduler = Scheduler(
@@ -269,13 +303,13 @@ def _execute(
         console.print(f"{len(pool)} worker(s) x {pool.pages} page(s) on {slots} browser slot(s)")
         try:
             with live_progress(scheduler.stats, len(todo), console):
-                scheduler.run(todo)
+                _run_waves(scheduler, todo, memory, console)
         finally:
             pool.close()
             del limiters
     stats = scheduler.stats
     budget_stop = None
-    if stats.not_started:
+    if stats.not_started and scheduler.over_budget:
         spent = scheduler.spent_usd + stats.cost_usd
         budget_stop = (
             f"budget of ${config.limits.budget_usd:g} reached (spent ${spent:.4f}); "
@@ -291,6 +325,54 @@ def _execute(
             "budget_stop": budget_stop,
         }
     )
+
+
+def _run_waves(scheduler: Scheduler, todo: list[tuple[JobSpec, int]], memory: Any, console: Console) -> None:
+    """Run the jobs wave by wave (one wave when the sweep keeps no memory): each wave's jobs are shown
+    the snapshot induced from the waves before it. A stream whose induction fails stops there; its
+    later jobs stay unstarted (a resume tries again)."""
+    waves = sorted({_wave(job) for job, _ in todo})
+    broken: set[str] = set()
+    for wave in waves:
+        batch = [(job, attempt) for job, attempt in todo if _wave(job) == wave]
+        if memory is not None:
+            ready, failed = _with_snapshots(memory, batch, broken)
+            for store, reason in failed.items():
+                console.print(f"memory {store}: wave {wave} could not be induced ({reason}); a resume tries again")
+            broken |= set(failed)
+            scheduler.stats.not_started += len(batch) - len(ready)
+            batch = ready
+        scheduler.run(batch)
+        if scheduler.over_budget:
+            scheduler.stats.not_started += sum(1 for job, _ in todo if _wave(job) > wave)
+            return
+
+
+def _wave(job: JobSpec) -> int:
+    return job.memory.wave if job.memory is not None else 0
+
+
+def _with_snapshots(
+    memory: Any, batch: list[tuple[JobSpec, int]], broken: set[str]
+) -> tuple[list[tuple[JobSpec, int]], dict[str, str]]:
+    """The wave's jobs, each carrying its stream's snapshot; and the streams whose induction failed."""
+    streams = {job.memory.store: job for job, _ in batch if job.memory is not None and job.memory.store not in broken}
+    calls = {
+        store: memory.snapshot.remote(store, job.memory.wave, job.mode, job.model)  # type: ignore[union-attr]
+        for store, job in streams.items()
+    }
+    snapshots, failed = {}, {}
+    for store, call in calls.items():
+        try:
+            snapshots[store] = ray.get(call)
+        except RayError as exc:
+            failed[store] = (str(exc).strip().splitlines() or [type(exc).__name__])[-1][:300]
+    ready = [
+        (job.model_copy(update={"memory_snapshot": snapshots[job.memory.store]}), attempt)
+        for job, attempt in batch
+        if job.memory is not None and job.memory.store in snapshots
+    ]
+    return ready, failed
 
 
 def _rate_limiters(models: list[ModelSpec | None]) -> list[RayLimiterHandle]:

@@ -8,12 +8,14 @@ import pytest
 
 PACKAGES = [
     "scratchworld_dist",
+    "scratchworld_dist.memory",
     "scratchworld_dist.reports",
     "scratchworld_dist.results",
     "scratchworld_dist.scheduling",
     "scratchworld_dist.suites",
     "scratchworld_dist.sb3",
     "scratchworld_dist.sweep",
+    "workers.agent_api",
     "workers.agents",
     "workers.composite",
     "workers.contract",

@@ -74,6 +74,12 @@ class JobRow(BaseModel):
     artifact_dir: str | None
     """Folder of this attempt's final.sb3 and trajectory.jsonl, relative to the run directory."""
 
+    memory_wave: int | None = None
+    """A learning agent's wave in its memory stream (null without memory, and in older runs)."""
+
+    memory_snapshot: str | None = None
+    """Digest of the memory snapshot the job was shown (see ``memory/<store>/wave-*.json``)."""
+
 
 class StepRow(BaseModel):
     """One agent action of one attempt (a row of ``steps/``)."""
@@ -179,6 +185,8 @@ def record_of(
         worker_pid=worker.pid if worker else None,
         worker_index=worker.worker_index if worker else None,
         artifact_dir=artifact_dir,
+        memory_wave=job.memory.wave if job.memory is not None else None,
+        memory_snapshot=job.memory_snapshot.digest if job.memory_snapshot is not None else None,
     )
     steps = [
         StepRow(

@@ -17,7 +17,6 @@ Layout::
 from __future__ import annotations
 
 import fcntl
-import os
 import re
 from collections.abc import Iterator
 from pathlib import Path
@@ -29,6 +28,7 @@ import pyarrow.parquet as pq
 from pydantic import ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
+from scratchworld_dist._files import write_atomic
 from scratchworld_dist.results._records import JobRecord, JobRow
 from scratchworld_dist.results._schema import SCHEMAS
 
@@ -37,17 +37,6 @@ SEGMENT_ROWS = 200
 
 _SEGMENT = re.compile(r"^segment-(\d{6})\.jsonl$")
 _PART = re.compile(r"^part-(\d{6})\.parquet$")
-
-
-def _write_atomic(path: Path, data: bytes, *, sync: bool = True) -> None:
-    """Temp file + rename: readers see the old file or the new one, never a torn one."""
-    tmp = path.with_name(f".{path.name}.tmp")
-    with tmp.open("wb") as handle:
-        handle.write(data)
-        if sync:
-            handle.flush()
-            os.fsync(handle.fileno())
-    os.replace(tmp, path)
 
 
 def unwritable(run_dir: Path, exc: OSError) -> RunDirError:
@@ -170,7 +159,7 @@ class RunStore:
         folder = self.artifacts_dir / job_id / f"attempt-{attempt}"
         try:
             (folder / name).parent.mkdir(parents=True, exist_ok=True)
-            _write_atomic(folder / name, data, sync=False)  # survives the driver's death; shards are synced
+            write_atomic(folder / name, data, sync=False)  # survives the driver's death; shards are synced
         except OSError as exc:
             raise unwritable(self.run_dir, exc) from exc
         return str(folder.relative_to(self.run_dir))
@@ -199,7 +188,7 @@ class RunStore:
                 shard = _to_table(records, table)
                 sink = pa.BufferOutputStream()
                 pq.write_table(shard, sink, compression="zstd")
-                _write_atomic(self.table_dir(table) / f"part-{number:06d}.parquet", sink.getvalue().to_pybytes())
+                write_atomic(self.table_dir(table) / f"part-{number:06d}.parquet", sink.getvalue().to_pybytes())
         path.unlink()
 
     def _segment_path(self, number: int) -> Path:

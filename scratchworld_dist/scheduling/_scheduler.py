@@ -138,7 +138,7 @@ class Scheduler:
                 self._record(flight.job, result, final=not retry)
                 if retry:
                     queue.append((flight.job, result.attempt + 1))
-        self.stats.not_started = len({job.job_id for job, _ in queue})
+        self.stats.not_started += len({job.job_id for job, _ in queue})
 
     @property
     def over_budget(self) -> bool:

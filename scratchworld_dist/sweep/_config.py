@@ -25,6 +25,7 @@ from workers.contract import (
     EvaluationClock,
     EvaluationProfile,
     LLMSettings,
+    MemorySettings,
     Mode,
     ModelSpec,
     ObservationSettings,
@@ -208,6 +209,9 @@ class SweepConfig(BaseModel):
     """The run directory (default: ``results/<name>`` in the working directory)."""
 
     ray: RayConfig = Field(default_factory=RayConfig)
+    memory: MemorySettings | None = None
+    """Memory shared across jobs, for agents that learn (``awm``): online waves, or offline from a run dir."""
+
     synthetic: SyntheticEpisodes | None = None
     """Run browserless synthetic episodes instead, for all tasks or those in ``synthetic.tasks`` (benchmarks)."""
 
@@ -258,6 +262,22 @@ class SweepConfig(BaseModel):
         return agent
 
     @model_validator(mode="after")
+    def _agent_fits_sweep(self) -> SweepConfig:
+        agent = agent_class(self.agent.name)
+        supported = getattr(agent, "modes", ("composite", "primitive"))
+        unsupported = [mode for mode in self.modes if mode not in supported]
+        if unsupported:
+            raise ValueError(f"agent {self.agent.name!r} cannot act in {', '.join(unsupported)} mode")
+        learns = getattr(agent, "learns", False)
+        if self.memory is not None and not learns:
+            raise ValueError(f"memory is for agents that learn across jobs; {self.agent.name!r} does not")
+        if learns and self.memory is None:
+            raise ValueError(
+                f"agent {self.agent.name!r} learns across jobs: give a memory section (kind: online or offline)"
+            )
+        return self
+
+    @model_validator(mode="after")
     def _models_fit_agent(self) -> SweepConfig:
         if getattr(agent_class(self.agent.name), "needs_model", False) and not self.models:
             raise ValueError(f"agent {self.agent.name!r} needs at least one entry under models")
@@ -304,6 +324,9 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     task_list = config.tasks.task_list
     if task_list is not None and (base / task_list).is_file():  # a file next to the config, not a list name
         resolved["tasks"] = config.tasks.model_copy(update={"task_list": str((base / task_list).resolve())})
+    if config.memory is not None and config.memory.from_run is not None:
+        from_run = _resolve(base, config.memory.from_run)
+        resolved["memory"] = config.memory.model_copy(update={"from_run": from_run})
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):
         resolved["ray"] = RayConfig(address=os.environ["RAY_ADDRESS"])
     return config.model_copy(update=resolved)

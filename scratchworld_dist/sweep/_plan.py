@@ -18,6 +18,7 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import ProjectFormatError, SuiteError
 from scratchworld_dist._files import FileTooLargeError, read_file
+from scratchworld_dist.memory import store_name, task_waves
 from scratchworld_dist.suites import Task
 from workers.contract import (
     MIB,
@@ -26,6 +27,9 @@ from workers.contract import (
     EvaluationClock,
     EvaluationProfile,
     LLMSettings,
+    MemoryPlacement,
+    MemorySettings,
+    MemorySnapshot,
     Mode,
     ModelSpec,
     ObservationSettings,
@@ -67,9 +71,21 @@ class JobSpec(BaseModel):
     harness: str
     """The harness fingerprint the job was planned under (part of its id)."""
 
+    extra_models: list[ModelSpec] = []
+    """Models the agent calls besides ``model`` (e.g. a grounding model), as its params name them."""
+
+    memory: MemoryPlacement | None = None
+    """The job's memory stream and wave (learning agents; part of its id)."""
+
+    memory_snapshot: MemorySnapshot | None = None
+    """The memory the job is shown: set by the driver when the job's wave starts (not part of its id)."""
+
     @property
     def model_name(self) -> str:
-        return self.model.name if self.model is not None else NO_MODEL
+        """The model column of reports: the job's model, joined by any others its agent calls."""
+        if self.model is None:
+            return NO_MODEL
+        return "+".join([self.model.name, *(extra.name for extra in self.extra_models)])
 
     def episode(self, attempt: int, timeout_s: float) -> EpisodeSpec:
         return EpisodeSpec(
@@ -87,6 +103,7 @@ class JobSpec(BaseModel):
             timeout_s=timeout_s,
             project_limits=self.project_limits,
             harness=self.harness,
+            memory=self.memory_snapshot,
         )
 
 
@@ -175,10 +192,11 @@ def job_id(
     harness: str | None = None,
     synthetic: SyntheticEpisodes | None = None,
     agent_code: str | None = None,
+    memory: MemoryPlacement | None = None,
 ) -> str:
     """The job's name: a hash of everything that can change its result (``harness``: this code's fingerprint;
     ``synthetic``: the behaviour of a browserless stand-in episode, never to be taken for a real one;
-    ``agent_code``: a plugin agent's code digest)."""
+    ``agent_code``: a plugin agent's code digest; ``memory``: a learning agent's stream and wave)."""
     ref = AgentRef.model_validate(agent)
     identity: dict[str, object] = {
         "model": None if model is None else model.identity(),
@@ -197,6 +215,8 @@ def job_id(
         identity["llm"] = llm.identity()
     if synthetic is not None:  # only synthetic jobs
         identity["synthetic"] = synthetic.model_dump(mode="json")
+    if memory is not None:  # only jobs of learning agents
+        identity["memory"] = memory.identity()
     canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(canonical.encode()).hexdigest()[:24]
 
@@ -214,10 +234,17 @@ def plan_jobs(
     harness: str | None = None,
     synthetic: SyntheticEpisodes | None = None,
     agent_code: str | None = None,
+    extra_models: list[ModelSpec] | None = None,
+    memory: MemorySettings | None = None,
+    memory_sources: Mapping[tuple[str, Mode], str] | None = None,
 ) -> Iterator[JobSpec]:
-    """The matrix in a stable order: model, mode, seed, then suite order of tasks."""
+    """The matrix in a stable order: model, mode, seed, then suite order of tasks.
+
+    With ``memory``, each (model, mode, seed) is a stream whose tasks fall into waves;
+    ``memory_sources`` gives offline memory's source digest per (model name, mode)."""
     limits = project_limits or ProjectLimits()
     harness = harness or harness_fingerprint().digest
+    waves = task_waves([content.task.id for content in tasks], memory) if memory is not None else {}
     for model in models:
         for mode in modes:
             steps = max_steps if isinstance(max_steps, int) else max_steps[mode]
@@ -227,9 +254,15 @@ def plan_jobs(
                 for content in tasks:
                     task = content.task
                     stand_in = synthetic if synthetic is not None and synthetic.covers(task.id) else None
+                    placement = None
+                    if memory is not None:
+                        label = model.name if model is not None else NO_MODEL
+                        source = (memory_sources or {}).get((label, mode))
+                        store = store_name(label, mode, seed)
+                        placement = MemoryPlacement(store=store, wave=waves[task.id], settings=memory, source=source)
                     name = job_id(
                         *(model, mode, agent, content.task_hash, task.id, seed, steps, settings, protocol),
-                        *(limits, harness, stand_in, agent_code),
+                        *(limits, harness, stand_in, agent_code, placement),
                     )
                     yield JobSpec(
                         job_id=name,
@@ -246,4 +279,6 @@ def plan_jobs(
                         llm=protocol,
                         project_limits=limits,
                         harness=harness,
+                        extra_models=list(extra_models or []),
+                        memory=placement,
                     )

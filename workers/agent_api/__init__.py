@@ -10,12 +10,14 @@ entry point of the ``scratchworld.agents`` group. See README, "Write your own ag
 
 from workers.agent_api._agent import Agent, AgentBase, EpisodeEnd, NoParams, StepResult
 from workers.agent_api._context import ModelHandle, ModelReply, Privileges, TaskContext
+from workers.agent_api._memory import AgentMemory, InductionRequest, LearningAgent, MemoryUpdate
 from workers.agent_api._registry import (
     ENTRY_POINT_GROUP,
     agent_class,
     agent_code,
     agent_params,
     build_agent,
+    extra_models,
     registered_agents,
 )
 from workers.contract import (
@@ -31,6 +33,7 @@ from workers.contract import (
     Failed,
     InvalidReply,
     LoadProject,
+    MemoryItem,
     Mode,
     ModelCallError,
     ModelSpec,
@@ -49,6 +52,7 @@ __all__ = [
     "ActionFailure",
     "Agent",
     "AgentBase",
+    "AgentMemory",
     "AgentRef",
     "AgentUnavailableError",
     "CompositeAction",
@@ -57,8 +61,12 @@ __all__ = [
     "Element",
     "EpisodeEnd",
     "Failed",
+    "InductionRequest",
     "InvalidReply",
+    "LearningAgent",
     "LoadProject",
+    "MemoryItem",
+    "MemoryUpdate",
     "Mode",
     "ModelCallError",
     "ModelHandle",
@@ -77,6 +85,7 @@ __all__ = [
     "agent_params",
     "build_agent",
     "composite_action",
+    "extra_models",
     "primitive_action",
     "registered_agents",
 ]

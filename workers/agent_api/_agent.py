@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
 
 from pydantic import BaseModel, ConfigDict, JsonValue
 
-from workers.contract import Action, Observation
+from workers.contract import Action, Mode, Observation
 
 if TYPE_CHECKING:
     from workers.agent_api._context import TaskContext
@@ -56,7 +56,9 @@ class Agent(Protocol):
     """
 
     Params: ClassVar[type[BaseModel]]
-    """The pydantic model of the parameters the sweep config may give (part of the job's identity)."""
+    """The pydantic model of the parameters the sweep config may give (part of the job's identity). An agent
+    that calls models besides the job's own gives them in its params and has ``Params`` define
+    ``extra_models() -> list[ModelSpec]``, so they get their rate limiters and name the job's model."""
 
     observes: ClassVar[bool]
     """Whether the environment builds an observation before each action (scripted agents need none)."""
@@ -66,6 +68,12 @@ class Agent(Protocol):
 
     privileged: ClassVar[bool]
     """Whether it may read the task's solution and the live editor (``context.privileges``): oracles only."""
+
+    modes: ClassVar[tuple[Mode, ...]]
+    """The modes it can act in; a sweep asking for another is refused before anything runs."""
+
+    learns: ClassVar[bool]
+    """Whether it keeps memory across jobs (see ``LearningAgent``); only such agents take a ``memory`` section."""
 
     async def start(self, context: TaskContext) -> None:
         """Called once before the first action, with the task and the means to call models."""
@@ -87,6 +95,8 @@ class AgentBase:
     observes: ClassVar[bool] = True
     needs_model: ClassVar[bool] = False
     privileged: ClassVar[bool] = False
+    modes: ClassVar[tuple[Mode, ...]] = ("composite", "primitive")
+    learns: ClassVar[bool] = False
 
     def __init__(self, params: BaseModel | None = None) -> None:
         self.params = params if params is not None else self.Params()

@@ -9,11 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from pydantic import BaseModel, ConfigDict
 
 from workers.contract import AgentUnavailableError, CompositeAction, LLMSettings, Mode, ModelSpec
+
+if TYPE_CHECKING:
+    from workers.agent_api._memory import AgentMemory
 
 
 class ModelReply(BaseModel):
@@ -67,6 +70,7 @@ class TaskContext:
         connect: Callable[[ModelSpec], ModelHandle],
         llm: LLMSettings | None = None,
         privileges: Privileges | None = None,
+        memory: AgentMemory | None = None,
     ) -> None:
         self.task_id = task_id
         self.category = category
@@ -83,6 +87,7 @@ class TaskContext:
         self._model = model
         self._connect = connect
         self._privileges = privileges
+        self._memory = memory
 
     async def block_catalog(self) -> str | None:
         """The blocks the composite API can create, one line each (None in primitive mode, where the
@@ -97,6 +102,15 @@ class TaskContext:
         if spec is None:
             raise AgentUnavailableError("this job has no model: the agent must declare needs_model = True")
         return self._connect(spec)
+
+    @property
+    def memory(self) -> AgentMemory:
+        """The memory shared across the sweep's jobs (see ``LearningAgent``): read ``text``, ``propose`` items."""
+        if self._memory is None:
+            from workers.agent_api._memory import AgentMemory
+
+            self._memory = AgentMemory(None, "", self.task_id)
+        return self._memory
 
     @property
     def privileges(self) -> Privileges:

@@ -17,7 +17,7 @@ from pathlib import Path
 from pydantic import BaseModel, ValidationError
 
 from workers.agent_api._agent import Agent, NoParams
-from workers.contract import AgentRef, AgentUnavailableError
+from workers.contract import AgentRef, AgentUnavailableError, ModelSpec
 
 ENTRY_POINT_GROUP = "scratchworld.agents"
 
@@ -78,6 +78,17 @@ def agent_params(cls: type[Agent], ref: AgentRef) -> BaseModel:
             f"{'.'.join(str(part) for part in error['loc']) or 'params'}: {error['msg']}" for error in exc.errors()
         )
         raise AgentUnavailableError(f"agent {ref.name} rejects its params: {problems}") from None
+
+
+def extra_models(params: BaseModel) -> list[ModelSpec]:
+    """The models an agent calls besides the job's own, as its params name them (``Params.extra_models``)."""
+    listed = getattr(params, "extra_models", None)
+    if not callable(listed):
+        return []
+    models = list(listed())
+    if not all(isinstance(model, ModelSpec) for model in models):
+        raise AgentUnavailableError(f"{type(params).__name__}.extra_models must return ModelSpec instances")
+    return models
 
 
 _HARNESS_DIR = Path(__file__).resolve().parents[1]

@@ -45,15 +45,19 @@ class LLMAgent(AgentBase):
         self.settings: LLMSettings = context.llm
         self.model: ModelHandle = context.model()
         self.coordinates = coordinate_system(self.model.spec)
-        text = system_prompt(
+        self._system: dict[str, Any] = {"role": "system", "content": await self.system_text(context)}
+        self._history: list[dict[str, Any]] = []
+
+    async def system_text(self, context: TaskContext, workflows: str = "") -> str:
+        """The episode's system prompt (subclasses add to it, e.g. a memory of workflows)."""
+        return system_prompt(
             self.mode,
             context.instruction,
             block_catalog=await context.block_catalog(),
             coordinates=self.coordinates,
             element_list=self.settings.element_list,
+            workflows=workflows,
         )
-        self._system: dict[str, Any] = {"role": "system", "content": text}
-        self._history: list[dict[str, Any]] = []
 
     async def act(self, observation: Observation | None, last: StepResult | None) -> Action:
         feedback = None
@@ -68,10 +72,13 @@ class LLMAgent(AgentBase):
             parsed = parse_reply(reply.text)
         except ReplyParseError as error:
             return InvalidReply(reason=error.reason, message=str(error))
-        request: dict[str, JsonValue] = {"api": parsed.api, "args": parsed.args}
+        return await self.to_action(parsed.api, parsed.args, observation)
+
+    async def to_action(self, api: str, args: dict[str, JsonValue], observation: Observation | None) -> Action:
+        """The action a parsed reply asks for (primitive positions mapped from the model's convention)."""
         if self.mode == "composite":
-            return composite_action(request)
-        return primitive_action({"api": parsed.api, "args": to_page(parsed.args, self.coordinates)})
+            return composite_action({"api": api, "args": args})
+        return primitive_action({"api": api, "args": to_page(args, self.coordinates)})
 
     def _user_message(self, observation: Observation | None, feedback: str | None) -> dict[str, Any]:
         texts = [feedback] if feedback else []

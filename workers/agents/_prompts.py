@@ -71,8 +71,9 @@ def system_prompt(
     block_catalog: str | None = None,
     coordinates: CoordinateSystem = "pixels",
     element_list: bool = True,
+    workflows: str = "",
 ) -> str:
-    """The system message of an episode."""
+    """The system message of an episode; ``workflows``: a learning agent's memory, shown after the actions."""
     if mode == "composite":
         sections = [
             "You edit a Scratch 3 project in the Scratch editor through a block-editing API. Each turn you see the "
@@ -80,6 +81,7 @@ def system_prompt(
             "as pseudocode with indices #n.",
             f"# Task\n{instruction}",
             f"# {COMPOSITE_ACTIONS}",
+            *_memory_section(workflows),
         ]
         if block_catalog:
             sections.append(
@@ -92,12 +94,20 @@ def system_prompt(
             f"You use the Scratch 3 editor with mouse and keyboard. Each turn you see {seen}.",
             f"# Task\n{instruction}",
             f"# {PRIMITIVE_ACTIONS}",
+            *_memory_section(workflows),
             COORDINATES[coordinates],
         ]
         if element_list:
             sections.append(f"{LEGEND} {PRIMITIVE_POSITIONS}")
     sections.append(f"# Response\n{RESPONSE_RULE}")
     return "\n\n".join(sections)
+
+
+def _memory_section(workflows: str) -> list[str]:
+    if not workflows.strip():
+        return []
+    guidance = "Routines that worked in earlier tasks; reuse them where they fit, filling in the placeholders."
+    return [f"# Workflow memory\n{guidance}\n{workflows.strip()}"]
 
 
 def result_text(ok: bool, data: JsonValue, error_code: str | None, error_message: str | None) -> str:

@@ -67,6 +67,15 @@ from workers.contract._harness import (
     describe_differences,
     fingerprint,
 )
+from workers.contract._memory import (
+    LearnFrom,
+    MemoryItem,
+    MemoryKind,
+    MemoryPlacement,
+    MemorySettings,
+    MemorySnapshot,
+    memory_digest,
+)
 from workers.contract._model import CoordinateSystem, LLMSettings, ModelSpec, RateLimits, RetryPolicy
 from workers.contract._observation_settings import ObservationSettings
 from workers.contract._observations import (
@@ -119,7 +128,13 @@ __all__ = [
     "HarnessFingerprint",
     "InvalidReply",
     "LLMSettings",
+    "LearnFrom",
     "LoadProject",
+    "MemoryItem",
+    "MemoryKind",
+    "MemoryPlacement",
+    "MemorySettings",
+    "MemorySnapshot",
     "Mode",
     "ModelCallError",
     "ModelErrorClass",
@@ -151,6 +166,7 @@ __all__ = [
     "composite_action",
     "describe_differences",
     "fingerprint",
+    "memory_digest",
     "outcome_of",
     "primitive_action",
 ]

@@ -15,6 +15,7 @@ from workers.contract._actions import CompositeAction
 from workers.contract._errors import ModelErrorClass
 from workers.contract._eval_result import EvalResult
 from workers.contract._evaluation_spec import EvaluationSpec
+from workers.contract._memory import MemoryItem, MemorySnapshot
 from workers.contract._model import LLMSettings, ModelSpec
 from workers.contract._observation_settings import ObservationSettings
 from workers.contract._sb3 import ProjectLimits
@@ -119,6 +120,9 @@ class EpisodeSpec(BaseModel):
     harness: str | None = None
     """The harness fingerprint the driver planned the job under; a worker running other code refuses it."""
 
+    memory: MemorySnapshot | None = None
+    """What a learning agent is shown of its memory in this episode (None: the sweep keeps no memory)."""
+
 
 class TaskPayload(BaseModel):
     """The task's content, shipped once per task to the object store and shared by its jobs."""
@@ -211,6 +215,9 @@ class EpisodeResult(BaseModel):
     """Images the prompts showed, by SHA-256, each stored once however often it was sent."""
 
     timings: EpisodeTimings = Field(default_factory=EpisodeTimings)
+    memory_items: list[MemoryItem] = Field(default_factory=list)
+    """What a learning agent proposed to learn from this episode, each with its own judgement."""
+
     worker: WorkerInfo | None = None
     started_at: float = 0.0
     """Unix time the worker started the episode."""

@@ -16,7 +16,7 @@ from typing import TypeVar
 
 from pydantic import JsonValue
 
-from workers.agent_api import Agent, EpisodeEnd, Privileges, StepResult, TaskContext
+from workers.agent_api import Agent, AgentMemory, EpisodeEnd, Privileges, StepResult, TaskContext
 from workers.agents import EpisodeModels
 from workers.contract import (
     FINAL_ACTIONS,
@@ -93,6 +93,7 @@ class EpisodeRunner:
         timings = EpisodeTimings()
         steps: list[StepRecord] = []
         models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed)
+        memory = AgentMemory(spec.memory, spec.job_id, task.task_id)
         try:
             async with self.session.editor() as editor:
                 try:
@@ -101,7 +102,7 @@ class EpisodeRunner:
                     message = f"the task's initial project cannot be loaded: {exc}"
                     return _finish(EpisodeResult.errored(spec, "task_invalid", message), started, clock, timings)
                 environment = await self._environment(spec, editor)
-                context = _context(spec, task, agent, editor, environment, models)
+                context = _context(spec, task, agent, editor, environment, models, memory)
                 stop_reason = "internal_error"
                 try:
                     await _guarded(agent.start(context), "failed to start")
@@ -132,10 +133,10 @@ class EpisodeRunner:
         except AgentCrashedError as exc:
             steps.append(_crash_step(len(steps), exc))
             result = EpisodeResult.errored(spec, "agent_error", str(exc), steps=steps)
-            return _finish(_with_images(result, models), started, clock, timings)
+            return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
         except ModelCallError as exc:  # the model cannot be reached or refuses: no verdict about it
             result = EpisodeResult.errored(spec, exc.error_class, str(exc), steps=steps)
-            return _finish(_with_images(result, models), started, clock, timings)
+            return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
         evaluation_start = time.perf_counter()
         evaluation = await self.evaluator.evaluate(final_project, task.evaluation, spec.project_limits)
         timings.evaluation_s = time.perf_counter() - evaluation_start
@@ -151,7 +152,7 @@ class EpisodeRunner:
             steps=steps,
             final_project=final_project,
         )
-        return _finish(_with_images(result, models), started, clock, timings)
+        return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
 
 
 def _context(
@@ -161,6 +162,7 @@ def _context(
     editor: Editor,
     environment: Environment,
     models: EpisodeModels,
+    memory: AgentMemory,
 ) -> TaskContext:
     privileges = None
     if getattr(agent, "privileged", False):
@@ -182,6 +184,7 @@ def _context(
         connect=models.connect,
         llm=spec.llm,
         privileges=privileges,
+        memory=memory,
     )
 
 
@@ -266,10 +269,9 @@ def _describe(action: Action) -> tuple[str, dict[str, JsonValue]]:
     return action.name, action.model_dump(exclude={"name"})
 
 
-def _with_images(result: EpisodeResult, models: EpisodeModels) -> EpisodeResult:
-    if models.images:
-        return result.model_copy(update={"images": dict(models.images)})
-    return result
+def _with_agent_outputs(result: EpisodeResult, models: EpisodeModels, memory: AgentMemory) -> EpisodeResult:
+    """The result with the images the prompts showed and what the agent proposed to learn from."""
+    return result.model_copy(update={"images": dict(models.images), "memory_items": list(memory.items)})
 
 
 TRACE_LIMIT = 8_000
