@@ -194,3 +194,15 @@ def test_the_self_evaluation_is_read_from_its_status_line(reply_text: str, succe
     from workers.agents._awm_prompts import judged_success
 
     assert judged_success(reply_text) is success
+
+
+def test_memory_fed_by_the_verdict_is_labelled_an_ablation() -> None:
+    content = read_task(load_suite(SUITE_DIR).task("quiz_score"))
+    model = ModelSpec(name="m", model="openai/gpt-4o-mini")
+    labels = {
+        learn_from: next(
+            plan_jobs([model], ["composite"], "awm", [content], [0], 10, memory=MemorySettings(learn_from=learn_from))
+        ).agent_label
+        for learn_from in ("self_judgement", "verdict_ablation")
+    }
+    assert labels == {"self_judgement": "awm", "verdict_ablation": "awm [verdict-fed ablation]"}

@@ -151,7 +151,7 @@ def record_of(
         model=job.model_name,
         litellm_model=job.model.model if job.model is not None else None,
         mode=job.mode,
-        agent=job.agent.display,
+        agent=job.agent_label,
         task_id=job.task_id,
         category=job.category,
         task_hash=job.task_hash,

@@ -81,6 +81,13 @@ class JobSpec(BaseModel):
     """The memory the job is shown: set by the driver when the job's wave starts (not part of its id)."""
 
     @property
+    def agent_label(self) -> str:
+        """The agent column of reports; memory fed by the verdict is labelled as the ablation it is."""
+        if self.memory is not None and self.memory.settings.learn_from == "verdict_ablation":
+            return f"{self.agent.display} [verdict-fed ablation]"
+        return self.agent.display
+
+    @property
     def model_name(self) -> str:
         """The model column of reports: the job's model, joined by any others its agent calls."""
         if self.model is None:
