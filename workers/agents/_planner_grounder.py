@@ -20,14 +20,14 @@ from pydantic import BaseModel, ConfigDict, JsonValue
 from workers.agent_api import ModelHandle, TaskContext
 from workers.agents._coordinates import coordinate_system, to_page
 from workers.agents._llm_agent import LLMAgent
-from workers.agents._prompts import PRIMITIVE_POSITIONS, RESPONSE_RULE
+from workers.agents._prompts import system_prompt
 from workers.contract import Action, InvalidReply, Mode, ModelSpec, Observation, PrimitiveObservation, primitive_action
-from workers.primitive import LEGEND
 
 PLANNER_ACTIONS = """\
-Actions. A target is one of: "index" (an element of the list), or "description" (the thing to point at, in \
-words precise enough for someone who sees only the screenshot, e.g. "the 'move (10) steps' block in the block \
-palette"); a drag has a source and a target, each an index or a description.
+Actions. Say what to act on; a grounding model finds it on the screenshot. A target is one of: "index" (an \
+element of the list), or "description" (the thing to point at, in words precise enough for someone who sees only \
+the screenshot, e.g. "the 'move (10) steps' block in the block palette"); a drag has a source and a target, each \
+an index or a description.
 - click {"index" | "description", "button"?: "left" | "right" | "middle"}
 - double_click {"index" | "description"}
 - drag_and_drop {"start_index" | "source_description", "end_index" | "target_description", "duration"?: seconds}:
@@ -73,19 +73,14 @@ class PlannerGrounderAgent(LLMAgent):
         self.grounder: ModelHandle = context.model(self.params.grounder)
 
     async def system_text(self, context: TaskContext, workflows: str = "") -> str:
-        seen = "a 1280x720 screenshot of the editor" + (
-            " and a list of its elements" if self.settings.element_list else ""
+        return system_prompt(
+            "primitive",
+            context.instruction,
+            coordinates=None,  # the planner names targets; the grounder writes the positions
+            element_list=self.settings.element_list,
+            workflows=workflows,
+            primitive_actions=PLANNER_ACTIONS,
         )
-        sections = [
-            f"You use the Scratch 3 editor with mouse and keyboard. Each turn you see {seen}. Say what to act on; "
-            "a grounding model finds it on the screenshot.",
-            f"# Task\n{context.instruction}",
-            f"# {PLANNER_ACTIONS}",
-        ]
-        if self.settings.element_list:
-            sections.append(f"{LEGEND} {PRIMITIVE_POSITIONS}")
-        sections.append(f"# Response\n{RESPONSE_RULE}")
-        return "\n\n".join(sections)
 
     async def to_action(self, api: str, args: dict[str, JsonValue], observation: Observation | None) -> Action:
         grounded = dict(args)

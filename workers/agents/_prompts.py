@@ -69,11 +69,13 @@ def system_prompt(
     instruction: str,
     *,
     block_catalog: str | None = None,
-    coordinates: CoordinateSystem = "pixels",
+    coordinates: CoordinateSystem | None = "pixels",
     element_list: bool = True,
     workflows: str = "",
+    primitive_actions: str = PRIMITIVE_ACTIONS,
 ) -> str:
-    """The system message of an episode; ``workflows``: a learning agent's memory, shown after the actions."""
+    """The system message of an episode. ``workflows``: a learning agent's memory, shown after the actions;
+    ``primitive_actions``: another agent's catalog, and ``coordinates`` None when it writes no positions."""
     if mode == "composite":
         sections = [
             "You edit a Scratch 3 project in the Scratch editor through a block-editing API. Each turn you see the "
@@ -93,9 +95,9 @@ def system_prompt(
         sections = [
             f"You use the Scratch 3 editor with mouse and keyboard. Each turn you see {seen}.",
             f"# Task\n{instruction}",
-            f"# {PRIMITIVE_ACTIONS}",
+            f"# {primitive_actions}",
             *_memory_section(workflows),
-            COORDINATES[coordinates],
+            *([COORDINATES[coordinates]] if coordinates is not None else []),
         ]
         if element_list:
             sections.append(f"{LEGEND} {PRIMITIVE_POSITIONS}")
