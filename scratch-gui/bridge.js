@@ -12,14 +12,19 @@
   let vm = null;
   let store = null;
   let projectLoads = 0;
+  const projectLoadedHooks = []; // feature modules' state that belongs to one project
 
-  // The page clock (clock.js, loaded first): real time except while an evaluation runs virtually.
+  // The page clock (clock.js, loaded first): real time except while an evaluation runs virtually,
+  // or an agent's page runs an episode on the paused virtual clock.
   const clock = window.__scratchworldClock;
   delete window.__scratchworldClock;
   const CLOCKS = ['virtual', 'real'];
   // Undoing and checking what an evaluation leaves, so that the page can serve the next one.
   const recycler = window.__scratchworldRecycler;
   delete window.__scratchworldRecycler;
+  // Resetting and checking the editor's own UI state (menus, modals, tabs, palette...), after an episode.
+  const guiState = window.__scratchworldGuiState;
+  delete window.__scratchworldGuiState;
 
   // Results larger than this are refused rather than shipped across the protocol.
   const MAX_RESULT_CHARS = 2 * 1024 * 1024;
@@ -142,6 +147,8 @@
     } catch (reason) {
       throw new BridgeFailure('project_invalid', `the VM refused the project: ${describe(reason)}`);
     }
+    recycler.beforeEvaluation(theVm); // what an agent's page is compared with when it is recycled
+    for (const hook of projectLoadedHooks) hook();
     return {targets: theVm.runtime.targets.filter(t => t.isOriginal).map(t => t.getName())};
   }
 
@@ -249,11 +256,45 @@
     return {resultJson: toJson(outcome, scriptName), durationMs: durationMs};
   }
 
+  const MAX_ADVANCE_MS = 10 * 60 * 1000;
+
+  // An episode on the paused virtual clock: time moves only in `advanceClock`.
+  function episodeClock(args) {
+    if (!CLOCKS.includes(args.mode)) throw new BridgeFailure('bad_request', 'mode must be "virtual" or "real"');
+    if (clock.status().mode === 'virtual') throw new BridgeFailure('bad_request', 'the clock is virtual already');
+    if (args.mode === 'virtual') clock.pauseVirtual();
+    return clock.status();
+  }
+
+  async function advanceClock(args) {
+    const ms = Number(args.ms);
+    if (!(ms >= 0 && ms <= MAX_ADVANCE_MS)) throw new BridgeFailure('bad_request', `ms must be from 0 to ${MAX_ADVANCE_MS}`);
+    if (!clock.status().paused) throw new BridgeFailure('bad_request', 'the page is not on a paused virtual clock');
+    await clock.advance(ms);
+    return {now: clock.now()};
+  }
+
+  function gui() {
+    return {store: store, blocks: () => blocksComponent()};
+  }
+
+  async function recycle() {
+    const theVm = requireVm();
+    clock.stopVirtual(); // an episode's page may still be on its paused clock
+    const differences = await guiState.reset(gui());
+    differences.push(...await recycler.recycle(theVm, clock));
+    differences.push(...guiState.compare(gui()));
+    return {differences: differences};
+  }
+
   const api = {
-    status, setStageSize, loadProject, saveProject, evaluate,
+    status, setStageSize, loadProject, saveProject, evaluate, episodeClock, advanceClock, recycle,
+    redrawPanels: () => { requireVm().emitTargetsUpdate(false); },
     clockStatus: () => clock.status(),
-    markClean: () => recycler.markClean(requireVm()),
-    recycle: async () => ({differences: await recycler.recycle(requireVm(), clock)}),
+    markClean: () => {
+      recycler.markClean(requireVm());
+      guiState.markClean(gui());
+    },
     resume: () => { requireVm().start(); }, // a recycled page's VM steps again
   };
 
@@ -280,7 +321,11 @@
   const modules = window.__scratchworldModules || [];
   delete window.__scratchworldModules;
   for (const factory of modules) {
-    for (const [name, fn] of Object.entries(factory({requireVm: requireVm, BridgeFailure: BridgeFailure, blocksComponent: blocksComponent}))) {
+    for (const [name, fn] of Object.entries(factory({
+      requireVm: requireVm, BridgeFailure: BridgeFailure, blocksComponent: blocksComponent,
+      realNow: clock.realNow, realSleep: clock.realSleep,
+      onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
+    }))) {
       if (Object.prototype.hasOwnProperty.call(api, name)) throw new Error(`bridge function ${name} registered twice`);
       api[name] = fn;
     }

@@ -17,6 +17,11 @@
  * `requestAnimationFrame` stays real: the VM steps on an interval timer and draws in its step, and
  * during our suite's evaluations only the GUI called it (0-2 times per evaluation, measured).
  *
+ * An agent's page can run on the same virtual clock (`pauseVirtual`): time stands still between the
+ * agent's actions, timers already due still fire (Blockly hands its events to the VM in zero-delay
+ * timeouts), and `advance(ms)` lets exactly that much virtual time pass, so what an agent sees does
+ * not depend on how long its model took, and a page waiting for the model costs no CPU.
+ *
  * Timers created during an evaluation are marked, so that a page can be reused: `drainEvaluation`
  * fires the ones still pending ahead of time and reports what keeps running (recycle.js).
  *
@@ -48,6 +53,10 @@
   let evaluating = false; // timers created meanwhile belong to an evaluation (see drainEvaluation)
   let steppedRuntime = null; // the VM's runtime, whose step interval sets the frame phase
   let draining = null; // {resolve, firings, untilMs} while drainEvaluation runs
+  // Virtual mode: timers due later than this wait. Infinity while an evaluation runs; an episode's
+  // page holds it at the present (time stands still while the agent thinks) and moves it in `advance`.
+  let horizonMs = Infinity;
+  let advancing = null; // {resolve} while `advance` runs
   const timers = new Map(); // id -> {id, seq, due, delay, repeat, nesting, fromEvaluation, callback, args, backing}
 
   function now() {
@@ -125,7 +134,10 @@
       if (draining && !timer.fromEvaluation) continue; // between evaluations only their leftovers fire
       if (next === null || timer.due < next.due || (timer.due === next.due && timer.seq < next.seq)) next = timer;
     }
-    if (next === null) return;
+    if (next === null || next.due > horizonMs) {
+      endAdvance();
+      return;
+    }
     if (next.due > virtualNowMs) virtualNowMs = next.due;
     if (next.repeat) {
       next.nesting += 1;
@@ -190,12 +202,42 @@
     if (frame && frame.due > virtualNowMs) virtualNowMs = frame.due;
     for (const timer of timers.values()) disarm(timer);
     virtual = true;
+    horizonMs = Infinity;
     schedulePump();
+  }
+
+  /** Virtual time that stands still until `advance` moves it (an agent's page between actions). */
+  function pauseVirtual() {
+    startVirtual();
+    horizonMs = virtualNowMs;
+  }
+
+  /** Let `ms` of virtual time pass, firing the timers due meanwhile; resolves when it has. */
+  function advance(ms) {
+    if (!virtual || horizonMs === Infinity) throw new Error('the clock is not paused');
+    if (advancing) throw new Error('the clock is already advancing');
+    horizonMs = virtualNowMs + ms;
+    return new Promise((resolve) => {
+      advancing = {resolve};
+      if (timers.size === 0) endAdvance();
+      else schedulePump();
+    });
+  }
+
+  // Nothing more is due before the horizon: the clock reaches it and holds there.
+  function endAdvance() {
+    if (!advancing || horizonMs === Infinity) return;
+    if (horizonMs > virtualNowMs) virtualNowMs = horizonMs;
+    const finish = advancing.resolve;
+    advancing = null;
+    finish();
   }
 
   /** Back to real time, keeping the clock monotonic: time goes on at real speed from here. */
   function stopVirtual() {
     if (!virtual) return;
+    endAdvance();
+    horizonMs = Infinity;
     virtual = false;
     offsetMs = virtualNowMs - realPerformanceNow();
     const at = now();
@@ -263,6 +305,7 @@
   function status() {
     return {
       mode: virtual ? 'virtual' : 'real',
+      paused: virtual && horizonMs !== Infinity && !advancing,
       now: now(),
       realNow: realPerformanceNow(),
       dateNow: VirtualDate.now(),
@@ -430,6 +473,8 @@
   }
 
   window.__scratchworldClock = Object.freeze({
-    startVirtual, stopVirtual, status, attachVm, now, beginEvaluation, drainEvaluation,
+    startVirtual, stopVirtual, pauseVirtual, advance, status, attachVm, now, beginEvaluation, drainEvaluation,
+    realNow: realPerformanceNow,
+    realSleep: (ms) => new Promise((resolve) => realSetTimeout(resolve, ms)),
   });
 })();

@@ -89,7 +89,8 @@
 
   function factory(ctx) {
     let headless = null;
-    let uid = 0;
+    let uid = 0; // per project: a reused page names the next project's new blocks as a fresh page would
+    ctx.onProjectLoaded(() => { uid = 0; });
     const shapeCache = new Map();
     const templateCache = new Map();
 
@@ -931,20 +932,20 @@
     function execute(request) {
       const api = request.api;
       const args = request.args === undefined || request.args === null ? {} : request.args;
-      const started = performance.now();
+      const started = ctx.realNow();
       try {
         if (typeof api !== 'string' || !Object.prototype.hasOwnProperty.call(apis, api)) {
           throw new ActionError('UNKNOWN_API', `unknown api ${typeof api === 'string' ? quote(api.slice(0, 80)) : 'value'}; apis: ${Object.keys(apis).join(', ')}, done, failed`);
         }
         if (typeof args !== 'object' || Array.isArray(args)) throw new ActionError('INVALID_ARG', 'args must be an object');
         const data = apis[api](args);
-        return {success: true, data: data, error: null, durationMs: performance.now() - started};
+        return {success: true, data: data, error: null, durationMs: ctx.realNow() - started};
       } catch (reason) {
         if (reason instanceof ctx.BridgeFailure) throw reason;
         const error = reason instanceof ActionError
           ? {code: reason.code, message: reason.message, details: reason.details}
           : {code: 'INTERNAL_ERROR', message: `${reason && reason.name}: ${reason && reason.message}`, details: null};
-        return {success: false, data: null, error: error, durationMs: performance.now() - started};
+        return {success: false, data: null, error: error, durationMs: ctx.realNow() - started};
       }
     }
 

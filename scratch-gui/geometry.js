@@ -705,7 +705,7 @@
       const condition = CONDITIONS[args.until];
       if (!condition) throw fail(`unknown condition ${JSON.stringify(args.until)}; conditions: ${Object.keys(CONDITIONS).join(', ')}`);
       const timeoutMs = Math.min(Number(args.timeoutMs) || DEFAULT_WAIT_MS, MAX_WAIT_MS);
-      const started = performance.now();
+      const started = ctx.realNow(); // real time: an episode's virtual clock may stand still meanwhile
       let last = null;
       let stillFor = 0;
       let previous;
@@ -714,13 +714,13 @@
         if (last.done) {
           const same = previous !== undefined && JSON.stringify(last.value) === JSON.stringify(previous);
           stillFor = same ? stillFor + 1 : 0;
-          if (!condition.still || stillFor >= STILL_POLLS) return {ok: true, value: last.value, waitedMs: performance.now() - started};
+          if (!condition.still || stillFor >= STILL_POLLS) return {ok: true, value: last.value, waitedMs: ctx.realNow() - started};
         } else {
           stillFor = 0;
         }
         previous = last.value;
-        if (performance.now() - started > timeoutMs) return {ok: false, value: last.value, waitedMs: performance.now() - started};
-        await new Promise((resolve) => setTimeout(resolve, POLL_MS));
+        if (ctx.realNow() - started > timeoutMs) return {ok: false, value: last.value, waitedMs: ctx.realNow() - started};
+        await ctx.realSleep(POLL_MS);
       }
     }
 

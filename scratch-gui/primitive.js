@@ -483,10 +483,8 @@
     }
 
     function nextFrame() {
-      return new Promise((resolve) => {
-        const timer = setTimeout(resolve, FRAME_FALLBACK_MS);
-        requestAnimationFrame(() => { clearTimeout(timer); resolve(); });
-      });
+      // Real time: on an episode's paused virtual clock a virtual timer would not fire.
+      return Promise.race([new Promise((resolve) => requestAnimationFrame(() => resolve())), ctx.realSleep(FRAME_FALLBACK_MS)]);
     }
 
     async function primitiveSettle(args) {
@@ -494,7 +492,7 @@
       if (!(maxMs >= 0) || maxMs > SETTLE_MAX_MS) {
         throw new ctx.BridgeFailure('bad_request', `maxMs must be a number from 0 to ${SETTLE_MAX_MS}`);
       }
-      const started = performance.now();
+      const started = ctx.realNow();
       let dirty = false;
       const observer = new MutationObserver((records) => {
         if (!dirty && records.some((r) => !ignored(r))) dirty = true;
@@ -507,7 +505,7 @@
           const reason = busy();
           quiet = dirty || reason ? 0 : quiet + 1;
           dirty = false;
-          const waited = performance.now() - started;
+          const waited = ctx.realNow() - started;
           if (quiet >= QUIET_FRAMES) return {settled: true, waitedMs: Math.round(waited)};
           if (waited >= maxMs) return {settled: false, waitedMs: Math.round(waited), busy: reason || 'dom mutations'};
         }
@@ -517,7 +515,7 @@
     }
 
     function primitiveElements() {
-      const started = performance.now();
+      const started = ctx.realNow();
       const state = blocklyState(ctx);
       hook(state);
       const viewport = {left: 0, top: 0, right: window.innerWidth, bottom: window.innerHeight};
@@ -532,7 +530,7 @@
       const elements = collectElements(env);
       const textBoxes = collectTextBoxes(env);
       const pixelRegions = collectPixelRegions(env);
-      return {elements: elements, textBoxes: textBoxes, pixelRegions: pixelRegions, elapsedMs: performance.now() - started};
+      return {elements: elements, textBoxes: textBoxes, pixelRegions: pixelRegions, elapsedMs: ctx.realNow() - started};
     }
 
     return {primitiveElements: primitiveElements, primitiveSettle: primitiveSettle};

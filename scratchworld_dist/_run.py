@@ -37,7 +37,15 @@ from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
 from workers.agent_api import agent_class, agent_code, agent_params, extra_models
-from workers.contract import EpisodeResult, HarnessFingerprint, Mode, ModelSpec, NodeReport, describe_differences
+from workers.contract import (
+    EpisodeClock,
+    EpisodeResult,
+    HarnessFingerprint,
+    Mode,
+    ModelSpec,
+    NodeReport,
+    describe_differences,
+)
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 from workers.node import describe_node, harness_fingerprint
 
@@ -150,9 +158,15 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
             helpers,
             config.memory,
             {stream: source_digest(entries) for stream, entries in sources.items()},
+            config.episode_clock or default_episode_clock(suite.kind),
         )
     )
     return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs, memory_sources=sources)
+
+
+def default_episode_clock(suite_kind: str) -> EpisodeClock:
+    """Virtual for our suites; real for upstream clones until the two are compared on them."""
+    return EpisodeClock(mode="real" if suite_kind == "upstream" else "virtual")
 
 
 def offline_sources(config: SweepConfig) -> dict[tuple[str, Mode], list[JobItems]]:

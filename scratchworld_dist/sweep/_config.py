@@ -22,6 +22,7 @@ from workers.contract import (
     AgentRef,
     AgentUnavailableError,
     CoordinateSystem,
+    EpisodeClock,
     EvaluationClock,
     EvaluationProfile,
     LLMSettings,
@@ -197,6 +198,10 @@ class SweepConfig(BaseModel):
     """Evaluation profile (native | upstream); default: the suite's (upstream clones: upstream)."""
     clock: EvaluationClock | None = None
     """Evaluation clock (virtual | real); default: the suite's (ours: virtual; upstream clones: real)."""
+
+    episode_clock: EpisodeClock | None = None
+    """How time passes on the agent's page (``virtual`` or ``{mode, start_ms, settle_ms, think_ms}``);
+    default: virtual for our suites, real for upstream clones (not yet compared with upstream's harness)."""
 
     llm: LLMSettings = Field(default_factory=LLMSettings)
     """The llm agent's conversation protocol and model-call retries."""

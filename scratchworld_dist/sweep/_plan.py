@@ -23,6 +23,7 @@ from scratchworld_dist.suites import Task
 from workers.contract import (
     MIB,
     AgentRef,
+    EpisodeClock,
     EpisodeSpec,
     EvaluationClock,
     EvaluationProfile,
@@ -77,6 +78,9 @@ class JobSpec(BaseModel):
     memory: MemoryPlacement | None = None
     """The job's memory stream and wave (learning agents; part of its id)."""
 
+    episode_clock: EpisodeClock = EpisodeClock()
+    """How time passes on the agent's page (part of the id when virtual)."""
+
     memory_snapshot: MemorySnapshot | None = None
     """The memory the job is shown: set by the driver when the job's wave starts (not part of its id)."""
 
@@ -111,6 +115,7 @@ class JobSpec(BaseModel):
             project_limits=self.project_limits,
             harness=self.harness,
             memory=self.memory_snapshot,
+            episode_clock=self.episode_clock,
         )
 
 
@@ -200,10 +205,12 @@ def job_id(
     synthetic: SyntheticEpisodes | None = None,
     agent_code: str | None = None,
     memory: MemoryPlacement | None = None,
+    episode_clock: EpisodeClock | None = None,
 ) -> str:
     """The job's name: a hash of everything that can change its result (``harness``: this code's fingerprint;
     ``synthetic``: the behaviour of a browserless stand-in episode, never to be taken for a real one;
-    ``agent_code``: a plugin agent's code digest; ``memory``: a learning agent's stream and wave)."""
+    ``agent_code``: a plugin agent's code digest; ``memory``: a learning agent's stream and wave;
+    ``episode_clock``: how time passes on the agent's page)."""
     ref = AgentRef.model_validate(agent)
     identity: dict[str, object] = {
         "model": None if model is None else model.identity(),
@@ -224,6 +231,8 @@ def job_id(
         identity["synthetic"] = synthetic.model_dump(mode="json")
     if memory is not None:  # only jobs of learning agents
         identity["memory"] = memory.identity()
+    if episode_clock is not None and episode_clock.mode != "real":  # ids of real-clock jobs stay as they were
+        identity["episode_clock"] = episode_clock.model_dump(mode="json")
     canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(canonical.encode()).hexdigest()[:24]
 
@@ -244,12 +253,14 @@ def plan_jobs(
     extra_models: list[ModelSpec] | None = None,
     memory: MemorySettings | None = None,
     memory_sources: Mapping[tuple[str, Mode], str] | None = None,
+    episode_clock: EpisodeClock | None = None,
 ) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks.
 
     With ``memory``, each (model, mode, seed) is a stream whose tasks fall into waves;
     ``memory_sources`` gives offline memory's source digest per (model name, mode)."""
     limits = project_limits or ProjectLimits()
+    clock = episode_clock or EpisodeClock()
     harness = harness or harness_fingerprint().digest
     waves = task_waves([content.task.id for content in tasks], memory) if memory is not None else {}
     for model in models:
@@ -269,7 +280,7 @@ def plan_jobs(
                         placement = MemoryPlacement(store=store, wave=waves[task.id], settings=memory, source=source)
                     name = job_id(
                         *(model, mode, agent, content.task_hash, task.id, seed, steps, settings, protocol),
-                        *(limits, harness, stand_in, agent_code, placement),
+                        *(limits, harness, stand_in, agent_code, placement, clock),
                     )
                     yield JobSpec(
                         job_id=name,
@@ -288,4 +299,5 @@ def plan_jobs(
                         harness=harness,
                         extra_models=list(extra_models or []),
                         memory=placement,
+                        episode_clock=clock,
                     )

@@ -22,6 +22,7 @@ from workers.contract._envelope import ActionEnvelope, ActionFailure
 from workers.contract._episode import (
     PERMANENT_ERRORS,
     AgentRef,
+    EpisodeClock,
     EpisodeResult,
     EpisodeSpec,
     EpisodeTimings,
@@ -113,6 +114,7 @@ __all__ = [
     "EditorNotReadyError",
     "Element",
     "ElementSource",
+    "EpisodeClock",
     "EpisodeResult",
     "EpisodeSpec",
     "EpisodeTimings",

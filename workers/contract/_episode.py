@@ -89,6 +89,39 @@ class AgentRef(BaseModel):
         return {"name": self.name, "params": self.params}
 
 
+class EpisodeClock(BaseModel):
+    """How time passes on the agent's page.
+
+    ``real``: page time runs on, also while the model thinks, so what an agent sees depends on its
+    provider's latency and the machine's load. ``virtual``: page time stands still between actions
+    and moves by ``settle_ms`` (plus ``think_ms``) after each, and by ``start_ms`` before the first
+    observation: the same agent and seed see the same pages on any machine and with any provider.
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    mode: Literal["real", "virtual"] = "real"
+    start_ms: int = Field(default=1000, ge=600, le=60_000)
+    """Virtual page time between loading the task's project and the first observation. At least 600:
+    the editor drops panel updates (the code area's sprite picture) within 500 ms of the last one,
+    so the panels are drawn anew once that much time has passed (see ``Editor.redraw_panels``)."""
+
+    settle_ms: int = Field(default=500, ge=0, le=60_000)
+    """Virtual page time after each action (15 of the VM's frames by default)."""
+
+    think_ms: int = Field(default=0, ge=0, le=600_000)
+    """Virtual page time added after each action, standing in for a model's thinking time."""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _mode_alone(cls, data: Any) -> Any:
+        return {"mode": data} if isinstance(data, str) else data
+
+    @property
+    def step_ms(self) -> int:
+        return self.settle_ms + self.think_ms
+
+
 class EpisodeSpec(BaseModel):
     """One job as a worker sees it: who acts, in which mode, for how long."""
 
@@ -122,6 +155,9 @@ class EpisodeSpec(BaseModel):
 
     memory: MemorySnapshot | None = None
     """What a learning agent is shown of its memory in this episode (None: the sweep keeps no memory)."""
+
+    episode_clock: EpisodeClock = Field(default_factory=EpisodeClock)
+    """How time passes on the agent's page."""
 
 
 class TaskPayload(BaseModel):

@@ -24,6 +24,7 @@ from workers.contract import (
     EditorCrashedError,
     EditorError,
     EditorNotReadyError,
+    EpisodeClock,
     EvaluationSpec,
     ProjectLimits,
     RendererUnavailableError,
@@ -37,6 +38,9 @@ CONSOLE_LINE_LIMIT = 400
 """Console lines kept per page; the editor itself is chatty at start-up."""
 
 CLOSE_TIMEOUT_S = 15.0
+
+RELEASED_KEYS = ("Shift", "Control", "Alt", "Meta")
+"""Keys released before a page is reused (gestures press others only within one call)."""
 
 
 class EditorStatus(BaseModel):
@@ -110,8 +114,8 @@ class Editor:
         self.ready_s: float | None = None
         """Seconds from navigation to a ready editor, once ``open`` succeeded."""
         self.page_errors: list[str] = []
-        self.evaluations = 0
-        """Evaluations this editor has run (more than one only when an ``EditorPool`` reuses it)."""
+        self.uses = 0
+        """Evaluations and episodes this editor has served (more than one only when an ``EditorPool`` reuses it)."""
         self.reusable = True
         """False once something happened that recycling cannot vouch for (a killed script)."""
         self._crashed = False
@@ -220,20 +224,45 @@ class Editor:
             "timeoutMs": spec.timeout_s * 1000,
             "clock": spec.clock,
         }
-        self.evaluations += 1
+        self.uses += 1
         return EvaluationRun.model_validate(await self.call("evaluate", args))
 
     async def recycle(self) -> list[str]:
-        """Undo what the last evaluation left in the page (``scratch-gui/recycle.js``).
+        """Undo what the last evaluation or episode left in the page (``scratch-gui/recycle.js``,
+        ``recycle-gui.js``).
 
         Returns what could not be undone or differs from the fresh page; only an editor with no
-        differences may serve another evaluation, after ``resume``.
+        differences may serve again, after ``resume``.
         """
-        self.console.clear()  # the next evaluation gets the whole console allowance
+        self.console.clear()  # the next use gets the whole console allowance
         self.page_errors.clear()
-        await self.page.mouse.move(0, 0)  # so that the next profile's mouse move is a real move
+        if len(self.context.pages) != 1:
+            return [f"the context has {len(self.context.pages)} pages (a link or popup opened one)"]
+        try:  # what an agent's gesture may leave half done: pressed keys and buttons, an open menu
+            for key in RELEASED_KEYS:
+                await self.page.keyboard.up(key)
+            await self.page.keyboard.press("Escape")
+            for button in ("left", "right", "middle"):
+                await self.page.mouse.up(button=button)
+            await self.page.mouse.move(0, 0)  # so that the next profile's mouse move is a real move
+        except PlaywrightError as exc:
+            return [f"the page did not take the input reset: {exc.message}"]
         value = _Recycled.model_validate(await self.call("recycle"))
         return value.differences
+
+    async def start_episode_clock(self, clock: EpisodeClock) -> None:
+        """Put the page on the episode's clock: real, or virtual time that moves only in ``advance_clock``."""
+        await self.call("episodeClock", {"mode": clock.mode})
+
+    async def advance_clock(self, ms: int) -> None:
+        """Let ``ms`` of virtual time pass on a page whose episode runs on the virtual clock."""
+        await self.call("advanceClock", {"ms": ms})
+
+    async def redraw_panels(self) -> None:
+        """Have the editor draw its sprite panels anew from the VM. It drops updates that come within
+        500 ms (on the page clock) of the last one, so what a panel shows after a project load would
+        depend on how fast the load went; redrawn after the virtual start, it shows the same thing."""
+        await self.call("redrawPanels")
 
     async def resume(self) -> None:
         """Start the VM of a recycled page again (it waits for reuse with its VM stopped)."""

@@ -88,7 +88,7 @@ class EditorPool:
         return self._lend(await self.session.open_editor())
 
     def _lend(self, editor: Editor) -> Editor:
-        self._lent[editor] = editor.evaluations
+        self._lent[editor] = editor.uses
         return editor
 
     async def release(self, editor: Editor) -> None:
@@ -108,15 +108,15 @@ class EditorPool:
         await editor.close()
         self._refill()
 
-    def _unusable(self, editor: Editor, evaluations_when_lent: int | None) -> str | None:
+    def _unusable(self, editor: Editor, uses_when_lent: int | None) -> str | None:
         if self._closed:
             return "the pool closed"
         if not editor.reusable or editor.page.is_closed():
             return "the page was killed or went away"
-        if evaluations_when_lent is None or editor.evaluations == evaluations_when_lent:
-            return "no evaluation ran (it may have been used otherwise)"
-        if editor.evaluations >= self.max_uses:
-            return f"{self.max_uses} evaluations done"
+        if uses_when_lent is None or editor.uses == uses_when_lent:
+            return "no evaluation or episode ran (it may have been used otherwise)"
+        if editor.uses >= self.max_uses:
+            return f"{self.max_uses} uses done"
         return None
 
     @contextlib.asynccontextmanager

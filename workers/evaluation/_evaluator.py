@@ -84,7 +84,7 @@ class Evaluator:
             return refusal
         try:
             async with (self.pool or self.session).editor() as editor:
-                timings.editor_ready_s = editor.ready_s if editor.evaluations == 0 else None
+                timings.editor_ready_s = editor.ready_s if editor.uses == 0 else None
                 result = await self._evaluate_in(editor, project, spec, limits, timings)
         except EditorError as exc:
             result = EvalResult.failure("editor_failure", f"{type(exc).__name__}: {exc}", timings=timings)

@@ -14,7 +14,16 @@ REPO_DIR = Path(__file__).resolve().parents[2]
 BUNDLE_PACKAGE = "@scratch/scratch-gui-standalone"
 BUNDLE_FILE = "scratch-gui-standalone.js"
 
-OWN_FILES = ("index.html", "clock.js", "recycle.js", "bridge.js", "composite.js", "primitive.js", "geometry.js")
+OWN_FILES = (
+    "index.html",
+    "clock.js",
+    "recycle.js",
+    "recycle-gui.js",
+    "bridge.js",
+    "composite.js",
+    "primitive.js",
+    "geometry.js",
+)
 """Files of ours that shadow the bundle's web root."""
 
 DEFAULT_CHROMIUM = Path("/usr/bin/chromium")
