@@ -94,8 +94,8 @@ class EpisodeClock(BaseModel):
 
     ``real``: page time runs on, also while the model thinks, so what an agent sees depends on its
     provider's latency and the machine's load. ``virtual``: page time stands still between actions
-    and moves by ``settle_ms`` (plus ``think_ms``) after each, and by ``start_ms`` before the first
-    observation: the same agent and seed see the same pages on any machine and with any provider.
+    and moves by 50 ms before each (see ``ACTION_LEAD_MS``), by ``settle_ms`` (plus ``think_ms``) after
+    each, and by ``start_ms`` before the first observation: the same agent and seed see the same pages on any machine and with any provider.
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid")

@@ -7,6 +7,7 @@ it, so an agent written for one mode cannot reach the other's means by accident.
 
 from __future__ import annotations
 
+from collections.abc import Awaitable, Callable
 from typing import Protocol
 
 from playwright.async_api import Error as PlaywrightError
@@ -59,10 +60,13 @@ class CompositeEnvironment:
 class PrimitiveEnvironment:
     """Screenshots plus element lists, and real mouse and keyboard; composite calls are refused."""
 
-    def __init__(self, editor: Editor, observer: PrimitiveObserver) -> None:
+    def __init__(
+        self, editor: Editor, observer: PrimitiveObserver, pass_time: Callable[[float], Awaitable[None]] | None = None
+    ) -> None:
+        """``pass_time``: see ``Gestures`` (set on an episode's virtual clock)."""
         self.editor = editor
         self.observer = observer
-        self.gestures = Gestures(editor.page)
+        self.gestures = Gestures(editor.page, pass_time)
 
     async def observe(self) -> PrimitiveObservation:
         observation = await self.observer.observe(self.editor)

@@ -11,6 +11,7 @@ while the agent decides and moves by a fixed amount after each action.
 from __future__ import annotations
 
 import contextlib
+import functools
 import json
 import time
 import traceback
@@ -91,7 +92,10 @@ class EpisodeRunner:
         settings = spec.observation or ObservationSettings()
         if settings not in self._ocr:
             self._ocr[settings] = region_ocr(settings)
-        return PrimitiveEnvironment(editor, PrimitiveObserver(settings, self._ocr[settings]))
+        pass_time = None
+        if spec.episode_clock.mode == "virtual":
+            pass_time = functools.partial(_pass_time, editor)
+        return PrimitiveEnvironment(editor, PrimitiveObserver(settings, self._ocr[settings]), pass_time)
 
     async def run(self, spec: EpisodeSpec, task: TaskPayload, agent: Agent) -> EpisodeResult:
         started, clock = time.time(), time.perf_counter()
@@ -206,9 +210,19 @@ async def _guarded(call: Awaitable[_T], doing: str) -> _T:
         raise AgentCrashedError(f"the agent {doing}: {type(exc).__name__}: {exc}", _trace(exc)) from exc
 
 
+async def _pass_time(editor: Editor, ms: float) -> None:
+    await editor.advance_clock(round(ms))
+
+
+ACTION_LEAD_MS = 50
+"""Virtual page time before each action: the timers the page set meanwhile (an observation, a
+privileged agent reading the page) come due first, as they would have while a user reached for the
+mouse; e.g. Blockly makes a block it has just drawn a drop target 1 ms later."""
+
+
 class _Pace:
     """The agent page's time: nothing to do on the real clock; on the virtual clock, a fixed amount
-    of page time before the first observation and after each action, and none in between."""
+    of page time before the first observation, before each action and after it, and none in between."""
 
     def __init__(self, editor: Editor, clock: EpisodeClock) -> None:
         self.editor = editor
@@ -219,6 +233,10 @@ class _Pace:
             await self.editor.start_episode_clock(self.clock)
             await self.editor.advance_clock(self.clock.start_ms)
             await self.editor.redraw_panels()
+
+    async def before_action(self) -> None:
+        if self.clock.mode == "virtual":
+            await self.editor.advance_clock(ACTION_LEAD_MS)
 
     async def after_action(self) -> None:
         if self.clock.mode == "virtual":
@@ -243,6 +261,7 @@ async def _act(
         if not isinstance(action, ACTION_TYPES):
             message = f"the agent returned a {type(action).__name__} at step {index}, not an action"
             raise AgentCrashedError(message, message)
+        await pace.before_action()
         ok, error_code, error_message, data = await _apply(
             environment, action, spec.project_limits, privileged=getattr(agent, "privileged", False)
         )

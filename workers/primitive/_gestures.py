@@ -138,8 +138,11 @@ def key_name(key: str) -> str:
 class Gestures:
     """Executes primitive actions on one page; index targets resolve against ``elements``."""
 
-    def __init__(self, page: Page) -> None:
+    def __init__(self, page: Page, pass_time: Callable[[float], Awaitable[None]] | None = None) -> None:
+        """``pass_time(ms)``: let page time pass between a drag's moves (on an episode's virtual clock,
+        where it would otherwise stand still through the whole gesture); None: it passes by itself."""
         self.page = page
+        self.pass_time = pass_time
         self.elements: Sequence[Located] | None = None
         """The element list of the latest observation (None until the first one)."""
 
@@ -203,7 +206,15 @@ class Gestures:
         await mouse.move(*start)
         await mouse.down()
         # Scratch starts a drag and shows the snap preview only on real intermediate moves.
-        await mouse.move(*end, steps=max(10, int(args.duration * 30)))
+        steps = max(10, int(args.duration * 30))
+        if self.pass_time is None:
+            await mouse.move(*end, steps=steps)
+        else:  # the editor's throttled drag handlers see the gesture's duration go by, as in real time
+            for step in range(1, steps + 1):
+                await mouse.move(
+                    start[0] + (end[0] - start[0]) * step / steps, start[1] + (end[1] - start[1]) * step / steps
+                )
+                await self.pass_time(args.duration * 1000 / steps)
         await mouse.up()
         return {"start": list(start), "end": list(end)}
 
