@@ -16,7 +16,7 @@ from workers.contract._errors import ModelErrorClass
 from workers.contract._eval_result import EvalResult
 from workers.contract._evaluation_spec import EvaluationSpec
 from workers.contract._memory import MemoryItem, MemorySnapshot
-from workers.contract._model import LLMSettings, ModelSpec
+from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
 from workers.contract._observation_settings import ObservationSettings
 from workers.contract._sb3 import ProjectLimits
 
@@ -123,6 +123,9 @@ class EpisodeSpec(BaseModel):
     memory: MemorySnapshot | None = None
     """What a learning agent is shown of its memory in this episode (None: the sweep keeps no memory)."""
 
+    model_cache: ModelCacheSettings | None = None
+    """Where successful model replies are stored and replayed from (None: every call goes to the model)."""
+
 
 class TaskPayload(BaseModel):
     """The task's content, shipped once per task to the object store and shared by its jobs."""
@@ -166,6 +169,9 @@ class StepRecord(BaseModel):
     """Degradations of this step's observation (e.g. OCR down: a DOM-only element list)."""
 
     llm_calls: int = 0
+    llm_cache_hits: int = 0
+    """Of ``llm_calls``, those answered from the model cache (no request, no cost)."""
+
     input_tokens: int = 0
     output_tokens: int = 0
     cost_usd: float = 0.0
@@ -227,6 +233,10 @@ class EpisodeResult(BaseModel):
     @property
     def llm_calls(self) -> int:
         return sum(step.llm_calls for step in self.steps)
+
+    @property
+    def llm_cache_hits(self) -> int:
+        return sum(step.llm_cache_hits for step in self.steps)
 
     @property
     def input_tokens(self) -> int:

@@ -1,10 +1,12 @@
-"""The model-calling foundation of the ``llm`` agent: reply parsing, the model client and cluster-wide pacing.
+"""The model-calling foundation of the ``llm`` agent: reply parsing, the model client, cluster-wide pacing
+and the opt-in model-call cache.
 
 Importing this package does not import LiteLLM (2-3 s and, without the offline cost map, the
 network) nor Ray; both load on first use.
 """
 
 from workers.llm._breaker import BreakerState, CircuitBreaker, circuit_breaker
+from workers.llm._cache import CacheEntry, ModelCache, request_key
 from workers.llm._client import (
     Completion,
     ModelClient,
@@ -12,6 +14,8 @@ from workers.llm._client import (
     estimate_tokens,
     load_litellm,
     model_key,
+    takes_seed,
+    uncacheable,
 )
 from workers.llm._errors import ParseFailure, ReplyParseError
 from workers.llm._limiter import (
@@ -36,12 +40,14 @@ __all__ = [
     "EXPECTED_FORMAT",
     "LIMITER_NAMESPACE",
     "BreakerState",
+    "CacheEntry",
     "CircuitBreaker",
     "Completion",
     "Grant",
     "LimiterStats",
     "LocalLimiterHandle",
     "LocalRateLimiter",
+    "ModelCache",
     "ModelClient",
     "Outcome",
     "ParseFailure",
@@ -61,4 +67,7 @@ __all__ = [
     "model_key",
     "parse_reply",
     "repair_json",
+    "request_key",
+    "takes_seed",
+    "uncacheable",
 ]

@@ -4,7 +4,8 @@ LiteLLM is called with ``num_retries=0`` (its own retries would also repeat 400s
 the SDK's); a tenacity loop retries transient errors with full-jitter exponential backoff,
 honouring ``Retry-After``, within ``max_attempts`` and ``max_total_s``. Each HTTP attempt holds
 a rate-limiter slot. Failures surface as ``ModelCallError`` with a class, and no message ever
-holds the API key: it is scrubbed, and the provider's exception is not chained.
+holds the API key: it is scrubbed, and the provider's exception is not chained. With a
+``ModelCache``, a request answered before is answered from it before any of that (see ``_cache``).
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from __future__ import annotations
 import asyncio
 import email.utils
 import functools
+import importlib.metadata
 import logging
 import os
 import random
@@ -26,6 +28,7 @@ from tenacity import AsyncRetrying, RetryCallState, retry_if_exception
 
 from workers.contract import ModelCallError, ModelErrorClass, ModelSpec, RetryPolicy
 from workers.llm._breaker import CircuitBreaker, circuit_breaker
+from workers.llm._cache import CACHE_FORMAT, CacheEntry, ModelCache, new_entry, request_key
 from workers.llm._limiter import RateLimiterHandle
 
 logger = logging.getLogger(__name__)
@@ -57,6 +60,24 @@ class Completion(BaseModel):
     """The model the provider says answered."""
 
     finish_reason: str | None = None
+    cached: bool = False
+    """Answered from the model cache: no request was made and it cost nothing."""
+
+    @classmethod
+    def replayed(cls, entry: CacheEntry, total_s: float) -> Completion:
+        """A cached reply as a completion: its usage as stored, its cost 0, no attempt made."""
+        return cls(
+            text=entry.text,
+            input_tokens=entry.input_tokens,
+            output_tokens=entry.output_tokens,
+            cost_usd=0.0,
+            latency_s=0.0,
+            total_s=total_s,
+            attempts=0,
+            model=entry.answered_by,
+            finish_reason=entry.finish_reason,
+            cached=True,
+        )
 
 
 def model_key(spec: ModelSpec) -> str:
@@ -110,7 +131,8 @@ async def close_litellm_clients() -> None:
 
 
 @functools.cache
-def _supports_seed(model: str) -> bool:
+def takes_seed(model: str) -> bool:
+    """Whether LiteLLM sends a seed to this model (the client passes the episode's seed only then)."""
     litellm = _import_litellm()
     try:
         return "seed" in (litellm.get_supported_openai_params(model=model) or [])
@@ -118,7 +140,30 @@ def _supports_seed(model: str) -> bool:
         return False
 
 
+def uncacheable(spec: ModelSpec, seeded: bool = True) -> str | None:
+    """Why this model's replies may not be cached, or None: with a temperature above 0 (an unset one is
+    the provider's default, 1 for most) and no seed sent, one sampled reply would stand in for all.
+    ``seeded``: the calls pass a seed (episodes always do)."""
+    temperature = spec.temperature if spec.temperature is not None else spec.params.get("temperature")
+    if temperature == 0 or (seeded and takes_seed(spec.model)):
+        return None
+    said = (
+        "temperature unset (the provider's default, usually 1)" if temperature is None else f"temperature {temperature}"
+    )
+    unseeded = f"{spec.model} takes no seed" if seeded else "no seed is given"
+    return (
+        f"model {spec.name}: {said} and {unseeded}, so a cached reply would replay one sample "
+        "as the model's answer; set temperature: 0 or turn model_cache off"
+    )
+
+
+@functools.cache
+def _litellm_version() -> str:
+    return importlib.metadata.version("litellm")
+
+
 _cost_warned: set[str] = set()
+_uncached_warned: set[str] = set()
 
 
 def _cost(litellm: ModuleType, response: Any, model: str) -> float:
@@ -154,8 +199,46 @@ class ModelClient:
             self.key, self.policy.breaker_failures, self.policy.breaker_window_s, self.policy.breaker_cooldown_s
         )
 
-    async def complete(self, messages: list[dict[str, Any]], seed: int | None = None) -> Completion:
-        """The model's reply to ``messages``; raises ``ModelCallError`` once retrying cannot help."""
+    async def complete(
+        self, messages: list[dict[str, Any]], seed: int | None = None, cache: ModelCache | None = None
+    ) -> Completion:
+        """The model's reply to ``messages``; raises ``ModelCallError`` once retrying cannot help.
+
+        With a ``cache``, a request answered before is answered from it (no request, no cost, no
+        rate-limiter slot, whatever the circuit says) and a successful reply is stored there.
+        """
+        started = time.monotonic()
+        key = await self._cache_key(messages, seed) if cache is not None else None
+        if cache is not None and key is not None:
+            entry = await cache.get(key)
+            if entry is not None:
+                return Completion.replayed(entry, time.monotonic() - started)
+        completion = await self._call(messages, seed)
+        if cache is not None and key is not None:
+            await cache.put(new_entry(key, self.spec.model, seed, completion))
+        return completion
+
+    async def _cache_key(self, messages: list[dict[str, Any]], seed: int | None) -> str | None:
+        """The request's key: the model's identity, the seed, every keyword LiteLLM is given but the API
+        key (the endpoint as resolved here included), every message in full, and LiteLLM's version."""
+        await load_litellm()
+        reason = uncacheable(self.spec, seeded=seed is not None)
+        if reason is not None:  # the sweep config refuses this; an agent's own ModelSpec may not have been checked
+            if self.key not in _uncached_warned:
+                _uncached_warned.add(self.key)
+                logger.warning("not caching: %s", reason)
+            return None
+        request = {
+            "format": CACHE_FORMAT,
+            "litellm": _litellm_version(),
+            "model": self.spec.identity(),
+            "seed": seed,
+            "kwargs": self._kwargs(None, seed),
+            "messages": messages,
+        }
+        return await asyncio.to_thread(request_key, request)
+
+    async def _call(self, messages: list[dict[str, Any]], seed: int | None) -> Completion:
         trial = self.breaker.before_call()
         verdict = False
         try:
@@ -260,7 +343,7 @@ class ModelClient:
         if spec.max_tokens is not None:
             kwargs["max_tokens"] = spec.max_tokens
         if seed is not None:
-            if _supports_seed(spec.model):
+            if takes_seed(spec.model):
                 kwargs["seed"] = seed
             else:
                 logger.debug("%s does not take a seed; calling without one", spec.model)
