@@ -31,6 +31,7 @@ from workers.contract import (
     MemorySettings,
     MemorySnapshot,
     Mode,
+    ModelCacheSettings,
     ModelSpec,
     ObservationSettings,
     ProjectLimits,
@@ -80,6 +81,10 @@ class JobSpec(BaseModel):
     memory_snapshot: MemorySnapshot | None = None
     """The memory the job is shown: set by the driver when the job's wave starts (not part of its id)."""
 
+    model_cache: ModelCacheSettings | None = None
+    """The sweep's model cache (not part of the id: a replayed reply is the one this model gave to this
+    exact request under this seed, so the job's conditions are the same; rows record the hits)."""
+
     @property
     def agent_label(self) -> str:
         """The agent column of reports; memory fed by the verdict is labelled as the ablation it is."""
@@ -111,6 +116,7 @@ class JobSpec(BaseModel):
             project_limits=self.project_limits,
             harness=self.harness,
             memory=self.memory_snapshot,
+            model_cache=self.model_cache,
         )
 
 
@@ -244,11 +250,13 @@ def plan_jobs(
     extra_models: list[ModelSpec] | None = None,
     memory: MemorySettings | None = None,
     memory_sources: Mapping[tuple[str, Mode], str] | None = None,
+    model_cache: ModelCacheSettings | None = None,
 ) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks.
 
     With ``memory``, each (model, mode, seed) is a stream whose tasks fall into waves;
-    ``memory_sources`` gives offline memory's source digest per (model name, mode)."""
+    ``memory_sources`` gives offline memory's source digest per (model name, mode); ``model_cache``
+    is handed to every job (it does not change their ids)."""
     limits = project_limits or ProjectLimits()
     harness = harness or harness_fingerprint().digest
     waves = task_waves([content.task.id for content in tasks], memory) if memory is not None else {}
@@ -288,4 +296,5 @@ def plan_jobs(
                         harness=harness,
                         extra_models=list(extra_models or []),
                         memory=placement,
+                        model_cache=model_cache,
                     )
