@@ -31,6 +31,9 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
+from workers.contract import ModelSpec
+from workers.llm._litellm import takes_seed
+
 if TYPE_CHECKING:
     from workers.llm._client import Completion
 
@@ -67,6 +70,23 @@ class CacheEntry(BaseModel):
 
     finish_reason: str | None = None
     stored_at: float
+
+
+def uncacheable(spec: ModelSpec, seeded: bool = True) -> str | None:
+    """Why this model's replies may not be cached, or None: with a temperature above 0 (an unset one is
+    the provider's default, 1 for most) and no seed sent, one sampled reply would stand in for all.
+    ``seeded``: the calls pass a seed (episodes always do)."""
+    temperature = spec.temperature if spec.temperature is not None else spec.params.get("temperature")
+    if temperature == 0 or (seeded and takes_seed(spec.model)):
+        return None
+    said = (
+        "temperature unset (the provider's default, usually 1)" if temperature is None else f"temperature {temperature}"
+    )
+    unseeded = f"{spec.model} takes no seed" if seeded else "no seed is given"
+    return (
+        f"model {spec.name}: {said} and {unseeded}, so a cached reply would replay one sample "
+        "as the model's answer; set temperature: 0 or turn model_cache off"
+    )
 
 
 def request_key(request: dict[str, Any]) -> str | None:

@@ -13,12 +13,9 @@ from __future__ import annotations
 import asyncio
 import email.utils
 import functools
-import importlib.metadata
 import logging
 import os
 import random
-import sys
-import threading
 import time
 from types import ModuleType
 from typing import Any
@@ -28,8 +25,9 @@ from tenacity import AsyncRetrying, RetryCallState, retry_if_exception
 
 from workers.contract import ModelCallError, ModelErrorClass, ModelSpec, RetryPolicy
 from workers.llm._breaker import CircuitBreaker, circuit_breaker
-from workers.llm._cache import CACHE_FORMAT, CacheEntry, ModelCache, new_entry, request_key
+from workers.llm._cache import CACHE_FORMAT, CacheEntry, ModelCache, new_entry, request_key, uncacheable
 from workers.llm._limiter import RateLimiterHandle
+from workers.llm._litellm import litellm_version, load_litellm, takes_seed
 
 logger = logging.getLogger(__name__)
 
@@ -103,65 +101,6 @@ def estimate_tokens(messages: list[dict[str, Any]], max_tokens: int | None) -> i
     return chars // 4 + images * IMAGE_TOKENS + (max_tokens or DEFAULT_COMPLETION_TOKENS)
 
 
-_LITELLM_LOCK = threading.Lock()
-
-
-def _import_litellm() -> ModuleType:
-    """Import LiteLLM with the bundled cost map: otherwise the import itself goes to the network."""
-    with _LITELLM_LOCK:
-        os.environ.setdefault("LITELLM_LOCAL_MODEL_COST_MAP", "True")
-        import litellm
-
-        litellm.suppress_debug_info = True  # no "Give Feedback" banners on stdout per error
-        return litellm
-
-
-async def load_litellm() -> ModuleType:
-    """LiteLLM, imported off the event loop the first time (the import takes 2-3 s)."""
-    module = sys.modules.get("litellm")
-    if module is not None and getattr(module, "acompletion", None) is not None:
-        return module
-    return await asyncio.to_thread(_import_litellm)
-
-
-async def close_litellm_clients() -> None:
-    """Close LiteLLM's cached HTTP sessions (call before the event loop ends, e.g. in test teardown)."""
-    if "litellm" in sys.modules:
-        await sys.modules["litellm"].close_litellm_async_clients()
-
-
-@functools.cache
-def takes_seed(model: str) -> bool:
-    """Whether LiteLLM sends a seed to this model (the client passes the episode's seed only then)."""
-    litellm = _import_litellm()
-    try:
-        return "seed" in (litellm.get_supported_openai_params(model=model) or [])
-    except Exception:  # an unknown provider: do not risk a 400 over a seed
-        return False
-
-
-def uncacheable(spec: ModelSpec, seeded: bool = True) -> str | None:
-    """Why this model's replies may not be cached, or None: with a temperature above 0 (an unset one is
-    the provider's default, 1 for most) and no seed sent, one sampled reply would stand in for all.
-    ``seeded``: the calls pass a seed (episodes always do)."""
-    temperature = spec.temperature if spec.temperature is not None else spec.params.get("temperature")
-    if temperature == 0 or (seeded and takes_seed(spec.model)):
-        return None
-    said = (
-        "temperature unset (the provider's default, usually 1)" if temperature is None else f"temperature {temperature}"
-    )
-    unseeded = f"{spec.model} takes no seed" if seeded else "no seed is given"
-    return (
-        f"model {spec.name}: {said} and {unseeded}, so a cached reply would replay one sample "
-        "as the model's answer; set temperature: 0 or turn model_cache off"
-    )
-
-
-@functools.cache
-def _litellm_version() -> str:
-    return importlib.metadata.version("litellm")
-
-
 _cost_warned: set[str] = set()
 _uncached_warned: set[str] = set()
 
@@ -230,7 +169,7 @@ class ModelClient:
             return None
         request = {
             "format": CACHE_FORMAT,
-            "litellm": _litellm_version(),
+            "litellm": litellm_version(),
             "model": self.spec.identity(),
             "seed": seed,
             "kwargs": self._kwargs(None, seed),
