@@ -110,12 +110,14 @@ class AttemptRecorder:
 
 
 def config_hash(config: SweepConfig) -> str:
-    """Hash of the fields that shape the job matrix; paths and execution limits may change freely."""
+    """Hash of the fields that shape the job matrix; paths, execution limits and the model cache (a replay is
+    the reply the same request got, so a run may turn it on or off) may change freely."""
     pacing: dict[str, object] = {
         "suite": True,
         "output": True,
         "limits": True,
         "ray": True,
+        "model_cache": True,
         "llm": {"retry"},
         "models": {"__all__": {"rate_limits"}},
         "memory": {"from_run"},
@@ -159,6 +161,7 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
             config.memory,
             {stream: source_digest(entries) for stream, entries in sources.items()},
             config.episode_clock or default_episode_clock(suite.kind),
+            config.model_cache,
         )
     )
     return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs, memory_sources=sources)
@@ -242,6 +245,8 @@ def _run_plan(plan: RunPlan, nodes: list[NodeReport], force: bool, console: Cons
     run_dir = config.run_dir()
     store = RunStore(run_dir)
     manifest = _checked_manifest(plan, run_dir, force)
+    if config.model_cache is not None:
+        _open_model_cache(config.model_cache.dir)
     store.open_for_writing()
     try:
         attempts = store.attempts()
@@ -387,6 +392,17 @@ def _with_snapshots(
         if job.memory is not None and job.memory.store in snapshots
     ]
     return ready, failed
+
+
+def _open_model_cache(folder: Path) -> None:
+    """Create the cache folder here, so a path no one can write is refused before any job runs."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / f".probe-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError as exc:
+        raise ConfigError(f"model_cache.dir: cannot store model replies in {folder}: {exc.strerror or exc}") from None
 
 
 def _rate_limiters(models: list[ModelSpec | None]) -> list[RayLimiterHandle]:

@@ -36,9 +36,11 @@ def answer(action: dict[str, Any]) -> str:
 
 
 class TrajectoryModel:
-    """Answers from the conversation alone: the task by its instruction, the turn by the replies so far."""
+    """Answers from the conversation alone: the task by its instruction, the turn by the replies so far
+    (in composite mode, ``turns`` steps of the golden trajectory at most, then done)."""
 
-    def __init__(self) -> None:
+    def __init__(self, turns: int | None = None) -> None:
+        self.turns = turns
         suite = load_suite(REPO / "tasks")
         self.tasks = {task.instruction: task.trajectory() or [] for task in (suite.task(TASK),)}
 
@@ -58,7 +60,7 @@ class TrajectoryModel:
                 return self._reply("I am not sure what to do next.")
             return self._reply(answer({"api": "done", "args": {}}))
         trajectory = next(t for instruction, t in self.tasks.items() if instruction in system)
-        if turn < len(trajectory):
+        if turn < len(trajectory) and (self.turns is None or turn < self.turns):
             return self._reply(answer(trajectory[turn].model_dump(mode="json", include={"api", "args"})))
         return self._reply(answer({"api": "done", "args": {}}))
 
@@ -192,3 +194,48 @@ def test_a_budget_stops_new_jobs_and_the_report_says_so(tmp_path: Path, drivers:
     code, log = run(drivers, config, timeout=600)
     assert code == 0 and "2 job(s) not started" in log
     assert len(RunStore(tmp_path / "budget").job_rows()) == 1
+
+
+def test_a_rerun_with_the_model_cache_replays_every_reply_at_no_cost(
+    tmp_path: Path, drivers: list[Driver], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The model selects the sprite, then stops: actions whose answers hold no generated ids (the page names
+    new blocks and variables by the clock, so a conversation past one differs between runs and misses)."""
+    with OpenAIServer(responder=TrajectoryModel(turns=1)) as server:
+        monkeypatch.setenv("SCRATCHWORLD_LLM_BASE_URL", server.url)
+        monkeypatch.setenv("SCRATCHWORLD_LLM_API_KEY", SECRET)
+        model = {"api_base_env": "SCRATCHWORLD_LLM_BASE_URL", "api_key_env": "SCRATCHWORLD_LLM_API_KEY"}
+        fields: dict[str, Any] = {"models": [{"model": "openai/gpt-4o", "temperature": 0, **model}]}
+        first = sweep(tmp_path, "cached-first", model_cache={"dir": "model-cache"}, modes=["composite"], **fields)
+        code, log = run(drivers, first, timeout=600)
+        assert code == 0, log
+        (made,) = RunStore(tmp_path / "cached-first").job_rows()
+        assert (made.outcome, made.llm_calls, made.llm_cache_hits, server.count) == ("failed", 2, 0, 2)
+        assert made.cost_usd > 0
+        stored = list((tmp_path / "model-cache").glob("*/*.json"))
+        assert len(stored) == 2 and all(SECRET.encode() not in path.read_bytes() for path in stored)
+
+        # Another run (another directory), given the same folder on the command line: every reply is replayed.
+        second = sweep(tmp_path, "cached-again", modes=["composite"], **fields)
+        code, log = run(drivers, second, "--model-cache", str(tmp_path / "model-cache"), timeout=600)
+        assert code == 0, log
+    (replayed,) = RunStore(tmp_path / "cached-again").job_rows()
+    assert server.count == 2  # no request reached the server
+    assert replayed.job_id == made.job_id  # the cache is not part of a job's identity
+    assert (replayed.outcome, replayed.llm_calls, replayed.llm_cache_hits, replayed.cost_usd) == ("failed", 2, 2, 0.0)
+    assert (replayed.input_tokens, replayed.output_tokens) == (made.input_tokens, made.output_tokens)
+    steps = RunStore(tmp_path / "cached-again").read_table("steps").to_pylist()
+    assert [s["llm_cache_hits"] for s in steps] == [1, 1]
+    trajectory = tmp_path / "cached-again" / str(replayed.artifact_dir) / "trajectory.jsonl"
+    assert [json.loads(line)["llm_cache_hits"] for line in trajectory.read_text().splitlines()] == [1, 1]
+
+    (row,) = report(tmp_path / "cached-again")["rows"]
+    assert (row["llm_cache_hits"], row["llm_cache_calls"], row["cost_usd"]) == (2, 2, 0.0)
+    text = subprocess.run(
+        [SCRATCHWORLD, "report", str(tmp_path / "cached-again")], capture_output=True, text=True, check=True
+    ).stdout
+    assert "| 2/2 (100.0%) |" in text and "Cache hits:" in text
+    first_text = subprocess.run(
+        [SCRATCHWORLD, "report", str(tmp_path / "cached-first")], capture_output=True, text=True, check=True
+    ).stdout
+    assert "| 0/2 (0.0%) |" in first_text  # the first run had the cache too, and no hit

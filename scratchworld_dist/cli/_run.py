@@ -19,9 +19,20 @@ EXIT_ERRORS = 1
 @click.option("--address", help="Ray cluster to join (default: RAY_ADDRESS, else a private local Ray).")
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (overrides profile).")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (overrides clock).")
+@click.option(
+    "--model-cache",
+    type=click.Path(file_okay=False, path_type=Path),
+    help="Answer repeated model requests from this folder (overrides model_cache.dir).",
+)
 @click.option("--force", is_flag=True, help="Continue in a run directory that holds another sweep.")
 def run_command(
-    config_file: Path, out: Path | None, address: str | None, profile: str | None, clock: str | None, force: bool
+    config_file: Path,
+    out: Path | None,
+    address: str | None,
+    profile: str | None,
+    clock: str | None,
+    model_cache: Path | None,
+    force: bool,
 ) -> None:
     """Run the sweep in CONFIG_FILE; run it again to resume.
 
@@ -37,6 +48,8 @@ def run_command(
         overrides["profile"] = profile
     if clock is not None:
         overrides["clock"] = clock
+    if model_cache is not None:  # relative to the working directory, like --out; workers get it absolute
+        overrides["model_cache"] = {"dir": str(model_cache.resolve())}
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
 
     config = load_sweep_config(config_file, overrides)

@@ -15,6 +15,12 @@ from scratchworld_dist.reports._summary import KEstimate, ReportRow, RunReport
 ReportFormat = Literal["md", "html", "json"]
 FORMATS: tuple[ReportFormat, ...] = ("md", "html", "json")
 
+_CACHE_NOTE = (
+    "Cache hits: model calls answered from the sweep's model cache with the reply the same request (model, "
+    "parameters, seed, every message and image) got before; they made no request and cost nothing, so cost "
+    "and cost per success count only the calls sent. Their tokens are those of the replies they replay."
+)
+
 _DEFINITIONS = (
     "SR = passed / determinate jobs (outcome passed or failed); PSR = mean fraction of tests passed over "
     "determinate jobs. Jobs whose effective outcome is error have no verdict: they are excluded from SR and PSR "
@@ -122,6 +128,8 @@ def _blocks(report: RunReport) -> list[_Block]:
         if any(row.seeds is not None for row in rows):
             blocks += [_Heading(3, f"Across seeds ({mode})"), _seed_table(rows)]
     blocks.append(_Paragraph(_DEFINITIONS))
+    if any(row.llm_cache_hits is not None for row in report.rows):
+        blocks.append(_Paragraph(_CACHE_NOTE))
     blocks += _errors(report)
     return blocks
 
@@ -155,6 +163,9 @@ def _runs(report: RunReport) -> list[_Block]:
 def _main_table(rows: list[ReportRow], categories: list[str]) -> _Table:
     header = ["agent/model", *(f"{c.capitalize()} SR" for c in categories), "SR", "PSR", "coverage", "errors"]
     header += ["mean steps", "tokens (in+out)", "cost (USD)", "cost per success"]
+    cache = any(row.llm_cache_hits is not None for row in rows)
+    if cache:  # only runs that used the model cache show the column
+        header.append("cache hits")
     body = []
     for row in rows:
         cells = [row.label]
@@ -167,6 +178,8 @@ def _main_table(rows: list[ReportRow], categories: list[str]) -> _Table:
         cells += [str(row.errors), "-" if row.mean_steps is None else f"{row.mean_steps:.1f}"]
         cells += [f"{row.input_tokens + row.output_tokens:,}", _usd(row.cost_usd)]
         cells.append("-" if row.cost_per_success is None else _usd(row.cost_per_success))
+        if cache:
+            cells.append(_cache_hits(row))
         body.append(cells)
     return _Table(header, body)
 
@@ -204,6 +217,14 @@ def _estimates(estimates: list[KEstimate], width: int) -> list[str]:
         f"{_pct(e.value)} ({e.tasks} task{'s' * (e.tasks != 1)})" if e.value is not None else "-" for e in estimates
     ]
     return cells + ["-"] * (width - len(cells))
+
+
+def _cache_hits(row: ReportRow) -> str:
+    if row.llm_cache_hits is None or row.llm_cache_calls is None:
+        return "-"
+    if not row.llm_cache_calls:
+        return "0/0"
+    return f"{row.llm_cache_hits:,}/{row.llm_cache_calls:,} ({_pct(row.llm_cache_hits / row.llm_cache_calls)})"
 
 
 def _md_row(cells: list[str]) -> str:

@@ -108,6 +108,12 @@ class ReportRow(BaseModel):
 
     cost_per_success: float | None
     seeds: SeedStats | None
+    llm_cache_hits: int | None = None
+    """Model calls answered from the model cache (no request, no cost), over the jobs that ran with one;
+    ``None`` when none did."""
+
+    llm_cache_calls: int | None = None
+    """All model calls of the jobs that ran with the model cache (what ``llm_cache_hits`` is out of)."""
 
 
 class ErrorCount(BaseModel):
@@ -189,6 +195,7 @@ def summarize(agent: str, model: str, mode: str, rows: Sequence[JobRow], missing
     psrs = [r.psr for r in decided if r.psr is not None]
     planned = len(rows) + (missing or 0)
     cost = sum(r.cost_usd for r in rows)
+    cached = [r for r in rows if r.llm_cache_hits is not None]
     return ReportRow(
         label=row_label(agent, model),
         agent=agent,
@@ -209,6 +216,8 @@ def summarize(agent: str, model: str, mode: str, rows: Sequence[JobRow], missing
         cost_usd=cost,
         cost_per_success=cost / passed if passed else None,
         seeds=_seed_stats(rows),
+        llm_cache_hits=sum(r.llm_cache_hits or 0 for r in cached) if cached else None,
+        llm_cache_calls=sum(r.llm_calls for r in cached) if cached else None,
     )
 
 

@@ -80,6 +80,9 @@ class JobRow(BaseModel):
     memory_snapshot: str | None = None
     """Digest of the memory snapshot the job was shown (see ``memory/<store>/wave-*.json``)."""
 
+    llm_cache_hits: int | None = None
+    """Of ``llm_calls``, those answered from the model cache; null when the run had no cache (and in older runs)."""
+
 
 class StepRow(BaseModel):
     """One agent action of one attempt (a row of ``steps/``)."""
@@ -103,6 +106,8 @@ class StepRow(BaseModel):
     input_tokens: int
     output_tokens: int
     cost_usd: float
+    llm_cache_hits: int | None = None
+    """Of ``llm_calls``, those answered from the model cache; null when the run had no cache (and in older runs)."""
 
 
 class TestRow(BaseModel):
@@ -144,6 +149,7 @@ def record_of(
     """Flatten a worker's result into rows; the job's identity comes from the plan, not the worker."""
     evaluation = result.evaluation
     worker = result.worker
+    cached = job.model_cache is not None
     row = JobRow(
         run_name=run_name,
         job_id=job.job_id,
@@ -187,6 +193,7 @@ def record_of(
         artifact_dir=artifact_dir,
         memory_wave=job.memory.wave if job.memory is not None else None,
         memory_snapshot=job.memory_snapshot.digest if job.memory_snapshot is not None else None,
+        llm_cache_hits=result.llm_cache_hits if cached else None,
     )
     steps = [
         StepRow(
@@ -205,6 +212,7 @@ def record_of(
             input_tokens=step.input_tokens,
             output_tokens=step.output_tokens,
             cost_usd=step.cost_usd,
+            llm_cache_hits=step.llm_cache_hits if cached else None,
         )
         for step in result.steps
     ]

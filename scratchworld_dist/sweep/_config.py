@@ -13,11 +13,20 @@ from pathlib import Path
 from typing import Annotated, Any, Literal, get_args
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, PlainValidator, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    PlainValidator,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
-from workers.agent_api import agent_class, agent_code, agent_params
+from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import (
     AgentRef,
     AgentUnavailableError,
@@ -28,12 +37,14 @@ from workers.contract import (
     LLMSettings,
     MemorySettings,
     Mode,
+    ModelCacheSettings,
     ModelSpec,
     ObservationSettings,
     ProjectLimits,
     RateLimits,
     SyntheticEpisodes,
 )
+from workers.llm import uncacheable
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
@@ -220,6 +231,9 @@ class SweepConfig(BaseModel):
     synthetic: SyntheticEpisodes | None = None
     """Run browserless synthetic episodes instead, for all tasks or those in ``synthetic.tasks`` (benchmarks)."""
 
+    model_cache: ModelCacheSettings | None = None
+    """Opt-in: answer a model request made before from ``model_cache.dir`` (no request, no cost)."""
+
     @field_validator("seeds", mode="before")
     @classmethod
     def _seed_count(cls, value: Any) -> Any:
@@ -295,6 +309,23 @@ class SweepConfig(BaseModel):
             raise ValueError(f"model names must be distinct; give these a name: {', '.join(duplicated)}")
         return self
 
+    @field_validator("model_cache")
+    @classmethod
+    def _cache_replays_answers(
+        cls, cache: ModelCacheSettings | None, info: ValidationInfo
+    ) -> ModelCacheSettings | None:
+        """A model sampled without a seed may not be cached: one sample would stand in for all (asking LiteLLM
+        which models take a seed imports it, a few seconds, only for a sweep that caches)."""
+        if cache is None or "models" not in info.data or "agent" not in info.data:
+            return cache  # the models or the agent are invalid themselves: that error is reported instead
+        agent: AgentRef = info.data["agent"]
+        helpers = extra_models(agent_params(agent_class(agent.name), agent))
+        for spec in [*(m.spec() for m in info.data["models"]), *helpers]:
+            reason = uncacheable(spec)
+            if reason is not None:
+                raise ValueError(reason)
+        return cache
+
     def model_specs(self) -> list[ModelSpec | None]:
         """The models of the matrix; a sweep without models (scripted agents) has one model-less column."""
         return [m.spec() for m in self.models] or [None]
@@ -332,6 +363,8 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     if config.memory is not None and config.memory.from_run is not None:
         from_run = _resolve(base, config.memory.from_run)
         resolved["memory"] = config.memory.model_copy(update={"from_run": from_run})
+    if config.model_cache is not None and "model_cache" not in (overrides or {}):
+        resolved["model_cache"] = ModelCacheSettings(dir=_resolve(base, config.model_cache.dir))
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):
         resolved["ray"] = RayConfig(address=os.environ["RAY_ADDRESS"])
     return config.model_copy(update=resolved)

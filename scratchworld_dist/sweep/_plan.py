@@ -32,6 +32,7 @@ from workers.contract import (
     MemorySettings,
     MemorySnapshot,
     Mode,
+    ModelCacheSettings,
     ModelSpec,
     ObservationSettings,
     ProjectLimits,
@@ -84,6 +85,10 @@ class JobSpec(BaseModel):
     memory_snapshot: MemorySnapshot | None = None
     """The memory the job is shown: set by the driver when the job's wave starts (not part of its id)."""
 
+    model_cache: ModelCacheSettings | None = None
+    """The sweep's model cache (not part of the id: a replayed reply is the one this model gave to this
+    exact request under this seed, so the job's conditions are the same; rows record the hits)."""
+
     @property
     def agent_label(self) -> str:
         """The agent column of reports; memory fed by the verdict is labelled as the ablation it is."""
@@ -116,6 +121,7 @@ class JobSpec(BaseModel):
             harness=self.harness,
             memory=self.memory_snapshot,
             episode_clock=self.episode_clock,
+            model_cache=self.model_cache,
         )
 
 
@@ -254,11 +260,13 @@ def plan_jobs(
     memory: MemorySettings | None = None,
     memory_sources: Mapping[tuple[str, Mode], str] | None = None,
     episode_clock: EpisodeClock | None = None,
+    model_cache: ModelCacheSettings | None = None,
 ) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks.
 
     With ``memory``, each (model, mode, seed) is a stream whose tasks fall into waves;
-    ``memory_sources`` gives offline memory's source digest per (model name, mode)."""
+    ``memory_sources`` gives offline memory's source digest per (model name, mode); ``model_cache``
+    is handed to every job (it does not change their ids)."""
     limits = project_limits or ProjectLimits()
     clock = episode_clock or EpisodeClock()
     harness = harness or harness_fingerprint().digest
@@ -300,4 +308,5 @@ def plan_jobs(
                         extra_models=list(extra_models or []),
                         memory=placement,
                         episode_clock=clock,
+                        model_cache=model_cache,
                     )

@@ -29,6 +29,8 @@ class ModelReply(BaseModel):
     output_tokens: int
     cost_usd: float
     latency_s: float
+    cached: bool = False
+    """Answered from the sweep's model cache (a reply this request got before; it cost nothing)."""
 
 
 class ModelHandle(Protocol):

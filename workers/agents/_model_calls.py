@@ -5,6 +5,7 @@ Every agent, built-in or plugin, reaches models only through ``EpisodeModels.con
 breaker and the cluster's rate limiter), and every call is written down for the step it was
 made in: tokens, cost, the reply, and the messages that call added to what was already
 recorded (a conversation's system prompt once, then each new turn), with images by SHA-256.
+With the sweep's model cache, calls answered from it are counted as hits of their step.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from pydantic import JsonValue
 
 from workers.agent_api import ModelHandle, ModelReply
 from workers.contract import ModelSpec, RetryPolicy, StepRecord
-from workers.llm import LocalLimiterHandle, ModelClient, RateLimiterHandle, RayLimiterHandle, model_key
+from workers.llm import LocalLimiterHandle, ModelCache, ModelClient, RateLimiterHandle, RayLimiterHandle, model_key
 
 _clients: dict[tuple[str, RetryPolicy], ModelClient] = {}
 _local_limiters: dict[str, LocalLimiterHandle] = {}
@@ -55,6 +56,7 @@ class StepCalls:
     """What the model calls made during one step add to its ``StepRecord``."""
 
     llm_calls: int = 0
+    cache_hits: int = 0
     input_tokens: int = 0
     output_tokens: int = 0
     cost_usd: float = 0.0
@@ -70,6 +72,7 @@ class StepCalls:
         return step.model_copy(
             update={
                 "llm_calls": step.llm_calls + self.llm_calls,
+                "llm_cache_hits": step.llm_cache_hits + self.cache_hits,
                 "input_tokens": step.input_tokens + self.input_tokens,
                 "output_tokens": step.output_tokens + self.output_tokens,
                 "cost_usd": step.cost_usd + self.cost_usd,
@@ -82,9 +85,13 @@ class StepCalls:
 class EpisodeModels:
     """Connects an episode's agent to models, and keeps the record of its calls."""
 
-    def __init__(self, policy: RetryPolicy, seed: int, client: ModelClient | None = None) -> None:
+    def __init__(
+        self, policy: RetryPolicy, seed: int, client: ModelClient | None = None, cache: ModelCache | None = None
+    ) -> None:
+        """``cache``: the sweep's model cache (None: every call goes to the model)."""
         self.policy = policy
         self.seed = seed
+        self.cache = cache
         self.images: dict[str, bytes] = {}
         """Images the prompts showed, by SHA-256 (kept once with the episode's result)."""
 
@@ -97,13 +104,14 @@ class EpisodeModels:
         return _Handle(self, spec, self._client or shared_client(spec, self.policy))
 
     async def call(self, client: ModelClient, messages: list[dict[str, Any]]) -> ModelReply:
-        completion = await client.complete(messages, seed=self.seed)
+        completion = await client.complete(messages, seed=self.seed, cache=self.cache)
         added = [self._recorded_form(message) for message in self._new_messages(messages, completion.text)]
         if self._step.reply is not None:  # an earlier call of this step: its reply joins the record
             self._step.prompt.append({"role": "assistant", "content": self._step.reply})
         self._step.prompt.extend(added)
         self._step.reply = completion.text
         self._step.llm_calls += 1
+        self._step.cache_hits += int(completion.cached)
         self._step.input_tokens += completion.input_tokens
         self._step.output_tokens += completion.output_tokens
         self._step.cost_usd += completion.cost_usd
@@ -113,6 +121,7 @@ class EpisodeModels:
             output_tokens=completion.output_tokens,
             cost_usd=completion.cost_usd,
             latency_s=completion.latency_s,
+            cached=completion.cached,
         )
 
     def drain(self) -> StepCalls:

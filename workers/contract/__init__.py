@@ -77,7 +77,14 @@ from workers.contract._memory import (
     MemorySnapshot,
     memory_digest,
 )
-from workers.contract._model import CoordinateSystem, LLMSettings, ModelSpec, RateLimits, RetryPolicy
+from workers.contract._model import (
+    CoordinateSystem,
+    LLMSettings,
+    ModelCacheSettings,
+    ModelSpec,
+    RateLimits,
+    RetryPolicy,
+)
 from workers.contract._observation_settings import ObservationSettings
 from workers.contract._observations import (
     CompositeObservation,
@@ -138,6 +145,7 @@ __all__ = [
     "MemorySettings",
     "MemorySnapshot",
     "Mode",
+    "ModelCacheSettings",
     "ModelCallError",
     "ModelErrorClass",
     "ModelSpec",

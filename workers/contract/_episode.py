@@ -16,7 +16,7 @@ from workers.contract._errors import ModelErrorClass
 from workers.contract._eval_result import EvalResult
 from workers.contract._evaluation_spec import EvaluationSpec
 from workers.contract._memory import MemoryItem, MemorySnapshot
-from workers.contract._model import LLMSettings, ModelSpec
+from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
 from workers.contract._observation_settings import ObservationSettings
 from workers.contract._sb3 import ProjectLimits
 
@@ -94,8 +94,9 @@ class EpisodeClock(BaseModel):
 
     ``real``: page time runs on, also while the model thinks, so what an agent sees depends on its
     provider's latency and the machine's load. ``virtual``: page time stands still between actions
-    and moves by 50 ms before each (see ``ACTION_LEAD_MS``), by ``settle_ms`` (plus ``think_ms``) after
-    each, and by ``start_ms`` before the first observation: the same agent and seed see the same pages on any machine and with any provider.
+    and moves by 50 ms before each, by a drag's duration during it, by ``settle_ms`` (plus ``think_ms``)
+    after each, and by ``start_ms`` before the first observation: the same agent and seed see the
+    same pages on any machine and with any provider.
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
@@ -159,6 +160,9 @@ class EpisodeSpec(BaseModel):
     episode_clock: EpisodeClock = Field(default_factory=EpisodeClock)
     """How time passes on the agent's page."""
 
+    model_cache: ModelCacheSettings | None = None
+    """Where successful model replies are stored and replayed from (None: every call goes to the model)."""
+
 
 class TaskPayload(BaseModel):
     """The task's content, shipped once per task to the object store and shared by its jobs."""
@@ -202,6 +206,9 @@ class StepRecord(BaseModel):
     """Degradations of this step's observation (e.g. OCR down: a DOM-only element list)."""
 
     llm_calls: int = 0
+    llm_cache_hits: int = 0
+    """Of ``llm_calls``, those answered from the model cache (no request, no cost)."""
+
     input_tokens: int = 0
     output_tokens: int = 0
     cost_usd: float = 0.0
@@ -263,6 +270,10 @@ class EpisodeResult(BaseModel):
     @property
     def llm_calls(self) -> int:
         return sum(step.llm_calls for step in self.steps)
+
+    @property
+    def llm_cache_hits(self) -> int:
+        return sum(step.llm_cache_hits for step in self.steps)
 
     @property
     def input_tokens(self) -> int:

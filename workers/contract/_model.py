@@ -6,6 +6,7 @@ policy and the rate limits only change how long failures take and are not.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
@@ -91,6 +92,19 @@ class ModelSpec(BaseModel):
     def identity(self) -> dict[str, object]:
         """The fields that can change a job's result (labels, key names and pacing cannot)."""
         return self.model_dump(mode="json", exclude={"name", "api_key_env", "rate_limits"})
+
+
+class ModelCacheSettings(BaseModel):
+    """The sweep's opt-in model-call cache: successful replies stored by request, replayed at no cost.
+
+    Not part of a job's identity: a replayed reply is the one this model gave to this exact request
+    under this seed (the key covers all of it), so it names the same conditions the job id does.
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    dir: Path
+    """The cache folder, the same absolute path on every node (a shared filesystem shares it)."""
 
 
 class LLMSettings(BaseModel):

@@ -50,6 +50,7 @@ from workers.contract import (
 from workers.editor import BrowserSession, Editor, EditorPool
 from workers.episode._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
 from workers.evaluation import Evaluator
+from workers.llm import ModelCache
 from workers.ocr import RegionOCR
 from workers.primitive import PrimitiveObserver, region_ocr
 
@@ -101,7 +102,8 @@ class EpisodeRunner:
         started, clock = time.time(), time.perf_counter()
         timings = EpisodeTimings()
         steps: list[StepRecord] = []
-        models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed)
+        cache = ModelCache(spec.model_cache.dir) if spec.model_cache is not None else None
+        models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed, cache=cache)
         memory = AgentMemory(spec.memory, spec.job_id, task.task_id)
         try:
             async with self.pool.editor() if self.pool is not None else self.session.editor() as editor:

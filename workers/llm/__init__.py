@@ -1,18 +1,13 @@
-"""The model-calling foundation of the ``llm`` agent: reply parsing, the model client and cluster-wide pacing.
+"""The model-calling foundation of the ``llm`` agent: reply parsing, the model client, cluster-wide pacing
+and the opt-in model-call cache.
 
 Importing this package does not import LiteLLM (2-3 s and, without the offline cost map, the
 network) nor Ray; both load on first use.
 """
 
 from workers.llm._breaker import BreakerState, CircuitBreaker, circuit_breaker
-from workers.llm._client import (
-    Completion,
-    ModelClient,
-    close_litellm_clients,
-    estimate_tokens,
-    load_litellm,
-    model_key,
-)
+from workers.llm._cache import CacheEntry, ModelCache, request_key, uncacheable
+from workers.llm._client import Completion, ModelClient, estimate_tokens, model_key
 from workers.llm._errors import ParseFailure, ReplyParseError
 from workers.llm._limiter import (
     LIMITER_NAMESPACE,
@@ -29,6 +24,7 @@ from workers.llm._limiter import (
     Wait,
     get_or_create_limiter,
 )
+from workers.llm._litellm import close_litellm_clients, litellm_version, load_litellm, takes_seed
 from workers.llm._parsing import EXPECTED_FORMAT, ParsedReply, parse_reply
 from workers.llm._repair import repair_json
 
@@ -36,12 +32,14 @@ __all__ = [
     "EXPECTED_FORMAT",
     "LIMITER_NAMESPACE",
     "BreakerState",
+    "CacheEntry",
     "CircuitBreaker",
     "Completion",
     "Grant",
     "LimiterStats",
     "LocalLimiterHandle",
     "LocalRateLimiter",
+    "ModelCache",
     "ModelClient",
     "Outcome",
     "ParseFailure",
@@ -57,8 +55,12 @@ __all__ = [
     "close_litellm_clients",
     "estimate_tokens",
     "get_or_create_limiter",
+    "litellm_version",
     "load_litellm",
     "model_key",
     "parse_reply",
     "repair_json",
+    "request_key",
+    "takes_seed",
+    "uncacheable",
 ]

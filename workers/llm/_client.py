@@ -4,7 +4,8 @@ LiteLLM is called with ``num_retries=0`` (its own retries would also repeat 400s
 the SDK's); a tenacity loop retries transient errors with full-jitter exponential backoff,
 honouring ``Retry-After``, within ``max_attempts`` and ``max_total_s``. Each HTTP attempt holds
 a rate-limiter slot. Failures surface as ``ModelCallError`` with a class, and no message ever
-holds the API key: it is scrubbed, and the provider's exception is not chained.
+holds the API key: it is scrubbed, and the provider's exception is not chained. With a
+``ModelCache``, a request answered before is answered from it before any of that (see ``_cache``).
 """
 
 from __future__ import annotations
@@ -15,8 +16,6 @@ import functools
 import logging
 import os
 import random
-import sys
-import threading
 import time
 from types import ModuleType
 from typing import Any
@@ -26,7 +25,9 @@ from tenacity import AsyncRetrying, RetryCallState, retry_if_exception
 
 from workers.contract import ModelCallError, ModelErrorClass, ModelSpec, RetryPolicy
 from workers.llm._breaker import CircuitBreaker, circuit_breaker
+from workers.llm._cache import CACHE_FORMAT, CacheEntry, ModelCache, new_entry, request_key, uncacheable
 from workers.llm._limiter import RateLimiterHandle
+from workers.llm._litellm import litellm_version, load_litellm, takes_seed
 
 logger = logging.getLogger(__name__)
 
@@ -57,6 +58,24 @@ class Completion(BaseModel):
     """The model the provider says answered."""
 
     finish_reason: str | None = None
+    cached: bool = False
+    """Answered from the model cache: no request was made and it cost nothing."""
+
+    @classmethod
+    def replayed(cls, entry: CacheEntry, total_s: float) -> Completion:
+        """A cached reply as a completion: its usage as stored, its cost 0, no attempt made."""
+        return cls(
+            text=entry.text,
+            input_tokens=entry.input_tokens,
+            output_tokens=entry.output_tokens,
+            cost_usd=0.0,
+            latency_s=0.0,
+            total_s=total_s,
+            attempts=0,
+            model=entry.answered_by,
+            finish_reason=entry.finish_reason,
+            cached=True,
+        )
 
 
 def model_key(spec: ModelSpec) -> str:
@@ -82,43 +101,8 @@ def estimate_tokens(messages: list[dict[str, Any]], max_tokens: int | None) -> i
     return chars // 4 + images * IMAGE_TOKENS + (max_tokens or DEFAULT_COMPLETION_TOKENS)
 
 
-_LITELLM_LOCK = threading.Lock()
-
-
-def _import_litellm() -> ModuleType:
-    """Import LiteLLM with the bundled cost map: otherwise the import itself goes to the network."""
-    with _LITELLM_LOCK:
-        os.environ.setdefault("LITELLM_LOCAL_MODEL_COST_MAP", "True")
-        import litellm
-
-        litellm.suppress_debug_info = True  # no "Give Feedback" banners on stdout per error
-        return litellm
-
-
-async def load_litellm() -> ModuleType:
-    """LiteLLM, imported off the event loop the first time (the import takes 2-3 s)."""
-    module = sys.modules.get("litellm")
-    if module is not None and getattr(module, "acompletion", None) is not None:
-        return module
-    return await asyncio.to_thread(_import_litellm)
-
-
-async def close_litellm_clients() -> None:
-    """Close LiteLLM's cached HTTP sessions (call before the event loop ends, e.g. in test teardown)."""
-    if "litellm" in sys.modules:
-        await sys.modules["litellm"].close_litellm_async_clients()
-
-
-@functools.cache
-def _supports_seed(model: str) -> bool:
-    litellm = _import_litellm()
-    try:
-        return "seed" in (litellm.get_supported_openai_params(model=model) or [])
-    except Exception:  # an unknown provider: do not risk a 400 over a seed
-        return False
-
-
 _cost_warned: set[str] = set()
+_uncached_warned: set[str] = set()
 
 
 def _cost(litellm: ModuleType, response: Any, model: str) -> float:
@@ -154,8 +138,46 @@ class ModelClient:
             self.key, self.policy.breaker_failures, self.policy.breaker_window_s, self.policy.breaker_cooldown_s
         )
 
-    async def complete(self, messages: list[dict[str, Any]], seed: int | None = None) -> Completion:
-        """The model's reply to ``messages``; raises ``ModelCallError`` once retrying cannot help."""
+    async def complete(
+        self, messages: list[dict[str, Any]], seed: int | None = None, cache: ModelCache | None = None
+    ) -> Completion:
+        """The model's reply to ``messages``; raises ``ModelCallError`` once retrying cannot help.
+
+        With a ``cache``, a request answered before is answered from it (no request, no cost, no
+        rate-limiter slot, whatever the circuit says) and a successful reply is stored there.
+        """
+        started = time.monotonic()
+        key = await self._cache_key(messages, seed) if cache is not None else None
+        if cache is not None and key is not None:
+            entry = await cache.get(key)
+            if entry is not None:
+                return Completion.replayed(entry, time.monotonic() - started)
+        completion = await self._call(messages, seed)
+        if cache is not None and key is not None:
+            await cache.put(new_entry(key, self.spec.model, seed, completion))
+        return completion
+
+    async def _cache_key(self, messages: list[dict[str, Any]], seed: int | None) -> str | None:
+        """The request's key: the model's identity, the seed, every keyword LiteLLM is given but the API
+        key (the endpoint as resolved here included), every message in full, and LiteLLM's version."""
+        await load_litellm()
+        reason = uncacheable(self.spec, seeded=seed is not None)
+        if reason is not None:  # the sweep config refuses this; an agent's own ModelSpec may not have been checked
+            if self.key not in _uncached_warned:
+                _uncached_warned.add(self.key)
+                logger.warning("not caching: %s", reason)
+            return None
+        request = {
+            "format": CACHE_FORMAT,
+            "litellm": litellm_version(),
+            "model": self.spec.identity(),
+            "seed": seed,
+            "kwargs": self._kwargs(None, seed),
+            "messages": messages,
+        }
+        return await asyncio.to_thread(request_key, request)
+
+    async def _call(self, messages: list[dict[str, Any]], seed: int | None) -> Completion:
         trial = self.breaker.before_call()
         verdict = False
         try:
@@ -260,7 +282,7 @@ class ModelClient:
         if spec.max_tokens is not None:
             kwargs["max_tokens"] = spec.max_tokens
         if seed is not None:
-            if _supports_seed(spec.model):
+            if takes_seed(spec.model):
                 kwargs["seed"] = seed
             else:
                 logger.debug("%s does not take a seed; calling without one", spec.model)

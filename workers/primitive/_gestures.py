@@ -209,7 +209,7 @@ class Gestures:
         steps = max(10, int(args.duration * 30))
         if self.pass_time is None:
             await mouse.move(*end, steps=steps)
-        else:  # the editor's throttled drag handlers see the gesture's duration go by, as in real time
+        else:  # on an episode's virtual clock the gesture's duration goes by between its moves
             for step in range(1, steps + 1):
                 await mouse.move(
                     start[0] + (end[0] - start[0]) * step / steps, start[1] + (end[1] - start[1]) * step / steps
