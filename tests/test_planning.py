@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist import SuiteError
+from scratchworld_dist._run import default_episode_clock
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, TaskContent, job_id, plan_jobs, read_task
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
@@ -16,6 +17,7 @@ from tests.conftest import SUITE_DIR
 from tests.projects import with_entry
 from workers.contract import (
     MIB,
+    EpisodeClock,
     LLMSettings,
     ModelSpec,
     ObservationSettings,
@@ -321,3 +323,24 @@ def test_a_synthetic_stand_in_never_shares_an_id_with_the_real_job(ours: list[Ta
     assert {k: v for k, v in planned.items() if k != "sum_two_numbers"} == {
         k: v for k, v in real.items() if k != "sum_two_numbers"
     }
+
+
+def test_a_virtual_episode_clock_and_each_of_its_durations_change_the_job_id(ours: list[TaskContent]) -> None:
+    def ids(clock: EpisodeClock | None) -> list[str]:
+        return [job.job_id for job in plan_jobs([None], ["primitive"], "oracle", ours[:2], [0], 9, episode_clock=clock)]
+
+    real = ids(None)
+    assert ids(EpisodeClock(mode="real", settle_ms=900)) == real  # real-clock ids stay as they were
+    virtual = ids(EpisodeClock.model_validate("virtual"))
+    assert set(virtual).isdisjoint(real)
+    for change in ({"settle_ms": 400}, {"think_ms": 5000}, {"start_ms": 2000}):
+        assert set(ids(EpisodeClock(mode="virtual", **change))).isdisjoint(virtual)
+    (job, *_) = plan_jobs([None], ["composite"], "oracle", ours[:1], [0], 9, episode_clock=EpisodeClock(mode="virtual"))
+    assert job.episode(1, 60).episode_clock.mode == "virtual"  # the worker gets the clock it was planned with
+
+
+def test_the_episode_clock_defaults_to_virtual_for_our_suites_and_real_for_upstream_clones() -> None:
+    assert default_episode_clock("scratchworld_dist").mode == "virtual"
+    assert default_episode_clock("upstream").mode == "real"
+    with pytest.raises(ValueError, match="start_ms"):
+        EpisodeClock(mode="virtual", start_ms=100)  # the editor's panels need 500 ms to catch up
