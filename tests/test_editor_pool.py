@@ -121,7 +121,10 @@ async def test_used_editors_are_recycled_and_fresh_ones_opened_ahead(session: Br
                 assert spare.context not in (taken.context, other.context)
                 assert spare.ready_s is not None and waited < spare.ready_s / 2
         # Used for no evaluation, they are not vouched for: closed, not kept.
-        assert taken.page.is_closed() and pool.discarded["no evaluation ran (it may have been used otherwise)"] == 3
+        assert (
+            taken.page.is_closed()
+            and pool.discarded["no evaluation or episode ran (it may have been used otherwise)"] == 3
+        )
         spare_tasks = list(pool._opening)
     assert all(task.done() for task in spare_tasks)  # closing the pool closes what it prepared
     assert all(task.cancelled() or task.exception() or task.result().page.is_closed() for task in spare_tasks)

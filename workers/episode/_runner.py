@@ -11,7 +11,6 @@ while the agent decides and moves by a fixed amount after each action.
 from __future__ import annotations
 
 import contextlib
-import functools
 import json
 import time
 import traceback
@@ -86,16 +85,14 @@ class EpisodeRunner:
         self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
         """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
 
-    async def _environment(self, spec: EpisodeSpec, editor: Editor) -> Environment:
+    async def _environment(self, spec: EpisodeSpec, editor: Editor, pace: _Pace) -> Environment:
         if spec.mode == "composite":
             return CompositeEnvironment(editor)
         await editor.set_stage_size(PRIMITIVE_STAGE)
         settings = spec.observation or ObservationSettings()
         if settings not in self._ocr:
             self._ocr[settings] = region_ocr(settings)
-        pass_time = None
-        if spec.episode_clock.mode == "virtual":
-            pass_time = functools.partial(_pass_time, editor)
+        pass_time = pace.pass_time if pace.virtual else None
         return PrimitiveEnvironment(editor, PrimitiveObserver(settings, self._ocr[settings]), pass_time)
 
     async def run(self, spec: EpisodeSpec, task: TaskPayload, agent: Agent) -> EpisodeResult:
@@ -113,8 +110,8 @@ class EpisodeRunner:
                 except ProjectFormatError as exc:
                     message = f"the task's initial project cannot be loaded: {exc}"
                     return _finish(EpisodeResult.errored(spec, "task_invalid", message), started, clock, timings)
-                environment = await self._environment(spec, editor)
                 pace = _Pace(editor, spec.episode_clock)
+                environment = await self._environment(spec, editor, pace)
                 await pace.start()
                 context = _context(spec, task, agent, editor, environment, models, memory)
                 stop_reason = "internal_error"
@@ -212,10 +209,6 @@ async def _guarded(call: Awaitable[_T], doing: str) -> _T:
         raise AgentCrashedError(f"the agent {doing}: {type(exc).__name__}: {exc}", _trace(exc)) from exc
 
 
-async def _pass_time(editor: Editor, ms: float) -> None:
-    await editor.advance_clock(round(ms))
-
-
 ACTION_LEAD_MS = 50
 """Virtual page time before each action: the timers the page set meanwhile (an observation, a
 privileged agent reading the page) come due first, as they would have while a user reached for the
@@ -229,19 +222,24 @@ class _Pace:
     def __init__(self, editor: Editor, clock: EpisodeClock) -> None:
         self.editor = editor
         self.clock = clock
+        self.virtual = clock.mode == "virtual"
+
+    async def pass_time(self, ms: float) -> None:
+        """Page time during an action (a drag's moves); only on the virtual clock."""
+        await self.editor.advance_clock(round(ms))
 
     async def start(self) -> None:
-        if self.clock.mode == "virtual":
+        if self.virtual:
             await self.editor.start_episode_clock(self.clock)
             await self.editor.advance_clock(self.clock.start_ms)
             await self.editor.redraw_panels()
 
     async def before_action(self) -> None:
-        if self.clock.mode == "virtual":
+        if self.virtual:
             await self.editor.advance_clock(ACTION_LEAD_MS)
 
     async def after_action(self) -> None:
-        if self.clock.mode == "virtual":
+        if self.virtual:
             await self.editor.advance_clock(self.clock.step_ms)
 
 
