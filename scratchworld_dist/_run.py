@@ -32,12 +32,20 @@ from scratchworld_dist.results import (
     write_manifest,
 )
 from scratchworld_dist.results._manifest import git_commit, now, package_versions
-from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, ray_runtime
+from scratchworld_dist.scheduling import (
+    Scheduler,
+    WorkerPool,
+    admitted_slots,
+    live_progress,
+    pages_per_worker,
+    ray_runtime,
+)
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
 from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import (
+    MIB,
     EpisodeClock,
     EpisodeResult,
     HarnessFingerprint,
@@ -230,7 +238,7 @@ def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | No
     and one browser among them) and the jobs are planned under their environment."""
     console = console or Console(stderr=True)
     if config.ray.address is None:  # a private local Ray: this machine is the only node
-        local = describe_node(browser_slots=config.limits.browser_slots or os.cpu_count() or 1)
+        local = describe_node()
         return _run_plan(plan_run(config, local.harness), [local], force, console)
     with ray_runtime(config.ray.address, config.limits.browser_slots, config.ray.connect_timeout_s):
         nodes = inspect_nodes()
@@ -255,6 +263,10 @@ def _run_plan(plan: RunPlan, nodes: list[NodeReport], force: bool, console: Cons
             last, decided = attempts.get(job.job_id, (0, False))
             if not decided:
                 todo.append((job, last + 1))
+        local_slots = None
+        if config.ray.address is None:  # admission on this machine, measured only when there is work
+            local_slots = admitted_slots(config.limits, [job for job, _ in todo], plan.harness.digest, console.print)
+            nodes = [nodes[0].model_copy(update={"browser_slots": local_slots})]
         session = Session(
             started_at=now(),
             host=socket.gethostname(),
@@ -279,7 +291,7 @@ def _run_plan(plan: RunPlan, nodes: list[NodeReport], force: bool, console: Cons
             retried=0,
         )
         if todo:
-            summary = _execute(plan, manifest, store, todo, console, summary)
+            summary = _execute(plan, manifest, store, todo, local_slots, console, summary)
         session.finished_at = now()
         session.submitted = summary.sent
         session.budget_stop = summary.budget_stop
@@ -294,12 +306,14 @@ def _execute(
     manifest: RunManifest,
     store: RunStore,
     todo: list[tuple[JobSpec, int]],
+    local_slots: int | None,
     console: Console,
     summary: RunSummary,
 ) -> RunSummary:
+    """Run ``todo`` on Ray (a private one with ``local_slots`` browser slots, or the configured cluster)."""
     config = plan.config
     needed = {job.task_id for job, _ in todo}
-    with ray_runtime(config.ray.address, config.limits.browser_slots, config.ray.connect_timeout_s) as slots:
+    with ray_runtime(config.ray.address, local_slots, config.ray.connect_timeout_s) as slots:
         limiters = _rate_limiters([model for job, _ in todo for model in (job.model, *job.extra_models)])
         memory = None
         if config.memory is not None:
@@ -307,7 +321,11 @@ def _execute(
                 store.run_dir, config.agent, config.memory, config.llm.retry, plan.memory_sources
             )
         commit = AttemptRecorder(store, config.name, manifest.suite.hash, memory)
-        pool = WorkerPool(slots, config.limits.pages_per_worker, config.synthetic)
+        cores = os.cpu_count() or 1
+        if local_slots is None:  # a cluster: the cores of all its nodes
+            cores = int(ray.cluster_resources().get("CPU", cores))
+        pages = pages_per_worker(config.limits, slots, cores)
+        pool = WorkerPool(slots, pages, config.synthetic, config.limits.memory_reserve_mb * MIB)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
         scheduler = Scheduler(
             pool,

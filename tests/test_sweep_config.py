@@ -55,7 +55,7 @@ def test_minimal_config_and_defaults(tmp_path: Path) -> None:
     assert config.tasks.categories == [] and config.tasks.ids == [] and config.tasks.task_list is None
     assert config.limits.episode_timeout_s == 900.0
     assert config.limits.retries == 2
-    assert config.limits.pages_per_worker == 1
+    assert config.limits.pages_per_worker is None  # derived from the browser slots at run time
     assert config.limits.browser_slots is None and config.limits.max_in_flight is None
     assert config.output is None
     assert config.run_dir() == Path("results") / "smoke"

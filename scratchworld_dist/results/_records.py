@@ -12,7 +12,7 @@ from datetime import UTC, datetime
 from pydantic import BaseModel, ConfigDict, Field
 
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import EpisodeResult
+from workers.contract import MIB, EpisodeResult
 
 
 class JobRow(BaseModel):
@@ -83,6 +83,15 @@ class JobRow(BaseModel):
     llm_cache_hits: int | None = None
     """Of ``llm_calls``, those answered from the model cache; null when the run had no cache (and in older runs)."""
 
+    editors_held: int | None = None
+    """Editor pages the worker's browser held when the episode ended (null if no worker answered; older runs)."""
+
+    browser_pss_mb: float | None = None
+    """Proportional set size of the worker's browser then, in MiB (``/ editors_held``: memory per editor)."""
+
+    node_available_mb: float | None = None
+    """The node's available memory then, in MiB."""
+
 
 class StepRow(BaseModel):
     """One agent action of one attempt (a row of ``steps/``)."""
@@ -148,7 +157,7 @@ def record_of(
 ) -> JobRecord:
     """Flatten a worker's result into rows; the job's identity comes from the plan, not the worker."""
     evaluation = result.evaluation
-    worker = result.worker
+    worker, load = result.worker, result.load
     cached = job.model_cache is not None
     row = JobRow(
         run_name=run_name,
@@ -194,6 +203,9 @@ def record_of(
         memory_wave=job.memory.wave if job.memory is not None else None,
         memory_snapshot=job.memory_snapshot.digest if job.memory_snapshot is not None else None,
         llm_cache_hits=result.llm_cache_hits if cached else None,
+        editors_held=load.editors if load else None,
+        browser_pss_mb=load.browser_pss_bytes / MIB if load else None,
+        node_available_mb=load.node_available_bytes / MIB if load else None,
     )
     steps = [
         StepRow(

@@ -1,10 +1,11 @@
-"""Scheduling on Ray: the runtime, the worker pool, the driver loop and its progress line."""
+"""Scheduling on Ray: the runtime, admission, the worker pool, the driver loop and its progress line."""
 
 import os
 
 # Keep a local Ray on the loopback interface (set before Ray is imported; 1 opts out).
 os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
 
+from scratchworld_dist.scheduling._admission import admitted_slots, derive_local, pages_per_worker
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.scheduling._progress import live_progress
 from scratchworld_dist.scheduling._ray_runtime import BROWSER_RESOURCE, RayUnavailableError, ray_runtime
@@ -16,6 +17,9 @@ __all__ = [
     "Scheduler",
     "SchedulerStats",
     "WorkerPool",
+    "admitted_slots",
+    "derive_local",
     "live_progress",
+    "pages_per_worker",
     "ray_runtime",
 ]

@@ -17,7 +17,10 @@ class WorkerPool:
     browser is relaunched on first use); calls are never retried by Ray, the driver decides.
     """
 
-    def __init__(self, browser_slots: int, pages: int, synthetic: SyntheticEpisodes | None) -> None:
+    def __init__(
+        self, browser_slots: int, pages: int, synthetic: SyntheticEpisodes | None, memory_reserve_bytes: int = 0
+    ) -> None:
+        """``memory_reserve_bytes``: a worker declines new jobs while its node has less memory available."""
         if browser_slots < pages:
             raise RayUnavailableError(
                 f"a worker needs {pages} browser slot(s) (pages_per_worker) but the cluster offers {browser_slots}"
@@ -31,7 +34,9 @@ class WorkerPool:
             max_task_retries=0,
             max_concurrency=pages + 4,
         )
-        self.handles: list[ActorHandle] = [actor_class.remote(index, synthetic) for index in range(count)]
+        self.handles: list[ActorHandle] = [
+            actor_class.remote(index, synthetic, memory_reserve_bytes) for index in range(count)
+        ]
 
     def __len__(self) -> int:
         return len(self.handles)

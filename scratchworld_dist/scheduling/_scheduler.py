@@ -12,7 +12,9 @@ a dead worker costs only its own jobs. Failures are classified, never lost:
   same attempt (they did nothing wrong);
 - an ``error`` outcome is retried up to ``retries`` times in this run, unless its class is
   permanent (a model that refuses the request will refuse it again);
-- once the sweep's model spend reaches its budget, no new attempt is started.
+- once the sweep's model spend reaches its budget, no new attempt is started;
+- a worker whose node is short of memory declines a job (``Refusal``): the job goes back to the
+  front of the queue as the same attempt, and the worker gets no job until it says memory is back.
 """
 
 from __future__ import annotations
@@ -27,13 +29,16 @@ from ray.exceptions import GetTimeoutError, RayActorError, RayError
 
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import PERMANENT_ERRORS, EpisodeResult, ErrorClass
+from workers.contract import PERMANENT_ERRORS, EpisodeResult, ErrorClass, Refusal, WorkerLoad
 
 DEADLINE_GRACE_S = 30.0
 """How long past its own timeout a worker may stay silent before the driver restarts it."""
 
 WAIT_SLICE_S = 0.5
 """Longest single ``ray.wait``; bounds how late deadlines are noticed."""
+
+ADMISSION_WAIT_S = 5.0
+"""How long a worker that declined a job waits for memory before it answers that it still lacks it."""
 
 
 @dataclass
@@ -77,6 +82,12 @@ class SchedulerStats:
     not_started: int = 0
     """Jobs left unstarted because the budget was reached."""
 
+    declined: int = 0
+    """Times a worker declined a job because its node was short of memory (the job was sent again)."""
+
+    paused: int = 0
+    """Workers declining jobs right now."""
+
 
 ResultHandler = Callable[[JobSpec, EpisodeResult], None]
 
@@ -109,6 +120,8 @@ class Scheduler:
         self._flights: dict[ray.ObjectRef, _Flight] = {}
         self._load = [0] * len(pool)
         self._down: dict[int, _Down] = {}
+        self._paused: dict[int, ray.ObjectRef] = {}
+        """Workers whose node is short of memory, and the call that answers once it has enough again."""
 
     def run(self, jobs: Iterable[tuple[JobSpec, int]]) -> None:
         """Run each (job, first attempt) to a final outcome or until its retries are spent."""
@@ -116,6 +129,7 @@ class Scheduler:
         first = {job.job_id: attempt for job, attempt in queue}
         while queue or self._flights:
             self._probe_down()
+            self._probe_paused()
             while queue and len(self._flights) < self.capacity and not self.over_budget:
                 worker = self._free_worker()
                 if worker is None:
@@ -124,11 +138,17 @@ class Scheduler:
             if not self._flights:
                 if self.over_budget:  # what is queued stays unstarted
                     break
-                ray.wait([down.probe for down in self._down.values()], timeout=WAIT_SLICE_S)  # all restarting
+                # Every worker is restarting or short of memory: wait for one of them.
+                probes = [down.probe for down in self._down.values()] + list(self._paused.values())
+                ray.wait(probes, timeout=WAIT_SLICE_S)
                 continue
             for flight, result in self._collect():
                 if result is None:  # its worker was restarted because of another job
                     queue.appendleft((flight.job, flight.attempt))
+                    continue
+                if isinstance(result, Refusal):  # not started: the same attempt, later or elsewhere
+                    queue.appendleft((flight.job, flight.attempt))
+                    self._pause(flight.worker)
                     continue
                 retry = (
                     result.outcome == "error"
@@ -146,7 +166,11 @@ class Scheduler:
 
     def _free_worker(self) -> int | None:
         """The least loaded worker that is up and has a page free."""
-        free = [w for w in range(len(self._load)) if w not in self._down and self._load[w] < self.pool.pages]
+        free = [
+            w
+            for w in range(len(self._load))
+            if w not in self._down and w not in self._paused and self._load[w] < self.pool.pages
+        ]
         return min(free, key=self._load.__getitem__, default=None)
 
     def _mark_down(self, worker: int) -> None:
@@ -171,6 +195,30 @@ class Scheduler:
                     continue
             del self._down[worker]
 
+    def _pause(self, worker: int) -> None:
+        self.stats.declined += 1
+        if worker not in self._paused:
+            self._paused[worker] = self.pool.handles[worker].wait_admitting.remote(ADMISSION_WAIT_S)
+        self.stats.paused = len(self._paused)
+
+    def _probe_paused(self) -> None:
+        """Take back the workers whose node has memory again (and those that died meanwhile, as down)."""
+        for worker, probe in list(self._paused.items()):
+            ready, _ = ray.wait([probe], timeout=0)
+            if not ready:
+                continue
+            try:
+                load: WorkerLoad = ray.get(probe)
+            except RayError:
+                del self._paused[worker]
+                self._mark_down(worker)
+                continue
+            if load.admits:
+                del self._paused[worker]
+            else:
+                self._paused[worker] = self.pool.handles[worker].wait_admitting.remote(ADMISSION_WAIT_S)
+        self.stats.paused = len(self._paused)
+
     def _submit(self, worker: int, job: JobSpec, attempt: int) -> None:
         handle = self.pool.handles[worker]
         ref = handle.run.remote(job.episode(attempt, self.timeout_s), self.payloads[job.task_id])
@@ -180,13 +228,13 @@ class Scheduler:
         self.stats.submitted += 1
         self.stats.in_flight = len(self._flights)
 
-    def _collect(self) -> list[tuple[_Flight, EpisodeResult | None]]:
-        """Finished attempts (``None`` for a job to re-send as the same attempt)."""
+    def _collect(self) -> list[tuple[_Flight, EpisodeResult | Refusal | None]]:
+        """Finished attempts (``None`` for a job to re-send as the same attempt), and declined jobs."""
         refs = list(self._flights)
         ready, _ = ray.wait(refs, num_returns=1, timeout=WAIT_SLICE_S)
         if ready:
             ready, _ = ray.wait(refs, num_returns=len(refs), timeout=0)
-        finished: list[tuple[_Flight, EpisodeResult | None]] = []
+        finished: list[tuple[_Flight, EpisodeResult | Refusal | None]] = []
         for ref in ready:
             flight = self._flights.pop(ref)
             self._load[flight.worker] -= 1
@@ -195,7 +243,7 @@ class Scheduler:
         self.stats.in_flight = len(self._flights)
         return finished
 
-    def _result(self, ref: ray.ObjectRef, flight: _Flight) -> EpisodeResult | None:
+    def _result(self, ref: ray.ObjectRef, flight: _Flight) -> EpisodeResult | Refusal | None:
         try:
             return ray.get(ref, timeout=60)
         except RayActorError as exc:

@@ -144,11 +144,21 @@ class Limits(BaseModel):
     retries: int = Field(default=2, ge=0)
     """Extra attempts for a job that ended in ``error`` within one run (resume retries again)."""
 
-    pages_per_worker: int = Field(default=1, ge=1)
-    """Episodes one worker (one browser) runs at once, one page each."""
+    pages_per_worker: int | None = Field(default=None, ge=1)
+    """Episodes one worker (one browser) runs at once, one page each (default: the browser slots
+    spread over one worker per core)."""
 
     browser_slots: int | None = Field(default=None, ge=1)
-    """Editors the local node may hold when Ray is started here (default: its CPU count)."""
+    """Editors the local node may hold when Ray is started here. Default: its CPU count for agents
+    without a model; for agents that wait on one, what this node's CPU and memory allow, from the
+    measured cost of a waiting editor, less ``capacity_margin`` (see README, "Admission")."""
+
+    capacity_margin: float = Field(default=0.25, ge=0, lt=1)
+    """Share of the node's CPU and spare memory kept free when browser slots are derived."""
+
+    memory_reserve_mb: int = Field(default=1024, ge=0)
+    """A worker takes no new episode while its node has less memory available than this (the kernel's
+    MemAvailable), and takes them again once there is: Chromium is never pushed into the OOM killer."""
 
     max_in_flight: int | None = Field(default=None, ge=1)
     """Cap on jobs submitted at once (default: all worker pages)."""

@@ -22,6 +22,7 @@ from workers.contract._envelope import ActionEnvelope, ActionFailure
 from workers.contract._episode import (
     PERMANENT_ERRORS,
     AgentRef,
+    ClockMode,
     EpisodeClock,
     EpisodeResult,
     EpisodeSpec,
@@ -29,9 +30,11 @@ from workers.contract._episode import (
     ErrorClass,
     Mode,
     Outcome,
+    Refusal,
     StepRecord,
     TaskPayload,
     WorkerInfo,
+    WorkerLoad,
     outcome_of,
 )
 from workers.contract._errors import (
@@ -111,6 +114,7 @@ __all__ = [
     "AgentUnavailableError",
     "BridgeError",
     "ChromiumNotFoundError",
+    "ClockMode",
     "CompositeAction",
     "CompositeObservation",
     "CoordinateSystem",
@@ -163,6 +167,7 @@ __all__ = [
     "ProjectLimits",
     "ProjectTooLargeError",
     "RateLimits",
+    "Refusal",
     "RendererUnavailableError",
     "RetryPolicy",
     "ScratchWorldError",
@@ -172,6 +177,7 @@ __all__ = [
     "TaskPayload",
     "TestVerdict",
     "WorkerInfo",
+    "WorkerLoad",
     "check_project",
     "composite_action",
     "describe_differences",

@@ -22,6 +22,8 @@ from workers.contract._sb3 import ProjectLimits
 
 Mode = Literal["composite", "primitive"]
 Outcome = Literal["passed", "failed", "error"]
+ClockMode = Literal["real", "virtual"]
+"""Whose time an agent's page runs on (see ``EpisodeClock``)."""
 
 ErrorClass = Literal[
     "episode_timeout",  # the episode ran past its limit and was cancelled
@@ -101,7 +103,7 @@ class EpisodeClock(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    mode: Literal["real", "virtual"] = "real"
+    mode: ClockMode = "real"
     start_ms: int = Field(default=1000, ge=600, le=60_000)
     """Virtual page time between loading the task's project and the first observation. At least 600:
     the editor drops panel updates (the code area's sprite picture) within 500 ms of the last one,
@@ -231,6 +233,33 @@ class WorkerInfo(BaseModel):
     worker_index: int
 
 
+class WorkerLoad(BaseModel):
+    """What a worker's browser holds and what its node has left, as the worker measured them."""
+
+    model_config = ConfigDict(frozen=True)
+
+    editors: int
+    """Editor pages the worker's browser holds (in use and idle)."""
+
+    browser_pss_bytes: int
+    """Proportional set size of the worker's browser processes (see ``workers.node.browser_usage``)."""
+
+    node_available_bytes: int
+    """The node's available memory (the kernel's MemAvailable)."""
+
+    admits: bool
+    """Whether the worker takes new episodes: its node has at least the sweep's memory reserve available."""
+
+
+class Refusal(BaseModel):
+    """A job a worker declined without starting it (its node is short of memory): not an attempt."""
+
+    model_config = ConfigDict(frozen=True)
+
+    reason: str
+    load: WorkerLoad
+
+
 class EpisodeTimings(BaseModel):
     """Wall-clock seconds per phase of an episode."""
 
@@ -262,6 +291,9 @@ class EpisodeResult(BaseModel):
     """What a learning agent proposed to learn from this episode, each with its own judgement."""
 
     worker: WorkerInfo | None = None
+    load: WorkerLoad | None = None
+    """The worker's browser and node when the episode ended (None when it never reached a worker)."""
+
     started_at: float = 0.0
     """Unix time the worker started the episode."""
 

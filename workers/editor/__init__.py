@@ -1,6 +1,8 @@
-"""The editor in a browser: Chromium per worker, the served editor files, one editor page, a pool of them."""
+"""The editor in a browser: Chromium per worker, the served editor files, one editor page, a pool of them,
+and what one editor costs the node."""
 
 from workers.editor._browser import CHROMIUM_ARGS, BrowserConfig, BrowserSession, isolation_args
+from workers.editor._cost import cached_editor_cost, measure_editor_cost
 from workers.editor._editor import Editor, EditorStatus, StageLayout, opened
 from workers.editor._pool import EditorPool
 from workers.editor._server import EditorAssets, EditorServer
@@ -15,6 +17,8 @@ __all__ = [
     "EditorServer",
     "EditorStatus",
     "StageLayout",
+    "cached_editor_cost",
     "isolation_args",
+    "measure_editor_cost",
     "opened",
 ]

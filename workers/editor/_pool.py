@@ -59,6 +59,11 @@ class EditorPool:
         self._opening: deque[asyncio.Task[Editor]] = deque()
         self._closed = False
 
+    @property
+    def held(self) -> int:
+        """Editors this pool holds: waiting, lent out or still opening."""
+        return len(self._ready) + len(self._lent) + len(self._opening)
+
     async def open_editor(self) -> Editor:
         """A ready editor, clean as if fresh; hand it back with ``release`` (or close it)."""
         if self._closed:

@@ -8,7 +8,10 @@ that crashed takes nobody else with it, and a late failure never closes a browse
 started after it.
 
 A worker refuses jobs planned for another harness (the driver's fingerprint differs from the
-code this process runs), so no node produces verdicts under ids that name other code.
+code this process runs), so no node produces verdicts under ids that name other code. It declines
+(``Refusal``, not an attempt) to start a job while its node has less memory available than the
+sweep's reserve: the driver sends it elsewhere or later, and Chromium is not pushed into the OOM
+killer. Each result carries the worker's load: its editors, their memory and the node's.
 """
 
 from __future__ import annotations
@@ -24,26 +27,35 @@ from playwright.async_api import Error as PlaywrightError
 
 from workers.agent_api import agent_code, build_agent
 from workers.contract import (
+    MIB,
     AgentUnavailableError,
     EditorError,
     EpisodeResult,
     EpisodeSpec,
+    Refusal,
     SyntheticEpisodes,
     TaskPayload,
     WorkerInfo,
+    WorkerLoad,
 )
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
 from workers.episode._runner import EpisodeRunner
 from workers.episode._synthetic import run_synthetic
 from workers.llm import close_litellm_clients
-from workers.node import harness_fingerprint
+from workers.node import browser_usage, harness_fingerprint, node_memory
+
+MEMORY_POLL_S = 0.5
+"""How often a worker short of memory looks again."""
 
 
 class EpisodeWorker:
     """Runs episodes for the driver; construct through ``ray.remote`` (see ``WorkerPool``)."""
 
-    def __init__(self, worker_index: int, synthetic: SyntheticEpisodes | None = None) -> None:
+    def __init__(
+        self, worker_index: int, synthetic: SyntheticEpisodes | None = None, memory_reserve_bytes: int = 0
+    ) -> None:
         self.synthetic = synthetic
+        self.memory_reserve_bytes = memory_reserve_bytes
         if synthetic is not None:
             time.sleep(synthetic.startup_s)
         self.info_ = WorkerInfo(
@@ -61,7 +73,32 @@ class EpisodeWorker:
     async def info(self) -> WorkerInfo:
         return self.info_
 
-    async def run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
+    async def load(self) -> WorkerLoad:
+        """This worker's editors and their memory, the node's available memory, and whether it takes jobs."""
+        usage, memory = await asyncio.to_thread(lambda: (browser_usage(), node_memory()))
+        return WorkerLoad(
+            editors=self._runner.pool.held if self._runner is not None else 0,
+            browser_pss_bytes=usage.pss_bytes,
+            node_available_bytes=memory.available_bytes,
+            admits=memory.available_bytes >= self.memory_reserve_bytes,
+        )
+
+    async def wait_admitting(self, within_s: float) -> WorkerLoad:
+        """The load as soon as the node has its memory reserve available again, or after ``within_s``."""
+        deadline = time.monotonic() + within_s
+        load = await self.load()
+        while not load.admits and time.monotonic() < deadline:
+            await asyncio.sleep(MEMORY_POLL_S)  # the kernel has no event for "memory is free again"
+            load = await self.load()
+        return load
+
+    async def run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult | Refusal:
+        if self.memory_reserve_bytes and not (load := await self.load()).admits:
+            reason = (
+                f"{self.info_.hostname} has {load.node_available_bytes / MIB:.0f} MB available, "
+                f"under the {self.memory_reserve_bytes / MIB:.0f} MB reserve"
+            )
+            return Refusal(reason=reason, load=load)
         started, clock = time.time(), time.perf_counter()
         try:
             result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
@@ -72,7 +109,7 @@ class EpisodeWorker:
         except Exception as exc:  # the worker must answer, whatever broke: the driver records it
             detail = "".join(traceback.format_exception_only(exc)).strip()
             result = EpisodeResult.errored(spec, "internal_error", detail)
-        update: dict[str, object] = {"worker": self.info_}
+        update: dict[str, object] = {"worker": self.info_, "load": await self.load()}
         if not result.started_at:  # an episode cut short never stamped itself
             timings = result.timings.model_copy(update={"total_s": time.perf_counter() - clock})
             update.update(started_at=started, finished_at=time.time(), timings=timings)

@@ -1,5 +1,7 @@
-"""This node: where its editor and browser are installed, its harness fingerprint, how it describes itself."""
+"""This node: where its editor and browser are installed, its harness fingerprint, how it describes itself,
+what its browsers cost and how many episodes it can hold."""
 
+from workers.node._capacity import EditorCost, SlotDerivation, derive_slots
 from workers.node._describe import describe_node
 from workers.node._fingerprint import code_parts, environment_parts, harness_fingerprint
 from workers.node._installation import (
@@ -10,16 +12,24 @@ from workers.node._installation import (
     default_chromium,
     default_gui_dir,
 )
+from workers.node._usage import BrowserUsage, NodeMemory, browser_usage, node_memory
 
 __all__ = [
     "BUNDLE_FILE",
     "BUNDLE_PACKAGE",
     "OWN_FILES",
     "REPO_DIR",
+    "BrowserUsage",
+    "EditorCost",
+    "NodeMemory",
+    "SlotDerivation",
+    "browser_usage",
     "code_parts",
     "default_chromium",
     "default_gui_dir",
+    "derive_slots",
     "describe_node",
     "environment_parts",
     "harness_fingerprint",
+    "node_memory",
 ]

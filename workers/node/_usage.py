@@ -11,8 +11,6 @@ from __future__ import annotations
 import psutil
 from pydantic import BaseModel, ConfigDict
 
-MIB = 2**20
-
 
 class BrowserUsage(BaseModel):
     """The browsers under one process at one instant."""

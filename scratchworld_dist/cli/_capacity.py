@@ -1,0 +1,35 @@
+"""``scratchworld capacity``: how many editors this machine holds for agents that wait on a model.
+
+A local run derives this by itself; a cluster node declares it when it joins
+(``ray start --resources='{"browser": N}'``), so this prints N, measured on the node.
+"""
+
+from __future__ import annotations
+
+import os
+
+import click
+
+from scratchworld_dist.scheduling import derive_local
+from scratchworld_dist.sweep import Limits
+from workers.node import harness_fingerprint
+
+
+@click.command("capacity")
+@click.option("--clock", type=click.Choice(["virtual", "real"]), default="virtual", help="The episodes' clock.")
+@click.option(
+    "--margin",
+    type=click.FloatRange(0, 1, max_open=True),
+    default=None,
+    help="Share of CPU and spare memory kept free (0.25).",
+)
+@click.option(
+    "--reserve-mb", type=click.IntRange(min=0), default=None, help="Memory kept for the rest of the node (1024)."
+)
+def capacity_command(clock: str, margin: float | None, reserve_mb: int | None) -> None:
+    """Measure a waiting editor's CPU and memory here and print the browser slots they allow."""
+    overrides = {"capacity_margin": margin, "memory_reserve_mb": reserve_mb}
+    limits = Limits.model_validate({key: value for key, value in overrides.items() if value is not None})
+    derivation = derive_local(limits, clock, harness_fingerprint().digest, os.cpu_count() or 1)  # type: ignore[arg-type]
+    click.echo(derivation.describe())
+    click.echo(f"""ray start --address HEAD:6379 --resources='{{"browser": {derivation.slots}}}'""")

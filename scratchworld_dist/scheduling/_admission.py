@@ -1,0 +1,56 @@
+"""How many episodes this machine runs at once when the sweep does not say: admission by measured cost.
+
+Jobs whose agent calls a model spend most of their time waiting on the provider, so a node holds
+as many of them as its CPU (what a waiting page burns, measured) and its memory (one editor's
+PSS, measured) allow, less a margin (``workers.node.derive_slots``). Jobs without a model keep
+their page busy: one per core, as before. Either way the episodes are spread over one worker (one
+browser) per core. Explicit ``browser_slots`` and ``pages_per_worker`` win over all of this.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+
+from scratchworld_dist.sweep import JobSpec, Limits
+from workers.contract import MIB, ClockMode
+from workers.editor import cached_editor_cost
+from workers.node import SlotDerivation, derive_slots, node_memory
+
+
+def waiting_clock(jobs: Sequence[JobSpec]) -> ClockMode | None:
+    """The clock whose waiting pages bound the node (real if any job runs on it); None when no job waits on a model."""
+    waiting = [job for job in jobs if job.model is not None]
+    if not waiting:
+        return None
+    return "real" if any(job.episode_clock.mode == "real" for job in waiting) else "virtual"
+
+
+def admitted_slots(limits: Limits, jobs: Sequence[JobSpec], harness: str, say: Callable[[str], None]) -> int:
+    """Browser slots for a private local Ray: as configured, else derived from this machine."""
+    if limits.browser_slots is not None:
+        return limits.browser_slots
+    cores = os.cpu_count() or 1
+    clock = waiting_clock(jobs)
+    if clock is None:
+        return cores
+    derivation = derive_local(limits, clock, harness, cores)
+    say(f"admission: {derivation.describe()} (limits.browser_slots overrides)")
+    return derivation.slots
+
+
+def derive_local(limits: Limits, clock: ClockMode, harness: str, cores: int) -> SlotDerivation:
+    return derive_slots(
+        cached_editor_cost(clock, harness),
+        cores=cores,
+        memory=node_memory(),
+        margin=limits.capacity_margin,
+        reserve_bytes=limits.memory_reserve_mb * MIB,
+    )
+
+
+def pages_per_worker(limits: Limits, slots: int, cores: int) -> int:
+    """Pages per worker: as configured, else the slots spread over one worker per core."""
+    if limits.pages_per_worker is not None:
+        return limits.pages_per_worker
+    return max(1, slots // max(cores, 1))
