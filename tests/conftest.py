@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import pytest
 
-from workers.editor import BrowserSession
+from workers.editor import BrowserSession, EditorPool
 from workers.evaluation import Evaluator
 
 if TYPE_CHECKING:
@@ -22,7 +22,7 @@ UPSTREAM_DIR = Path(os.environ.get("SCRATCHWORLD_UPSTREAM_DATA", REPO.parent / "
 DATA = Path(__file__).resolve().parent / "data"
 
 
-BROWSER_FIXTURES = frozenset({"session", "evaluator"})
+BROWSER_FIXTURES = frozenset({"session", "evaluator", "fresh_evaluator"})
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
@@ -40,7 +40,19 @@ async def session() -> AsyncIterator[BrowserSession]:
 
 
 @pytest.fixture(scope="session")
-def evaluator(session: BrowserSession) -> Evaluator:
+async def evaluator(session: BrowserSession) -> AsyncIterator[Evaluator]:
+    """Evaluations as workers run them: one pool's editors, reused when they recycle clean.
+
+    Opening an editor costs more than most evaluations, so tests share them; whether reuse is safe
+    is what tests/test_editor_pool.py checks. ``fresh_evaluator`` is for tests of a fresh page.
+    """
+    async with EditorPool(session, spare=0) as pool:
+        yield Evaluator(session, pool)
+
+
+@pytest.fixture(scope="session")
+def fresh_evaluator(session: BrowserSession) -> Evaluator:
+    """Every evaluation in a new editor (tests of what a fresh page does, e.g. its ready time)."""
     return Evaluator(session)
 
 
