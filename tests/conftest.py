@@ -23,13 +23,17 @@ DATA = Path(__file__).resolve().parent / "data"
 
 
 BROWSER_FIXTURES = frozenset({"session", "evaluator", "fresh_evaluator"})
+RAY_FIXTURES = frozenset({"shared_ray"})
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """A test that uses the shared browser is a browser test, whichever module it is in."""
+    """A test that uses the shared browser (or Ray) is a browser (ray) test, whichever module it is in."""
     for item in items:
-        if BROWSER_FIXTURES & set(getattr(item, "fixturenames", ())):
+        fixtures = set(getattr(item, "fixturenames", ()))
+        if BROWSER_FIXTURES & fixtures:
             item.add_marker(pytest.mark.browser)
+        if RAY_FIXTURES & fixtures:
+            item.add_marker(pytest.mark.ray)
 
 
 @pytest.fixture(scope="session")
@@ -79,6 +83,19 @@ def upstream_clone(tmp_path: Path, upstream_dir: Path) -> Path:
         if not script.exists():
             script.write_text((DATA / "loads_only.js").read_text())
     return clone
+
+
+@pytest.fixture(scope="module")
+def shared_ray() -> Iterator[int]:
+    """One private local Ray for a module's drivers run in this process (``tests.sweep_driver.run_here``).
+
+    It is started as ``scratchworld run`` starts its own, and a driver that finds Ray running uses
+    it, so the module pays for one Ray instead of one per run. Yields its browser slots.
+    """
+    from scratchworld_dist.scheduling import ray_runtime
+
+    with ray_runtime(None, None) as slots:
+        yield slots
 
 
 @pytest.fixture
