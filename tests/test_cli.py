@@ -28,6 +28,7 @@ def run(monkeypatch: pytest.MonkeyPatch) -> Callable[..., Done]:
     return invoke
 
 
+@pytest.mark.slow
 def test_validate_our_suite_is_green_under_both_clocks(tmp_path: Path, run: Callable[..., Done]) -> None:
     """The main job: every golden passes, every initial falls short, JSON as documented.
 
@@ -130,6 +131,7 @@ def test_committed_projects_are_what_their_sources_build() -> None:
         check_project(golden.read_bytes())
 
 
+@pytest.mark.slow
 def test_replay_golden_and_custom_trajectories(tmp_path: Path, run: Callable[..., Done]) -> None:
     out = tmp_path / "replay.json"
     saved = tmp_path / "fixed.sb3"

@@ -541,6 +541,7 @@ async def test_pseudocode_of_the_upstream_maze_starter(editor: Editor, upstream_
 
 
 @pytest.mark.upstream
+@pytest.mark.slow
 async def test_every_upstream_starter_can_be_observed_in_every_target(editor: Editor, upstream_dir) -> None:
     static = upstream_dir / "scratch-gui" / "static"
     starters = sorted(p for p in static.glob("*.sb3") if "golden" not in p.name)[::12]  # a spread of ~17 projects

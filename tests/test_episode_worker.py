@@ -59,6 +59,7 @@ def episode(
     return job.episode(1, timeout_s), content.payload
 
 
+@pytest.mark.slow
 async def test_oracle_replays_its_trajectory_and_noop_fails_side_by_side(
     worker: EpisodeWorker, contents: dict[str, TaskContent]
 ) -> None:
@@ -117,6 +118,7 @@ async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
     assert again.outcome == "passed"
 
 
+@pytest.mark.slow
 async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
     worker: EpisodeWorker, contents: dict[str, TaskContent]
 ) -> None:
@@ -139,6 +141,7 @@ async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
     assert worker._session._browser is not first_browser
 
 
+@pytest.mark.slow
 async def test_a_crashed_page_takes_no_sibling_episode_with_it(
     worker: EpisodeWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
 ) -> None:

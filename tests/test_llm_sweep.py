@@ -23,7 +23,7 @@ from tests.conftest import REPO
 from tests.openai_server import Behaviour, OpenAIServer, reply, status
 from tests.sweep_driver import Driver, run
 
-pytestmark = [pytest.mark.ray, pytest.mark.browser]
+pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow]
 
 SECRET = "sk-sweep-test-0b7e4c2a91"
 TASK = "quiz_score"

@@ -103,6 +103,7 @@ async def solve(
 
 
 @pytest.mark.parametrize("task_id", ALL_TASKS)
+@pytest.mark.slow
 async def test_each_golden_trajectory_solves_its_task_in_both_modes(
     session: BrowserSession, evaluator: Evaluator, task_id: str
 ) -> None:

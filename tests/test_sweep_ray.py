@@ -56,6 +56,7 @@ def wait_for(condition: object, timeout: float, what: str) -> None:
         time.sleep(0.1)
 
 
+@pytest.mark.slow
 def test_resume_after_killing_the_driver_loses_and_duplicates_nothing(tmp_path: Path, drivers: list[Driver]) -> None:
     config = write_config(tmp_path, seeds=5, synthetic={"duration_s": 0.3, "fail_tasks": ["quiz_score"]})
     run_dir = tmp_path / "run"
@@ -85,6 +86,7 @@ def test_resume_after_killing_the_driver_loses_and_duplicates_nothing(tmp_path: 
     assert "60 already decided, 0 to run" in " ".join(out.split())
 
 
+@pytest.mark.slow
 def test_jobs_of_a_killed_worker_are_rescheduled(tmp_path: Path, drivers: list[Driver]) -> None:
     # Workers restart in seconds (imports, browser); Ray fails calls sent to one meanwhile.
     config = write_config(tmp_path, seeds=3, synthetic={"duration_s": 1.5, "startup_s": 5}, limits={"browser_slots": 2})
@@ -114,6 +116,7 @@ def test_jobs_of_a_killed_worker_are_rescheduled(tmp_path: Path, drivers: list[D
     assert index in {row.worker_index for row in later}  # the restarted worker takes jobs again
 
 
+@pytest.mark.slow
 def test_jobs_spread_over_a_two_node_cluster(tmp_path: Path, drivers: list[Driver]) -> None:
     from ray.cluster_utils import Cluster
 
@@ -148,6 +151,7 @@ def edited_editor(tmp_path: Path) -> Path:
     return gui
 
 
+@pytest.mark.slow
 def test_results_of_another_harness_are_refused_then_set_aside(
     tmp_path: Path, drivers: list[Driver], monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -263,6 +267,7 @@ def test_episode_timeout_is_recorded_retried_and_kept_out_of_verdicts(tmp_path: 
 
 
 @pytest.mark.browser
+@pytest.mark.slow
 def test_real_episodes_in_the_browser_mixed_with_synthetic_ones(tmp_path: Path, shared_ray: int) -> None:
     """Oracle episodes in Chromium beside synthetic ones in one sweep, then the noop agent.
 
