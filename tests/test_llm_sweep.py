@@ -232,11 +232,7 @@ def test_a_rerun_with_the_model_cache_replays_every_reply_at_no_cost(
 
     (row,) = report(tmp_path / "cached-again")["rows"]
     assert (row["llm_cache_hits"], row["llm_cache_calls"], row["cost_usd"]) == (2, 2, 0.0)
-    text = subprocess.run(
-        [SCRATCHWORLD, "report", str(tmp_path / "cached-again")], capture_output=True, text=True, check=True
-    ).stdout
+    text = invoke("report", str(tmp_path / "cached-again")).stdout
     assert "| 2/2 (100.0%) |" in text and "Cache hits:" in text
-    first_text = subprocess.run(
-        [SCRATCHWORLD, "report", str(tmp_path / "cached-first")], capture_output=True, text=True, check=True
-    ).stdout
+    first_text = invoke("report", str(tmp_path / "cached-first")).stdout
     assert "| 0/2 (0.0%) |" in first_text  # the first run had the cache too, and no hit
