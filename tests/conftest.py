@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import pytest
 
-from workers.editor import BrowserSession
+from workers.editor import BrowserSession, EditorPool
 from workers.evaluation import Evaluator
 
 if TYPE_CHECKING:
@@ -22,14 +22,18 @@ UPSTREAM_DIR = Path(os.environ.get("SCRATCHWORLD_UPSTREAM_DATA", REPO.parent / "
 DATA = Path(__file__).resolve().parent / "data"
 
 
-BROWSER_FIXTURES = frozenset({"session", "evaluator"})
+BROWSER_FIXTURES = frozenset({"session", "evaluator", "fresh_evaluator"})
+RAY_FIXTURES = frozenset({"shared_ray"})
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """A test that uses the shared browser is a browser test, whichever module it is in."""
+    """A test that uses the shared browser (or Ray) is a browser (ray) test, whichever module it is in."""
     for item in items:
-        if BROWSER_FIXTURES & set(getattr(item, "fixturenames", ())):
+        fixtures = set(getattr(item, "fixturenames", ()))
+        if BROWSER_FIXTURES & fixtures:
             item.add_marker(pytest.mark.browser)
+        if RAY_FIXTURES & fixtures:
+            item.add_marker(pytest.mark.ray)
 
 
 @pytest.fixture(scope="session")
@@ -40,7 +44,19 @@ async def session() -> AsyncIterator[BrowserSession]:
 
 
 @pytest.fixture(scope="session")
-def evaluator(session: BrowserSession) -> Evaluator:
+async def evaluator(session: BrowserSession) -> AsyncIterator[Evaluator]:
+    """Evaluations as workers run them: one pool's editors, reused when they recycle clean.
+
+    Opening an editor costs more than most evaluations, so tests share them; whether reuse is safe
+    is what tests/test_editor_pool.py checks. ``fresh_evaluator`` is for tests of a fresh page.
+    """
+    async with EditorPool(session, spare=0) as pool:
+        yield Evaluator(session, pool)
+
+
+@pytest.fixture(scope="session")
+def fresh_evaluator(session: BrowserSession) -> Evaluator:
+    """Every evaluation in a new editor (tests of what a fresh page does, e.g. its ready time)."""
     return Evaluator(session)
 
 
@@ -67,6 +83,19 @@ def upstream_clone(tmp_path: Path, upstream_dir: Path) -> Path:
         if not script.exists():
             script.write_text((DATA / "loads_only.js").read_text())
     return clone
+
+
+@pytest.fixture(scope="module")
+def shared_ray() -> Iterator[int]:
+    """One private local Ray for a module's drivers run in this process (``tests.sweep_driver.run_here``).
+
+    It is started as ``scratchworld run`` starts its own, and a driver that finds Ray running uses
+    it, so the module pays for one Ray instead of one per run. Yields its browser slots.
+    """
+    from scratchworld_dist.scheduling import ray_runtime
+
+    with ray_runtime(None, None) as slots:
+        yield slots
 
 
 @pytest.fixture

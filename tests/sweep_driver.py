@@ -1,7 +1,8 @@
 """`scratchworld run` as a test drives it: a subprocess in its own process group, its output in a log file.
 
 Every driver is killed with its whole group after the test (the ``drivers`` fixture of conftest),
-so a killed driver's Ray helpers never outlive it.
+so a killed driver's Ray helpers never outlive it. A test that neither kills nor signals its driver,
+nor needs its workers to see a changed environment, runs it in its own process instead (``run_here``).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import sys
 import time
 from pathlib import Path
 
+from tests.cli_runner import invoke
 from tests.conftest import REPO
 
 SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))
@@ -47,3 +49,9 @@ def run(drivers: list[Driver], config: Path, *args: str, timeout: float = 300) -
     driver = Driver(config, *args)
     drivers.append(driver)
     return driver.wait(timeout)
+
+
+def run_here(config: Path, *args: str) -> tuple[int, str]:
+    """The driver in this process, on the module's Ray (the ``shared_ray`` fixture): exit code and output."""
+    done = invoke("run", str(config), *args)
+    return done.returncode, done.stdout + done.stderr

@@ -208,6 +208,7 @@ def server(monkeypatch: pytest.MonkeyPatch) -> Iterator[OpenAIServer]:
 @pytest.mark.ray
 @pytest.mark.browser
 @pytest.mark.usefixtures("on_path")
+@pytest.mark.slow
 def test_the_readme_agent_runs_both_modes_with_calls_retried_paced_and_costed(
     tmp_path: Path, server: OpenAIServer, drivers: list[Driver]
 ) -> None:

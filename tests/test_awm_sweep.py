@@ -26,7 +26,7 @@ from tests.sweep_driver import Driver, run
 from workers.agents._awm_prompts import JUDGE_SYSTEM
 from workers.contract import memory_digest
 
-pytestmark = [pytest.mark.ray, pytest.mark.browser]
+pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow]
 
 TASKS = ["star_shower", "quiz_score", "sum_two_numbers"]
 """In suite order, which is the waves' order (one task per wave)."""

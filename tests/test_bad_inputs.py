@@ -255,9 +255,11 @@ async def test_a_bad_script_is_a_classified_one_line_error(
     assert len(result.error.message) <= MAX_MESSAGE
 
 
-async def test_a_script_that_tries_the_network_is_refused_at_the_boundary(session: BrowserSession) -> None:
+async def test_a_script_that_tries_the_network_is_refused_at_the_boundary(
+    session: BrowserSession, evaluator: Evaluator
+) -> None:
     with LoopbackListener() as listener:
-        result = await Evaluator(session).evaluate(
+        result = await evaluator.evaluate(
             counter_project().to_sb3(), spec(live.NETWORK, config={"port": listener.port})
         )
         wanted = f"GET http://127.0.0.1:{listener.port}/exfiltrate"

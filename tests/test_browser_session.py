@@ -105,7 +105,7 @@ HOSTILE = [
 ]
 
 
-async def test_strings_cannot_break_out_of_javascript(session: BrowserSession) -> None:
+async def test_strings_cannot_break_out_of_javascript(evaluator: Evaluator) -> None:
     project = Project()
     for index, name in enumerate(HOSTILE):
         project.sprite(name, costume=circle_costume("c", 5, "#000"), x=index)
@@ -114,7 +114,7 @@ async def test_strings_cannot_break_out_of_javascript(session: BrowserSession) -
         "typeof window.pwned === 'undefined', meta: {names: vm.runtime.targets.map(t => t.getName())}}]})"
     )
     spec = EvaluationSpec(script_name="x.js", script_source=script, timeout_s=10, config={"label": HOSTILE[0]})
-    result = await Evaluator(session).evaluate(project.to_sb3(), spec)
+    result = await evaluator.evaluate(project.to_sb3(), spec)
     assert result.error is None, result.error
     assert result.tests[0].name == HOSTILE[0]
     assert result.tests[0].passed  # nothing was executed from the strings
@@ -131,14 +131,14 @@ async def test_bridge_rejects_unknown_functions_and_bad_arguments(session: Brows
         assert caught.value.kind == "bad_request"
 
 
-async def test_scripts_cannot_replace_the_bridge(session: BrowserSession) -> None:
+async def test_scripts_cannot_replace_the_bridge(evaluator: Evaluator) -> None:
     script = (
         "module.exports = async () => { try { window.scratchworld = null; } catch (e) {} "
         "return {details: [{name: 'bridge intact', passed: window.scratchworld !== null}]}; }"
     )
     project = Project()
     project.sprite("S", costume=circle_costume("c", 5, "#000")).script(block("event_whenflagclicked"))
-    result = await Evaluator(session).evaluate(
+    result = await evaluator.evaluate(
         project.to_sb3(), EvaluationSpec(script_name="x.js", script_source=script, timeout_s=10)
     )
     assert result.success, result

@@ -1,4 +1,5 @@
-"""The command line, run as a user would run it."""
+"""The command line as a user runs it, through its entry point (in this process, see ``tests/cli_runner.py``);
+``gui``, a server that must outlive its caller, runs as a process of its own."""
 
 from __future__ import annotations
 
@@ -6,11 +7,13 @@ import json
 import subprocess
 import sys
 import urllib.request
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from scratchworld_dist.sb3 import check_project
+from tests.cli_runner import Done, invoke
 from tests.conftest import REPO, SUITE_DIR
 
 pytestmark = pytest.mark.browser
@@ -18,11 +21,15 @@ pytestmark = pytest.mark.browser
 SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))
 
 
-def run(*args: str, timeout: float = 600) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([SCRATCHWORLD, *args], capture_output=True, text=True, timeout=timeout, cwd=REPO)
+@pytest.fixture
+def run(monkeypatch: pytest.MonkeyPatch) -> Callable[..., Done]:
+    """``scratchworld ARGS...`` from the repository, as a user in it would type it."""
+    monkeypatch.chdir(REPO)
+    return invoke
 
 
-def test_validate_our_suite_is_green_under_both_clocks(tmp_path: Path) -> None:
+@pytest.mark.slow
+def test_validate_our_suite_is_green_under_both_clocks(tmp_path: Path, run: Callable[..., Done]) -> None:
     """The main job: every golden passes, every initial falls short, JSON as documented.
 
     Our suite's default clock is virtual; real time must give the same verdicts, test for test.
@@ -52,7 +59,7 @@ def test_validate_our_suite_is_green_under_both_clocks(tmp_path: Path) -> None:
     assert verdicts["default"] == verdicts["real"]
 
 
-def test_validate_exits_1_when_a_golden_fails(tmp_path: Path) -> None:
+def test_validate_exits_1_when_a_golden_fails(tmp_path: Path, run: Callable[..., Done]) -> None:
     suite = tmp_path / "suite"
     (suite / "compute").mkdir(parents=True)
     for name in ("suite.json", "harness.js"):
@@ -72,7 +79,7 @@ def test_validate_exits_1_when_a_golden_fails(tmp_path: Path) -> None:
     assert json.loads(out.read_text())[0]["golden"]["success"] is False
 
 
-def test_evaluate_exit_codes_and_json(tmp_path: Path) -> None:
+def test_evaluate_exit_codes_and_json(tmp_path: Path, run: Callable[..., Done]) -> None:
     task = SUITE_DIR / "compute" / "sum_two_numbers"
     out = tmp_path / "result.json"
     golden = run("evaluate", str(SUITE_DIR), "sum_two_numbers", str(task / "golden.sb3"), "--json", str(out))
@@ -95,7 +102,7 @@ def test_evaluate_exit_codes_and_json(tmp_path: Path) -> None:
         (("evaluate", str(SUITE_DIR), "nope", str(SUITE_DIR / "suite.json")), "error: no task 'nope'"),
     ],
 )
-def test_user_errors_are_one_line(args: tuple[str, ...], message: str) -> None:
+def test_user_errors_are_one_line(args: tuple[str, ...], message: str, run: Callable[..., Done]) -> None:
     done = run(*args)
     assert done.returncode == 2
     assert done.stderr.startswith(message)
@@ -124,7 +131,8 @@ def test_committed_projects_are_what_their_sources_build() -> None:
         check_project(golden.read_bytes())
 
 
-def test_replay_golden_and_custom_trajectories(tmp_path: Path) -> None:
+@pytest.mark.slow
+def test_replay_golden_and_custom_trajectories(tmp_path: Path, run: Callable[..., Done]) -> None:
     out = tmp_path / "replay.json"
     saved = tmp_path / "fixed.sb3"
     done = run("replay", str(SUITE_DIR), "bouncing_ball_stuck", "--json", str(out), "--save", str(saved), "--observe")

@@ -131,6 +131,7 @@ def run(config: Path, cluster: Cluster) -> subprocess.CompletedProcess[str]:
     )
 
 
+@pytest.mark.slow
 def test_a_node_from_another_checkout_runs_jobs_and_a_differing_one_is_refused(
     tmp_path: Path, cluster: Cluster
 ) -> None:

@@ -101,6 +101,7 @@ module.exports = async () => {
 """
 
 
+@pytest.mark.slow
 async def test_used_editors_are_recycled_and_fresh_ones_opened_ahead(session: BrowserSession) -> None:
     async with EditorPool(session, spare=1) as pool:
         evaluator = Evaluator(session, pool)
@@ -143,6 +144,7 @@ async def test_nothing_leaks_into_the_next_evaluation_of_a_reused_editor(session
         assert (pool.opened, pool.reused, sum(pool.discarded.values())) == (1, 3, 0)
 
 
+@pytest.mark.slow
 async def test_an_editor_that_cannot_be_cleaned_is_closed_not_reused(session: BrowserSession) -> None:
     async with EditorPool(session, spare=0) as pool:
         evaluator = Evaluator(session, pool)

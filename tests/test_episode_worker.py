@@ -49,12 +49,17 @@ async def worker() -> AsyncIterator[EpisodeWorker]:
 
 
 def episode(
-    content: TaskContent, agent: AgentRef | str = "oracle", timeout_s: float = 120, mode: Mode = "composite"
+    content: TaskContent,
+    agent: AgentRef | str = "oracle",
+    timeout_s: float = 120,
+    mode: Mode = "composite",
+    max_steps: int = 60,
 ) -> tuple[EpisodeSpec, TaskPayload]:
-    (job,) = plan_jobs([None], [mode], agent, [content], [0], 60)
+    (job,) = plan_jobs([None], [mode], agent, [content], [0], max_steps)
     return job.episode(1, timeout_s), content.payload
 
 
+@pytest.mark.slow
 async def test_oracle_replays_its_trajectory_and_noop_fails_side_by_side(
     worker: EpisodeWorker, contents: dict[str, TaskContent]
 ) -> None:
@@ -113,6 +118,7 @@ async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
     assert again.outcome == "passed"
 
 
+@pytest.mark.slow
 async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
     worker: EpisodeWorker, contents: dict[str, TaskContent]
 ) -> None:
@@ -135,6 +141,7 @@ async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
     assert worker._session._browser is not first_browser
 
 
+@pytest.mark.slow
 async def test_a_crashed_page_takes_no_sibling_episode_with_it(
     worker: EpisodeWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -239,8 +246,9 @@ async def test_agent_crash_step_limit_and_rejected_actions(
     assert (trace.action, trace.ok, trace.error_code) == ("agent_error", False, "agent_error")
     assert "Traceback" in (trace.error_message or "") and "in act" in (trace.error_message or "")
 
-    busy = await runner.run(spec, payload, BusyAgent(payload.golden_project or b""))
+    few, _ = episode(content, max_steps=4)  # the limit, not its size, is what ends the episode
+    busy = await runner.run(few, payload, BusyAgent(payload.golden_project or b""))
     assert busy.stop_reason == "max_steps"
-    assert len(busy.steps) == spec.max_steps
+    assert len(busy.steps) == few.max_steps == 4
     assert all(step.ok for step in busy.steps)
     assert busy.outcome == "passed"  # the step limit ends the episode; the project is still judged

@@ -41,8 +41,8 @@ async def evaluate(evaluator: Evaluator, source: str, project: Project | bytes |
     return await evaluator.evaluate(data, spec(source, **extra))
 
 
-async def test_a_passing_project(evaluator: Evaluator) -> None:
-    result = await evaluate(evaluator, COUNTER_TEST)
+async def test_a_passing_project(fresh_evaluator: Evaluator) -> None:
+    result = await evaluate(fresh_evaluator, COUNTER_TEST)
     assert result.error is None
     assert (result.success, result.passed, result.total, result.psr) == (True, 2, 2, 1.0)
     assert [t.name for t in result.tests] == ["count reaches 10", "says done"]
@@ -200,9 +200,9 @@ module.exports = async (vm) => {
 """
 
 
-async def test_nothing_leaks_from_one_evaluation_into_the_next(evaluator: Evaluator) -> None:
-    first = await evaluate(evaluator, LEAKY, counter_project("Other"))
+async def test_nothing_leaks_from_one_evaluation_into_the_next(fresh_evaluator: Evaluator) -> None:
+    first = await evaluate(fresh_evaluator, LEAKY, counter_project("Other"))
     assert first.success
-    second = await evaluate(evaluator, CHECK_CLEAN, counter_project("Counter"))
+    second = await evaluate(fresh_evaluator, CHECK_CLEAN, counter_project("Counter"))
     assert second.error is None
     assert [t.name for t in second.tests if not t.passed] == [], second.tests

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import re
-import subprocess
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -19,11 +18,12 @@ import yaml
 
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.suites import load_suite
+from tests.cli_runner import invoke
 from tests.conftest import REPO
 from tests.openai_server import Behaviour, OpenAIServer, reply, status
-from tests.sweep_driver import SCRATCHWORLD, Driver, run
+from tests.sweep_driver import Driver, run
 
-pytestmark = [pytest.mark.ray, pytest.mark.browser]
+pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow]
 
 SECRET = "sk-sweep-test-0b7e4c2a91"
 TASK = "quiz_score"
@@ -106,8 +106,9 @@ def llm_env(server: OpenAIServer, monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def report(run_dir: Path) -> dict[str, Any]:
-    out = subprocess.run([SCRATCHWORLD, "report", str(run_dir), "--format", "json"], capture_output=True, check=True)
-    return json.loads(out.stdout)
+    done = invoke("report", str(run_dir), "--format", "json")
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
 
 
 @pytest.mark.usefixtures("llm_env")
@@ -188,7 +189,7 @@ def test_a_budget_stops_new_jobs_and_the_report_says_so(tmp_path: Path, drivers:
     assert code == 0, log
     rows = RunStore(tmp_path / "budget").job_rows()
     assert len(rows) == 1 and rows[0].cost_usd > 0.001  # the job that crossed the budget finishes; no other starts
-    text = subprocess.run([SCRATCHWORLD, "report", str(tmp_path / "budget")], capture_output=True, text=True).stdout
+    text = invoke("report", str(tmp_path / "budget")).stdout
     assert "Stopped by budget" in text and "2 job(s) not started" in text
     # Resuming spends nothing more: the budget counts what the directory already holds.
     code, log = run(drivers, config, timeout=600)
@@ -231,11 +232,7 @@ def test_a_rerun_with_the_model_cache_replays_every_reply_at_no_cost(
 
     (row,) = report(tmp_path / "cached-again")["rows"]
     assert (row["llm_cache_hits"], row["llm_cache_calls"], row["cost_usd"]) == (2, 2, 0.0)
-    text = subprocess.run(
-        [SCRATCHWORLD, "report", str(tmp_path / "cached-again")], capture_output=True, text=True, check=True
-    ).stdout
+    text = invoke("report", str(tmp_path / "cached-again")).stdout
     assert "| 2/2 (100.0%) |" in text and "Cache hits:" in text
-    first_text = subprocess.run(
-        [SCRATCHWORLD, "report", str(tmp_path / "cached-first")], capture_output=True, text=True, check=True
-    ).stdout
+    first_text = invoke("report", str(tmp_path / "cached-first")).stdout
     assert "| 0/2 (0.0%) |" in first_text  # the first run had the cache too, and no hit

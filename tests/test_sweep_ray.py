@@ -1,8 +1,10 @@
-"""The sweep engine end to end with a real local Ray: each run is `scratchworld run` in a subprocess.
+"""The sweep engine end to end with a real local Ray.
 
 Synthetic (browserless) episodes exercise scheduling, faults and resume quickly; one sweep runs
-real episodes in Chromium. Every driver runs in its own process group, which is killed after
-the test so a killed driver's Ray helpers never outlive it.
+real episodes in Chromium. A driver that is killed, whose workers are killed or must see another
+environment, or that joins another cluster is `scratchworld run` in a subprocess, in its own process
+group, killed after the test so its Ray helpers never outlive it; the others run in this process on
+one Ray for the module (the ``shared_ray`` fixture), after the subprocess tests.
 """
 
 from __future__ import annotations
@@ -22,8 +24,9 @@ import yaml
 from scratchworld_dist.reports._runs import load_run
 from scratchworld_dist.results import RunStore, effective_rows, read_manifest
 from scratchworld_dist.suites import load_suite
+from tests.cli_runner import invoke
 from tests.conftest import REPO
-from tests.sweep_driver import SCRATCHWORLD, Driver, run
+from tests.sweep_driver import SCRATCHWORLD, Driver, run, run_here
 from workers.node import OWN_FILES
 from workers.node._fingerprint import EDITOR_LOCK_FILES
 
@@ -53,6 +56,7 @@ def wait_for(condition: object, timeout: float, what: str) -> None:
         time.sleep(0.1)
 
 
+@pytest.mark.slow
 def test_resume_after_killing_the_driver_loses_and_duplicates_nothing(tmp_path: Path, drivers: list[Driver]) -> None:
     config = write_config(tmp_path, seeds=5, synthetic={"duration_s": 0.3, "fail_tasks": ["quiz_score"]})
     run_dir = tmp_path / "run"
@@ -82,6 +86,7 @@ def test_resume_after_killing_the_driver_loses_and_duplicates_nothing(tmp_path: 
     assert "60 already decided, 0 to run" in " ".join(out.split())
 
 
+@pytest.mark.slow
 def test_jobs_of_a_killed_worker_are_rescheduled(tmp_path: Path, drivers: list[Driver]) -> None:
     # Workers restart in seconds (imports, browser); Ray fails calls sent to one meanwhile.
     config = write_config(tmp_path, seeds=3, synthetic={"duration_s": 1.5, "startup_s": 5}, limits={"browser_slots": 2})
@@ -111,32 +116,7 @@ def test_jobs_of_a_killed_worker_are_rescheduled(tmp_path: Path, drivers: list[D
     assert index in {row.worker_index for row in later}  # the restarted worker takes jobs again
 
 
-def test_episode_timeout_is_recorded_retried_and_kept_out_of_verdicts(tmp_path: Path, drivers: list[Driver]) -> None:
-    config = write_config(
-        tmp_path,
-        tasks={"ids": TASKS[:2]},
-        synthetic={"duration_s": 60},
-        limits={"episode_timeout_s": 1, "retries": 1},
-    )
-    code, out = run(drivers, config)
-    assert code == 1, out  # jobs left without a verdict
-    rows = RunStore(tmp_path / "run").job_rows()
-    assert sorted((row.task_id, row.attempt) for row in rows) == [
-        ("bouncing_ball_stuck", 1),
-        ("bouncing_ball_stuck", 2),
-        ("sum_two_numbers", 1),
-        ("sum_two_numbers", 2),
-    ]
-    assert {(row.outcome, row.error_class, row.psr) for row in rows} == {("error", "episode_timeout", None)}
-    assert all(row.episode_s < 10 and row.started_at.year > 2000 for row in rows)
-
-    status = subprocess.run([SCRATCHWORLD, "status", str(tmp_path / "run")], capture_output=True, text=True)
-    assert status.returncode == 0
-    text = " ".join(status.stdout.split())
-    assert "0/2 decided" in text
-    assert "episode_timeout 2" in text
-
-
+@pytest.mark.slow
 def test_jobs_spread_over_a_two_node_cluster(tmp_path: Path, drivers: list[Driver]) -> None:
     from ray.cluster_utils import Cluster
 
@@ -160,73 +140,6 @@ def test_jobs_spread_over_a_two_node_cluster(tmp_path: Path, drivers: list[Drive
         cluster.shutdown()
 
 
-@pytest.mark.browser
-def test_real_episodes_in_the_browser(tmp_path: Path, drivers: list[Driver]) -> None:
-    oracle = write_config(tmp_path, tasks={"ids": TASKS[:2]}, limits={"episode_timeout_s": 240})
-    code, out = run(drivers, oracle)
-    assert code == 0, out
-    rows = RunStore(tmp_path / "run").job_rows()
-    assert {(row.task_id, row.outcome) for row in rows} == {
-        ("sum_two_numbers", "passed"),
-        ("bouncing_ball_stuck", "passed"),
-    }
-    suite = load_suite(REPO / "tasks")
-    for row in rows:
-        assert row.tests_passed == row.tests_total >= 3
-        trajectory = suite.task(row.task_id).trajectory()
-        expected = len(trajectory) + 1 if trajectory is not None else 2  # replayed actions (or a load), then done
-        assert row.steps == expected
-        artifacts = tmp_path / "run" / str(row.artifact_dir)
-        assert (artifacts / "final.sb3").read_bytes()[:2] == b"PK"
-        assert len((artifacts / "trajectory.jsonl").read_text().splitlines()) == expected
-    tests = RunStore(tmp_path / "run").read_table("tests")
-    assert tests.num_rows == sum(row.tests_total for row in rows)
-
-    noop = write_config(tmp_path, agent="noop", tasks={"ids": ["bouncing_ball_stuck"]}, output=str(tmp_path / "noop"))
-    code, out = run(drivers, noop)
-    assert code == 0, out
-    (row,) = RunStore(tmp_path / "noop").job_rows()
-    assert row.outcome == "failed"  # a debug task's initial project must fail
-    assert row.tests_passed < row.tests_total
-    assert row.stop_reason == "done"
-
-
-@pytest.mark.browser
-def test_a_sweep_mixes_synthetic_and_real_episodes(tmp_path: Path, drivers: list[Driver]) -> None:
-    synthetic = {"tasks": ["sum_two_numbers", "quiz_score"], "fail_tasks": ["quiz_score"]}
-    config = write_config(
-        tmp_path, tasks={"ids": ["bouncing_ball_stuck", *synthetic["tasks"]]}, synthetic=synthetic, seeds=2
-    )
-    code, out = run(drivers, config)
-    assert code == 0, out
-    rows = RunStore(tmp_path / "run").job_rows()
-    assert sorted((row.task_id, row.outcome, row.steps, row.tests_total) for row in rows) == [
-        ("bouncing_ball_stuck", "passed", 3, 3),  # the oracle's two actions, then done; the task's own tests
-        ("bouncing_ball_stuck", "passed", 3, 3),
-        ("quiz_score", "failed", 1, 2),  # synthetic: one step, two tests
-        ("quiz_score", "failed", 1, 2),
-        ("sum_two_numbers", "passed", 1, 2),
-        ("sum_two_numbers", "passed", 1, 2),
-    ]
-    real = [row for row in rows if row.task_id == "bouncing_ball_stuck"]
-    assert all((tmp_path / "run" / str(row.artifact_dir) / "final.sb3").is_file() for row in real)
-    assert {row.eval_profile for row in real} == {"native"}  # evaluated in an editor
-    assert {row.eval_profile for row in rows if row not in real} == {None}
-
-
-def test_a_run_dir_of_another_sweep_is_refused(tmp_path: Path, drivers: list[Driver]) -> None:
-    config = write_config(tmp_path, tasks={"ids": TASKS[:1]}, synthetic={"duration_s": 0})
-    assert run(drivers, config)[0] == 0
-    changed = write_config(tmp_path, tasks={"ids": TASKS[:1]}, seeds=2, synthetic={"duration_s": 0})
-    code, out = run(drivers, changed)
-    assert code == 2
-    assert "holds results of another sweep" in out
-    assert "--force" in out
-    code, out = run(drivers, changed, "--force")
-    assert code == 0, out
-    assert len(RunStore(tmp_path / "run").job_rows()) == 2
-
-
 def edited_editor(tmp_path: Path) -> Path:
     """A copy of the editor folder whose page clock differs by one comment: another harness."""
     gui = tmp_path / "gui"
@@ -238,6 +151,7 @@ def edited_editor(tmp_path: Path) -> Path:
     return gui
 
 
+@pytest.mark.slow
 def test_results_of_another_harness_are_refused_then_set_aside(
     tmp_path: Path, drivers: list[Driver], monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -267,23 +181,9 @@ def test_results_of_another_harness_are_refused_then_set_aside(
     monkeypatch.delenv("SCRATCHWORLD_GUI_DIR")
     other = write_config(tmp_path, tasks={"ids": TASKS[:2]}, synthetic={"duration_s": 0}, output=str(tmp_path / "b"))
     assert run(drivers, other)[0] == 0
-    report = subprocess.run(
-        [SCRATCHWORLD, "report", str(run_dir), str(tmp_path / "b")], capture_output=True, text=True, timeout=60
-    )
+    report = invoke("report", str(run_dir), str(tmp_path / "b"))
     assert report.returncode == 2
     assert "differ in harness" in report.stderr and "scratch-gui/clock.js" in report.stderr
-
-
-@pytest.mark.parametrize("output", ["/proc/scratchworld-run", "a-file/run"])
-def test_an_unwritable_output_is_one_line_naming_it(tmp_path: Path, output: str) -> None:
-    (tmp_path / "a-file").write_text("not a folder")
-    target = output if output.startswith("/") else str(tmp_path / output)
-    config = write_config(tmp_path, output=target, synthetic={})
-    done = subprocess.run([SCRATCHWORLD, "run", str(config)], capture_output=True, text=True, timeout=60)
-    assert done.returncode == 2
-    last = done.stderr.strip().splitlines()[-1]
-    assert last.startswith(f"error: {target}: cannot write results here: "), done.stderr
-    assert "Traceback" not in done.stderr
 
 
 @pytest.mark.parametrize("listener", ["refusing", "silent"])
@@ -304,6 +204,21 @@ def test_a_cluster_that_cannot_be_joined_fails_fast_naming_it(tmp_path: Path, li
     assert elapsed < 30  # bounded by connect_timeout_s, not Ray's minutes of retries
 
 
+# -- drivers in this process, on one Ray for the module (they are neither killed nor signalled) ---------
+
+
+@pytest.mark.parametrize("output", ["/proc/scratchworld-run", "a-file/run"])
+def test_an_unwritable_output_is_one_line_naming_it(tmp_path: Path, output: str) -> None:
+    (tmp_path / "a-file").write_text("not a folder")
+    target = output if output.startswith("/") else str(tmp_path / output)
+    config = write_config(tmp_path, output=target, synthetic={})
+    done = invoke("run", str(config))
+    assert done.returncode == 2
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith(f"error: {target}: cannot write results here: "), done.stderr
+    assert "Traceback" not in done.stderr
+
+
 @pytest.mark.parametrize(
     ("fields", "message"),
     [
@@ -316,10 +231,105 @@ def test_a_cluster_that_cannot_be_joined_fails_fast_naming_it(tmp_path: Path, li
 )
 def test_config_errors_are_one_line_and_start_nothing(tmp_path: Path, fields: dict, message: str) -> None:
     config = write_config(tmp_path, **fields)
-    done = subprocess.run([SCRATCHWORLD, "run", str(config)], capture_output=True, text=True, timeout=60)
+    done = invoke("run", str(config))
     assert done.returncode == 2
     assert done.stderr.startswith("error: ")
     assert message in done.stderr
     assert "Traceback" not in done.stderr
     assert "sk-live" not in done.stderr
     assert not (tmp_path / "run").exists()
+
+
+def test_episode_timeout_is_recorded_retried_and_kept_out_of_verdicts(tmp_path: Path, shared_ray: int) -> None:
+    config = write_config(
+        tmp_path,
+        tasks={"ids": TASKS[:2]},
+        synthetic={"duration_s": 60},
+        limits={"episode_timeout_s": 1, "retries": 1},
+    )
+    code, out = run_here(config)
+    assert code == 1, out  # jobs left without a verdict
+    rows = RunStore(tmp_path / "run").job_rows()
+    assert sorted((row.task_id, row.attempt) for row in rows) == [
+        ("bouncing_ball_stuck", 1),
+        ("bouncing_ball_stuck", 2),
+        ("sum_two_numbers", 1),
+        ("sum_two_numbers", 2),
+    ]
+    assert {(row.outcome, row.error_class, row.psr) for row in rows} == {("error", "episode_timeout", None)}
+    assert all(row.episode_s < 10 and row.started_at.year > 2000 for row in rows)
+
+    status = invoke("status", str(tmp_path / "run"))
+    assert status.returncode == 0
+    text = " ".join(status.stdout.split())
+    assert "0/2 decided" in text
+    assert "episode_timeout 2" in text
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+def test_real_episodes_in_the_browser_mixed_with_synthetic_ones(tmp_path: Path, shared_ray: int) -> None:
+    """Oracle episodes in Chromium beside synthetic ones in one sweep, then the noop agent.
+
+    (Once two tests, real episodes alone and a mixed sweep: one sweep runs the same episodes.)
+    """
+    synthetic = {"tasks": ["quiz_score", "star_shower"], "fail_tasks": ["quiz_score"]}
+    oracle = write_config(
+        tmp_path, tasks={"ids": TASKS}, synthetic=synthetic, seeds=2, limits={"episode_timeout_s": 240}
+    )
+    code, out = run_here(oracle)
+    assert code == 0, out
+    rows = RunStore(tmp_path / "run").job_rows()
+    real = [row for row in rows if row.task_id not in synthetic["tasks"]]
+    assert sorted((row.task_id, row.outcome) for row in real) == [
+        ("bouncing_ball_stuck", "passed"),
+        ("bouncing_ball_stuck", "passed"),
+        ("sum_two_numbers", "passed"),
+        ("sum_two_numbers", "passed"),
+    ]
+    suite = load_suite(REPO / "tasks")
+    for row in real:
+        assert row.tests_passed == row.tests_total >= 3
+        trajectory = suite.task(row.task_id).trajectory()
+        expected = len(trajectory) + 1 if trajectory is not None else 2  # replayed actions (or a load), then done
+        assert row.steps == expected
+        artifacts = tmp_path / "run" / str(row.artifact_dir)
+        assert (artifacts / "final.sb3").read_bytes()[:2] == b"PK"
+        assert len((artifacts / "trajectory.jsonl").read_text().splitlines()) == expected
+    assert sorted(
+        (row.task_id, row.steps, row.tests_total) for row in real if row.task_id == "bouncing_ball_stuck"
+    ) == [
+        ("bouncing_ball_stuck", 3, 3),  # the oracle's two actions, then done; the task's own tests
+        ("bouncing_ball_stuck", 3, 3),
+    ]
+    assert sorted((row.task_id, row.outcome, row.steps, row.tests_total) for row in rows if row not in real) == [
+        ("quiz_score", "failed", 1, 2),  # synthetic: one step, two tests
+        ("quiz_score", "failed", 1, 2),
+        ("star_shower", "passed", 1, 2),
+        ("star_shower", "passed", 1, 2),
+    ]
+    assert {row.eval_profile for row in real} == {"native"}  # evaluated in an editor
+    assert {row.eval_profile for row in rows if row not in real} == {None}
+    tests = RunStore(tmp_path / "run").read_table("tests")
+    assert tests.num_rows == sum(row.tests_total for row in rows)
+
+    noop = write_config(tmp_path, agent="noop", tasks={"ids": ["bouncing_ball_stuck"]}, output=str(tmp_path / "noop"))
+    code, out = run_here(noop)
+    assert code == 0, out
+    (row,) = RunStore(tmp_path / "noop").job_rows()
+    assert row.outcome == "failed"  # a debug task's initial project must fail
+    assert row.tests_passed < row.tests_total
+    assert row.stop_reason == "done"
+
+
+def test_a_run_dir_of_another_sweep_is_refused(tmp_path: Path, shared_ray: int) -> None:
+    config = write_config(tmp_path, tasks={"ids": TASKS[:1]}, synthetic={"duration_s": 0})
+    assert run_here(config)[0] == 0
+    changed = write_config(tmp_path, tasks={"ids": TASKS[:1]}, seeds=2, synthetic={"duration_s": 0})
+    code, out = run_here(changed)
+    assert code == 2
+    assert "holds results of another sweep" in out
+    assert "--force" in out
+    code, out = run_here(changed, "--force")
+    assert code == 0, out
+    assert len(RunStore(tmp_path / "run").job_rows()) == 2

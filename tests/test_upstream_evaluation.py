@@ -11,6 +11,7 @@ from scratchworld_dist import load_suite, validate_tasks
 pytestmark = pytest.mark.browser
 
 
+@pytest.mark.slow
 async def test_upstream_projects_under_the_upstream_contract(upstream_clone: Path) -> None:
     suite = load_suite(upstream_clone)
     tasks = suite.select(ids=["say_hello", "calculate_gcd", "pong_starter_touching_red_error"])
