@@ -106,6 +106,14 @@
       }
       flyout.scrollTarget = undefined; // no scroll animation left running
       flyout.getWorkspace().scrollbar.setY(cleanPaletteOffset);
+      // The agent's blocks go from the screen (not from the VM: no events), as in the fresh page
+      // whose sprite had none; left there, they would bound the scroll the view is put back to.
+      SB.Events.disable();
+      try {
+        ws.clear();
+      } finally {
+        SB.Events.enable();
+      }
       ws.setScale(cleanView.scale); // draws the grid at that scale too
       Object.assign(ws, cleanView); // as the GUI itself sets a sprite's saved view
       ws.resize();

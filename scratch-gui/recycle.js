@@ -185,12 +185,28 @@
   }
 
   // The GUI adds and removes a hidden sandbox iframe of its own (it processes costumes), so frames
-  // (nodes and the window's index properties) do not count.
+  // (nodes and the window's index properties) do not count. Blockly makes its overlays (dropdown,
+  // widget, tooltip) anew when the block editor is set up again: they count by their class.
   const isFrame = (node) => node.nodeName === 'IFRAME';
-  const bodyNodes = () => [...document.body.childNodes].filter((node) => !isFrame(node));
+  const describeNode = (node) => {
+    if (typeof node === 'string') return node;
+    const className = typeof node.className === 'string' ? node.className.split(' ')[0] : '';
+    return node.nodeName + (className ? '.' + className : '');
+  };
+  const isBlocklyOverlay = (node) => node.nodeName === 'DIV' && describeNode(node).startsWith('DIV.blockly');
+  const bodyNodes = () => {
+    const nodes = [...document.body.childNodes].filter((node) => !isFrame(node));
+    const overlays = nodes.filter(isBlocklyOverlay).map(describeNode).sort();
+    return [...nodes.filter((node) => !isBlocklyOverlay(node)), ...overlays];
+  };
 
   function compareDom(differences) {
-    if (!sameList(bodyNodes(), clean.body)) differences.push('document.body has other child nodes');
+    const now = bodyNodes();
+    if (!sameList(now, clean.body)) {
+      const added = now.filter((node) => !clean.body.includes(node)).map((node) => '+' + describeNode(node));
+      const gone = clean.body.filter((node) => !now.includes(node)).map((node) => '-' + describeNode(node));
+      differences.push(`document.body has other child nodes (${[...added, ...gone].join(' ') || 'reordered'})`);
+    }
     if (document.cookie !== clean.cookie) differences.push('document.cookie changed');
   }
 
