@@ -13,9 +13,10 @@ from playwright.async_api import Page
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
-from workers.agent_api import AgentBase, StepResult, TaskContext
+from workers.agent_api import AgentBase, StepResult, TaskContext, build_agent
 from workers.contract import (
     Action,
+    AgentRef,
     CompositeObservation,
     Done,
     EpisodeClock,
@@ -153,3 +154,24 @@ def differing_pixels(a: bytes, b: bytes) -> int:
     second = cv2.imdecode(np.frombuffer(b, np.uint8), cv2.IMREAD_COLOR)
     assert first.shape == second.shape
     return int(np.any(first != second, axis=2).sum())
+
+
+@pytest.mark.slow
+async def test_the_oracles_episodes_in_both_modes_share_one_editor(session: BrowserSession) -> None:
+    """What solving tasks leaves is recycled too: blocks that bound the workspace's scroll, and the
+    dropdown Blockly makes anew after the primitive stage is set up (both once closed the editor)."""
+    suite = load_suite(SUITE_DIR)
+    async with EditorPool(session, spare=0) as pool:
+        runner = EpisodeRunner(session, pool)
+        for task, mode in (
+            ("star_shower", "composite"),
+            ("arrow_key_walker", "primitive"),
+            ("quiz_score", "composite"),
+        ):
+            content = read_task(suite.task(task))
+            (job,) = plan_jobs([None], [mode], "oracle", [content], [0], 300, NO_OCR if mode == "primitive" else None)
+            spec = job.episode(1, 300).model_copy(update={"episode_clock": EpisodeClock(mode="virtual")})
+            result = await runner.run(spec, content.payload, build_agent(AgentRef(name="oracle")))
+            assert result.outcome == "passed", (task, mode, result.error_message)
+            assert dict(pool.discarded) == {}, (task, mode)
+        assert pool.opened == 1 and pool.reused >= 5
