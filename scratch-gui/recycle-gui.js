@@ -125,18 +125,18 @@
   // Every UI slice that an agent can change and an action can undo goes back to its fresh value.
   function resetStore(gui) {
     const store = gui.store;
-    const gui_ = () => store.getState().scratchGui;
+    const ui = () => store.getState().scratchGui;
     const dispatch = (action) => store.dispatch(action);
-    for (const [menu, open] of Object.entries(gui_().menus)) {
+    for (const [menu, open] of Object.entries(ui().menus)) {
       if (open) dispatch({type: 'scratch-gui/menus/CLOSE_MENU', menu: menu});
     }
-    for (const [modal, open] of Object.entries(gui_().modals)) {
+    for (const [modal, open] of Object.entries(ui().modals)) {
       if (open) dispatch({type: 'scratch-gui/modals/CLOSE_MODAL', modal: modal});
     }
-    for (let i = gui_().alerts.alertsList.length; i > 0; i--) dispatch({type: 'scratch-gui/alerts/CLOSE_ALERT', index: 0});
-    if (gui_().cards.visible) dispatch({type: 'scratch-gui/cards/CLOSE_CARDS'});
-    if (gui_().colorPicker.active) dispatch({type: 'scratch-gui/color-picker/DEACTIVATE_COLOR_PICKER', color: null});
-    if (gui_().customProcedures.active) {
+    for (let i = ui().alerts.alertsList.length; i > 0; i--) dispatch({type: 'scratch-gui/alerts/CLOSE_ALERT', index: 0});
+    if (ui().cards.visible) dispatch({type: 'scratch-gui/cards/CLOSE_CARDS'});
+    if (ui().colorPicker.active) dispatch({type: 'scratch-gui/color-picker/DEACTIVATE_COLOR_PICKER', color: null});
+    if (ui().customProcedures.active) {
       dispatch({type: 'scratch-gui/custom-procedures/DEACTIVATE_CUSTOM_PROCEDURES', mutator: null});
     }
     dispatch({type: 'scratch-gui/navigation/ACTIVATE_TAB', activeTabIndex: clean.ui.editorTab.activeTabIndex});
