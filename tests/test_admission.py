@@ -17,6 +17,7 @@ import ray
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, admitted_slots, pages_per_worker
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, Limits, plan_jobs, read_task
+from tests.cli_runner import invoke
 from tests.conftest import REPO
 from workers.contract import MIB, AgentRef, EpisodeClock, EpisodeResult, ModelSpec, SyntheticEpisodes
 from workers.editor import cached_editor_cost, measure_editor_cost
@@ -87,6 +88,22 @@ def test_model_jobs_get_slots_from_the_cost_measured_for_their_clock(
     assert abs(slots - expected.slots) <= 1  # the node's free memory moved a little in between
     assert len(said) == 1 and "virtual clock" in said[0]
     assert cached_editor_cost("virtual", harness) == known["virtual"]  # read back, not measured again
+
+
+def test_the_capacity_command_prints_a_nodes_slots_from_its_measured_cost(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    measured = cost(0.25, 300, "real").model_copy(update={"harness": harness_fingerprint().digest})
+    cost_cache_path().parent.mkdir(parents=True)
+    cost_cache_path().write_text(f'{{"real": {measured.model_dump_json()}}}')
+    done = invoke("capacity", "--clock", "real", "--margin", "0.5")
+    expected = derive_slots(measured, cores=os.cpu_count() or 1, memory=node_memory(), margin=0.5, reserve_bytes=GIB)
+    assert done.returncode == 0, done.stderr
+    assert "0.250 core(s) and 300 MB PSS on the real clock" in done.stdout
+    assert f"""--resources='{{"browser": {expected.slots}}}'""" in done.stdout
+    refused = invoke("capacity", "--margin", "1")
+    assert refused.returncode == 2 and "--margin" in refused.stderr and len(refused.stderr.splitlines()) == 1
 
 
 @pytest.mark.browser

@@ -10,9 +10,7 @@ import os
 
 import click
 
-from scratchworld_dist.scheduling import derive_local
 from scratchworld_dist.sweep import Limits
-from workers.node import harness_fingerprint
 
 
 @click.command("capacity")
@@ -28,6 +26,9 @@ from workers.node import harness_fingerprint
 )
 def capacity_command(clock: str, margin: float | None, reserve_mb: int | None) -> None:
     """Measure a waiting editor's CPU and memory here and print the browser slots they allow."""
+    from scratchworld_dist.scheduling import derive_local  # imports Ray and the browser stack: only for this command
+    from workers.node import harness_fingerprint
+
     overrides = {"capacity_margin": margin, "memory_reserve_mb": reserve_mb}
     limits = Limits.model_validate({key: value for key, value in overrides.items() if value is not None})
     derivation = derive_local(limits, clock, harness_fingerprint().digest, os.cpu_count() or 1)  # type: ignore[arg-type]
