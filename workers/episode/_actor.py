@@ -41,7 +41,7 @@ from workers.contract import (
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
 from workers.episode._runner import EpisodeRunner
 from workers.episode._synthetic import run_synthetic
-from workers.llm import close_litellm_clients
+from workers.llm import close_litellm_clients, load_litellm
 from workers.node import browser_usage, harness_fingerprint, node_memory
 
 MEMORY_POLL_S = 0.5
@@ -139,6 +139,8 @@ class EpisodeWorker:
                 f"with code {code}, the job was planned for {spec.agent_code}: install the same version here"
             )
             return EpisodeResult.errored(spec, "harness_mismatch", message)
+        if spec.model is not None:  # once per worker, before the episode: its first step would wait for the import
+            await load_litellm()
         runner = await self._browser()
         try:
             result = await runner.run(spec, task, agent)
