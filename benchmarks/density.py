@@ -23,7 +23,9 @@ step's latency.
   waiting) waited on the model from one end of the interval to the other, per episode waiting:
   CPU seconds summed over those intervals / waiting episode-seconds in them. The browsers' own
   processes and pooled idle editors are included. ``(k)``: how many intervals qualified (few when
-  many episodes interleave their steps; ``-``: none);
+  many episodes interleave their steps; ``-``: none). ``fit``: the same from every interval, by
+  least squares of the browsers' cores on the episodes waiting and the episodes busy in it (plus a
+  fixed part for the browsers themselves): what one more waiting page adds;
 - PSS/editor: every result carries its worker's browser PSS (all its Chromium processes: browser,
   GPU, utilities, renderers; an editor has several renderer processes, so those do not count
   editors) and the editors its pool held (lent or pooled); per worker its result with the most
@@ -144,6 +146,7 @@ class Row:
     in_flight: tuple[int, float]
     cpu_per_wait: float | None
     cpu_intervals: int
+    cpu_per_wait_fit: float | None
     pss_per_editor: float | None
     overhead: tuple[float, float]
     per_hour: float
@@ -179,6 +182,20 @@ def overlap(spans: list[tuple[float, float]], t0: float, t1: float) -> float:
     return sum(max(0.0, min(end, t1) - max(start, t0)) for start, end in spans)
 
 
+def marginal_waiting_cpu(rates: list[tuple[float, float, float]]) -> float | None:
+    """Least squares over every interval: cores = fixed + a x episodes waiting + b x episodes busy; returns a.
+
+    Uses all intervals, also when episodes interleave their steps so that none is all-waiting."""
+    if len(rates) < 10:
+        return None
+    table = np.array(rates)
+    design = np.column_stack([np.ones(len(table)), table[:, 0], table[:, 1]])
+    if np.linalg.matrix_rank(design) < 3:
+        return None
+    coefficients, *_ = np.linalg.lstsq(design, table[:, 2], rcond=None)
+    return float(coefficients[1])
+
+
 def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, model: DelayedModel) -> Row:
     with tempfile.TemporaryDirectory(prefix="density-") as tmp:
         sweep = config(n, clock, args.steps, server.url, Path(tmp) / "run")
@@ -198,9 +215,12 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
 
     cpu = waited = 0.0
     intervals = 0
+    rates: list[tuple[float, float, float]] = []  # per interval: episodes waiting, episodes busy, cores
     for before, after in itertools.pairwise(run):
         waiting = overlap(requests, before.t, after.t)
         busy = overlap(episodes, before.t, after.t) - waiting  # in flight but not waiting on the model
+        span = after.t - before.t
+        rates.append((waiting / span, busy / span, (after.cpu_s - before.cpu_s) / span))
         if waiting > 0 and busy < 0.01:
             cpu, waited, intervals = cpu + after.cpu_s - before.cpu_s, waited + waiting, intervals + 1
     fullest: dict[Any, dict[str, Any]] = {}  # per worker, the row of its fullest moment
@@ -226,6 +246,7 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
         in_flight=(max(counts), statistics.median(counts)),
         cpu_per_wait=cpu / waited if waited else None,
         cpu_intervals=intervals,
+        cpu_per_wait_fit=marginal_waiting_cpu(rates),
         pss_per_editor=sum(j["browser_pss_mb"] for j in fullest.values()) / held if held else None,
         overhead=(float(np.percentile(overheads, 50)), float(np.percentile(overheads, 95))),
         per_hour=n / (last - first) * 3600,
@@ -235,7 +256,7 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
 
 
 HEADER = (
-    f"{'clock':<8} {'N':>3}  {'in flight max/med':>17}  {'CPU/wait (cores)':>16}  {'PSS/editor MB':>13}  "
+    f"{'clock':<8} {'N':>3}  {'in flight max/med':>17}  {'CPU/wait (cores)':>16}  {'fit':>6}  {'PSS/editor MB':>13}  "
     f"{'overhead p50/p95 s':>18}  {'ep/h':>6}  {'errors':>6}"
 )
 
@@ -244,9 +265,10 @@ def line(row: Row) -> str:
     flight = f"{row.in_flight[0]}/{row.in_flight[1]:g}"
     cpu = f"{row.cpu_per_wait:.3f} ({row.cpu_intervals})" if row.cpu_per_wait is not None else "-"
     pss = f"{row.pss_per_editor:.0f}" if row.pss_per_editor is not None else "-"
+    fit = f"{row.cpu_per_wait_fit:.3f}" if row.cpu_per_wait_fit is not None else "-"
     overhead = f"{row.overhead[0]:.2f}/{row.overhead[1]:.2f}"
     return (
-        f"{row.clock:<8} {row.n:>3}  {flight:>17}  {cpu:>16}  {pss:>13}  {overhead:>18}  "
+        f"{row.clock:<8} {row.n:>3}  {flight:>17}  {cpu:>16}  {fit:>6}  {pss:>13}  {overhead:>18}  "
         f"{row.per_hour:>6.0f}  {row.errors:>6}"
     )
 
@@ -276,6 +298,15 @@ def targets(rows: list[Row]) -> list[str]:
                 )
             else:
                 verdicts.append("virtual: CPU per waiting page: no N with 3 or more all-waiting intervals")
+            fitted = [row for row in by_n.values() if row.cpu_per_wait_fit is not None]
+            if fitted:
+                row = max(fitted, key=lambda r: r.n)
+                assert row.cpu_per_wait_fit is not None
+                met = row.cpu_per_wait_fit <= 0.05
+                verdicts.append(
+                    f"virtual: CPU one more waiting page adds (fit) {row.cpu_per_wait_fit:.3f} core(s) at N={row.n} "
+                    f"<= 0.05: {'met' if met else 'NOT met'}"
+                )
     return verdicts
 
 
