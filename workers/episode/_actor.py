@@ -93,7 +93,10 @@ class EpisodeWorker:
         return load
 
     async def run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult | Refusal:
-        if self.memory_reserve_bytes and not (load := await self.load()).admits:
+        # The node's free memory alone decides (one read of /proc/meminfo); the browsers' PSS, which
+        # means reading every process's smaps, only when the driver is told why the job was declined.
+        if self.memory_reserve_bytes and node_memory().available_bytes < self.memory_reserve_bytes:
+            load = await self.load()
             reason = (
                 f"{self.info_.hostname} has {load.node_available_bytes / MIB:.0f} MB available, "
                 f"under the {self.memory_reserve_bytes / MIB:.0f} MB reserve"
