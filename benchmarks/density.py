@@ -4,7 +4,8 @@
 
 For each episode clock and each N, one real sweep of N jobs (tasks x seeds of our suite) of the
 ``llm`` agent in composite mode runs on a private local Ray with two workers (one Chromium each)
-holding N/2 pages (N = 1: one worker, one page), so that all N episodes are in flight at once. The
+holding N/2 pages (N = 1: one worker, one page, and 4 jobs one after the other, so that its
+baseline has more than one episode's steps), so that all N episodes are in flight at once. The
 model is ``tests/openai_server.py`` answering every request exactly ``--delay`` seconds after it
 arrived with a valid ``add_block`` (a "when green flag clicked" hat), so every episode runs
 ``--steps`` steps and stops at the step limit (outcome ``failed``, never ``error``). While a sweep
@@ -35,7 +36,9 @@ step's latency.
   ``delay x llm_calls``: what the harness adds to the model's own time. The first model call of a
   worker also imports LiteLLM (4-9 s here, more under load), which shows in p95;
 - ep/h: N over the run phase, the first episode's start to the last one's end (Ray, worker and
-  browser start-up excluded); errors: jobs whose outcome is ``error`` (must be 0).
+  browser start-up excluded); start s: from the sweep's start to its first episode's (Ray and the
+  workers start, and each worker opens the editors its episodes will use); errors: jobs whose
+  outcome is ``error`` (must be 0).
 
 Targets (issue 16): at N = 32 the step overhead p50 within 2x of N = 1 and no error, on each
 clock; a waiting page costs at most 0.05 of a core on the virtual clock (checked at the largest N
@@ -151,14 +154,20 @@ class Row:
     pss_per_editor: float | None
     overhead: tuple[float, float]
     per_hour: float
+    start_s: float
     errors: int
     problems: list[str]
+
+
+MIN_JOBS = 4
+"""Jobs of a sweep at least: at N = 1 they run one after the other, so the baseline has 4 episodes' steps."""
 
 
 def config(n: int, clock: str, steps: int, url: str, out: Path) -> SweepConfig:
     workers = 1 if n == 1 else 2
     pages = math.ceil(n / workers)
-    tasks = max(k for k in range(1, min(n, len(TASKS)) + 1) if n % k == 0)  # tasks x seeds = n exactly
+    jobs = max(n, MIN_JOBS)
+    tasks = max(k for k in range(1, min(jobs, len(TASKS)) + 1) if jobs % k == 0)  # tasks x seeds = jobs exactly
     model = {"model": "openai/gpt-4o-mini", "name": "density", "temperature": 0, "api_base": url}
     limits = {"browser_slots": workers * pages, "pages_per_worker": pages, "episode_timeout_s": 3600, "retries": 0}
     return SweepConfig.model_validate(
@@ -169,7 +178,7 @@ def config(n: int, clock: str, steps: int, url: str, out: Path) -> SweepConfig:
             "agent": "llm",
             "models": [{**model, "api_key_env": KEY_ENV}],
             "modes": ["composite"],
-            "seeds": n // tasks,
+            "seeds": jobs // tasks,
             "max_steps": steps,
             "episode_clock": clock,
             "limits": limits,
@@ -199,8 +208,10 @@ def marginal_waiting_cpu(rates: list[tuple[float, float, float]]) -> float | Non
 
 def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, model: DelayedModel) -> Row:
     with tempfile.TemporaryDirectory(prefix="density-") as tmp:
-        sweep = config(n, clock, args.steps, server.url, Path(tmp) / "run")
+        out = args.keep / f"{clock}-{n}" if args.keep else Path(tmp) / "run"
+        sweep = config(n, clock, args.steps, server.url, out)
         already = len(model.waiting())
+        began = time.time()
         with Sampler() as sampler:
             run_sweep(sweep, console=Console(quiet=True))
         store = RunStore(sweep.run_dir())
@@ -233,8 +244,8 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
     overheads = [s["latency_s"] - args.delay * s["llm_calls"] for s in steps] or [math.nan]
 
     problems = []
-    if len(jobs) != n:
-        problems.append(f"{len(jobs)} job row(s) for {n} job(s)")
+    if len(jobs) != max(n, MIN_JOBS):
+        problems.append(f"{len(jobs)} job row(s) for {max(n, MIN_JOBS)} job(s)")
     short = sum(1 for j in jobs if j["steps"] != args.steps)
     if short:
         problems.append(f"{short} job(s) did not run exactly {args.steps} steps")
@@ -250,7 +261,8 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
         cpu_per_wait_fit=marginal_waiting_cpu(rates),
         pss_per_editor=sum(j["browser_pss_mb"] for j in fullest.values()) / held if held else None,
         overhead=(float(np.percentile(overheads, 50)), float(np.percentile(overheads, 95))),
-        per_hour=n / (last - first) * 3600,
+        per_hour=len(jobs) / (last - first) * 3600,
+        start_s=first - began,
         errors=sum(1 for j in jobs if j["outcome"] == "error"),
         problems=problems,
     )
@@ -258,7 +270,7 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
 
 HEADER = (
     f"{'clock':<8} {'N':>3}  {'in flight max/med':>17}  {'CPU/wait (cores)':>16}  {'fit':>6}  {'PSS/editor MB':>13}  "
-    f"{'overhead p50/p95 s':>18}  {'ep/h':>6}  {'errors':>6}"
+    f"{'overhead p50/p95 s':>18}  {'ep/h':>6}  {'start s':>7}  {'errors':>6}"
 )
 
 
@@ -270,7 +282,7 @@ def line(row: Row) -> str:
     overhead = f"{row.overhead[0]:.2f}/{row.overhead[1]:.2f}"
     return (
         f"{row.clock:<8} {row.n:>3}  {flight:>17}  {cpu:>16}  {fit:>6}  {pss:>13}  {overhead:>18}  "
-        f"{row.per_hour:>6.0f}  {row.errors:>6}"
+        f"{row.per_hour:>6.0f}  {row.start_s:>7.0f}  {row.errors:>6}"
     )
 
 
@@ -316,6 +328,7 @@ def main() -> None:
     parser.add_argument("--delay", type=float, default=5.0, help="seconds the model takes to answer")
     parser.add_argument("--steps", type=int, default=6, help="steps per episode (max_steps)")
     parser.add_argument("--clock", default="virtual,real", help="episode clocks, comma-separated")
+    parser.add_argument("--keep", type=Path, help="keep each sweep's run directory under this one")
     args = parser.parse_args()
     counts = [int(n) for n in args.n.split(",")]
     clocks = args.clock.split(",")

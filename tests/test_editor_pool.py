@@ -13,7 +13,8 @@ import pytest
 
 from tests.projects import counter_project
 from tests.test_evaluation import CHECK_CLEAN, LEAKY, evaluate, spec
-from workers.editor import BrowserSession, EditorPool
+from workers.contract import EpisodeClock
+from workers.editor import BrowserSession, Editor, EditorPool
 from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
@@ -129,6 +130,37 @@ async def test_used_editors_are_recycled_and_fresh_ones_opened_ahead(session: Br
         spare_tasks = list(pool._opening)
     assert all(task.done() for task in spare_tasks)  # closing the pool closes what it prepared
     assert all(task.cancelled() or task.exception() or task.result().page.is_closed() for task in spare_tasks)
+
+
+async def running(editor: Editor) -> tuple[bool, str | None]:
+    """Whether the page's VM steps, and its audio's state."""
+    status = await editor.status()
+    return status.stepping, status.audio
+
+
+async def test_editors_opened_ahead_wait_parked_and_run_again_when_lent(session: BrowserSession) -> None:
+    """``fill`` opens what the pool lacks; a waiting page (parked or recycled) steps no VM and keeps its
+    audio suspended, a lent one runs both, and an episode's page on the virtual clock keeps audio still."""
+    async with EditorPool(session, spare=0) as pool:
+        assert await pool.fill(2) == 2
+        assert await pool.fill(2) == 2 and pool.opened == 2  # held already: nothing more opens
+        assert [await running(editor) for editor in pool._ready] == [(False, "suspended")] * 2
+
+        evaluator = Evaluator(session, pool)
+        result = await evaluate(evaluator, CHECK_CLEAN, counter_project("Counter"))
+        assert result.success and result.timings.editor_ready_s is not None, result  # a fresh page, opened ahead
+        assert (pool.opened, pool.reused, len(pool._ready)) == (2, 1, 2)
+        assert [await running(editor) for editor in pool._ready] == [(False, "suspended")] * 2  # the recycled one too
+
+        async with pool.editor() as editor:
+            assert await running(editor) == (True, "running")
+            editor.uses += 1  # an episode's page: it may go back to the pool
+            await editor.load_project(counter_project().to_sb3())
+            await editor.start_episode_clock(EpisodeClock(mode="virtual"))
+            assert (await running(editor))[1] == "suspended"
+            await editor.advance_clock(500)
+            assert (await running(editor))[1] == "suspended"
+        assert pool.opened == 2 and not any(pool.discarded.values())
 
 
 @pytest.mark.parametrize("clock", ["virtual", "real"])

@@ -37,6 +37,8 @@ class ProgressLine:
         line.append(f"failed {stats.outcomes['failed']}  ", style="yellow")
         line.append(f"error {stats.outcomes['error']}  ", style="red")
         line.append(f"in flight {stats.in_flight}  retried {stats.retried}  ")
+        if stats.warming:
+            line.append(f"{stats.warming} worker(s) opening editors  ", style="cyan")
         if stats.paused:
             line.append(f"{stats.paused} worker(s) short of memory  ", style="red")
         line.append(f"{rate * 60:.1f} jobs/min  ETA {eta}  elapsed {_duration(elapsed)}  ${stats.cost_usd:.4f}")

@@ -15,10 +15,14 @@ a dead worker costs only its own jobs. Failures are classified, never lost:
 - once the sweep's model spend reaches its budget, no new attempt is started;
 - a worker whose node is short of memory declines a job (``Refusal``): the job goes back to the
   front of the queue as the same attempt, and the worker gets no job until it says memory is back.
+
+Before its first job, each worker opens the editors its share of the jobs will use (``warm``) and
+gets no job until they are open: an editor opened while episodes run slows their steps for seconds.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from collections import deque
 from collections.abc import Callable, Iterable
@@ -43,7 +47,8 @@ ADMISSION_WAIT_S = 5.0
 
 @dataclass
 class _Down:
-    """A worker that died or was restarted, and the call that tells when it answers again."""
+    """A worker that takes no job yet (it is opening its editors, or it died or was restarted), and the
+    call that tells when it answers again."""
 
     probe: ray.ObjectRef
     since: float
@@ -88,6 +93,9 @@ class SchedulerStats:
     paused: int = 0
     """Workers declining jobs right now."""
 
+    warming: int = 0
+    """Workers opening their editors before their first job."""
+
 
 ResultHandler = Callable[[JobSpec, EpisodeResult], None]
 
@@ -120,6 +128,8 @@ class Scheduler:
         self._flights: dict[ray.ObjectRef, _Flight] = {}
         self._load = [0] * len(pool)
         self._down: dict[int, _Down] = {}
+        self._warming: set[int] = set()
+        """Workers in ``_down`` because they are opening their editors."""
         self._paused: dict[int, ray.ObjectRef] = {}
         """Workers whose node is short of memory, and the call that answers once it has enough again."""
 
@@ -127,6 +137,7 @@ class Scheduler:
         """Run each (job, first attempt) to a final outcome or until its retries are spent."""
         queue: deque[tuple[JobSpec, int]] = deque(jobs)
         first = {job.job_id: attempt for job, attempt in queue}
+        self._warm(len(queue))
         while queue or self._flights:
             self._probe_down()
             self._probe_paused()
@@ -159,6 +170,15 @@ class Scheduler:
                 if retry:
                     queue.append((flight.job, result.attempt + 1))
         self.stats.not_started += len({job.job_id for job, _ in queue})
+
+    def _warm(self, jobs: int) -> None:
+        """Have every idle worker open the editors for its share of ``jobs`` before it gets one."""
+        editors = min(self.pool.pages, math.ceil(min(jobs, self.capacity) / len(self.pool)))
+        for worker in range(len(self.pool)):
+            if worker not in self._down and self._load[worker] == 0:
+                self._down[worker] = _Down(self.pool.handles[worker].warm.remote(editors), time.monotonic())
+                self._warming.add(worker)
+        self.stats.warming = len(self._warming)
 
     @property
     def over_budget(self) -> bool:
@@ -194,6 +214,8 @@ class Scheduler:
                     down.probe = self.pool.handles[worker].info.remote()
                     continue
             del self._down[worker]
+            self._warming.discard(worker)
+        self.stats.warming = len(self._warming)
 
     def _pause(self, worker: int) -> None:
         self.stats.declined += 1

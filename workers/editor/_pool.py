@@ -1,7 +1,7 @@
 """Ready editors for evaluations, so that a run of evaluations does not wait seconds for each editor.
 
-Starting an editor (2-4 s of CPU) costs more than a whole evaluation in virtual time, so the pool
-does two things:
+Starting an editor (~7 s of CPU here) costs more than a whole evaluation in virtual time, so the pool
+does three things:
 - it reuses editors: after an evaluation, ``Editor.recycle`` undoes what the script left in the
   page and compares the page with the fresh one (``scratch-gui/recycle.js``; loading the next
   project resets the VM as Scratch does between projects). An editor with any difference, a
@@ -9,7 +9,10 @@ does two things:
   with its VM stopped, which costs next to nothing;
 - it opens ``spare`` fresh editors ahead, in their own browser contexts, for when no used editor
   is ready. A fresh editor waits with its VM stepping, about a third of a core, so keep ``spare``
-  small.
+  small;
+- ``fill`` opens editors ahead of a run of episodes, all at once, and parks them (VM stopped) like
+  recycled ones: opening one costs ~7 s of CPU here, and opened while other episodes run, it
+  slows their steps down by seconds.
 """
 
 from __future__ import annotations
@@ -49,7 +52,7 @@ class EditorPool:
         self.opened = 0
         """Editors this pool has started to open (in use, waiting, or still starting)."""
         self.reused = 0
-        """Times an editor was handed out again after a clean recycle."""
+        """Times a waiting editor was handed out: recycled clean, or opened ahead by ``fill``."""
         self.discarded: Counter[str] = Counter()
         """Why used editors were closed instead of reused (first difference, or the reason)."""
 
@@ -57,12 +60,47 @@ class EditorPool:
         self._lent: weakref.WeakKeyDictionary[Editor, int] = weakref.WeakKeyDictionary()
         """Editors handed out, with their evaluation count at the time (callers may close them instead)."""
         self._opening: deque[asyncio.Task[Editor]] = deque()
+        self._filling = 0
+        """Editors ``fill`` is opening."""
         self._closed = False
 
     @property
     def held(self) -> int:
         """Editors this pool holds: waiting, lent out or still opening."""
-        return len(self._ready) + len(self._lent) + len(self._opening)
+        return len(self._ready) + len(self._lent) + len(self._opening) + self._filling
+
+    async def fill(self, count: int) -> int:
+        """Open editors until the pool holds ``count``; each waits parked (VM stopped) until it is lent.
+
+        The session opens a few at a time (``BrowserConfig.concurrent_opens``). Returns how many
+        editors wait ready; one that fails to open is left out (the episode that needs it opens its own).
+        """
+        missing = count - self.held
+        if missing > 0 and not self._closed:
+            self._filling += missing
+            try:
+                await asyncio.gather(*(self._open_parked() for _ in range(missing)))
+            finally:
+                self._filling -= missing
+        return len(self._ready)
+
+    async def _open_parked(self) -> None:
+        self.opened += 1
+        try:
+            editor = await self.session.open_editor()
+        except EditorError as exc:
+            log.warning("an editor opened ahead failed: %s", exc)
+            return
+        try:
+            await editor.park()
+        except (EditorError, BridgeError) as exc:
+            log.warning("an editor opened ahead could not be parked: %s", exc)
+            await editor.close()
+            return
+        if self._closed:
+            await editor.close()
+        else:
+            self._ready.append(editor)
 
     async def open_editor(self) -> Editor:
         """A ready editor, clean as if fresh; hand it back with ``release`` (or close it)."""
