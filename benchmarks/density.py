@@ -35,7 +35,7 @@ step's latency.
 - overhead p50/p95: per step, ``latency_s`` (observation + model call + action) minus
   ``delay x llm_calls``: what the harness adds to the model's own time. The first model call of a
   worker also imports LiteLLM (4-9 s here, more under load), which shows in p95;
-- ep/h: N over the run phase, the first episode's start to the last one's end (Ray, worker and
+- ep/h: the jobs over the run phase, the first episode's start to the last one's end (Ray, worker and
   browser start-up excluded); start s: from the sweep's start to its first episode's (Ray and the
   workers start, and each worker opens the editors its episodes will use); errors: jobs whose
   outcome is ``error`` (must be 0).
@@ -163,10 +163,14 @@ MIN_JOBS = 4
 """Jobs of a sweep at least: at N = 1 they run one after the other, so the baseline has 4 episodes' steps."""
 
 
+def job_count(n: int) -> int:
+    return max(n, MIN_JOBS)
+
+
 def config(n: int, clock: str, steps: int, url: str, out: Path) -> SweepConfig:
     workers = 1 if n == 1 else 2
     pages = math.ceil(n / workers)
-    jobs = max(n, MIN_JOBS)
+    jobs = job_count(n)
     tasks = max(k for k in range(1, min(jobs, len(TASKS)) + 1) if jobs % k == 0)  # tasks x seeds = jobs exactly
     model = {"model": "openai/gpt-4o-mini", "name": "density", "temperature": 0, "api_base": url}
     limits = {"browser_slots": workers * pages, "pages_per_worker": pages, "episode_timeout_s": 3600, "retries": 0}
@@ -244,8 +248,8 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
     overheads = [s["latency_s"] - args.delay * s["llm_calls"] for s in steps] or [math.nan]
 
     problems = []
-    if len(jobs) != max(n, MIN_JOBS):
-        problems.append(f"{len(jobs)} job row(s) for {max(n, MIN_JOBS)} job(s)")
+    if len(jobs) != job_count(n):
+        problems.append(f"{len(jobs)} job row(s) for {job_count(n)} job(s)")
     short = sum(1 for j in jobs if j["steps"] != args.steps)
     if short:
         problems.append(f"{short} job(s) did not run exactly {args.steps} steps")

@@ -306,8 +306,15 @@
     const differences = await guiState.reset(gui());
     differences.push(...await recycler.recycle(theVm, clock));
     differences.push(...guiState.compare(gui()));
-    if (differences.length === 0) await setAudio(false); // it waits for reuse (its VM stopped in recycler.recycle)
+    if (differences.length === 0) await park(); // it waits for reuse
     return {differences: differences};
+  }
+
+  // A page waiting for use (opened ahead or recycled) steps no VM (about a third of a core) and
+  // keeps its audio suspended; `resume` starts both when it is lent.
+  async function park() {
+    requireVm().quit();
+    await setAudio(false);
   }
 
   const api = {
@@ -318,10 +325,7 @@
       recycler.markClean(requireVm());
       guiState.markClean(gui());
     },
-    park: async () => { // a page opened ahead waits as a recycled one does
-      requireVm().quit();
-      await setAudio(false);
-    },
+    park: park,
     resume: async () => { // a parked or recycled page runs again
       await setAudio(true);
       requireVm().start();

@@ -52,6 +52,8 @@ class _Down:
 
     probe: ray.ObjectRef
     since: float
+    warming: bool = False
+    """It is opening its editors before its first job (not restarting)."""
 
 
 @dataclass
@@ -128,8 +130,6 @@ class Scheduler:
         self._flights: dict[ray.ObjectRef, _Flight] = {}
         self._load = [0] * len(pool)
         self._down: dict[int, _Down] = {}
-        self._warming: set[int] = set()
-        """Workers in ``_down`` because they are opening their editors."""
         self._paused: dict[int, ray.ObjectRef] = {}
         """Workers whose node is short of memory, and the call that answers once it has enough again."""
 
@@ -176,9 +176,8 @@ class Scheduler:
         editors = min(self.pool.pages, math.ceil(min(jobs, self.capacity) / len(self.pool)))
         for worker in range(len(self.pool)):
             if worker not in self._down and self._load[worker] == 0:
-                self._down[worker] = _Down(self.pool.handles[worker].warm.remote(editors), time.monotonic())
-                self._warming.add(worker)
-        self.stats.warming = len(self._warming)
+                self._down[worker] = _Down(self.pool.handles[worker].warm.remote(editors), time.monotonic(), True)
+        self.stats.warming = sum(down.warming for down in self._down.values())
 
     @property
     def over_budget(self) -> bool:
@@ -214,8 +213,7 @@ class Scheduler:
                     down.probe = self.pool.handles[worker].info.remote()
                     continue
             del self._down[worker]
-            self._warming.discard(worker)
-        self.stats.warming = len(self._warming)
+        self.stats.warming = sum(down.warming for down in self._down.values())
 
     def _pause(self, worker: int) -> None:
         self.stats.declined += 1

@@ -92,12 +92,12 @@ class EpisodeWorker:
             load = await self.load()
         return load
 
-    async def warm(self, editors: int) -> WorkerLoad:
+    async def warm(self, editors: int) -> None:
         """Start the browser and open ``editors`` editors ahead of the first jobs (they wait parked).
 
         Opened while this worker's episodes run, each would slow their steps for seconds; a worker
-        whose jobs are all synthetic starts no browser. Never raises for a browser or editor that
-        fails: the first job then meets the failure and reports it.
+        with synthetic episodes configured opens none ahead. Never raises for a browser or editor
+        that fails: the first job then meets the failure and reports it.
         """
         if self.synthetic is None and editors > 0:
             try:
@@ -105,7 +105,6 @@ class EpisodeWorker:
                 await runner.pool.fill(editors)
             except (EditorError, PlaywrightError):
                 pass  # the first episode opens its own editor, or reports why it cannot
-        return await self.load()
 
     async def run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult | Refusal:
         # The node's free memory alone decides (one read of /proc/meminfo); the browsers' PSS, which
