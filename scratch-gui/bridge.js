@@ -350,16 +350,40 @@
     throw new BridgeFailure('editor_not_ready', 'the block workspace is not rendered yet');
   }
 
-  // Feature modules (composite.js, ...) load before this file and register factories here; they
-  // get the VM accessor and the failure type, and their functions join the one call table.
-  const modules = window.__scratchworldModules || [];
+  // Feature modules (modules.js registers them) are created in dependency order; each gets the
+  // bridge context and the modules it requires, and its `api` joins the one call table.
+  function createModules(specs, ctx) {
+    const byName = new Map();
+    for (const spec of specs) {
+      if (byName.has(spec.name)) throw new Error(`page module ${spec.name} registered twice`);
+      byName.set(spec.name, spec);
+    }
+    const created = new Map();
+    const creating = new Set();
+    function create(name, by) {
+      if (created.has(name)) return created.get(name);
+      const spec = byName.get(name);
+      if (!spec) throw new Error(`page module ${name} (required by ${by}) is not loaded: is it in index.html?`);
+      if (creating.has(name)) throw new Error(`page modules require each other in a cycle through ${name}`);
+      creating.add(name);
+      const instance = spec.create(ctx, ...spec.requires.map((required) => create(required, name))) || {};
+      created.set(name, instance);
+      return instance;
+    }
+    for (const name of byName.keys()) create(name, 'index.html');
+    return [...created.values()];
+  }
+
+  const moduleSpecs = window.__scratchworldModules || [];
   delete window.__scratchworldModules;
-  for (const factory of modules) {
-    for (const [name, fn] of Object.entries(factory({
-      requireVm: requireVm, BridgeFailure: BridgeFailure, blocksComponent: blocksComponent,
-      realNow: clock.realNow, realSleep: clock.realSleep,
-      onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
-    }))) {
+  delete window.scratchworldModule;
+  const context = {
+    requireVm: requireVm, BridgeFailure: BridgeFailure, blocksComponent: blocksComponent,
+    realNow: () => clock.realNow(), realSleep: (ms) => clock.realSleep(ms),
+    onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
+  };
+  for (const instance of createModules(moduleSpecs, context)) {
+    for (const [name, fn] of Object.entries(instance.api || {})) {
       if (Object.prototype.hasOwnProperty.call(api, name)) throw new Error(`bridge function ${name} registered twice`);
       api[name] = fn;
     }

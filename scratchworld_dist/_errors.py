@@ -19,7 +19,8 @@ translated at the edge with ``raise ... from exc`` so callers catch one family::
     ├── BridgeError                 the page refused a bridge call (carries the page's kind)
     ├── OCRError                    an OCR backend cannot run (missing package or model files)
     ├── ReplyParseError             a model reply holds no usable action (the message is shown to the model)
-    └── ModelCallError              a model call failed for good (classified; never carries the API key)
+    ├── ModelCallError              a model call failed for good (classified; never carries the API key)
+    └── OracleDivergenceError       the primitive oracle's page stopped matching its plan (workers.agents)
 
 The root and the editor errors live in ``workers.contract`` (the worker side imports nothing
 from the driver side); the suite errors are the driver's own.

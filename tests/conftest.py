@@ -12,6 +12,7 @@ import pytest
 
 from workers.editor import BrowserSession, EditorPool
 from workers.evaluation import Evaluator
+from workers.node import OWN_FILES
 
 if TYPE_CHECKING:
     from tests.sweep_driver import Driver
@@ -20,6 +21,13 @@ REPO = Path(__file__).resolve().parents[1]
 SUITE_DIR = REPO / "tasks"
 UPSTREAM_DIR = Path(os.environ.get("SCRATCHWORLD_UPSTREAM_DATA", REPO.parent / "shared" / "scratchworld-upstream"))
 DATA = Path(__file__).resolve().parent / "data"
+
+
+def copy_page_files(gui_dir: Path, names: tuple[str, ...] = OWN_FILES) -> None:
+    """Our page files (``scratch-gui/`` paths, subfolders included) into another editor folder."""
+    for name in names:
+        (gui_dir / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(REPO / "scratch-gui" / name, gui_dir / name)
 
 
 BROWSER_FIXTURES = frozenset({"session", "evaluator", "fresh_evaluator"})

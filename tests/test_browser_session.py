@@ -16,11 +16,11 @@ from scratchworld_dist import (
     RendererUnavailableError,
 )
 from scratchworld_dist.sb3 import Project, block, check_project, circle_costume
+from tests.conftest import copy_page_files
 from tests.projects import counter_project
 from workers.contract import EvaluationSpec
 from workers.editor import BrowserConfig, BrowserSession, EditorAssets
 from workers.evaluation import Evaluator
-from workers.node import OWN_FILES
 
 pytestmark = pytest.mark.browser
 
@@ -50,8 +50,7 @@ async def test_without_webgl_the_editor_fails_loudly() -> None:
 
 async def test_a_page_that_never_gets_ready_times_out_with_the_cause(tmp_path: Path) -> None:
     real = EditorAssets()
-    for name in OWN_FILES:
-        (tmp_path / name).write_bytes((real.gui_dir / name).read_bytes())
+    copy_page_files(tmp_path)
     # The bridge loads, the editor bundle never does.
     (tmp_path / "index.html").write_text('<!DOCTYPE html><script src="bridge.js"></script><p>no editor</p>')
     (tmp_path / "node_modules").symlink_to(real.gui_dir / "node_modules")
@@ -61,6 +60,33 @@ async def test_a_page_that_never_gets_ready_times_out_with_the_cause(tmp_path: P
         with pytest.raises(EditorNotReadyError, match="still missing: VM, rendered workspace, default project"):
             await session.open_editor()
         assert time.monotonic() - started < 15
+
+
+@pytest.mark.parametrize(
+    ("modules", "cause"),
+    [
+        (
+            "{name: 'probe', requires: ['nothing'], create() {}}",
+            r"page module nothing \(required by probe\) is not loaded",
+        ),
+        (
+            "{name: 'a', requires: ['b'], create() {}}); scratchworldModule({name: 'b', requires: ['a'], create() {}}",
+            "page modules require each other in a cycle",
+        ),
+    ],
+)
+async def test_a_page_module_that_cannot_be_created_fails_the_opening_with_the_cause(
+    tmp_path: Path, modules: str, cause: str
+) -> None:
+    real = EditorAssets()
+    copy_page_files(tmp_path)
+    page = (tmp_path / "index.html").read_text()
+    registration = f'<script src="modules.js"></script>\n  <script>scratchworldModule({modules});</script>'
+    (tmp_path / "index.html").write_text(page.replace('<script src="modules.js"></script>', registration))
+    (tmp_path / "node_modules").symlink_to(real.gui_dir / "node_modules")
+    async with BrowserSession(BrowserConfig(ready_timeout_s=3), EditorAssets(tmp_path)) as session:
+        with pytest.raises(EditorNotReadyError, match=cause):
+            await session.open_editor()
 
 
 async def test_cdn_requests_fail_at_once_and_do_not_break_the_editor(session: BrowserSession) -> None:

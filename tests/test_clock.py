@@ -121,13 +121,15 @@ async def test_the_clock_is_real_outside_an_evaluation(session: BrowserSession) 
         # A virtual evaluation: ten simulated seconds in a fraction of the wall time.
         started = time.perf_counter()
         run = await editor.run_evaluation(spec(WAIT_A_SECOND.replace("1000", "10000"), "virtual"))
-        assert time.perf_counter() - started < 5
+        real_ms = (time.perf_counter() - started) * 1000
+        assert real_ms < 5000
         assert 10_000 <= run.duration_ms < 10_100
 
-        # Back to real time: the clock moves on at real speed (ahead by the time skipped).
+        # Back to real time: the clock moves on at real speed, ahead by the ten virtual seconds less
+        # the real time the evaluation took (however loaded the machine).
         after = await editor.clock_status()
         assert after["mode"] == "real"
-        assert after["offsetMs"] > 9_000  # type: ignore[operator]
+        assert 10_000 - real_ms <= after["offsetMs"] < 10_100  # type: ignore[operator]
         started = time.perf_counter()
         run = await editor.run_evaluation(spec(WAIT_A_SECOND, "real"))
         assert time.perf_counter() - started >= 1.0

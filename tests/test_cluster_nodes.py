@@ -26,10 +26,11 @@ import yaml
 
 from scratchworld_dist.results import RunStore, read_manifest
 from scratchworld_dist.scheduling._nodes import NodeMismatchError, agreed_harness
-from tests.conftest import REPO
+from tests.conftest import REPO, copy_page_files
 from tests.sweep_driver import SCRATCHWORLD
 from workers.contract import NodeReport
-from workers.node import harness_fingerprint
+from workers.node import OWN_FILES, harness_fingerprint
+from workers.node._fingerprint import EDITOR_LOCK_FILES
 
 pytestmark = [pytest.mark.ray, pytest.mark.browser]
 
@@ -41,10 +42,7 @@ def checkout_copy(target: Path) -> Path:
     """The harness as another clone would hold it: sources copied, the npm editor bundle linked."""
     for package in ("workers", "scratchworld_dist"):
         shutil.copytree(REPO / package, target / package, ignore=shutil.ignore_patterns("__pycache__"))
-    (target / "scratch-gui").mkdir(parents=True)
-    for item in (REPO / "scratch-gui").iterdir():
-        if item.is_file():
-            shutil.copy(item, target / "scratch-gui" / item.name)
+    copy_page_files(target / "scratch-gui", (*OWN_FILES, *EDITOR_LOCK_FILES))
     (target / "scratch-gui" / "node_modules").symlink_to(REPO / "scratch-gui" / "node_modules")
     return target
 

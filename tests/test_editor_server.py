@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist import EditorBundleMissingError
+from tests.conftest import copy_page_files
 from workers.editor import EditorAssets, EditorServer
-from workers.node import OWN_FILES
 
 
 def _get(url: str) -> tuple[int, bytes]:
@@ -43,9 +43,7 @@ def test_refuses_paths_outside_the_roots(path: str) -> None:
 
 
 def test_missing_bundle_is_a_clear_error(tmp_path: Path) -> None:
-    real = EditorAssets()
-    for name in OWN_FILES:
-        (tmp_path / name).write_bytes((real.gui_dir / name).read_bytes())
+    copy_page_files(tmp_path)
     with pytest.raises(EditorBundleMissingError, match="npm ci"):
         EditorAssets(tmp_path)
 
@@ -53,8 +51,7 @@ def test_missing_bundle_is_a_clear_error(tmp_path: Path) -> None:
 def test_a_symlinked_node_modules_is_served(tmp_path: Path) -> None:
     """node_modules may be a link (a shared install, a git worktree, pnpm): its files are inside the root."""
     real = EditorAssets()
-    for name in OWN_FILES:
-        (tmp_path / name).write_bytes((real.gui_dir / name).read_bytes())
+    copy_page_files(tmp_path)
     (tmp_path / "node_modules").symlink_to((real.gui_dir / "node_modules").resolve(), target_is_directory=True)
     with EditorServer(EditorAssets(tmp_path)) as server:
         base = server.url.rsplit("/", 1)[0]

@@ -13,6 +13,7 @@ from pydantic import ValidationError
 
 from tests.conftest import REPO, SUITE_DIR
 from workers.editor import BrowserSession, Editor
+from workers.node import OWN_FILES
 from workers.primitive._elements import (
     LEGEND,
     DomElement,
@@ -31,6 +32,7 @@ pytestmark = pytest.mark.browser
 QUIZ = SUITE_DIR / "extend" / "quiz_score" / "initial.sb3"
 CATEGORIES = ["Motion", "Looks", "Sound", "Events", "Control", "Sensing", "Operators", "Variables", "My Blocks"]
 # A CSS-module class with its build hash, e.g. sprite-selector_sprite-wrapper_df7cJ.
+CLASS_SELECTOR = re.compile(r"""class\*=["']?([^"'\]]+)""")
 HASHED_CLASS = re.compile(r"[a-z0-9-]+_[a-z0-9-]+_[A-Za-z0-9+-]{5}(?![A-Za-z0-9+_-])")
 
 
@@ -221,10 +223,16 @@ async def test_blocks_scrolled_out_of_the_workspace_are_not_listed(editor: Edito
     assert "when" not in [t.text for t in dom.text_boxes]
 
 
-def test_primitive_js_uses_no_hashed_class_names() -> None:
+def test_page_files_use_no_hashed_class_names() -> None:
+    """Our page finds the GUI's elements by CSS-module name prefixes, which survive a GUI rebuild."""
     assert HASHED_CLASS.search('"[class*=sprite-selector_sprite-wrapper_df7cJ]"')  # the pattern bites
-    source = (REPO / "scratch-gui" / "primitive.js").read_text()
-    assert HASHED_CLASS.findall(source) == []
+    selectors = [
+        (name, found)
+        for name in OWN_FILES
+        for found in CLASS_SELECTOR.findall((REPO / "scratch-gui" / name).read_text())
+    ]
+    assert len({name for name, _ in selectors}) >= 3  # primitive, geometry and recycling code select so
+    assert [(name, found) for name, found in selectors if HASHED_CLASS.search(found)] == []
 
 
 # --- fusion and rendering ---------------------------------------------------------------------

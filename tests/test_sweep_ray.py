@@ -10,7 +10,6 @@ one Ray for the module (the ``shared_ray`` fixture), after the subprocess tests.
 from __future__ import annotations
 
 import os
-import shutil
 import signal
 import socket
 import subprocess
@@ -25,7 +24,7 @@ from scratchworld_dist.reports._runs import load_run
 from scratchworld_dist.results import RunStore, effective_rows, read_manifest
 from scratchworld_dist.suites import load_suite
 from tests.cli_runner import invoke
-from tests.conftest import REPO
+from tests.conftest import REPO, copy_page_files
 from tests.sweep_driver import SCRATCHWORLD, Driver, run, run_here
 from workers.node import OWN_FILES
 from workers.node._fingerprint import EDITOR_LOCK_FILES
@@ -144,8 +143,7 @@ def edited_editor(tmp_path: Path) -> Path:
     """A copy of the editor folder whose page clock differs by one comment: another harness."""
     gui = tmp_path / "gui"
     gui.mkdir()
-    for name in (*OWN_FILES, *EDITOR_LOCK_FILES):
-        shutil.copy(REPO / "scratch-gui" / name, gui / name)
+    copy_page_files(gui, (*OWN_FILES, *EDITOR_LOCK_FILES))
     (gui / "node_modules").symlink_to(REPO / "scratch-gui" / "node_modules")
     (gui / "clock.js").write_text((gui / "clock.js").read_text() + "\n// changed\n")
     return gui

@@ -19,12 +19,31 @@ OWN_FILES = (
     "clock.js",
     "recycle.js",
     "recycle-gui.js",
+    "modules.js",
+    "shared/rects.js",
+    "shared/blockly.js",
+    "shared/settle.js",
+    "composite/arguments.js",
+    "composite/target.js",
+    "composite/catalog.js",
+    "composite/numbering.js",
+    "composite/observation.js",
+    "composite/structure.js",
+    "composite/connect.js",
+    "composite/fields.js",
+    "composite/edit.js",
+    "composite/execute.js",
+    "primitive/elements.js",
+    "geometry/views.js",
+    "geometry/blocks.js",
+    "geometry/widgets.js",
+    "geometry/drag-plan.js",
+    "geometry/snapshot.js",
+    "geometry/waits.js",
     "bridge.js",
-    "composite.js",
-    "primitive.js",
-    "geometry.js",
 )
-"""Files of ours that shadow the bundle's web root."""
+"""Files of ours that shadow the bundle's web root (paths relative to ``scratch-gui/``), in the
+order ``index.html`` loads its scripts."""
 
 DEFAULT_CHROMIUM = Path("/usr/bin/chromium")
 

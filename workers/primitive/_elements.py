@@ -1,6 +1,6 @@
 """The indexed element list of primitive mode: what the DOM knows about the page, fused with OCR.
 
-The page (``scratch-gui/primitive.js``) lists what a user can see and point at, the text drawn
+The page (``scratch-gui/primitive/elements.js``) lists what a user can see and point at, the text drawn
 in canvas blocks, and the regions where text exists only as pixels. ``fuse`` merges that with
 OCR boxes into one list whose indices an agent uses as click targets, and ``render`` turns the
 list into prompt text::
@@ -67,7 +67,7 @@ class DomElement(_Box):
     """An element of the page as the DOM pass found it (no index yet)."""
 
     type: str
-    """``menu``, ``tabs``, ``blocks``, ``canvas``, ``sprites``, ``buttons``, ... (see primitive.js)."""
+    """``menu``, ``tabs``, ``blocks``, ``canvas``, ``sprites``, ``buttons``, ... (see primitive/elements.js)."""
 
     text: str
     opcode: str | None = None

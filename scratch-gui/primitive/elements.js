@@ -1,6 +1,5 @@
 /*
- * Primitive mode, page side: the indexed element list an agent reads next to its screenshot, and
- * the wait that makes the screenshot worth reading.
+ * Primitive mode, page side: the indexed element list an agent reads next to its screenshot.
  *
  * `primitiveElements` walks the DOM once, synchronously, and returns
  *   elements:     what a user can see and point at, in document order (the flyout's contents in
@@ -14,23 +13,15 @@
  * Selectors are Blockly class names, roles, data attributes or CSS-module *name* prefixes
  * (`[class*="sprite-selector_sprite-wrapper"]`), never the module hashes, which change with
  * every GUI build. Blocks are named through the Blockly API, never from their ids.
- *
- * `primitiveSettle` waits (bounded) until no gesture, flyout scroll animation, bump, CSS
- * transition or DOM mutation is under way, so that a screenshot shows the result of the last
- * action rather than a frame of it.
+ * The wait that makes the screenshot worth reading is the page's one settle rule (shared/settle.js).
  */
-(function () {
+scratchworldModule({name: 'primitive/elements', requires: ['rects', 'blockly', 'settle'], create(ctx, rects, blockly, settle) {
   'use strict';
 
   const MAX_TEXT = 200;
   const MIN_IMAGE_SIDE = 24;
   // A role=button no larger than this holding a picture is an icon button, not a tile.
   const MAX_ICON_BUTTON = 48;
-  const SETTLE_DEFAULT_MS = 2000;
-  const SETTLE_MAX_MS = 30000;
-  const QUIET_FRAMES = 2;
-  // A frame that never comes (hidden page) must not hang the wait.
-  const FRAME_FALLBACK_MS = 100;
 
   // Menus: Blockly dropdowns and context menus, the GUI's menu-bar menus and Radix menus.
   const DROPDOWN_ITEMS = '.blocklyMenuItem, .goog-menuitem, [data-menu-item="true"], [role="menuitem"], ' +
@@ -39,7 +30,6 @@
   const STAGE_HEADER = '[class*="stage-header_stage-header-wrapper"]';
   const SPRITE_TILE = '[class*="sprite-selector_sprite-wrapper"]';
   const STAGE_SELECTOR = '[class*="stage-selector_stage-selector_"]';
-  const MONITORS = '[class*="monitor-list_monitor-list"]';
 
   // How a claimed element treats the matches inside it: 'all' hides them; 'buttons' lets real
   // <button>s through (a sprite tile's delete button, the stage selector's add-backdrop menu);
@@ -102,58 +92,11 @@
     return `${el.type} ${name} (${el.checked ? 'checked' : 'unchecked'})`;
   }
 
-  // --- geometry ------------------------------------------------------------------------------
-
-  function box(rect) {
-    return {left: rect.left, top: rect.top, right: rect.right, bottom: rect.bottom};
-  }
-
-  function intersect(a, b) {
-    const out = {left: Math.max(a.left, b.left), top: Math.max(a.top, b.top),
-      right: Math.min(a.right, b.right), bottom: Math.min(a.bottom, b.bottom)};
-    return out.right > out.left && out.bottom > out.top ? out : null;
-  }
-
-  function union(rects) {
-    const real = rects.filter((r) => r.width > 0 && r.height > 0);
-    if (!real.length) return null;
-    return {left: Math.min(...real.map((r) => r.left)), top: Math.min(...real.map((r) => r.top)),
-      right: Math.max(...real.map((r) => r.right)), bottom: Math.max(...real.map((r) => r.bottom))};
-  }
-
-  function pixels(clipped) {
-    const x = Math.round(clipped.left);
-    const y = Math.round(clipped.top);
-    return {x: x, y: y, width: Math.max(1, Math.round(clipped.right) - x), height: Math.max(1, Math.round(clipped.bottom) - y)};
-  }
-
-  function hits(root, x, y) {
-    const hit = document.elementFromPoint(x, y);
-    return !!hit && (hit === root || root.contains(hit));
-  }
-
-  function centreHits(root, clipped) {
-    return hits(root, (clipped.left + clipped.right) / 2, (clipped.top + clipped.bottom) / 2);
-  }
-
   // --- Blockly ---------------------------------------------------------------------------------
 
-  // The visible workspace, its flyout and the library, or null before Blockly has drawn them.
-  function workspaces(ctx) {
-    let component;
-    try {
-      component = ctx.blocksComponent();
-    } catch (e) {
-      return null;
-    }
-    const ws = component.workspace;
-    const flyout = ws.getFlyout ? ws.getFlyout() : null;
-    return {SB: component.ScratchBlocks, ws: ws, flyout: flyout, flyoutWs: flyout ? flyout.getWorkspace() : null};
-  }
-
   // What the DOM pass needs to know from Blockly: the code area's rect and the flyout's checkboxes.
-  function blocklyState(ctx) {
-    const state = workspaces(ctx);
+  function blocklyState() {
+    const state = blockly.drawn();
     if (!state) return null;
     const ws = state.ws;
     state.view = null;
@@ -162,8 +105,7 @@
       const metrics = ws.getMetricsManager();
       const abs = metrics.getAbsoluteMetrics();
       const size = metrics.getViewMetrics();
-      state.view = intersect(box(svg), {left: svg.left + abs.left, top: svg.top + abs.top,
-        right: svg.left + abs.left + size.width, bottom: svg.top + abs.top + size.height});
+      state.view = rects.intersection(svg, {x: svg.left + abs.left, y: svg.top + abs.top, width: size.width, height: size.height});
     } catch (e) {
       state.view = null;
     }
@@ -240,7 +182,7 @@
       const inFlyout = !!ws.isFlyout;
       const area = inFlyout ? env.flyoutArea : env.workspaceArea;
       const rect = path.getBoundingClientRect();
-      if (!area || !intersect(box(rect), area)) return null;
+      if (!area || !rects.intersection(rect, area)) return null;
       const block = ws.getBlockById(el.getAttribute('data-id'));
       if (!block || block.isShadow() || (block.isInsertionMarker && block.isInsertionMarker())) return null;
       return {type: 'blocks', text: blockLabel(block, inFlyout), rect: rect, area: area, flyout: inFlyout, block: true,
@@ -325,7 +267,7 @@
       // The selector is a tall column; its tile is what is drawn above the add-backdrop menu.
       const parts = Array.from(el.children).filter((c) => !c.matches('[class*="action-menu"]')).map((c) => c.getBoundingClientRect());
       const header = el.querySelector('[class*="stage-selector_header-title"]');
-      return {type: 'stage_selector', text: clean(header ? header.textContent : '') || 'Stage', rect: union(parts)};
+      return {type: 'stage_selector', text: clean(header ? header.textContent : '') || 'Stage', rect: rects.union(parts)};
     }
     if (tag === 'button' || role === 'button') {
       if (tag === 'button' && el.closest(MENU_BAR_ITEM)) return {type: 'menu', text: label(el)};
@@ -359,18 +301,19 @@
       claimed.set(el, item.type);
       const root = item.root || el;
       const rect = item.rect || el.getBoundingClientRect();
-      if (!rect || !(rect.right - rect.left > 0) || !(rect.bottom - rect.top > 0)) continue;
+      if (!rect || !(rect.width > 0) || !(rect.height > 0)) continue;
       const area = item.area === undefined ? env.viewport : item.area;
-      const clipped = area && intersect(box(rect), area);
+      const clipped = area && rects.intersection(rect, area);
       if (!clipped) continue;
-      let visible = centreHits(root, clipped);
+      let visible = rects.centreHits(root, clipped);
       if (!visible && item.block) {
         // A C block's centre can lie in its empty mouth: its top arm still shows.
-        visible = hits(root, Math.min(clipped.left + 12, (clipped.left + clipped.right) / 2), Math.min(clipped.top + 12, (clipped.top + clipped.bottom) / 2));
+        const middle = rects.centre(clipped);
+        visible = rects.hits(root, Math.min(clipped.x + 12, middle.x), Math.min(clipped.y + 12, middle.y));
       }
       if (!visible) continue;
       if (item.needsText && !item.text) continue;
-      const entry = Object.assign({type: item.type, text: item.text || ''}, pixels(clipped), item.extra || {});
+      const entry = Object.assign({type: item.type, text: item.text || ''}, rects.rounded(clipped), item.extra || {});
       if (item.flyout) flyoutSlots.push(elements.length);
       if (item.block && !item.flyout) env.visibleBlocks.add(el);
       elements.push(entry);
@@ -394,9 +337,9 @@
       if (!env.visibleBlocks.has(node.closest('.blocklyDraggable'))) continue;
       const text = clean(node.textContent);
       if (!text) continue;
-      const clipped = intersect(box(node.getBoundingClientRect()), area);
+      const clipped = rects.intersection(node.getBoundingClientRect(), area);
       if (!clipped) continue;
-      boxes.push(Object.assign({text: text}, pixels(clipped)));
+      boxes.push(Object.assign({text: text}, rects.rounded(clipped)));
     }
     // Reading order (rows of ~10 px): Blockly nests a block's text after the blocks inside it.
     const row = (t) => Math.round((t.y + t.height / 2) / 10);
@@ -420,17 +363,18 @@
       // Icons of buttons and of the menu bar carry no text an agent needs read; pictures in
       // tiles (sprites, costumes) may.
       if (isImage && isIcon(el)) continue;
-      const clipped = intersect(box(rect), env.viewport);
+      const clipped = rects.intersection(rect, env.viewport);
       if (!clipped) continue;
-      const hit = document.elementFromPoint((clipped.left + clipped.right) / 2, (clipped.top + clipped.bottom) / 2);
+      const middle = rects.centre(clipped);
+      const hit = document.elementFromPoint(middle.x, middle.y);
       if (!hit || !(hit === el || el.contains(hit) || hit.contains(el))) continue;
       const kind = el === env.stageCanvas ? 'stage' : isImage ? 'image' : 'canvas';
-      regions.push(Object.assign(pixels(clipped), {kind: kind}));
+      regions.push(Object.assign(rects.rounded(clipped), {kind: kind}));
     }
     return regions;
   }
 
-  function stageCanvas(ctx) {
+  function stageCanvas() {
     try {
       const renderer = ctx.requireVm().renderer;
       return renderer ? renderer.canvas || (renderer.gl && renderer.gl.canvas) || null : null;
@@ -439,103 +383,24 @@
     }
   }
 
-  // --- settling ------------------------------------------------------------------------------
-
-  function factory(ctx) {
-    let hookedWorkspace = null;
-    let lastMoveAt = -Infinity;
-
-    // Blockly bumps neighbours `config.bumpDelay` ms after a drop; remember when blocks last moved.
-    function hook(state) {
-      if (!state || hookedWorkspace === state.ws) return;
-      hookedWorkspace = state.ws;
-      const Events = state.SB.Events || {};
-      state.ws.addChangeListener((event) => {
-        if (event.type === Events.BLOCK_MOVE || event.type === Events.BLOCK_DRAG) lastMoveAt = performance.now();
-      });
-    }
-
-    // Why the page is not settled yet, or null.
-    function busy() {
-      const state = workspaces(ctx);
-      hook(state);
-      if (state) {
-        if (state.ws.currentGesture_ || (state.ws.isDragging && state.ws.isDragging())) return 'gesture';
-        if (state.flyoutWs && state.flyoutWs.currentGesture_) return 'gesture';
-        if (state.flyout && state.flyout.scrollTarget !== undefined && state.flyout.scrollTarget !== null) return 'flyout scroll';
-        const bumpDelay = (state.SB.config && state.SB.config.bumpDelay) || 0;
-        if (performance.now() - lastMoveAt < bumpDelay) return 'bump';
-      }
-      for (const animation of document.getAnimations()) {
-        if (animation.playState !== 'running' || !animation.effect) continue;
-        if (Number.isFinite(animation.effect.getComputedTiming().endTime)) return 'animation';
-      }
-      return null;
-    }
-
-    function ignored(record) {
-      const target = record.target.nodeType === Node.ELEMENT_NODE ? record.target : record.target.parentElement;
-      if (!target) return false;
-      // Controlled inputs mirror VM state (sprite x/y) into their value attribute; monitors
-      // follow a running project. Neither is the result of an agent's action.
-      if (record.type === 'attributes' && record.attributeName === 'value' && target.tagName === 'INPUT') return true;
-      return !!target.closest(MONITORS);
-    }
-
-    function nextFrame() {
-      // Real time: on an episode's paused virtual clock a virtual timer would not fire.
-      return Promise.race([new Promise((resolve) => requestAnimationFrame(() => resolve())), ctx.realSleep(FRAME_FALLBACK_MS)]);
-    }
-
-    async function primitiveSettle(args) {
-      const maxMs = args.maxMs == null ? SETTLE_DEFAULT_MS : Number(args.maxMs);
-      if (!(maxMs >= 0) || maxMs > SETTLE_MAX_MS) {
-        throw new ctx.BridgeFailure('bad_request', `maxMs must be a number from 0 to ${SETTLE_MAX_MS}`);
-      }
-      const started = ctx.realNow();
-      let dirty = false;
-      const observer = new MutationObserver((records) => {
-        if (!dirty && records.some((r) => !ignored(r))) dirty = true;
-      });
-      observer.observe(document.body, {subtree: true, attributes: true, childList: true, characterData: true});
-      let quiet = 0;
-      try {
-        for (;;) {
-          await nextFrame();
-          const reason = busy();
-          quiet = dirty || reason ? 0 : quiet + 1;
-          dirty = false;
-          const waited = ctx.realNow() - started;
-          if (quiet >= QUIET_FRAMES) return {settled: true, waitedMs: Math.round(waited)};
-          if (waited >= maxMs) return {settled: false, waitedMs: Math.round(waited), busy: reason || 'dom mutations'};
-        }
-      } finally {
-        observer.disconnect();
-      }
-    }
-
-    function primitiveElements() {
-      const started = ctx.realNow();
-      const state = blocklyState(ctx);
-      hook(state);
-      const viewport = {left: 0, top: 0, right: window.innerWidth, bottom: window.innerHeight};
-      const env = {
-        viewport: viewport,
-        blockly: state,
-        workspaceArea: state && state.view ? intersect(viewport, state.view) : null,
-        flyoutArea: state && state.flyoutSvg ? intersect(viewport, box(state.flyoutSvg.getBoundingClientRect())) : null,
-        stageCanvas: stageCanvas(ctx),
-        visibleBlocks: new Set(),
-      };
-      const elements = collectElements(env);
-      const textBoxes = collectTextBoxes(env);
-      const pixelRegions = collectPixelRegions(env);
-      return {elements: elements, textBoxes: textBoxes, pixelRegions: pixelRegions, elapsedMs: ctx.realNow() - started};
-    }
-
-    return {primitiveElements: primitiveElements, primitiveSettle: primitiveSettle};
+  function primitiveElements() {
+    const started = ctx.realNow();
+    const state = blocklyState();
+    settle.watch(state);
+    const viewport = rects.viewport();
+    const env = {
+      viewport: viewport,
+      blockly: state,
+      workspaceArea: state && state.view ? rects.intersection(state.view, viewport) : null,
+      flyoutArea: state && state.flyoutSvg ? rects.intersection(state.flyoutSvg.getBoundingClientRect(), viewport) : null,
+      stageCanvas: stageCanvas(),
+      visibleBlocks: new Set(),
+    };
+    const elements = collectElements(env);
+    const textBoxes = collectTextBoxes(env);
+    const pixelRegions = collectPixelRegions(env);
+    return {elements: elements, textBoxes: textBoxes, pixelRegions: pixelRegions, elapsedMs: ctx.realNow() - started};
   }
 
-  const modules = window.__scratchworldModules = window.__scratchworldModules || [];
-  modules.push(factory);
-})();
+  return {api: {primitiveElements: primitiveElements}};
+}});

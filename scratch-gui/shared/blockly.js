@@ -1,0 +1,60 @@
+/*
+ * The editor's Blockly as every module reaches it: the visible workspace, its palette (flyout),
+ * and whether the workspace shows exactly what the VM holds for the editing target.
+ */
+scratchworldModule({name: 'blockly', create(ctx) {
+  'use strict';
+
+  const component = () => ctx.blocksComponent();
+  const scratchBlocks = () => component().ScratchBlocks;
+  const workspace = () => component().workspace;
+
+  function flyout() {
+    const theFlyout = workspace().getFlyout();
+    if (!theFlyout) throw new ctx.BridgeFailure('editor_not_ready', 'the palette (flyout) is not rendered');
+    return theFlyout;
+  }
+
+  // {SB, ws, flyout, flyoutWs}, or null before Blockly has drawn the workspace (for readers
+  // that must not fail on a page still opening).
+  function drawn() {
+    let found;
+    try {
+      found = component();
+    } catch (e) {
+      return null;
+    }
+    const ws = found.workspace;
+    const theFlyout = ws.getFlyout ? ws.getFlyout() : null;
+    return {SB: found.ScratchBlocks, ws: ws, flyout: theFlyout, flyoutWs: theFlyout ? theFlyout.getWorkspace() : null};
+  }
+
+  // The editing target's top-level scripts, as the VM holds them and as the workspace draws them.
+  function topBlocks() {
+    const target = ctx.requireVm().editingTarget;
+    if (!target) return {vm: [], workspace: []};
+    const vmTops = target.blocks.getScripts().map((id) => target.blocks.getBlock(id)).filter((b) => b && !b.shadow)
+      .map((b) => ({id: b.id, opcode: b.opcode}));
+    const wsTops = workspace().getTopBlocks(false).map((b) => ({id: b.id, opcode: b.type}));
+    return {vm: vmTops, workspace: wsTops};
+  }
+
+  function dragging() {
+    const ws = workspace();
+    return typeof ws.isDragging === 'function' && ws.isDragging();
+  }
+
+  // True when the workspace shows exactly the editing target's scripts and nothing is being dragged.
+  function inSync() {
+    if (dragging()) return false;
+    const tops = topBlocks();
+    const a = tops.vm.map((b) => b.id).sort().join('\n');
+    const b = tops.workspace.map((b) => b.id).sort().join('\n');
+    return a === b;
+  }
+
+  return {
+    scratchBlocks: scratchBlocks, workspace: workspace, flyout: flyout, drawn: drawn, topBlocks: topBlocks,
+    dragging: dragging, inSync: inSync,
+  };
+}});

@@ -1,0 +1,213 @@
+"""Moving blocks already on the workspace: connecting, detaching and deleting them by drags.
+
+The editor alone decides what a drop does (snap, insert, bump); the page plans each connecting
+drag by replaying Blockly's choice of connection along the mouse path (``geometryPlanDrag``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+from typing import Any
+
+from workers.agents._primitive_oracle._divergence import OracleDivergenceError
+from workers.agents._primitive_oracle._geometry import BlockGeometry, Point
+from workers.agents._primitive_oracle._gestures import DRAG_STEPS, click, drag
+from workers.agents._primitive_oracle._page import Page
+from workers.agents._primitive_oracle._plan import PlannedStep, Run
+from workers.agents._primitive_oracle._scrolling import MAX_SCROLLS, ROOM_SCROLLS, scroll_for_room, scroll_towards
+from workers.contract import PrimitiveAction
+
+CLEAN_UP = "Clean up Blocks"
+
+
+async def connect_blocks(run: Run, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
+    page = run.page
+    source = run.live_id(step, "sourceBlockIndex")
+    target = run.live_id(step, "targetBlockIndex")
+    placement = step.action.args.get("placement")
+    if not isinstance(placement, dict):
+        raise OracleDivergenceError(f"{step.describe()}: placement must be an object")
+    info = await page.block(source)
+    shape = info.shape
+    # A GUI drag takes the block and everything under it; the composite API moves a non-hat alone.
+    if not shape.hat and not shape.reporter and info.next_block:
+        async for gesture in _isolate(page, info, info.next_block, step):
+            yield gesture
+    attached = (await page.block(target)).attachment is not None
+    local, remote = connection_pair(placement, attached)
+    async for gesture in drag_connection(page, source, local, target, remote, step):
+        yield gesture
+
+
+async def detach_blocks(run: Run, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
+    if step.data.get("detached") is False:
+        return  # already the first block of its script
+    async for gesture in drag_to_free_space(run.page, run.live_id(step, "blockIndex"), step):
+        yield gesture
+
+
+async def delete_block(run: Run, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
+    page = run.page
+    block = run.live_id(step, "blockIndex")
+    async for gesture in reach(page, block, step):
+        yield gesture
+    grab = (await page.block(block)).grab
+    if grab is None:
+        raise OracleDivergenceError(f"{step.describe()}: block {block} cannot be grabbed")
+    palette = (await page.layout()).flyout
+    yield drag(grab, palette.centre())  # dropped on the palette, blocks are deleted
+    await page.wait("quiet", what="the deletion to settle")
+
+
+async def _isolate(page: Page, info: BlockGeometry, tail: str, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
+    """Leave the block without its ``tail``, the tail taking its place (the composite API's healing)."""
+    block = info.id
+    attachment = info.attachment
+    if attachment is None:
+        async for gesture in drag_to_free_space(page, tail, step):
+            yield gesture
+    else:
+        # The block and its tail go to empty space, then the tail goes back where the block hung.
+        async for gesture in drag_to_free_space(page, block, step):
+            yield gesture
+        hook = "next" if attachment.input is None else f"input:{attachment.input}"
+        async for gesture in drag_connection(page, tail, "previous", attachment.parent, hook, step):
+            yield gesture
+    if (await page.block(block)).next_block is not None:
+        raise OracleDivergenceError(f"{step.describe()}: could not take block {block} out of its stack alone")
+
+
+async def drag_connection(
+    page: Page, moving: str, local: str, target: str, remote: str, step: PlannedStep
+) -> AsyncIterator[PrimitiveAction]:
+    """Drag ``moving`` so that its connection ``local`` snaps to connection ``remote`` of ``target``.
+
+    The page replays Blockly's choice of connection along the straight mouse path; when another
+    connection would be chosen on the way, the block first moves to a free spot with a clean path.
+    """
+    args = {"moving": moving, "local": local, "target": target, "remote": remote, "steps": DRAG_STEPS}
+    staged = False
+    for _ in range(MAX_SCROLLS + 2):
+        plan = await page.plan_drag(args)
+        grab = plan.grab
+        if grab is None:
+            async for gesture in reach(page, moving, step):
+                yield gesture
+            continue
+        if not plan.end_visible:
+            area = (await page.layout()).safe_area
+            async for gesture in scroll_towards(page, [plan.reference, plan.end], area):
+                yield gesture
+            continue
+        if plan.clean:
+            yield drag(grab, plan.end)
+            await page.wait("quiet", what="the drop to settle")
+            return
+        if staged or plan.staging is None:
+            raise OracleDivergenceError(
+                f"{step.describe()}: no clean path to connect {local} of {moving} to {remote} of {target}: "
+                f"{plan.reason}"
+            )
+        yield drag(grab, plan.staging.end)
+        await page.wait("quiet", what="the block to settle on its staging spot")
+        staged = True
+    raise OracleDivergenceError(
+        f"{step.describe()}: cannot show {moving} and its destination on {target} in the workspace at once"
+    )
+
+
+async def drag_to_free_space(page: Page, block: str, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
+    """Drag the block (and what hangs under it) to empty workspace, out of every snap radius."""
+    async for gesture in reach(page, block, step):
+        yield gesture
+    info = await page.block(block)
+    grab = info.grab
+    if grab is None:
+        raise OracleDivergenceError(f"{step.describe()}: block {block} cannot be grabbed")
+    rect = info.rect
+    # A top-level block leaves its own place free; one inside a script must keep off the whole script.
+    ignore = [block] if info.root == block else []
+    spot = await page.free_spot(rect.width, rect.height, rect.bottom_left, ignore)
+    for _ in range(ROOM_SCROLLS):
+        if spot is not None:
+            break
+        async for gesture in scroll_for_room(page):
+            yield gesture
+        info = await page.block(block)
+        grab, rect = info.grab, info.rect
+        if grab is None:
+            break  # scrolled out of reach: give up below
+        spot = await page.free_spot(rect.width, rect.height, rect.bottom_left, ignore)
+    if spot is None or grab is None:
+        raise OracleDivergenceError(f"{step.describe()}: no empty part of the visible workspace can take the blocks")
+    yield drag(grab, Point(x=spot.x + grab.x - rect.x, y=spot.y + grab.y - rect.y))
+    await page.wait("quiet", what="the drop to settle")
+
+
+async def reach(page: Page, block: str, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
+    """Make a point of the block's body grabbable: scroll to it, or clean up scripts covering it."""
+    cleaned = False
+    for _ in range(MAX_SCROLLS + 1):
+        info = await page.block(block)
+        if info.grab is not None:
+            return
+        middle = info.rect.centre()
+        area = (await page.layout()).safe_area
+        if area.contains(middle):
+            if cleaned:
+                break
+            async for gesture in _clean_up(page, step):
+                yield gesture
+            cleaned = True
+        else:
+            async for gesture in scroll_towards(page, [middle], area):
+                yield gesture
+    raise OracleDivergenceError(f"{step.describe()}: no part of block {block} can be grabbed")
+
+
+async def _clean_up(page: Page, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
+    """Right-click the workspace background, choose "Clean up Blocks": scripts stop overlapping."""
+    spot = await page.free_spot(8, 8, None)
+    if spot is None:
+        raise OracleDivergenceError(f"{step.describe()}: no empty workspace background to right-click")
+    yield PrimitiveAction(api="click", args={"x": spot.x + 4, "y": spot.y + 4, "button": "right"})
+    await page.wait("menuOpen", what="the workspace context menu")
+    items = [item for item in (await page.menu()).items if item.text == CLEAN_UP]
+    if not items or not items[0].visible:
+        raise OracleDivergenceError(f"{step.describe()}: the workspace context menu has no visible {CLEAN_UP!r}")
+    yield click(items[0].rect.centre())
+    await page.wait("menuClosed", what="the context menu to close")
+    await page.wait("quiet", what="the scripts to be cleaned up")
+
+
+def connection_pair(placement: dict[str, Any], target_attached: bool) -> tuple[str, str]:
+    """(connection of the dragged block, connection of the destination) that a placement joins.
+
+    ``target_attached``: the destination hangs under another block (matters for stack_before).
+    """
+    kind, name = placement.get("kind"), placement.get("inputName")
+    if kind == "stack_after":
+        return "previous", "next"
+    if kind == "statement_into":
+        return "previous", f"input:{name}"
+    if kind == "value_into":
+        return "output", f"input:{name}"
+    if kind == "stack_before":
+        # Inside a script the block goes where the destination hangs (Blockly inserts it);
+        # on top of a script the end of the dragged stack meets the destination's top.
+        return ("previous", "parent") if target_attached else ("lastNext", "previous")
+    if kind == "wrap" and not target_attached:
+        return "input:SUBSTACK", "previous"
+    raise OracleDivergenceError(f"placement {placement} is not mapped to gestures")
+
+
+def target_point(dst: BlockGeometry, placement: dict[str, Any]) -> Point | None:
+    """The connection on the destination block that the dragged block must meet."""
+    kind = placement.get("kind")
+    if kind == "stack_after":
+        return dst.next
+    if kind in ("statement_into", "value_into"):
+        return dst.inputs.get(str(placement.get("inputName")))
+    if kind in ("stack_before", "wrap"):
+        return dst.previous
+    return None

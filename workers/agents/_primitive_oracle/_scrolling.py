@@ -1,0 +1,61 @@
+"""Keeping what the next gesture aims at in view: wheel turns over the workspace."""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator, Awaitable, Callable
+
+from workers.agents._primitive_oracle._divergence import OracleDivergenceError
+from workers.agents._primitive_oracle._geometry import Point, Rect
+from workers.agents._primitive_oracle._gestures import scroll
+from workers.agents._primitive_oracle._page import Page
+from workers.contract import PrimitiveAction
+
+MAX_SCROLLS = 4
+ROOM_SCROLLS = 2
+"""Wheel turns down the workspace when its visible part has no room for a dropped block."""
+
+
+async def scroll_into_view(
+    page: Page, locate: Callable[[], Awaitable[list[Point]]], what: str
+) -> AsyncIterator[PrimitiveAction]:
+    """Wheel the workspace until every point ``locate`` finds is inside the safe area."""
+    for _ in range(MAX_SCROLLS):
+        points = await locate()
+        area = (await page.layout()).safe_area
+        if all(area.contains(p) for p in points):
+            return
+        async for gesture in scroll_towards(page, points, area):
+            yield gesture
+    points = await locate()
+    area = (await page.layout()).safe_area
+    if not all(area.contains(p) for p in points):
+        raise OracleDivergenceError(f"{what}: cannot scroll it into view")
+
+
+async def scroll_towards(page: Page, points: list[Point], area: Rect) -> AsyncIterator[PrimitiveAction]:
+    """Wheel the workspace so that the box around ``points`` is centred in ``area`` (if it fits)."""
+    xs, ys = [p.x for p in points], [p.y for p in points]
+    if max(xs) - min(xs) > area.width or max(ys) - min(ys) > area.height:
+        raise OracleDivergenceError(
+            f"points spanning ({max(xs) - min(xs):.0f}, {max(ys) - min(ys):.0f}) px do not fit in the workspace at once"
+        )
+    middle = area.centre()
+    dx = (min(xs) + max(xs)) / 2 - middle.x if min(xs) < area.x or max(xs) > area.x + area.width else 0.0
+    dy = (min(ys) + max(ys)) / 2 - middle.y if min(ys) < area.y or max(ys) > area.y + area.height else 0.0
+    if abs(dx) < 1 and abs(dy) < 1:
+        return
+    yield scroll(dy, dx, middle)
+    await page.wait("quiet", what="the workspace to stop scrolling")
+
+
+async def scroll_for_room(page: Page) -> AsyncIterator[PrimitiveAction]:
+    """Wheel the workspace down by half a view: there is empty space under the scripts."""
+    area = (await page.layout()).safe_area
+    yield scroll(area.height / 2, 0.0, area.centre())
+    await page.wait("quiet", what="the workspace to stop scrolling")
+
+
+async def points_of(point: Awaitable[Point | None]) -> list[Point]:
+    """One point as a list to scroll into view (none: nothing to scroll to)."""
+    found = await point
+    return [found] if found is not None else []
