@@ -8,6 +8,7 @@ import pytest
 
 PACKAGES = [
     "scratchworld_dist",
+    "scratchworld_dist.drag",
     "scratchworld_dist.memory",
     "scratchworld_dist.reports",
     "scratchworld_dist.results",
