@@ -177,7 +177,8 @@ async def test_max_total_bounds_the_whole_call(server: OpenAIServer) -> None:
     policy = RetryPolicy(max_attempts=100, initial_backoff_s=0.3, max_backoff_s=0.3, max_total_s=1.5)
     started = time.monotonic()
     error = await failure(client(server, policy))
-    assert time.monotonic() - started < 1.6
+    # Without the total budget the call would retry for ~30 s; the margin only absorbs a loaded CI host.
+    assert time.monotonic() - started < 1.5 + 1.0
     assert 1 < error.attempts < 100
 
 
@@ -187,7 +188,7 @@ async def test_retry_after_beyond_the_total_budget_fails_at_once(server: OpenAIS
     started = time.monotonic()
     error = await failure(client(server, policy))
     assert (error.error_class, error.attempts, server.count) == ("model_rate_limited", 1, 1)
-    assert time.monotonic() - started < 1
+    assert time.monotonic() - started < 5  # rather than waiting out the 30 s Retry-After
 
 
 async def test_circuit_breaker_opens_fails_fast_and_recovers(server: OpenAIServer) -> None:
