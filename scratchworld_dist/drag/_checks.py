@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from scratchworld_dist.drag._project import ProjectIndex, palette_category_of
-from scratchworld_dist.drag._task import CanvasSource, DragSource, DragView, FlyoutSource
+from workers.contract import CanvasSource, DragSource, DragView, FlyoutSource
 
 
 @dataclass(frozen=True)

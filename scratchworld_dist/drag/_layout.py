@@ -32,12 +32,8 @@ not guessed.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
 
-PaletteCategory = Literal[
-    "motion", "looks", "sound", "events", "control", "sensing", "operators", "variables", "myBlocks"
-]
-"""scratch-blocks' category ids (locale-independent), in the order the category column lists them."""
+from workers.contract import DRAG_VIEWPORT, PaletteCategory
 
 PALETTE_CATEGORIES: tuple[PaletteCategory, ...] = (
     "motion",
@@ -51,8 +47,8 @@ PALETTE_CATEGORIES: tuple[PaletteCategory, ...] = (
     "myBlocks",
 )
 
-UPSTREAM_VIEWPORT = (1280, 720)
-"""Page size (CSS px) of upstream's browser sessions."""
+UPSTREAM_VIEWPORT = DRAG_VIEWPORT
+"""Page size (CSS px) of upstream's browser sessions (and of ours)."""
 
 HIT_MARGIN = 4
 """A click this close to the edge of a deduced cell is not mapped: the cell's exact extent is inferred."""

@@ -22,9 +22,10 @@ from dataclasses import dataclass, field
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from scratchworld_dist.drag._layout import PaletteCategory, category_at, on_flyout, on_stage_selector, sprite_tile_at
+from scratchworld_dist.drag._layout import category_at, on_flyout, on_stage_selector, sprite_tile_at
 from scratchworld_dist.drag._project import ProjectIndex, ProjectTarget
-from scratchworld_dist.drag._task import DragView, UpstreamAction
+from scratchworld_dist.drag._task import UpstreamAction
+from workers.contract import DragView, PaletteCategory
 
 PAN_SCRIPT_SHA256 = "2b5ed1cba5d4e12b411d9db8859915bcdf4f07005335dcd4e1b104fba01faecc"
 """The one ``custom_js`` all 60 upstream tasks run: it adds ``payload.dx/dy`` to the workspace

@@ -8,9 +8,10 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import TaskNotFoundError
-from scratchworld_dist.drag._task import DragTask, DragType
+from scratchworld_dist.drag._task import DragTask
 from scratchworld_dist.suites import SuiteKind
 from scratchworld_dist.suites._problems import SuiteProblems
+from workers.contract import DragType
 
 ProblemEffect = Literal["skipped", "no_view", "corrected"]
 """``skipped``: the task is not in the suite; ``no_view``: it is, with ``view`` None;

@@ -2,7 +2,8 @@
 
 Everything here is semantic (block ids, opcodes, a sprite name, a palette category, workspace
 scroll and scale), so a task survives a change of viewport, stage size or editor version that
-would move every pixel. Upstream's pixel data is kept apart, in ``UpstreamDragReference``,
+would move every pixel; its parts are the worker contract's models, shipped to a worker as a
+``DragPayload``. Upstream's pixel data is kept apart, in ``UpstreamDragReference``,
 for cross-checks only.
 """
 
@@ -10,122 +11,21 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from scratchworld_dist.drag._layout import UPSTREAM_VIEWPORT, PaletteCategory
 from scratchworld_dist.suites._task import task_id_problem
-
-DragType = Literal["T1", "T2"]
-"""T1: stacking (``parent``, ``next``); T2: nesting (``substack_1``, ``substack_2``, ``input``)."""
-
-ConnectionKind = Literal["parent", "next", "substack_1", "substack_2", "input"]
-
-CONNECTIONS_OF: dict[DragType, tuple[ConnectionKind, ...]] = {
-    "T1": ("parent", "next"),
-    "T2": ("substack_1", "substack_2", "input"),
-}
-
-Point = tuple[int, int]
-"""A page position in CSS px."""
-
-
-class CanvasSource(BaseModel):
-    """A block already on the workspace; the stack below it moves with it."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    kind: Literal["canvas"] = "canvas"
-
-    block_id: str = Field(min_length=1)
-    """The block the drag starts on (the top of the stack that moves)."""
-
-    opcode: str = Field(min_length=1)
-
-    tail_block_id: str = Field(min_length=1)
-    """The last block of the moving stack: for ``parent`` the reference must hang below it."""
-
-
-class FlyoutSource(BaseModel):
-    """A new block dragged out of the palette; it gets its id only once dropped."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    kind: Literal["flyout"] = "flyout"
-
-    opcode: str = Field(min_length=1)
-    """The palette block to drag (for ``data_variable``, ``connection.variable_name`` says which one)."""
-
-
-DragSource = Annotated[CanvasSource | FlyoutSource, Field(discriminator="kind")]
-
-
-class ExpectedConnection(BaseModel):
-    """How the dragged block must end up attached to the reference block (upstream's verification).
-
-    - ``next``: the source hangs directly below the reference.
-    - ``parent``: the reference hangs directly below the source stack's tail.
-    - ``substack_1`` / ``substack_2``: the source is the first block of the reference's
-      ``SUBSTACK`` / ``SUBSTACK2``.
-    - ``input``: the source fills the reference's input ``input_name``.
-    """
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    kind: ConnectionKind
-
-    input_name: str | None = Field(default=None, min_length=1)
-    """The reference's input (``CONDITION``, ``OPERAND1``...); set for ``input`` only."""
-
-    variable_name: str | None = Field(default=None, min_length=1)
-    """For ``input`` only: the input must hold the variable reporter of this name (upstream's optional check)."""
-
-    @model_validator(mode="after")
-    def _input_fields(self) -> ExpectedConnection:
-        if self.kind == "input" and self.input_name is None:
-            raise ValueError("an 'input' connection needs input_name")
-        if self.kind != "input" and (self.input_name is not None or self.variable_name is not None):
-            raise ValueError(f"input_name and variable_name are for 'input' connections, not {self.kind!r}")
-        return self
-
-
-class DragView(BaseModel):
-    """The editor state set up before the screenshot, in the editor's own terms."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    sprite: str | None
-    """The sprite whose scripts are shown, by its exact name; None when the Stage is selected."""
-
-    category: PaletteCategory | None = None
-    """The palette category selected (its blocks are at the top of the flyout); None leaves the
-    palette as the editor opens it (only for sources on the canvas)."""
-
-    flyout_scroll: float = 0
-    """Flyout pixels scrolled down past the top of ``category`` (the mouse wheel's deltaY)."""
-
-    scroll_x: float
-    """Workspace x (units) at the left edge of the Blockly SVG, which spans the category column and
-    flyout too: a block at workspace x appears at ``svg_left + (x - scroll_x) * scale``."""
-
-    scroll_y: float
-    """Workspace y (units) at the top edge of the Blockly SVG."""
-
-    scale: float = Field(gt=0)
-    """Workspace zoom (Scratch opens at 0.675)."""
-
-    stage_size: Literal["small", "large"] = "small"
-    """Stage size mode; the small stage widens the workspace."""
-
-    viewport: tuple[int, int] = Field(default=UPSTREAM_VIEWPORT)
-    """Page size in CSS px."""
-
-    @model_validator(mode="after")
-    def _scroll_needs_category(self) -> DragView:
-        if self.flyout_scroll and self.category is None:
-            raise ValueError("flyout_scroll is relative to a category: set category too")
-        return self
+from workers.contract import (
+    CONNECTIONS_OF,
+    DragPayload,
+    DragSource,
+    DragType,
+    DragView,
+    ExpectedConnection,
+    FlyoutSource,
+    Point,
+)
 
 
 class UpstreamAction(BaseModel):
@@ -212,6 +112,22 @@ class DragTask(BaseModel):
         if self.view is not None and isinstance(self.source, FlyoutSource) and self.view.category is None:
             raise ValueError("a source from the flyout needs view.category")
         return self
+
+    def payload(self, initial_project: bytes) -> DragPayload:
+        """What a worker needs to run the task (a task without a view cannot be run)."""
+        if self.view is None:
+            raise ValueError(f"drag task {self.id} has no view")
+        return DragPayload(
+            task_id=self.id,
+            type=self.type,
+            instruction=self.instruction,
+            initial_project=initial_project,
+            source=self.source,
+            reference_block_id=self.reference_block_id,
+            reference_opcode=self.reference_opcode,
+            connection=self.connection,
+            view=self.view,
+        )
 
     def dump(self, initial_project: str) -> str:
         """The task as a file of our drag-suite format, its project named relative to the suite root."""

@@ -22,21 +22,19 @@ from scratchworld_dist.drag._checks import UPSTREAM_FIELDS, block_problems, view
 from scratchworld_dist.drag._preactions import UpstreamWorkspaceState, view_from_upstream
 from scratchworld_dist.drag._project import ProjectIndex, read_project_index
 from scratchworld_dist.drag._suite import DragProblem, DragSuite, problems_from, sort_drag_tasks
-from scratchworld_dist.drag._task import (
+from scratchworld_dist.drag._task import DragTask, UpstreamAction, UpstreamDragReference
+from scratchworld_dist.suites._problems import SuiteProblems
+from scratchworld_dist.suites._task import task_id_problem
+from workers.contract import (
     CONNECTIONS_OF,
     CanvasSource,
     ConnectionKind,
     DragSource,
-    DragTask,
     DragType,
     ExpectedConnection,
     FlyoutSource,
     Point,
-    UpstreamAction,
-    UpstreamDragReference,
 )
-from scratchworld_dist.suites._problems import SuiteProblems
-from scratchworld_dist.suites._task import task_id_problem
 
 TASKS_DIR = Path("single_step_drag_benchmark/tasks")
 PROJECTS_DIR = Path("scratch-gui/static")

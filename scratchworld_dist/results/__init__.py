@@ -8,7 +8,7 @@ from scratchworld_dist.results._manifest import (
     read_manifest,
     write_manifest,
 )
-from scratchworld_dist.results._records import JobRecord, JobRow, StepRow, TestRow, record_of
+from scratchworld_dist.results._records import DragRow, JobRecord, JobRow, StepRow, TestRow, record_of
 from scratchworld_dist.results._schema import SCHEMA_VERSION, SCHEMAS, TABLES
 from scratchworld_dist.results._store import RunStore, effective_rows
 
@@ -17,6 +17,7 @@ __all__ = [
     "SCHEMAS",
     "SCHEMA_VERSION",
     "TABLES",
+    "DragRow",
     "JobRecord",
     "JobRow",
     "RunManifest",

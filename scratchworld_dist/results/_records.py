@@ -1,6 +1,6 @@
-"""Result rows: one per finished job, one per step, one per unit test.
+"""Result rows: one per finished job, one per step, one per unit test, one per drag.
 
-The three row models are the only shape results take, in the journal, in Parquet and in
+The four row models are the only shape results take, in the journal, in Parquet and in
 reports; ``schema.py`` derives the Arrow schemas from the same field list.
 """
 
@@ -92,6 +92,9 @@ class JobRow(BaseModel):
     node_available_mb: float | None = None
     """The node's available memory then, in MiB."""
 
+    setting: str | None = None
+    """A drag job's setting (baseline | gt_start | knowledge); null for episodes (and in older runs)."""
+
 
 class StepRow(BaseModel):
     """One agent action of one attempt (a row of ``steps/``)."""
@@ -135,12 +138,64 @@ class TestRow(BaseModel):
     duration_ms: float | None
 
 
+class DragRow(BaseModel):
+    """What one drag attempt predicted and how far it was from the exact regions (a row of ``drags/``).
+
+    Points are page px as performed; ``end_*`` distances are for the release translated by
+    ``fixed_start - start`` (a press elsewhere in the block moves the block's grip by as much).
+    """
+
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int
+    task_id: str
+    drag_type: str
+    """T1 (stacking) or T2 (nesting)."""
+
+    connection: str
+    """The expected connection kind: parent, next, substack_1, substack_2 or input."""
+
+    source: str
+    """Where the dragged block comes from: canvas or flyout."""
+
+    setting: str
+    model: str
+    agent: str
+    seed: int
+    parse: str
+    """How the reply was read: ok, no_answer, unparsed, bad_index or out_of_screen."""
+
+    start_x: float | None
+    start_y: float | None
+    end_x: float | None
+    end_y: float | None
+    start_in_region: bool | None
+    start_error_px: float | None
+    end_in_region: bool | None
+    end_error_px: float | None
+    connected: bool
+    observed: str
+    fixed_start_x: int | None
+    fixed_start_y: int | None
+    gt_start_x: int | None
+    gt_start_y: int | None
+    start_area: int
+    end_area: int
+    reply: str | None
+    """The model's raw reply (null for scripted agents)."""
+
+    annotated: str | None
+    """The annotated screenshot (prediction and regions), relative to the run directory."""
+
+
 class JobRecord(BaseModel):
     """Everything one attempt adds to the results, committed together."""
 
     job: JobRow
     steps: list[StepRow] = Field(default_factory=list)
     tests: list[TestRow] = Field(default_factory=list)
+    drags: list[DragRow] = Field(default_factory=list)
 
 
 def _time(unix: float) -> datetime:
@@ -154,6 +209,7 @@ def record_of(
     run_name: str,
     suite_hash: str,
     artifact_dir: str | None,
+    annotated: str | None = None,
 ) -> JobRecord:
     """Flatten a worker's result into rows; the job's identity comes from the plan, not the worker."""
     evaluation = result.evaluation
@@ -206,6 +262,7 @@ def record_of(
         editors_held=load.editors if load else None,
         browser_pss_mb=load.browser_pss_bytes / MIB if load else None,
         node_available_mb=load.node_available_bytes / MIB if load else None,
+        setting=job.setting,
     )
     steps = [
         StepRow(
@@ -241,4 +298,43 @@ def record_of(
         )
         for index, test in enumerate(evaluation.tests if evaluation is not None else [])
     ]
-    return JobRecord(job=row, steps=steps, tests=tests)
+    drags = [] if result.drag is None else [_drag_row(job, result, annotated)]
+    return JobRecord(job=row, steps=steps, tests=tests, drags=drags)
+
+
+def _drag_row(job: JobSpec, result: EpisodeResult, annotated: str | None) -> DragRow:
+    drag, task = result.drag, job.drag
+    if drag is None or task is None:
+        raise ValueError(f"job {job.job_id} is not a drag job")
+    start, end, fixed, marked = drag.start, drag.end, drag.fixed_start, drag.gt_start
+    return DragRow(
+        job_id=job.job_id,
+        attempt=result.attempt,
+        task_id=job.task_id,
+        drag_type=task.type,
+        connection=task.connection,
+        source=task.source,
+        setting=drag.setting,
+        model=job.model_name,
+        agent=job.agent_label,
+        seed=job.seed,
+        parse=drag.parse,
+        start_x=start[0] if start else None,
+        start_y=start[1] if start else None,
+        end_x=end[0] if end else None,
+        end_y=end[1] if end else None,
+        start_in_region=drag.start_in_region,
+        start_error_px=drag.start_error_px,
+        end_in_region=drag.end_in_region,
+        end_error_px=drag.end_error_px,
+        connected=drag.connected,
+        observed=drag.observed,
+        fixed_start_x=fixed[0] if fixed else None,
+        fixed_start_y=fixed[1] if fixed else None,
+        gt_start_x=marked[0] if marked else None,
+        gt_start_y=marked[1] if marked else None,
+        start_area=drag.start_area,
+        end_area=drag.end_area,
+        reply=next((step.reply for step in result.steps if step.reply is not None), None),
+        annotated=annotated,
+    )

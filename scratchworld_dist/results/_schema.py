@@ -1,4 +1,4 @@
-"""Arrow schemas of the three tables, derived from the row models so the two never drift."""
+"""Arrow schemas of the tables, derived from the row models so the two never drift."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from typing import Any, Union, get_args, get_origin
 import pyarrow as pa
 from pydantic import BaseModel
 
-from scratchworld_dist.results._records import JobRow, StepRow, TestRow
+from scratchworld_dist.results._records import DragRow, JobRow, StepRow, TestRow
 
 SCHEMA_VERSION = 3
 """Bumped on any incompatible change to a table; stored in every shard's metadata."""
@@ -37,7 +37,7 @@ def arrow_schema(model: type[BaseModel]) -> pa.Schema:
     return pa.schema(fields, metadata={"scratchworld_schema_version": str(SCHEMA_VERSION)})
 
 
-TABLES: dict[str, type[BaseModel]] = {"jobs": JobRow, "steps": StepRow, "tests": TestRow}
+TABLES: dict[str, type[BaseModel]] = {"jobs": JobRow, "steps": StepRow, "tests": TestRow, "drags": DragRow}
 """Folder name of each table in a run directory, and its row model."""
 
 SCHEMAS: dict[str, pa.Schema] = {name: arrow_schema(model) for name, model in TABLES.items()}

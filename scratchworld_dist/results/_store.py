@@ -2,14 +2,14 @@
 
 Each finished attempt is appended as one JSON line to the current journal segment and flushed
 before the driver moves on, so killing the driver loses only jobs still in flight. A segment is
-compacted into ``jobs/``, ``steps/`` and ``tests/`` shards named after it (temp file + rename,
+compacted into ``jobs/``, ``steps/``, ``tests/`` and ``drags/`` shards named after it (temp file + rename,
 ``jobs`` last), then deleted; compaction is idempotent, so a crash half-way is repaired by
 compacting the leftover segment again on the next open. Readers see shards plus any journal.
 
 Layout::
 
     RUN_DIR/manifest.json
-    RUN_DIR/jobs/part-000001.parquet   steps/part-000001.parquet   tests/part-000001.parquet
+    RUN_DIR/jobs/part-000001.parquet   steps/...   tests/...   drags/part-000001.parquet
     RUN_DIR/journal/segment-000002.jsonl   (not yet compacted)
     RUN_DIR/artifacts/<job_id>/attempt-<n>/{final.sb3, trajectory.jsonl}
 """
@@ -65,6 +65,7 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "jobs": ("job_id", "attempt", "outcome"),
     "steps": ("job_id", "attempt", "step"),
     "tests": ("job_id", "attempt", "test_index"),
+    "drags": ("job_id", "attempt", "task_id"),
 }
 """Columns every shard of a table has had in every schema version: a file without them is not one."""
 
@@ -86,7 +87,7 @@ def _to_table(records: list[JobRecord], table: str) -> pa.Table:
     if table == "jobs":
         rows = [r.job.model_dump() for r in records]
     else:
-        rows = [row.model_dump() for r in records for row in (r.steps if table == "steps" else r.tests)]
+        rows = [row.model_dump() for r in records for row in getattr(r, table)]
     return pa.Table.from_pylist(rows, schema=SCHEMAS[table])
 
 
@@ -184,7 +185,7 @@ class RunStore:
     def _compact(self, number: int, path: Path) -> None:
         records = _read_segment(path)
         if records:
-            for table in ("steps", "tests", "jobs"):  # jobs last: its shard marks the segment done
+            for table in ("steps", "tests", "drags", "jobs"):  # jobs last: its shard marks the segment done
                 shard = _to_table(records, table)
                 sink = pa.BufferOutputStream()
                 pq.write_table(shard, sink, compression="zstd")

@@ -13,6 +13,7 @@ import hashlib
 import json
 from collections.abc import Iterator, Mapping
 from pathlib import Path
+from typing import Literal
 
 from pydantic import BaseModel, ConfigDict
 
@@ -23,6 +24,10 @@ from scratchworld_dist.suites import Task
 from workers.contract import (
     MIB,
     AgentRef,
+    ConnectionKind,
+    DragSetting,
+    DragSpec,
+    DragType,
     EpisodeClock,
     EpisodeSpec,
     EvaluationClock,
@@ -46,8 +51,18 @@ NO_MODEL = "-"
 """Model label of scripted agents (oracle, noop) that call no model."""
 
 
+class DragTaskInfo(BaseModel):
+    """What reports group a drag job by (its task's type, connection kind and source)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    type: DragType
+    connection: ConnectionKind
+    source: Literal["canvas", "flyout"]
+
+
 class JobSpec(BaseModel):
-    """One cell of the matrix, as planned by the driver."""
+    """One cell of the matrix, as planned by the driver: an episode, or a drag job when ``setting`` is set."""
 
     model_config = ConfigDict(frozen=True)
 
@@ -89,6 +104,15 @@ class JobSpec(BaseModel):
     """The sweep's model cache (not part of the id: a replayed reply is the one this model gave to this
     exact request under this seed, so the job's conditions are the same; rows record the hits)."""
 
+    setting: DragSetting | None = None
+    """A drag job's setting (part of its id); None for episodes."""
+
+    drag: DragTaskInfo | None = None
+    """A drag job's task, as reports group it."""
+
+    element_list: bool = False
+    """A drag job shows the element list (part of its id)."""
+
     @property
     def agent_label(self) -> str:
         """The agent column of reports; memory fed by the verdict is labelled as the ablation it is."""
@@ -103,7 +127,25 @@ class JobSpec(BaseModel):
             return NO_MODEL
         return "+".join([self.model.name, *(extra.name for extra in self.extra_models)])
 
-    def episode(self, attempt: int, timeout_s: float) -> EpisodeSpec:
+    def episode(self, attempt: int, timeout_s: float) -> EpisodeSpec | DragSpec:
+        """What the worker is sent for ``attempt``: a drag job's spec, or an episode's."""
+        if self.setting is not None:
+            return DragSpec(
+                job_id=self.job_id,
+                attempt=attempt,
+                task_id=self.task_id,
+                setting=self.setting,
+                agent=self.agent,
+                agent_code=self.agent_code,
+                model=self.model,
+                seed=self.seed,
+                timeout_s=timeout_s,
+                element_list=self.element_list,
+                observation=self.observation,
+                llm=self.llm,
+                harness=self.harness,
+                model_cache=self.model_cache,
+            )
         return EpisodeSpec(
             job_id=self.job_id,
             attempt=attempt,

@@ -12,6 +12,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, field_validator, model_validator
 
 from workers.contract._actions import CompositeAction
+from workers.contract._drag import DragAttempt, DragSetting
 from workers.contract._errors import ModelErrorClass
 from workers.contract._eval_result import EvalResult
 from workers.contract._evaluation_spec import EvaluationSpec
@@ -166,6 +167,31 @@ class EpisodeSpec(BaseModel):
     """Where successful model replies are stored and replayed from (None: every call goes to the model)."""
 
 
+class DragSpec(BaseModel):
+    """One drag job as a worker sees it: who answers, under which setting."""
+
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int = Field(ge=1)
+    task_id: str
+    setting: DragSetting
+    agent: AgentRef
+    agent_code: str | None = None
+    model: ModelSpec | None
+    seed: int
+    timeout_s: float = Field(gt=0)
+    element_list: bool = False
+    """Show the model primitive mode's element list and accept ``<index>`` answers."""
+
+    observation: ObservationSettings | None = None
+    """How the element list is made (None without one)."""
+
+    llm: LLMSettings | None = None
+    harness: str | None = None
+    model_cache: ModelCacheSettings | None = None
+
+
 class TaskPayload(BaseModel):
     """The task's content, shipped once per task to the object store and shared by its jobs."""
 
@@ -290,6 +316,9 @@ class EpisodeResult(BaseModel):
     memory_items: list[MemoryItem] = Field(default_factory=list)
     """What a learning agent proposed to learn from this episode, each with its own judgement."""
 
+    drag: DragAttempt | None = None
+    """A drag job's points and their distances to the feasible regions (None for episodes)."""
+
     worker: WorkerInfo | None = None
     load: WorkerLoad | None = None
     """The worker's browser and node when the episode ended (None when it never reached a worker)."""
@@ -321,7 +350,12 @@ class EpisodeResult(BaseModel):
 
     @classmethod
     def errored(
-        cls, spec: EpisodeSpec, error_class: ErrorClass, message: str, *, steps: list[StepRecord] | None = None
+        cls,
+        spec: EpisodeSpec | DragSpec,
+        error_class: ErrorClass,
+        message: str,
+        *,
+        steps: list[StepRecord] | None = None,
     ) -> EpisodeResult:
         """A result with no verdict, for the driver to retry or record."""
         return cls(
