@@ -46,6 +46,8 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
   /* ---------- planning a connecting drag ---------- */
 
   const OPPOSITE = {1: 2, 2: 1, 3: 4, 4: 3};
+  const OUTPUT_VALUE = 2;
+  const PREVIOUS_STATEMENT = 4;
 
   // A connection of a block by name: previous, next, output, lastNext (the end of its stack),
   // parent (the connection the block hangs from) or input:NAME.
@@ -82,29 +84,83 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
     return `${what} of ${block.type} ${block.id}`;
   }
 
-  // Replays Blockly's choice of connection along the mouse path (the drag strategy's closest
-  // candidate, its radii and its preference for the current candidate), without insertion-marker
-  // previews: a path is clean when no connection but the wanted one is ever the candidate, so
-  // no preview can move the wanted connection away, and the drop ends on it.
-  function simulatePath(moving, deltas, wanted) {
-    const ws = blockly.workspace();
-    const config = blockly.scratchBlocks().config;
-    const checker = ws.connectionChecker;
+  // The connections a drag of `moving` may snap to: every other block's, but insertion markers'.
+  function neighbourConnections(moving) {
     const own = new Set(moving.getDescendants(false));
-    const locals = localConnections(moving);
-    const candidates = [];
-    for (const block of ws.getAllBlocks(false)) {
+    const found = [];
+    for (const block of blockly.workspace().getAllBlocks(false)) {
       if (own.has(block) || block.isInsertionMarker()) continue;
-      for (const connection of block.getConnections_(false)) candidates.push(connection);
+      for (const connection of block.getConnections_(false)) found.push(connection);
     }
-    const distance = (local, delta, other) => Math.hypot(local.x + delta.x - other.x, local.y + delta.y - other.y);
+    return found;
+  }
+
+  // Where `neighbours` are while Blockly previews `candidate` ({local, neighbour}): the drag strategy's
+  // own choice of preview, drawn for real with events off and taken down again. An insertion marker
+  // pushes what follows it aside (by its height less an empty mouth's, or its width in an input), and
+  // the next pointer move is matched against the connections where the preview left them.
+  function previewedPositions(moving, candidate, neighbours) {
+    const SB = blockly.scratchBlocks();
+    const ws = blockly.workspace();
+    const {local, neighbour} = candidate;
+    const replaced = neighbour.isConnected() && !neighbour.targetBlock().isInsertionMarker();
+    const moves = local.type === OUTPUT_VALUE || local.type === PREVIOUS_STATEMENT;
+    const orphanFits = replaced && moves &&
+      !!SB.Connection.getConnectionForOrphanedConnection(moving, local.type === OUTPUT_VALUE ? neighbour.targetBlock().outputConnection : neighbour.targetBlock().previousConnection);
+    const positions = new Map();
+    if (moves && replaced && !orphanFits) return positions; // a replacement preview fades a block, it moves none
+    const Previewer = SB.registry.getClassFromOptions(SB.registry.Type.CONNECTION_PREVIEWER, ws.options, true);
+    const previewer = new Previewer(moving);
+    SB.Events.disable();
+    try {
+      previewer.previewConnection(local, neighbour);
+      SB.renderManagement.triggerQueuedRenders(ws);
+      for (const connection of neighbours) positions.set(connection, {x: connection.x, y: connection.y});
+    } finally {
+      previewer.hidePreview();
+      previewer.dispose();
+      SB.renderManagement.triggerQueuedRenders(ws);
+      SB.Events.enable();
+    }
+    return positions;
+  }
+
+  // Replays Blockly's choice of connection for a drag of `moving` by each of `deltas` (workspace
+  // units from where the drag started) in turn: the drag strategy's closest candidate within the
+  // snap radius (the larger connecting radius while it has one), kept over a new one that is not
+  // `currentConnectionPreference` closer, each move matched against the connections as the previous
+  // move's preview left them (what a drag drawn frame by frame sees). `visit(current, step)` sees each
+  // step's candidate (null: none) and may stop the replay by returning false. Options: `neighbours`
+  // (precomputed), `previews` (a cache of previewed positions per candidate, across replays of one
+  // drag) and `localAt` (where each of the moving block's connections is when the drag starts, when
+  // that is not where it is drawn). Returns the last candidate: what a release there connects.
+  function replayCandidates(moving, deltas, options) {
+    const {visit, neighbours, previews, localAt} = options || {};
+    const config = blockly.scratchBlocks().config;
+    const checker = blockly.workspace().connectionChecker;
+    const locals = localConnections(moving);
+    const list = neighbours || neighbourConnections(moving);
+    const cache = previews || new Map();
+    const previewOf = (candidate) => {
+      let byLocal = cache.get(candidate.local);
+      if (!byLocal) cache.set(candidate.local, (byLocal = new Map()));
+      let positions = byLocal.get(candidate.neighbour);
+      if (!positions) byLocal.set(candidate.neighbour, (positions = previewedPositions(moving, candidate, list)));
+      return positions;
+    };
     let current = null;
+    let shown = new Map();
+    const distance = (local, delta, other) => {
+      const from = (localAt && localAt.get(local)) || local;
+      const at = shown.get(other) || other;
+      return Math.hypot(from.x + delta.x - at.x, from.y + delta.y - at.y);
+    };
     for (let i = 0; i < deltas.length; i++) {
       const delta = deltas[i];
       let best = null;
       let radius = current ? config.connectingSnapRadius : config.snapRadius;
       for (const local of locals) {
-        for (const other of candidates) {
+        for (const other of list) {
           if (other.type !== OPPOSITE[local.type]) continue;
           const d = distance(local, delta, other);
           if (d > radius || !checker.canConnect(local, other, true, Infinity)) continue;
@@ -112,16 +168,27 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
           radius = d;
         }
       }
-      if (!best) {
-        current = null;
-        continue;
-      }
-      if (!current || !(best.distance > distance(current.local, delta, current.neighbour) - config.currentConnectionPreference)) current = best;
-      if (current.local !== wanted.local || current.neighbour !== wanted.neighbour) {
-        return {clean: false, step: i + 1, candidate: describeConnection(current.neighbour)};
-      }
+      if (!best) current = null;
+      else if (!current || !(best.distance > distance(current.local, delta, current.neighbour) - config.currentConnectionPreference)) current = best;
+      shown = current ? previewOf(current) : new Map();
+      if (visit && visit(current, i + 1) === false) break;
     }
-    if (!current) return {clean: false, step: deltas.length, candidate: null};
+    return current;
+  }
+
+  // Whether a straight path snaps only to the wanted connection: when no connection but the wanted
+  // one is ever the candidate, no preview can move the wanted connection away, and the drop ends on it.
+  function simulatePath(moving, deltas, wanted) {
+    let unclean = null;
+    const last = replayCandidates(moving, deltas, {visit: (current, step) => {
+      if (current && (current.local !== wanted.local || current.neighbour !== wanted.neighbour)) {
+        unclean = {clean: false, step: step, candidate: describeConnection(current.neighbour)};
+        return false;
+      }
+      return true;
+    }});
+    if (unclean) return unclean;
+    if (!last) return {clean: false, step: deltas.length, candidate: null};
     return {clean: true};
   }
 
@@ -173,6 +240,8 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
   }
 
   return {
+    connectionNamed: connectionNamed, describeConnection: describeConnection, localConnections: localConnections, neighbourConnections: neighbourConnections,
+    replayCandidates: replayCandidates,
     api: {geometryFreeSpot: (args) => freeSpot(args), geometryPlanDrag: (args) => planDrag(args)},
   };
 }});

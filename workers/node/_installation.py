@@ -6,6 +6,7 @@ Kept free of Playwright so that the driver and ``describe_node`` can read it che
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 REPO_DIR = Path(__file__).resolve().parents[2]
@@ -14,34 +15,17 @@ REPO_DIR = Path(__file__).resolve().parents[2]
 BUNDLE_PACKAGE = "@scratch/scratch-gui-standalone"
 BUNDLE_FILE = "scratch-gui-standalone.js"
 
-OWN_FILES = (
-    "index.html",
-    "clock.js",
-    "recycle.js",
-    "recycle-gui.js",
-    "modules.js",
-    "shared/rects.js",
-    "shared/blockly.js",
-    "shared/settle.js",
-    "composite/arguments.js",
-    "composite/target.js",
-    "composite/catalog.js",
-    "composite/numbering.js",
-    "composite/observation.js",
-    "composite/structure.js",
-    "composite/connect.js",
-    "composite/fields.js",
-    "composite/edit.js",
-    "composite/execute.js",
-    "primitive/elements.js",
-    "geometry/views.js",
-    "geometry/blocks.js",
-    "geometry/widgets.js",
-    "geometry/drag-plan.js",
-    "geometry/snapshot.js",
-    "geometry/waits.js",
-    "bridge.js",
-)
+_SCRIPT = re.compile(r'<script src="([^"]+)"></script>')
+
+
+def _own_files() -> tuple[str, ...]:
+    """``index.html`` and the scripts it loads but the bundle: one list, kept in the page itself."""
+    page = REPO_DIR / "scratch-gui" / "index.html"
+    scripts = _SCRIPT.findall(page.read_text(encoding="utf-8")) if page.is_file() else []
+    return ("index.html", *(name for name in scripts if name != BUNDLE_FILE))
+
+
+OWN_FILES = _own_files()
 """Files of ours that shadow the bundle's web root (paths relative to ``scratch-gui/``), in the
 order ``index.html`` loads its scripts."""
 

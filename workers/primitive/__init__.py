@@ -1,6 +1,6 @@
 """Primitive mode: screenshots with an indexed element list, and real mouse and keyboard gestures."""
 
-from workers.primitive._elements import LEGEND, fuse, render
+from workers.primitive._elements import LEGEND, fuse, render, settle
 from workers.primitive._gestures import PRIMITIVE_APIS, Gestures
 from workers.primitive._observation import PrimitiveObserver, region_ocr
 
@@ -12,4 +12,5 @@ __all__ = [
     "fuse",
     "region_ocr",
     "render",
+    "settle",
 ]

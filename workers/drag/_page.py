@@ -1,0 +1,123 @@
+"""A drag task on an editor page: set up its view, compute its exact regions, drag for real, verify.
+
+Each function is one bridge call (``scratch-gui/drag/*.js``) or one real gesture, with its reply
+typed; the runner and the region benchmark compose them.
+"""
+
+from __future__ import annotations
+
+import time
+
+from pydantic import BaseModel, ConfigDict
+
+from workers.contract import (
+    DragPayload,
+    DragRegions,
+    EditorError,
+    ProjectLimits,
+    Region,
+)
+from workers.editor import Editor
+from workers.primitive import settle
+
+SETTLE_MS = 3000
+DRAG_STEPS = 15
+"""Interpolated pointer moves of one drag, as upstream performs it."""
+
+
+class _Rows(BaseModel):
+    model_config = ConfigDict(extra="ignore")
+
+    rows: list[tuple[int, int, int]]
+
+
+class _Verdict(BaseModel):
+    model_config = ConfigDict(extra="ignore")
+
+    connected: bool
+    observed: str
+
+
+class _Ids(BaseModel):
+    ids: list[str]
+
+
+def source_arg(payload: DragPayload) -> dict[str, object]:
+    """The source as the page resolves it (a palette variable reporter by its variable's name)."""
+    source: dict[str, object] = payload.source.model_dump(mode="json")
+    if payload.source.kind == "flyout" and payload.connection.variable_name is not None:
+        source["variable_name"] = payload.connection.variable_name
+    return source
+
+
+async def set_up(editor: Editor, payload: DragPayload, limits: ProjectLimits | None = None) -> None:
+    """Load the task's project and put the editor in the task's view, settled."""
+    view = payload.view
+    await editor.load_project(payload.initial_project, limits)
+    await editor.set_stage_size(view.stage_size)
+    await editor.call("dragSelectTarget", {"sprite": view.sprite})
+    await settle(editor, SETTLE_MS)  # the editor draws the target's scripts asynchronously
+    await editor.call("dragSetView", view.model_dump(mode="json"))
+    if not await settle(editor, SETTLE_MS):
+        raise EditorError(f"drag task {payload.task_id}: the view did not settle within {SETTLE_MS} ms")
+
+
+async def start_region(editor: Editor, payload: DragPayload) -> Region:
+    reply = _Rows.model_validate(await editor.call("dragStartRegion", {"source": source_arg(payload)}))
+    return Region(rows=tuple(reply.rows))
+
+
+async def end_region(editor: Editor, payload: DragPayload, start: tuple[int, int]) -> Region:
+    args = {
+        "source": source_arg(payload),
+        "start": {"x": start[0], "y": start[1]},
+        "reference": payload.reference_block_id,
+        "connection": payload.connection.model_dump(mode="json"),
+        "steps": DRAG_STEPS,
+    }
+    return Region(rows=tuple(_Rows.model_validate(await editor.call("dragEndRegion", args)).rows))
+
+
+async def regions(editor: Editor, payload: DragPayload) -> DragRegions:
+    """Both regions at the current view; the end region for a press at the start region's deepest pixel."""
+    started = time.perf_counter()
+    start = await start_region(editor, payload)
+    if start.empty:
+        raise EditorError(f"drag task {payload.task_id}: no pixel of the view grabs the source")
+    fixed = start.deepest()
+    end = await end_region(editor, payload, fixed)
+    return DragRegions(start=start, fixed_start=fixed, end=end, computed_s=time.perf_counter() - started)
+
+
+async def block_ids(editor: Editor) -> list[str]:
+    """The editing target's block ids (a palette source is found after the drop as the new one)."""
+    return _Ids.model_validate(await editor.call("dragBlockIds")).ids
+
+
+async def drag(editor: Editor, start: tuple[float, float], end: tuple[float, float], steps: int = DRAG_STEPS) -> None:
+    """One real drag: press at ``start``, ``steps`` interpolated moves to ``end``, release; then settle.
+
+    Each move is drawn before the next (as by hand, where moves are frames apart): Blockly draws a
+    connection preview on the frame after a move, and what it pushes aside decides the next move's
+    candidate, so moves sent faster than frames would make the outcome depend on the machine's speed.
+    """
+    mouse = editor.page.mouse
+    await mouse.move(*start)
+    await mouse.down()
+    for step in range(1, steps + 1):
+        await mouse.move(start[0] + (end[0] - start[0]) * step / steps, start[1] + (end[1] - start[1]) * step / steps)
+        await editor.call("dragRendered")
+    await mouse.up()
+    await settle(editor, SETTLE_MS)
+
+
+async def verify(editor: Editor, payload: DragPayload, before: list[str]) -> tuple[bool, str]:
+    """Whether the expected connection is in the VM's blocks, and what the drag left, in words."""
+    args = {
+        "source": source_arg(payload),
+        "reference": payload.reference_block_id,
+        "connection": payload.connection.model_dump(mode="json"),
+        "before": before,
+    }
+    verdict = _Verdict.model_validate(await editor.call("dragVerify", args))
+    return verdict.connected, verdict.observed
