@@ -98,17 +98,21 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
   // Where `neighbours` are while Blockly previews `candidate` ({local, neighbour}): the drag strategy's
   // own choice of preview, drawn for real with events off and taken down again. An insertion marker
   // pushes what follows it aside (by its height less an empty mouth's, or its width in an input), and
-  // the next pointer move is matched against the connections where the preview left them.
+  // the next pointer move is matched against the connections where the preview left them. Only a
+  // marker that hangs from the neighbour is drawn: one above a stack (the dragged stack's last next
+  // connection) follows the pointer and carries that stack with it, moving nothing that follows.
   function previewedPositions(moving, candidate, neighbours) {
     const SB = blockly.scratchBlocks();
     const ws = blockly.workspace();
     const {local, neighbour} = candidate;
-    const replaced = neighbour.isConnected() && !neighbour.targetBlock().isInsertionMarker();
-    const moves = local.type === OUTPUT_VALUE || local.type === PREVIOUS_STATEMENT;
-    const orphanFits = replaced && moves &&
-      !!SB.Connection.getConnectionForOrphanedConnection(moving, local.type === OUTPUT_VALUE ? neighbour.targetBlock().outputConnection : neighbour.targetBlock().previousConnection);
     const positions = new Map();
-    if (moves && replaced && !orphanFits) return positions; // a replacement preview fades a block, it moves none
+    if (local.type !== OUTPUT_VALUE && local.type !== PREVIOUS_STATEMENT) return positions;
+    if (neighbour.isConnected() && !neighbour.targetBlock().isInsertionMarker()) {
+      const orphan = neighbour.targetBlock();
+      const fits = SB.Connection.getConnectionForOrphanedConnection(moving, local.type === OUTPUT_VALUE ? orphan.outputConnection : orphan.previousConnection);
+      if (!fits) return positions; // a replacement preview fades the block it would replace, and moves none
+    }
+    const tops = ws.getTopBlocks(false).map((block) => [block, block.getRelativeToSurfaceXY()]);
     const Previewer = SB.registry.getClassFromOptions(SB.registry.Type.CONNECTION_PREVIEWER, ws.options, true);
     const previewer = new Previewer(moving);
     SB.Events.disable();
@@ -121,6 +125,12 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
       previewer.dispose();
       SB.renderManagement.triggerQueuedRenders(ws);
       SB.Events.enable();
+    }
+    for (const [block, at] of tops) {
+      const now = block.getRelativeToSurfaceXY();
+      if (Math.abs(now.x - at.x) > 0.01 || Math.abs(now.y - at.y) > 0.01) {
+        throw new ctx.BridgeFailure('editor_failure', `previewing ${describeConnection(neighbour)} moved ${block.type} ${block.id}`);
+      }
     }
     return positions;
   }

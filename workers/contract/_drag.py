@@ -267,3 +267,6 @@ class DragAttempt(BaseModel):
     end_area: int = 0
     regions_s: float = 0.0
     """Time the worker spent computing the regions (0 when they came from its cache)."""
+
+    annotated_sha256: str | None = None
+    """The annotated screenshot (regions and drag drawn on), among ``EpisodeResult.images``."""

@@ -29,6 +29,8 @@ from workers.agent_api import agent_code, build_agent
 from workers.contract import (
     MIB,
     AgentUnavailableError,
+    DragPayload,
+    DragSpec,
     EditorError,
     EpisodeResult,
     EpisodeSpec,
@@ -38,6 +40,7 @@ from workers.contract import (
     WorkerInfo,
     WorkerLoad,
 )
+from workers.drag import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
 from workers.episode._runner import EpisodeRunner
 from workers.episode._synthetic import run_synthetic
@@ -68,6 +71,7 @@ class EpisodeWorker:
         """The harness this process runs (its code, editor and browser): jobs planned for another are refused."""
         self._session: BrowserSession | None = None
         self._runner: EpisodeRunner | None = None
+        self._drags: DragRunner | None = None
         self._starting = asyncio.Lock()
 
     async def info(self) -> WorkerInfo:
@@ -106,7 +110,7 @@ class EpisodeWorker:
             except (EditorError, PlaywrightError):
                 pass  # the first episode opens its own editor, or reports why it cannot
 
-    async def run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult | Refusal:
+    async def run(self, spec: EpisodeSpec | DragSpec, task: TaskPayload | DragPayload) -> EpisodeResult | Refusal:
         # The node's free memory alone decides (one read of /proc/meminfo); the browsers' PSS, which
         # means reading every process's smaps, only when the driver is told why the job was declined.
         if self.memory_reserve_bytes and node_memory().available_bytes < self.memory_reserve_bytes:
@@ -132,13 +136,17 @@ class EpisodeWorker:
             update.update(started_at=started, finished_at=time.time(), timings=timings)
         return result.model_copy(update=update)
 
-    async def _run(self, spec: EpisodeSpec, task: TaskPayload) -> EpisodeResult:
+    async def _run(self, spec: EpisodeSpec | DragSpec, task: TaskPayload | DragPayload) -> EpisodeResult:
         if spec.harness is not None and spec.harness != self.harness:
             message = (
                 f"{self.info_.hostname} (node {self.info_.node_id[:12]}) runs harness {self.harness}, "
                 f"the job was planned for {spec.harness}: update this node's checkout"
             )
             return EpisodeResult.errored(spec, "harness_mismatch", message)
+        if isinstance(spec, DragSpec) or isinstance(task, DragPayload):
+            if not (isinstance(spec, DragSpec) and isinstance(task, DragPayload)):
+                return EpisodeResult.errored(spec, "internal_error", "a drag job needs a drag spec and a drag payload")
+            return await self._run_drag(spec, task)
         if self.synthetic is not None and self.synthetic.covers(task.task_id):
             return await run_synthetic(spec, task, self.synthetic)
         try:
@@ -161,6 +169,20 @@ class EpisodeWorker:
         runner = await self._browser()
         try:
             result = await runner.run(spec, task, agent)
+        except (EditorError, PlaywrightError) as exc:
+            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
+        if result.error_class == "editor_failure":
+            await self._drop_if_broken(runner.session)
+        return result
+
+    async def _run_drag(self, spec: DragSpec, task: DragPayload) -> EpisodeResult:
+        if spec.model is not None:
+            await load_litellm()
+        runner = await self._browser()
+        if self._drags is None or self._drags.pool is not runner.pool:
+            self._drags = DragRunner(runner.pool)
+        try:
+            result = await self._drags.run(spec, task)
         except (EditorError, PlaywrightError) as exc:
             result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         if result.error_class == "editor_failure":
