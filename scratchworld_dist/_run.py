@@ -20,6 +20,7 @@ from ray.exceptions import RayError
 from rich.console import Console
 
 from scratchworld_dist._errors import ConfigError, RunDirError
+from scratchworld_dist.drag import DragTask, load_drag_suite
 from scratchworld_dist.memory import JobItems, StoreInfo, offline_source, source_digest, start_memory_service
 from scratchworld_dist.results import (
     SCHEMA_VERSION,
@@ -43,6 +44,7 @@ from scratchworld_dist.scheduling import (
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, TaskContent, plan_jobs, read_task, suite_hash
+from scratchworld_dist.sweep._drag_plan import DragContent, plan_drag_jobs, read_drag_task
 from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import (
     MIB,
@@ -64,7 +66,7 @@ class RunPlan(BaseModel):
     config: SweepConfig
     harness: HarnessFingerprint
     suite: SuiteInfo
-    contents: list[TaskContent]
+    contents: list[TaskContent] | list[DragContent]
     jobs: list[JobSpec]
     memory_sources: dict[tuple[str, Mode], list[JobItems]] = {}
     """Offline memory: the previous run's proposals per (model name, mode)."""
@@ -107,12 +109,16 @@ class AttemptRecorder:
         if result.steps:
             lines = "".join(step.model_dump_json() + "\n" for step in result.steps)
             artifact_dir = self.store.write_artifact(job.job_id, result.attempt, "trajectory.jsonl", lines.encode())
+        annotated = None
+        if result.drag is not None and result.drag.annotated_sha256 is not None:
+            annotated = f"{artifact_dir or ''}/images/{result.drag.annotated_sha256}.png".lstrip("/")
         record = record_of(
             job,
             result,
             run_name=self.run_name,
             suite_hash=self.suite_hash,
             artifact_dir=artifact_dir,
+            annotated=annotated,
         )
         self.store.commit(record)
 
@@ -137,6 +143,8 @@ def config_hash(config: SweepConfig) -> str:
 def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> RunPlan:
     """The sweep's jobs under ``harness`` (default: this machine's code, editor and browser)."""
     harness = harness or harness_fingerprint()
+    if config.benchmark == "drag":
+        return plan_drag_run(config, harness)
     suite = load_suite(config.suite, task_list=config.tasks.task_list)
     tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
     if not tasks:
@@ -146,7 +154,11 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
     if unknown:
         raise ConfigError(f"synthetic.tasks names task(s) not in the selection: {', '.join(unknown)}")
     info = SuiteInfo(
-        name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
+        name=suite.name,
+        kind=suite.kind,
+        root=str(suite.root),
+        hash=suite_hash(c.task_hash for c in contents),
+        tasks=len(tasks),
     )
     found = agent_class(config.agent.name)
     helpers = extra_models(agent_params(found, config.agent))
@@ -173,6 +185,62 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
         )
     )
     return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs, memory_sources=sources)
+
+
+def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any = None) -> RunPlan:
+    """The drag benchmark's jobs: the suite's tasks (and those of each optional suite that is present)
+    with a view, selected by ``tasks.ids`` and ``drag.types``; a task without a view is left out, named."""
+    say = notice or Console(stderr=True).print
+    suites = [load_drag_suite(config.suite)]
+    for optional in config.drag.optional_suites:
+        if optional.is_dir():
+            suites.append(load_drag_suite(optional))
+        else:
+            say(f"drag: optional suite {optional} is not here; its tasks are skipped", markup=False)
+    tasks: list[DragTask] = []
+    for suite in suites:
+        for task in suite.tasks:
+            if task.view is None:
+                say(f"drag: {suite.name} {task.id} has no usable view and is left out", markup=False)
+                continue
+            tasks.append(task)
+    ids = [task.id for task in tasks]
+    clashes = sorted({i for i in ids if ids.count(i) > 1})
+    if clashes:
+        raise ConfigError(f"drag suites share task ids: {', '.join(clashes[:10])}")
+    wanted = set(config.tasks.ids)
+    unknown = sorted(wanted - set(ids))
+    if unknown:
+        raise ConfigError(f"tasks.ids names drag task(s) not in the suites: {', '.join(unknown[:10])}")
+    tasks = [
+        t for t in tasks if (not wanted or t.id in wanted) and (not config.drag.types or t.type in config.drag.types)
+    ]
+    if not tasks:
+        raise ConfigError(f"the selection matches no drag task of {', '.join(s.name for s in suites)}")
+    contents = [read_drag_task(task, config.project_limits) for task in tasks]
+    info = SuiteInfo(
+        name=" + ".join(s.name for s in suites),
+        kind=suites[0].kind,
+        root=str(suites[0].root),
+        hash=suite_hash(c.task_hash for c in contents),
+        tasks=len(tasks),
+    )
+    jobs = list(
+        plan_drag_jobs(
+            config.model_specs(),
+            config.drag.settings,
+            config.agent,
+            contents,
+            config.seeds,
+            element_list=config.drag.element_list,
+            observation=config.primitive,
+            llm=config.llm,
+            project_limits=config.project_limits,
+            harness=harness.digest,
+            model_cache=config.model_cache,
+        )
+    )
+    return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs)
 
 
 def default_episode_clock(suite_kind: str) -> EpisodeClock:

@@ -31,6 +31,8 @@ from workers.contract import (
     AgentRef,
     AgentUnavailableError,
     CoordinateSystem,
+    DragSetting,
+    DragType,
     EpisodeClock,
     EvaluationClock,
     EvaluationProfile,
@@ -44,6 +46,7 @@ from workers.contract import (
     RateLimits,
     SyntheticEpisodes,
 )
+from workers.drag import drag_agent
 from workers.llm import uncacheable
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -196,14 +199,43 @@ def _step_limits(value: Any) -> int | dict[Mode, int]:
     return {mode: positive(limit, f"the step limit of {mode} ") for mode, limit in value.items()}
 
 
+class DragSweep(BaseModel):
+    """The drag benchmark's own axes (``benchmark: drag``): jobs are model x setting x task x seed."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    settings: list[DragSetting] = Field(default_factory=lambda: ["baseline"], min_length=1)
+    types: list[DragType] = Field(default_factory=list)
+    """Task types to run (empty: both)."""
+
+    element_list: bool = False
+    """Show primitive mode's element list with the screenshot, and accept ``<index>`` answers."""
+
+    optional_suites: list[Path] = Field(default_factory=list)
+    """More drag suites, each run when present and skipped with a notice when not (e.g. an upstream clone)."""
+
+    @field_validator("settings")
+    @classmethod
+    def _distinct(cls, value: list[DragSetting]) -> list[DragSetting]:
+        if len(set(value)) != len(value):
+            raise ValueError("settings must be distinct")
+        return value
+
+
 class SweepConfig(BaseModel):
     """A whole sweep: the job matrix model x mode x task x seed, and how to run it."""
 
     model_config = ConfigDict(extra="forbid")
 
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
+    benchmark: Literal["tasks", "drag"] = "tasks"
+    """``tasks``: episodes on a task suite; ``drag``: the single-step drag benchmark on a drag suite."""
+
     suite: Path
     tasks: TaskSelection = Field(default_factory=TaskSelection)
+    drag: DragSweep = Field(default_factory=DragSweep)
+    """Settings of the drag benchmark (``benchmark: drag`` only)."""
+
     agent: AgentRef = Field(default_factory=lambda: AgentRef(name="oracle"))
     """Who acts: a registered name (oracle, noop, llm, a plugin's) or ``package.module:Class``,
     optionally as ``{name, params, label}``; the agent is imported and its params validated here."""
@@ -277,7 +309,13 @@ class SweepConfig(BaseModel):
 
     @field_validator("agent")
     @classmethod
-    def _agent_available(cls, agent: AgentRef) -> AgentRef:
+    def _agent_available(cls, agent: AgentRef, info: ValidationInfo) -> AgentRef:
+        if info.data.get("benchmark") == "drag":
+            try:
+                drag_agent(agent)
+            except AgentUnavailableError as exc:
+                raise ValueError(str(exc)) from None
+            return agent
         try:
             found = agent_class(agent.name)
             agent_params(found, agent)
@@ -292,6 +330,10 @@ class SweepConfig(BaseModel):
 
     @model_validator(mode="after")
     def _agent_fits_sweep(self) -> SweepConfig:
+        if self.benchmark == "drag":
+            if self.memory is not None or self.synthetic is not None:
+                raise ValueError("memory and synthetic are for task suites, not the drag benchmark")
+            return self
         agent = agent_class(self.agent.name)
         supported = getattr(agent, "modes", ("composite", "primitive"))
         unsupported = [mode for mode in self.modes if mode not in supported]
@@ -308,7 +350,8 @@ class SweepConfig(BaseModel):
 
     @model_validator(mode="after")
     def _models_fit_agent(self) -> SweepConfig:
-        if getattr(agent_class(self.agent.name), "needs_model", False) and not self.models:
+        found = drag_agent(self.agent) if self.benchmark == "drag" else agent_class(self.agent.name)
+        if getattr(found, "needs_model", False) and not self.models:
             raise ValueError(f"agent {self.agent.name!r} needs at least one entry under models")
         settings = [m.spec().identity() for m in self.models]
         if any(settings.count(s) > 1 for s in settings):
@@ -329,7 +372,8 @@ class SweepConfig(BaseModel):
         if cache is None or "models" not in info.data or "agent" not in info.data:
             return cache  # the models or the agent are invalid themselves: that error is reported instead
         agent: AgentRef = info.data["agent"]
-        helpers = extra_models(agent_params(agent_class(agent.name), agent))
+        drag = info.data.get("benchmark") == "drag"
+        helpers = [] if drag else extra_models(agent_params(agent_class(agent.name), agent))
         for spec in [*(m.spec() for m in info.data["models"]), *helpers]:
             reason = uncacheable(spec)
             if reason is not None:
@@ -373,6 +417,9 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     if config.memory is not None and config.memory.from_run is not None:
         from_run = _resolve(base, config.memory.from_run)
         resolved["memory"] = config.memory.model_copy(update={"from_run": from_run})
+    if config.drag.optional_suites:
+        optional = [_resolve(base, suite) for suite in config.drag.optional_suites]
+        resolved["drag"] = config.drag.model_copy(update={"optional_suites": optional})
     if config.model_cache is not None and "model_cache" not in (overrides or {}):
         resolved["model_cache"] = ModelCacheSettings(dir=_resolve(base, config.model_cache.dir))
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):

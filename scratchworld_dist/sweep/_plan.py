@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Literal
 
@@ -230,10 +230,10 @@ def read_task(
     return TaskContent(task=task, payload=payload, task_hash=digest.hexdigest()[:16])
 
 
-def suite_hash(contents: list[TaskContent]) -> str:
-    """One hash for the selected tasks' contents (order-independent)."""
+def suite_hash(task_hashes: Iterable[str]) -> str:
+    """One hash for the selected tasks' contents, from their hashes (order-independent)."""
     digest = hashlib.sha256()
-    for task_hash in sorted(c.task_hash for c in contents):
+    for task_hash in sorted(task_hashes):
         digest.update(task_hash.encode())
     return digest.hexdigest()[:16]
 

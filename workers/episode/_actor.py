@@ -40,7 +40,7 @@ from workers.contract import (
     WorkerInfo,
     WorkerLoad,
 )
-from workers.drag import DragRunner
+from workers.drag._runner import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
 from workers.episode._runner import EpisodeRunner
 from workers.episode._synthetic import run_synthetic

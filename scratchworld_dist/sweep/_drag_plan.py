@@ -1,0 +1,137 @@
+"""Planning the drag benchmark: the job matrix model x setting x task x seed, named by what decides each job.
+
+A drag job's id hashes the model and its parameters, the setting, the agent, the task's content
+(project bytes, source, connection, view), the seed, the element list and its observation
+settings, the conversation protocol and the harness fingerprint (the editor's geometry decides
+the regions), so resume never reuses a drag made under other conditions.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from collections.abc import Iterator
+
+from pydantic import BaseModel, ConfigDict
+
+from scratchworld_dist.drag import DragTask
+from scratchworld_dist.sweep._plan import DragTaskInfo, JobSpec, read_project
+from workers.contract import (
+    AgentRef,
+    DragPayload,
+    DragSetting,
+    LLMSettings,
+    ModelCacheSettings,
+    ModelSpec,
+    ObservationSettings,
+    ProjectLimits,
+)
+from workers.node import harness_fingerprint
+
+DRAG_MODE = "primitive"
+"""The mode column of drag jobs: a drag is a primitive-mode gesture, diagnosed in isolation."""
+
+
+class DragContent(BaseModel):
+    """A drag task read into memory: its payload for workers and the hash of all of it."""
+
+    model_config = ConfigDict(frozen=True)
+
+    task: DragTask
+    payload: DragPayload
+    task_hash: str
+
+
+def read_drag_task(task: DragTask, limits: ProjectLimits | None = None) -> DragContent:
+    """Read a drag task's project once (checked against ``limits``); the hash covers all a worker sees."""
+    payload = task.payload(read_project(task.initial_project, limits or ProjectLimits()))
+    digest = hashlib.sha256(payload.initial_project)
+    digest.update(payload.model_dump_json(exclude={"initial_project"}).encode())
+    return DragContent(task=task, payload=payload, task_hash=digest.hexdigest()[:16])
+
+
+def drag_job_id(
+    model: ModelSpec | None,
+    setting: DragSetting,
+    agent: AgentRef,
+    content: DragContent,
+    seed: int,
+    *,
+    element_list: bool,
+    observation: ObservationSettings | None,
+    llm: LLMSettings | None,
+    project_limits: ProjectLimits,
+    harness: str,
+) -> str:
+    identity: dict[str, object] = {
+        "benchmark": "drag",
+        "model": None if model is None else model.identity(),
+        "setting": setting,
+        "agent": agent.identity(),
+        "task": [content.task.id, content.task_hash],
+        "seed": seed,
+        "element_list": element_list,
+        "observation": None if observation is None else observation.model_dump(mode="json"),
+        "llm": None if llm is None else llm.identity(),
+        "project_limits": project_limits.model_dump(mode="json"),
+        "harness": harness,
+    }
+    canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(canonical.encode()).hexdigest()[:24]
+
+
+def plan_drag_jobs(
+    models: list[ModelSpec | None],
+    settings: list[DragSetting],
+    agent: AgentRef,
+    contents: list[DragContent],
+    seeds: list[int],
+    *,
+    element_list: bool = False,
+    observation: ObservationSettings | None = None,
+    llm: LLMSettings | None = None,
+    project_limits: ProjectLimits | None = None,
+    harness: str | None = None,
+    model_cache: ModelCacheSettings | None = None,
+) -> Iterator[JobSpec]:
+    """The matrix in a stable order: model, setting, seed, then suite order of tasks."""
+    limits = project_limits or ProjectLimits()
+    harness = harness or harness_fingerprint().digest
+    shown = (observation or ObservationSettings()) if element_list else None
+    for model in models:
+        protocol = (llm or LLMSettings()) if model is not None else None
+        for setting in settings:
+            for seed in seeds:
+                for content in contents:
+                    task = content.task
+                    name = drag_job_id(
+                        model,
+                        setting,
+                        agent,
+                        content,
+                        seed,
+                        element_list=element_list,
+                        observation=shown,
+                        llm=protocol,
+                        project_limits=limits,
+                        harness=harness,
+                    )
+                    yield JobSpec(
+                        job_id=name,
+                        model=model,
+                        mode=DRAG_MODE,
+                        agent=agent,
+                        task_id=task.id,
+                        category=task.type,
+                        task_hash=content.task_hash,
+                        seed=seed,
+                        max_steps=1,
+                        observation=shown,
+                        llm=protocol,
+                        project_limits=limits,
+                        harness=harness,
+                        model_cache=model_cache,
+                        setting=setting,
+                        drag=DragTaskInfo(type=task.type, connection=task.connection.kind, source=task.source.kind),
+                        element_list=element_list,
+                    )
