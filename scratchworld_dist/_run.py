@@ -229,7 +229,7 @@ def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any 
         plan_drag_jobs(
             config.model_specs(),
             config.drag.settings,
-            config.agent,
+            config.drag_agents(),
             contents,
             config.seeds,
             element_list=config.drag.element_list,

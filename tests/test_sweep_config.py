@@ -150,7 +150,7 @@ def test_duplicate_or_empty_seeds_and_modes_are_refused(tmp_path: Path, fields: 
         ({"models": [{"model": "m", "params": {"api_key": "abc"}}]}, ["models.0.params: ", "api_key", "api_key_env"]),
         ({"models": [{"model": "m", "params": {"Token": "abc"}}]}, ["models.0.params: ", "Token"]),
         ({"models": [{"model": "m", "api_key_env": "sk-abc-123"}]}, ["models.0.api_key_env: ", "NAME"]),
-        ({"agent": "llm"}, ["agent 'llm' needs at least one entry under models"]),
+        ({"agent": "llm"}, ["an agent that needs a model needs at least one entry under models"]),
     ],
 )
 def test_bad_field_is_named(tmp_path: Path, fields: dict[str, Any], expected: list[str]) -> None:
@@ -309,7 +309,8 @@ SHIPPED = sorted((Path(__file__).resolve().parents[1] / "configs").rglob("*.yaml
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
 def test_every_shipped_config_loads_and_points_at_our_suite(path: Path) -> None:
     config = load_sweep_config(path)
-    assert (config.suite / "create").is_dir(), "relative suite paths resolve against the config's folder"
+    marker = "drag-suite.json" if config.benchmark == "drag" else "create"
+    assert (config.suite / marker).exists(), "relative suite paths resolve against the config's folder"
     for model in config.models:
         assert model.api_key_env is None or model.api_key_env.isupper()
         assert model.api_base is None, "endpoints come from the environment, never from a shipped file"

@@ -114,18 +114,25 @@ scratchworldModule({name: 'drag/regions', requires: ['rects', 'blockly', 'geomet
     return {local: local, neighbour: neighbour};
   }
 
-  // A stand-in for the palette block in the workspace, drawn exactly over it: where the block Blockly
-  // creates on a drag from the palette appears (it then moves by the pointer's offset from the press).
+  // A stand-in for the palette block, drawn exactly over it (where the block a drag from the palette
+  // creates appears). Blockly bumps scripts away from a block appended next to them: the snap radius
+  // that decides what is "next to" is zero while the stand-in is made.
   function standIn(flyoutBlock) {
     const SB = blockly.scratchBlocks();
     const ws = blockly.workspace();
-    const block = SB.serialization.blocks.append(blockly.flyout().serializeBlock(flyoutBlock), ws, {recordUndo: false});
-    SB.renderManagement.triggerQueuedRenders(ws);
-    const want = flyoutBlock.getSvgRoot().getBoundingClientRect();
-    const got = block.getSvgRoot().getBoundingClientRect();
-    block.moveBy((want.left - got.left) / ws.scale, (want.top - got.top) / ws.scale);
-    SB.renderManagement.triggerQueuedRenders(ws);
-    return block;
+    const radius = SB.config.snapRadius;
+    SB.config.snapRadius = 0;
+    try {
+      const block = SB.serialization.blocks.append(blockly.flyout().serializeBlock(flyoutBlock), ws, {recordUndo: false});
+      SB.renderManagement.triggerQueuedRenders(ws);
+      const want = flyoutBlock.getSvgRoot().getBoundingClientRect();
+      const got = block.getSvgRoot().getBoundingClientRect();
+      block.moveBy((want.left - got.left) / ws.scale, (want.top - got.top) / ws.scale);
+      SB.renderManagement.triggerQueuedRenders(ws);
+      return block;
+    } finally {
+      SB.config.snapRadius = radius;
+    }
   }
 
   // Whether a release at (x, y) is over a delete area (the palette): the block is deleted there.
@@ -151,9 +158,17 @@ scratchworldModule({name: 'drag/regions', requires: ['rects', 'blockly', 'geomet
     if (!reference) throw notFound(`no block ${JSON.stringify(args.reference)} on the workspace`);
     const radius = found.flyout ? SB.config.flyoutDragRadius : SB.config.dragRadius;
     let moving = found.block;
+    // A block dragged out of a script leaves it as the drag starts (with the blocks below it), and the
+    // script closes up behind it: the drag is matched against the script as it is then.
+    const own = found.flyout ? null : moving.previousConnection || moving.outputConnection;
+    const parent = own && own.targetConnection;
     SB.Events.disable();
     try {
       if (found.flyout) moving = standIn(found.block);
+      if (parent) {
+        moving.unplug(false);
+        SB.renderManagement.triggerQueuedRenders(ws);
+      }
       const pair = wantedPair(moving, reference, args.connection);
       const neighbours = plan.neighbourConnections(moving);
       const previews = new Map();
@@ -183,6 +198,10 @@ scratchworldModule({name: 'drag/regions', requires: ['rects', 'blockly', 'geomet
       return use({moving: moving, pair: pair, scale: scale, from: from, candidateAt: candidateAt});
     } finally {
       if (moving !== found.block) moving.dispose(false);
+      if (parent) {
+        parent.connect(own);
+        SB.renderManagement.triggerQueuedRenders(ws);
+      }
       SB.Events.enable();
     }
   }

@@ -77,6 +77,44 @@ scratchworldModule({name: 'drag/view', requires: ['blockly'], create(ctx, blockl
     return Object.assign(placed, {flyoutTop: flyoutTop});
   }
 
+  // A view that shows `blocks` (ids; their whole scripts) in the visible workspace, centred when they
+  // fit, else from their top-left corner; and, for a palette source, the flyout scroll (from the top
+  // of `category`) that shows its block near the top of the palette. For generating tasks.
+  function frame(args) {
+    const ws = blockly.workspace();
+    const ids = Array.isArray(args.blocks) ? args.blocks : [];
+    let box = null;
+    for (const id of ids) {
+      const block = ws.getBlockById(id);
+      if (!block) throw new ctx.BridgeFailure('not_found', `no block ${JSON.stringify(id)} on the workspace`);
+      const r = block.getRootBlock().getBoundingRectangle();
+      box = box ? {left: Math.min(box.left, r.left), top: Math.min(box.top, r.top), right: Math.max(box.right, r.right), bottom: Math.max(box.bottom, r.bottom)} : {left: r.left, top: r.top, right: r.right, bottom: r.bottom};
+    }
+    if (!box) throw fail('blocks must name at least one block');
+    const scale = ws.scale;
+    const svg = ws.getParentSvg().getBoundingClientRect();
+    const metrics = ws.getMetrics();
+    const margin = 40;
+    const view = {left: metrics.absoluteLeft + margin, top: metrics.absoluteTop + margin, width: metrics.viewWidth - 2 * margin - 60, height: metrics.viewHeight - 2 * margin - 60};
+    const width = (box.right - box.left) * scale;
+    const height = (box.bottom - box.top) * scale;
+    const left = width < view.width ? view.left + (view.width - width) / 2 : view.left;
+    const top = height < view.height ? view.top + (view.height - height) / 2 : view.top;
+    const result = {scroll_x: box.left - left / scale, scroll_y: box.top - top / scale, scale: scale, fits: width <= view.width && height <= view.height, svg: {x: svg.left, y: svg.top}};
+    if (typeof args.opcode === 'string' && typeof args.category === 'string') {
+      const flyout = blockly.flyout();
+      const flyoutWs = flyout.getWorkspace();
+      const item = ws.getToolbox().getToolboxItemById(args.category);
+      const position = item ? flyout.getCategoryScrollPosition(item.getName()) : null;
+      const block = flyoutWs.getTopBlocks(false).find((b) => b.type === args.opcode &&
+        (!args.variable_name || (b.getField('VARIABLE') && b.getField('VARIABLE').getText() === args.variable_name)));
+      if (position === null || !block) throw new ctx.BridgeFailure('not_found', `the palette shows no ${args.opcode} under ${args.category}`);
+      const below = (block.getRelativeToSurfaceXY().y - Math.ceil(position)) * flyoutWs.scale;
+      result.flyout_scroll = Math.max(0, Math.round(below - 120));
+    }
+    return result;
+  }
+
   // Resolves once Blockly has drawn what the last pointer move changed (a connection preview moves
   // the blocks after it, and with them the connections the next move is matched against).
   function rendered() {
@@ -86,6 +124,9 @@ scratchworldModule({name: 'drag/view', requires: ['blockly'], create(ctx, blockl
   }
 
   return {
-    api: {dragSelectTarget: (args) => selectTarget(args), dragSetView: (args) => setView(args), dragRendered: () => rendered()},
+    api: {
+      dragSelectTarget: (args) => selectTarget(args), dragSetView: (args) => setView(args), dragFrame: (args) => frame(args),
+      dragRendered: () => rendered(),
+    },
   };
 }});

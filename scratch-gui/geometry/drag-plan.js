@@ -126,11 +126,16 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
       SB.renderManagement.triggerQueuedRenders(ws);
       SB.Events.enable();
     }
-    for (const [block, at] of tops) {
-      const now = block.getRelativeToSurfaceXY();
-      if (Math.abs(now.x - at.x) > 0.01 || Math.abs(now.y - at.y) > 0.01) {
-        throw new ctx.BridgeFailure('editor_failure', `previewing ${describeConnection(neighbour)} moved ${block.type} ${block.id}`);
+    // Connecting the marker may bump scripts it comes near; a bump is undone here, with events still off.
+    SB.Events.disable();
+    try {
+      for (const [block, at] of tops) {
+        const now = block.getRelativeToSurfaceXY();
+        if (Math.abs(now.x - at.x) > 0.01 || Math.abs(now.y - at.y) > 0.01) block.moveBy(at.x - now.x, at.y - now.y);
       }
+      SB.renderManagement.triggerQueuedRenders(ws);
+    } finally {
+      SB.Events.enable();
     }
     return positions;
   }

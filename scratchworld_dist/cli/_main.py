@@ -8,6 +8,7 @@ import click
 
 from scratchworld_dist._errors import ScratchWorldError
 from scratchworld_dist.cli._capacity import capacity_command
+from scratchworld_dist.cli._drag import drag_group
 from scratchworld_dist.cli._evaluate import evaluate_command
 from scratchworld_dist.cli._gui import gui_command
 from scratchworld_dist.cli._replay import observe_command, replay_command
@@ -34,6 +35,7 @@ cli.add_command(replay_command)
 cli.add_command(observe_command)
 cli.add_command(status_command)
 cli.add_command(capacity_command)
+cli.add_command(drag_group)
 
 
 def main() -> None:

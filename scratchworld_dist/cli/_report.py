@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from scratchworld_dist.reports import FORMATS, ReportFormat, build_report, render
+from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag
 
 
 @click.command("report")
@@ -18,11 +19,16 @@ def report_command(run_dirs: tuple[Path, ...], fmt: ReportFormat, out: Path | No
     """Summarize the results in RUN_DIR(s): SR per category, PSR, coverage, errors, cost.
 
     Several run directories merge into one report; they must share a suite and a harness
-    (fingerprint) unless --force.
+    (fingerprint) unless --force. Runs of the single-step drag benchmark get its own table
+    (Pass@k, start and end accuracy and distances per drag type and setting) instead.
     """
-    report = build_report(list(run_dirs), force=force)
-    text = render(report, fmt)
-    for warning in report.warnings:
+    if any(is_drag_run(path) for path in run_dirs):
+        drag = build_drag_report(list(run_dirs), force=force)
+        text, warnings = render_drag(drag, fmt), drag.warnings
+    else:
+        report = build_report(list(run_dirs), force=force)
+        text, warnings = render(report, fmt), report.warnings
+    for warning in warnings:
         click.echo(f"warning: {warning}", err=True)
     if out is None:
         click.echo(text, nl=False)

@@ -208,6 +208,10 @@ class DragSweep(BaseModel):
     types: list[DragType] = Field(default_factory=list)
     """Task types to run (empty: both)."""
 
+    agents: list[AgentRef] = Field(default_factory=list)
+    """The drag agents to compare in one sweep (default: the config's ``agent``); a scripted one runs once,
+    without the models, a model-driven one once per model."""
+
     element_list: bool = False
     """Show primitive mode's element list with the screenshot, and accept ``<index>`` answers."""
 
@@ -220,6 +224,19 @@ class DragSweep(BaseModel):
         if len(set(value)) != len(value):
             raise ValueError("settings must be distinct")
         return value
+
+    @field_validator("agents")
+    @classmethod
+    def _known_agents(cls, agents: list[AgentRef]) -> list[AgentRef]:
+        for agent in agents:
+            try:
+                drag_agent(agent)
+            except AgentUnavailableError as exc:
+                raise ValueError(str(exc)) from None
+        labels = [agent.display for agent in agents]
+        if len(set(labels)) != len(labels):
+            raise ValueError("two drag agents share a name: give them distinct labels")
+        return agents
 
 
 class SweepConfig(BaseModel):
@@ -350,9 +367,12 @@ class SweepConfig(BaseModel):
 
     @model_validator(mode="after")
     def _models_fit_agent(self) -> SweepConfig:
-        found = drag_agent(self.agent) if self.benchmark == "drag" else agent_class(self.agent.name)
-        if getattr(found, "needs_model", False) and not self.models:
-            raise ValueError(f"agent {self.agent.name!r} needs at least one entry under models")
+        if self.benchmark == "drag":
+            needs = any(drag_agent(agent).needs_model for agent in self.drag_agents())
+        else:
+            needs = getattr(agent_class(self.agent.name), "needs_model", False)
+        if needs and not self.models:
+            raise ValueError("an agent that needs a model needs at least one entry under models")
         settings = [m.spec().identity() for m in self.models]
         if any(settings.count(s) > 1 for s in settings):
             raise ValueError("two models have identical settings; their jobs would be the same jobs")
@@ -379,6 +399,10 @@ class SweepConfig(BaseModel):
             if reason is not None:
                 raise ValueError(reason)
         return cache
+
+    def drag_agents(self) -> list[AgentRef]:
+        """The agents of a drag sweep: ``drag.agents``, else ``agent``."""
+        return self.drag.agents or [self.agent]
 
     def model_specs(self) -> list[ModelSpec | None]:
         """The models of the matrix; a sweep without models (scripted agents) has one model-less column."""

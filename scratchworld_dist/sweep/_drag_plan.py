@@ -26,6 +26,7 @@ from workers.contract import (
     ObservationSettings,
     ProjectLimits,
 )
+from workers.drag import drag_agent
 from workers.node import harness_fingerprint
 
 DRAG_MODE = "primitive"
@@ -83,7 +84,7 @@ def drag_job_id(
 def plan_drag_jobs(
     models: list[ModelSpec | None],
     settings: list[DragSetting],
-    agent: AgentRef,
+    agents: AgentRef | list[AgentRef],
     contents: list[DragContent],
     seeds: list[int],
     *,
@@ -94,11 +95,17 @@ def plan_drag_jobs(
     harness: str | None = None,
     model_cache: ModelCacheSettings | None = None,
 ) -> Iterator[JobSpec]:
-    """The matrix in a stable order: model, setting, seed, then suite order of tasks."""
+    """The matrix in a stable order: agent, model, setting, seed, then suite order of tasks. A scripted agent
+    (one that needs no model) runs once, without a model, whatever ``models`` holds."""
     limits = project_limits or ProjectLimits()
     harness = harness or harness_fingerprint().digest
     shown = (observation or ObservationSettings()) if element_list else None
-    for model in models:
+    cells = [
+        (who, model)
+        for who in ([agents] if isinstance(agents, AgentRef) else agents)
+        for model in (models if drag_agent(who).needs_model else [None])
+    ]
+    for agent, model in cells:
         protocol = (llm or LLMSettings()) if model is not None else None
         for setting in settings:
             for seed in seeds:

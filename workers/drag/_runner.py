@@ -121,6 +121,9 @@ class DragRunner:
             return self._regions[key], 0.0
         regions = await page.regions(editor, payload)
         self._regions[key] = regions
+        # Computing them draws previews and stand-ins with events off and takes them down again; the
+        # observation is made on a view set up anew all the same, as every later job of the task's is.
+        await page.set_up(editor, payload)
         return regions, regions.computed_s
 
 

@@ -1,0 +1,210 @@
+"""Exact drag regions against real drags: computation time per task, agreement, and upstream's cross-check.
+
+For each task of each suite (default: our generated ``drag-tasks/`` and, when present, the upstream
+clone at ``../shared/scratchworld-upstream``) the regions are computed in a real editor, then
+checked by real drags, each in the task's freshly set-up view:
+
+- end region: ``--boundary`` pixels just inside its edge and as many just outside, plus ``--interior``
+  random pixels inside and as many outside (within 60 px of it), dragged from the fixed start;
+- start region: ``--boundary`` pixels just inside and outside, each pressed and dragged by the offset
+  that takes the fixed start to the end region's deepest pixel (a grab there connects).
+
+A sample agrees when the drag connects exactly when the region says it should. Upstream's own
+``feasible_start_points`` and ``feasible_points`` (5 px grids in its editor) are compared with our
+regions as they are, and at the integer offset (within 6 px) that best aligns the two layouts.
+
+    .venv/bin/python benchmarks/drag_regions.py [SUITE ...] [--tasks N] [--boundary K] [--interior M]
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import random
+import statistics
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+
+from scratchworld_dist.drag import DragTask, load_drag_suite  # noqa: E402
+from workers.contract import DragPayload, DragRegions, Point, Region  # noqa: E402
+from workers.drag import _page as page  # noqa: E402
+from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool  # noqa: E402
+
+UPSTREAM = REPO.parent / "shared" / "scratchworld-upstream"
+NEAR = 60
+OFFSETS = range(-6, 7)
+
+
+@dataclass
+class TaskFigures:
+    task_id: str
+    regions_s: float
+    samples: int = 0
+    agreed: int = 0
+    disagreements: list[str] = field(default_factory=list)
+    upstream: tuple[float, float, float, float, tuple[int, int]] | None = None
+    """Share of upstream starts in our start region, and of its ends in our end region: as is, at the best offset."""
+
+
+def edges(region: Region) -> tuple[list[Point], list[Point]]:
+    """Pixels of the region next to the outside, and outside pixels next to the region."""
+    inside = set(region.points())
+    rim, around = set(), set()
+    for x, y in inside:
+        for n in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
+            if n not in inside:
+                rim.add((x, y))
+                around.add(n)
+    return sorted(rim), sorted(around)
+
+
+def exterior(region: Region, rng: random.Random, count: int) -> list[Point]:
+    inside = set(region.points())
+    xs = [x for _, x0, x1 in region.rows for x in (x0, x1)]
+    ys = [y for y, _, _ in region.rows]
+    found: list[Point] = []
+    for _ in range(count * 50):
+        if len(found) == count:
+            break
+        p = (rng.randint(min(xs) - NEAR, max(xs) + NEAR), rng.randint(min(ys) - NEAR, max(ys) + NEAR))
+        if p not in inside and 0 <= p[0] < 1280 and 0 <= p[1] < 720:
+            found.append(p)
+    return found
+
+
+def share(points: tuple[Point, ...], region: Region, dx: int, dy: int) -> float:
+    return sum(region.contains(x + dx, y + dy) for x, y in points) / len(points) if points else float("nan")
+
+
+def cross_check(task: DragTask, regions: DragRegions) -> tuple[float, float, float, float, tuple[int, int]] | None:
+    up = task.upstream
+    if up is None or not up.feasible_start_points or not up.feasible_points:
+        return None
+    # Upstream's ends are for a press at its drag_start_point: move them with the press to our fixed start.
+    move = (regions.fixed_start[0] - up.drag_start_point[0], regions.fixed_start[1] - up.drag_start_point[1])
+    ends = tuple((x + move[0], y + move[1]) for x, y in up.feasible_points)
+    best = max(
+        ((dx, dy) for dx in OFFSETS for dy in OFFSETS), key=lambda o: share(up.feasible_start_points, regions.start, *o)
+    )
+    return (
+        share(up.feasible_start_points, regions.start, 0, 0),
+        share(ends, regions.end, 0, 0),
+        share(up.feasible_start_points, regions.start, *best),
+        share(ends, regions.end, *best),
+        best,
+    )
+
+
+async def attempt(editor: Editor, payload: DragPayload, start: Point, end: Point) -> bool:
+    await page.set_up(editor, payload)
+    before = await page.block_ids(editor)
+    await page.drag(editor, start, end)
+    connected, _ = await page.verify(editor, payload, before)
+    return connected
+
+
+async def measure(editor: Editor, task: DragTask, args: argparse.Namespace) -> TaskFigures:
+    payload = task.payload(task.initial_project.read_bytes())
+    await page.set_up(editor, payload)
+    started = time.perf_counter()
+    regions = await page.regions(editor, payload)
+    figures = TaskFigures(task.id, time.perf_counter() - started, upstream=cross_check(task, regions))
+    rng = random.Random(f"{args.seed}:{task.id}")
+    rim, around = edges(regions.end)
+    inner = regions.end.points()
+    samples: list[tuple[str, Point, Point, bool]] = []
+    for points, expected in ((rim, True), (around, False)):
+        samples += [
+            ("end", regions.fixed_start, p, expected) for p in rng.sample(points, min(args.boundary, len(points)))
+        ]
+    samples += [("end", regions.fixed_start, p, True) for p in rng.sample(inner, min(args.interior, len(inner)))]
+    samples += [("end", regions.fixed_start, p, False) for p in exterior(regions.end, rng, args.interior)]
+    aim = regions.end.deepest()
+    offset = (aim[0] - regions.fixed_start[0], aim[1] - regions.fixed_start[1])
+    rim, around = edges(regions.start)
+    for points, expected in ((rim, True), (around, False)):
+        for p in rng.sample(points, min(args.boundary, len(points))):
+            samples.append(("start", p, (p[0] + offset[0], p[1] + offset[1]), expected))
+    for which, start, end, expected in samples:
+        got = await attempt(editor, payload, start, end)
+        figures.samples += 1
+        figures.agreed += got == expected
+        if got != expected:
+            figures.disagreements.append(f"{task.id} {which} {start}->{end}: region says {expected}, drag {got}")
+    return figures
+
+
+async def run(tasks: list[DragTask], args: argparse.Namespace) -> list[TaskFigures]:
+    queue: asyncio.Queue[DragTask] = asyncio.Queue()
+    for task in tasks:
+        queue.put_nowait(task)
+    results: list[TaskFigures] = []
+
+    async def work(pool: EditorPool) -> None:
+        while not queue.empty():
+            task = queue.get_nowait()
+            async with pool.editor() as editor:
+                figures = await measure(editor, task, args)
+            results.append(figures)
+            print(
+                f"  {task.id}: regions {figures.regions_s:.2f} s, agree {figures.agreed}/{figures.samples}", flush=True
+            )
+
+    async with BrowserSession(BrowserConfig()) as session, EditorPool(session, spare=0) as pool:
+        await asyncio.gather(*(work(pool) for _ in range(args.editors)))
+    return results
+
+
+def report(name: str, results: list[TaskFigures]) -> None:
+    times = [r.regions_s for r in results]
+    samples, agreed = sum(r.samples for r in results), sum(r.agreed for r in results)
+    print(f"\n{name}: {len(results)} task(s)")
+    print(
+        "  region computation per task: "
+        f"median {statistics.median(times):.2f} s, mean {statistics.mean(times):.2f} s, max {max(times):.2f} s"
+    )
+    print(f"  real-drag agreement: {agreed}/{samples} = {100 * agreed / max(samples, 1):.2f}%")
+    for line in [d for r in results for d in r.disagreements][:15]:
+        print(f"    {line}")
+    checked = [r.upstream for r in results if r.upstream is not None]
+    if checked:
+        mean = [statistics.mean(c[i] for c in checked) for i in range(4)]
+        offsets = sorted({c[4] for c in checked})
+        print(
+            f"  upstream cross-check over {len(checked)} task(s): "
+            f"upstream starts in our start region {100 * mean[0]:.1f}%, "
+            f"upstream ends (moved with the press) in our end region {100 * mean[1]:.1f}%;"
+        )
+        print(
+            f"    at each task's best offset (dx, dy in {offsets[:8]}{'...' if len(offsets) > 8 else ''}): "
+            f"starts {100 * mean[2]:.1f}%, ends {100 * mean[3]:.1f}%"
+        )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("suites", nargs="*", type=Path)
+    parser.add_argument("--tasks", type=int, default=None, help="At most this many tasks per suite (a spread sample).")
+    parser.add_argument("--boundary", type=int, default=3, help="Boundary samples each side, per region.")
+    parser.add_argument("--interior", type=int, default=2, help="Random interior and exterior end samples.")
+    parser.add_argument("--editors", type=int, default=2, help="Editors measuring at once.")
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args()
+    suites = args.suites or [REPO / "drag-tasks", *([UPSTREAM] if UPSTREAM.is_dir() else [])]
+    for root in suites:
+        suite = load_drag_suite(root)
+        tasks = list(suite.ready)
+        if args.tasks is not None and len(tasks) > args.tasks:
+            step = len(tasks) / args.tasks
+            tasks = [tasks[int(i * step)] for i in range(args.tasks)]
+        print(f"{suite.name}: measuring {len(tasks)} task(s)", flush=True)
+        report(suite.name, asyncio.run(run(tasks, args)))
+
+
+if __name__ == "__main__":
+    main()

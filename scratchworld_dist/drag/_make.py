@@ -1,0 +1,137 @@
+"""``drag make``: drag tasks from any project, framed and proven in a real editor.
+
+Candidates come from ``drag_candidates`` (every connection of every script, detached to be put
+back). Each is then given its view in an editor (its scripts centred in the workspace, a palette
+source scrolled into view) and kept only if the oracle passes it there: exact regions that are not
+empty, and a real drag at their deepest pixels that makes the connection. So every task of a
+generated suite is solvable in this editor, and the reason any candidate was dropped is named.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+
+from pydantic import BaseModel, ConfigDict
+
+from scratchworld_dist._files import read_file
+from scratchworld_dist.drag._generate import DragCandidate, GenerationProblem, drag_candidates, select_candidates
+from scratchworld_dist.drag._native import write_drag_suite
+from scratchworld_dist.drag._task import DragTask
+from workers.contract import MIB, AgentRef, DragPayload, DragSpec, DragView, ProjectLimits
+from workers.drag._page import SETTLE_MS
+from workers.drag._runner import DragRunner
+from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool
+from workers.primitive import settle
+
+
+class _Frame(BaseModel):
+    model_config = ConfigDict(extra="ignore")
+
+    scroll_x: float
+    scroll_y: float
+    scale: float
+    fits: bool
+    flyout_scroll: float = 0
+
+
+class MadeSuite(BaseModel):
+    """What ``make_drag_suite`` wrote and what it left out."""
+
+    root: Path
+    tasks: int
+    candidates: int
+    problems: list[str]
+
+
+async def _frame(editor: Editor, candidate: DragCandidate) -> DragView:
+    """The candidate's view: its scripts centred on the small stage's workspace, its palette block in view."""
+    await editor.load_project(candidate.project)
+    await editor.set_stage_size("small")
+    await editor.call("dragSelectTarget", {"sprite": candidate.sprite})
+    await settle(editor, SETTLE_MS)
+    args: dict[str, object] = {"blocks": list(candidate.show_block_ids)}
+    if candidate.source.kind == "flyout" and candidate.category is not None:
+        args.update(opcode=candidate.source.opcode, category=candidate.category)
+        if candidate.connection.variable_name:
+            args["variable_name"] = candidate.connection.variable_name
+    frame = _Frame.model_validate(await editor.call("dragFrame", args))
+    flyout = candidate.source.kind == "flyout"
+    return DragView(
+        sprite=candidate.sprite,
+        category=candidate.category if flyout else None,
+        flyout_scroll=frame.flyout_scroll if flyout else 0,
+        scroll_x=round(frame.scroll_x, 3),
+        scroll_y=round(frame.scroll_y, 3),
+        scale=frame.scale,
+    )
+
+
+async def prove_tasks(
+    candidates: list[DragCandidate], folder: Path, on_problem: Callable[[str], None]
+) -> list[DragTask]:
+    """The candidates that the oracle passes in their framed view, as tasks with projects under ``folder``."""
+    kept: list[DragTask] = []
+    async with BrowserSession(BrowserConfig()) as session, EditorPool(session, spare=0) as pool:
+        runner = DragRunner(pool)
+        for candidate in candidates:
+            async with pool.editor() as editor:
+                view = await _frame(editor, candidate)
+            path = folder / f"{candidate.id}.sb3"
+            path.write_bytes(candidate.project)
+            task = candidate.task(path, view)
+            payload: DragPayload = task.payload(candidate.project)
+            spec = DragSpec(
+                job_id=f"make-{candidate.id}",
+                attempt=1,
+                task_id=candidate.id,
+                setting="baseline",
+                agent=AgentRef(name="oracle"),
+                model=None,
+                seed=0,
+                timeout_s=120,
+            )
+            result = await runner.run(spec, payload)
+            if result.outcome == "passed":
+                kept.append(task)
+                continue
+            why = result.error_message or (result.drag.observed if result.drag else result.stop_reason)
+            on_problem(f"{candidate.project_name}: {candidate.id}: the oracle does not pass it ({why})")
+    return kept
+
+
+async def make_drag_suite(
+    projects: list[Path],
+    out: Path,
+    *,
+    name: str,
+    per_project: int | None,
+    seed: int = 0,
+    on_problem: Callable[[str], None] = lambda _: None,
+) -> MadeSuite:
+    """Generate, frame and prove drag tasks from ``projects``; write the ones that pass as a suite at ``out``."""
+    limit = int(ProjectLimits().max_file_mb * MIB)
+    chosen: list[DragCandidate] = []
+    problems: list[str] = []
+
+    def problem(message: str) -> None:
+        problems.append(message)
+        on_problem(message)
+
+    stems = [project.stem for project in projects]
+    for project in projects:
+        # Projects named alike (each task's initial.sb3) are told apart by their folder.
+        label = project.stem if stems.count(project.stem) == 1 else f"{project.parent.name}-{project.stem}"
+        found, trouble = drag_candidates(read_file(project, limit), project_name=label)
+        for item in trouble:
+            problem(_describe(item))
+        chosen.extend(select_candidates(found, limit_per_project=per_project, seed=seed))
+    with tempfile.TemporaryDirectory(prefix="scratchworld-drag-") as scratch:
+        tasks = await prove_tasks(chosen, Path(scratch), problem)
+        write_drag_suite(tasks, out, name)
+    return MadeSuite(root=out, tasks=len(tasks), candidates=len(chosen), problems=problems)
+
+
+def _describe(problem: GenerationProblem) -> str:
+    return f"{problem.project}: {problem.message}"

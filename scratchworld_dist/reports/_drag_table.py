@@ -1,0 +1,159 @@
+"""The drag benchmark's report: read run directories into a ``DragTable`` and draw it like the paper's Table 2.
+
+Run directories are loaded as for the main report (manifest required, rows of an older suite or
+harness set aside, incomparable runs refused unless forced); the ``drags`` table adds each run's
+points and distances. HTML is the Markdown in a ``<pre>``: one rendering to keep in step.
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Sequence
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from scratchworld_dist._errors import RunDirError, validation_summary
+from scratchworld_dist.reports._drag_metrics import (
+    ALL,
+    Distance,
+    DragCell,
+    DragTable,
+    DragTableRow,
+    drag_rows,
+    join_runs,
+)
+from scratchworld_dist.reports._render import _PAGE, ReportFormat
+from scratchworld_dist.reports._runs import check_compatible, load_run
+from scratchworld_dist.reports._summary import row_label
+from scratchworld_dist.results import DragRow, RunStore
+
+_DEFINITIONS = (
+    "One run = the final attempt of one drag job (model, agent, setting, task, seed). Error runs (no verdict, e.g. "
+    "the model was unreachable) are counted under Counts and left out of every rate. Pass@k = mean over tasks of the "
+    "unbiased estimator 1 - C(n-c, k)/C(n, k) from all n runs of a task, for k up to the fewest runs any task has; "
+    "the upstream table is the share of tasks where any of the first k runs by seed passed. Start acc. = runs "
+    "pressing inside the start region (or passing) / runs; a parse failure is a start miss. End acc. = passed / "
+    "good starts. Start err = mean px from the press to the start region over start misses with a point; End err = "
+    "mean px from the release, moved by fixed start - press, to the end region over good starts that did not "
+    "connect. Distances shows medians and how many misses had a point."
+)
+
+
+def is_drag_run(run_dir: Path) -> bool:
+    """Whether a run directory holds drag jobs: drags rows, or jobs with a setting (all of them errors)."""
+    store = RunStore(run_dir)
+    if store.read_table("drags", columns=["job_id"]).num_rows:
+        return True
+    return any(s is not None for s in store.read_table("jobs", columns=["setting"]).column("setting").to_pylist())
+
+
+def build_drag_report(run_dirs: list[Path], *, force: bool = False) -> DragTable:
+    """Merge the drag results of ``run_dirs``; raises ``RunDirError`` when they hold no drag job."""
+    if not run_dirs:
+        raise RunDirError("no run directory given")
+    unique: dict[Path, Path] = {}
+    for path in run_dirs:
+        unique.setdefault(path.resolve(), path)
+    loaded = [load_run(path) for path in unique.values()]
+    warnings = check_compatible(loaded, force=force)
+    warnings += [
+        f"{r.name}: {r.stale_rows} row(s) of an older suite or harness excluded" for r in loaded if r.stale_rows
+    ]
+    jobs = [row for run in loaded for row in run.rows]
+    runs, notes = join_runs(jobs, [d for run in loaded for d in _drag_rows(run.path)])
+    if not runs:
+        raise RunDirError(f"{', '.join(str(p) for p in unique.values())}: no drag job results")
+    return DragTable(runs=[r.name for r in loaded], warnings=warnings + notes, rows=drag_rows(runs))
+
+
+def _drag_rows(run_dir: Path) -> list[DragRow]:
+    store = RunStore(run_dir)
+    try:
+        return [DragRow.model_validate(row) for row in store.read_table("drags").to_pylist()]
+    except ValidationError as exc:
+        raise RunDirError(f"{store.table_dir('drags')}: a row is not a drag: {validation_summary(exc)}") from exc
+
+
+def render_drag(table: DragTable, fmt: ReportFormat) -> str:
+    """The drag report as text in ``fmt`` (``md``, ``html`` or ``json``)."""
+    if fmt == "json":
+        return table.model_dump_json(indent=2) + "\n"
+    if fmt == "html":
+        return _PAGE.format(body=f"<pre>{html.escape(render_drag_markdown(table))}</pre>")
+    if fmt == "md":
+        return render_drag_markdown(table)
+    raise ValueError(f"No renderer for format: {fmt}")
+
+
+def render_drag_markdown(table: DragTable) -> str:
+    parts = ["# ScratchWorld single-step drag report"]
+    parts += [f"Warning: {w}" for w in table.warnings]
+    parts.append("Runs: " + "; ".join(table.runs))
+    groups = [c.group for c in table.rows[0].cells] if table.rows else [ALL]
+    width = max([1] + [c.k_max for row in table.rows for c in row.cells])
+    several = len({r.agent for r in table.rows}) > 1
+    ks = range(1, width + 1)
+
+    def label(row: DragTableRow) -> list[str]:
+        return [row_label(row.agent, row.model) if several else row.model, row.setting]
+
+    main_cols = [*(f"Pass@{k}" for k in ks), "Start acc.", "End acc.", "Start err (px)", "End err (px)"]
+    main = [[*label(row), *(v for c in row.cells for v in _main_cells(c, width))] for row in table.rows]
+    parts += ["## Table 2", _md(["model", "setting", *(f"{g} {c}" for g in groups for c in main_cols)], main)]
+    upstream = [[*label(row), *(v for c in row.cells for v in _pass_cells(c, width, True))] for row in table.rows]
+    parts.append("## Pass@k as upstream computes it (any of the first k runs by seed passed)")
+    parts.append(_md(["model", "setting", *(f"{g} Pass@{k}" for g in groups for k in ks)], upstream))
+    dist_cols = ["group", "start err mean", "median", "measured/misses", "end err mean", "median", "measured/misses"]
+    dist = [[*label(row), c.group, *_dist(c.start_error), *_dist(c.end_error)] for row in table.rows for c in row.cells]
+    parts += ["## Distances (px)", _md(["model", "setting", *dist_cols], dist)]
+    parts += ["## Counts", "\n".join(f"- {' / '.join(label(row))}: {_counts(row.cell(ALL))}" for row in table.rows)]
+    parts.append(_DEFINITIONS)
+    return "\n\n".join(parts) + "\n"
+
+
+def _main_cells(cell: DragCell, width: int) -> list[str]:
+    return [
+        *_pass_cells(cell, width, False),
+        _rate(cell.start_passes, cell.runs),
+        _rate(cell.passed, cell.start_passes),
+        _px(cell.start_error.mean),
+        _px(cell.end_error.mean),
+    ]
+
+
+def _pass_cells(cell: DragCell, width: int, empirical: bool) -> list[str]:
+    values = [_pct(p.empirical if empirical else p.unbiased) for p in cell.pass_at_k]
+    return values + ["-"] * (width - len(values))
+
+
+def _dist(d: Distance) -> list[str]:
+    return [_px(d.mean), _px(d.median), f"{d.measured}/{d.misses}"]
+
+
+def _counts(cell: DragCell) -> str:
+    text = f"{cell.tasks} tasks, {cell.runs} runs ({cell.passed} passed)"
+    errors = ", ".join(f"{e.name} {e.runs}" for e in cell.errors)
+    text += f"; {cell.error_runs} error runs" + (f" ({errors})" if errors else "")
+    parse = ", ".join(f"{p.name} {p.runs}" for p in cell.parse_failures)
+    text += f"; parse failures: {parse or 'none'}"
+    if cell.tasks_without_runs:
+        text += f"; {cell.tasks_without_runs} task(s) with only error runs (left out of Pass@k)"
+    return text
+
+
+def _md(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
+    lines = [header, ["---"] * len(header), *rows]
+    return "\n".join("| " + " | ".join(c.replace("|", "\\|").replace("\n", " ") for c in line) + " |" for line in lines)
+
+
+def _pct(value: float | None) -> str:
+    return "-" if value is None else f"{value * 100:.1f}%"
+
+
+def _rate(part: int, whole: int) -> str:
+    return "-" if not whole else f"{_pct(part / whole)} ({part}/{whole})"
+
+
+def _px(value: float | None) -> str:
+    return "-" if value is None else f"{value:.1f}"

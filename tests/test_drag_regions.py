@@ -1,0 +1,112 @@
+"""Exact drag regions against real drags in a real editor, on our generated suite, boundaries included;
+and each connection kind's verification, made and missed."""
+
+from __future__ import annotations
+
+import random
+from collections.abc import AsyncIterator
+
+import pytest
+
+from scratchworld_dist.drag import DragTask, load_drag_suite
+from tests.conftest import REPO
+from workers.contract import DragPayload, Point, Region
+from workers.drag import _page as page
+from workers.editor import BrowserSession, Editor, EditorPool
+
+pytestmark = [pytest.mark.browser]
+
+SUITE = load_drag_suite(REPO / "drag-tasks")
+
+
+def one_of_each() -> list[DragTask]:
+    """The suite's first task of each (connection kind, source kind)."""
+    seen: dict[tuple[str, str], DragTask] = {}
+    for task in SUITE.tasks:
+        seen.setdefault((task.connection.kind, task.source.kind), task)
+    return [seen[key] for key in sorted(seen)]
+
+
+TASKS = one_of_each()
+
+
+@pytest.fixture(scope="module")
+async def pool(session: BrowserSession) -> AsyncIterator[EditorPool]:
+    async with EditorPool(session, spare=0) as editors:
+        yield editors
+
+
+def rim(region: Region) -> tuple[list[Point], list[Point]]:
+    inside = set(region.points())
+    edge, outside = set(), set()
+    for x, y in inside:
+        for n in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
+            if n not in inside:
+                edge.add((x, y))
+                outside.add(n)
+    return sorted(edge), sorted(outside)
+
+
+async def connects(editor: Editor, payload: DragPayload, start: Point, end: Point) -> tuple[bool, str]:
+    await page.set_up(editor, payload)
+    before = await page.block_ids(editor)
+    await page.drag(editor, start, end)
+    return await page.verify(editor, payload, before)
+
+
+def test_the_suite_covers_every_kind_from_both_sources() -> None:
+    kinds = {(t.connection.kind, t.source.kind) for t in SUITE.tasks}
+    assert {"next", "parent", "substack_1", "input"} <= {kind for kind, _ in kinds}
+    assert {source for _, source in kinds} == {"canvas", "flyout"}
+    assert len(SUITE.tasks) >= 60
+    assert {t.type for t in SUITE.tasks} == {"T1", "T2"}
+
+
+@pytest.mark.parametrize("task", TASKS, ids=[f"{t.connection.kind}-{t.source.kind}" for t in TASKS])
+async def test_regions_agree_with_real_drags_at_their_edges(pool: EditorPool, task: DragTask) -> None:
+    payload = task.payload(task.initial_project.read_bytes())
+    rng = random.Random(task.id)
+    async with pool.editor() as editor:
+        await page.set_up(editor, payload)
+        regions = await page.regions(editor, payload)
+        assert not regions.start.empty and not regions.end.empty
+        edge, outside = rim(regions.end)
+        for point in rng.sample(edge, 2):
+            assert (await connects(editor, payload, regions.fixed_start, point))[0], ("end edge", point)
+        for point in rng.sample(outside, 2):
+            made, observed = await connects(editor, payload, regions.fixed_start, point)
+            assert not made, ("just outside the end region", point)
+            assert observed  # a miss says what the drag did instead
+        aim = regions.end.deepest()
+        offset = (aim[0] - regions.fixed_start[0], aim[1] - regions.fixed_start[1])
+        edge, outside = rim(regions.start)
+        for point in rng.sample(edge, 1):  # grabbed at its edge: the block moves with the press, and connects
+            assert (await connects(editor, payload, point, (point[0] + offset[0], point[1] + offset[1])))[0]
+        for point in rng.sample(outside, 1):  # pressed just off it: the source stays where it was
+            assert not (await connects(editor, payload, point, (point[0] + offset[0], point[1] + offset[1])))[0]
+
+
+async def test_regions_are_read_only_and_repeatable(pool: EditorPool) -> None:
+    task = TASKS[0]
+    payload = task.payload(task.initial_project.read_bytes())
+    async with pool.editor() as editor:
+        await page.set_up(editor, payload)
+        before = await editor.save_project()
+        first = await page.regions(editor, payload)
+        second = await page.regions(editor, payload)
+        assert (first.start, first.end, first.fixed_start) == (second.start, second.end, second.fixed_start)
+        assert await editor.save_project() == before
+
+
+async def test_verification_reads_the_structure_not_the_position(pool: EditorPool) -> None:
+    """A drop of the source on the reference's other side (a wrong connection) is a miss, named."""
+    task = next(t for t in SUITE.tasks if t.connection.kind == "next" and t.source.kind == "canvas")
+    payload = task.payload(task.initial_project.read_bytes())
+    async with pool.editor() as editor:
+        await page.set_up(editor, payload)
+        regions = await page.regions(editor, payload)
+        made, observed = await connects(
+            editor, payload, regions.fixed_start, (regions.fixed_start[0] + 4, regions.fixed_start[1] + 60)
+        )
+        assert not made
+        assert "top-level script" in observed or "hangs below" in observed
