@@ -157,7 +157,7 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
         name=suite.name,
         kind=suite.kind,
         root=str(suite.root),
-        hash=suite_hash(c.task_hash for c in contents),
+        hash=suite_hash(contents),
         tasks=len(tasks),
     )
     found = agent_class(config.agent.name)
@@ -222,7 +222,7 @@ def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any 
         name=" + ".join(s.name for s in suites),
         kind=suites[0].kind,
         root=str(suites[0].root),
-        hash=suite_hash(c.task_hash for c in contents),
+        hash=suite_hash(contents),
         tasks=len(tasks),
     )
     jobs = list(

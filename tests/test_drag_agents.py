@@ -10,7 +10,7 @@ import pytest
 
 from workers.agents._model_calls import EpisodeModels
 from workers.contract import AgentRef, AgentUnavailableError, DragRegions, Region, RetryPolicy
-from workers.drag import DragQuestion, drag_agent
+from workers.drag._agents import DragQuestion, drag_agent
 from workers.drag._annotate import annotate
 
 

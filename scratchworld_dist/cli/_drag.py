@@ -8,8 +8,6 @@ from pathlib import Path
 
 import click
 
-from scratchworld_dist.drag._make import make_drag_suite
-
 
 @click.group("drag")
 def drag_group() -> None:
@@ -28,6 +26,8 @@ def make_command(projects: tuple[Path, ...], out: Path, name: str | None, per_pr
     Each candidate is framed in a real editor and kept only if the oracle passes it there; what is
     left out is listed with its reason.
     """
+    from scratchworld_dist.drag._make import make_drag_suite  # the browser stack, for this command only
+
     made = asyncio.run(
         make_drag_suite(
             list(projects),

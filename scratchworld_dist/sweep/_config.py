@@ -46,7 +46,7 @@ from workers.contract import (
     RateLimits,
     SyntheticEpisodes,
 )
-from workers.drag import drag_agent
+from workers.drag import checked_drag_agent, needs_model
 from workers.llm import uncacheable
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -230,7 +230,7 @@ class DragSweep(BaseModel):
     def _known_agents(cls, agents: list[AgentRef]) -> list[AgentRef]:
         for agent in agents:
             try:
-                drag_agent(agent)
+                checked_drag_agent(agent)
             except AgentUnavailableError as exc:
                 raise ValueError(str(exc)) from None
         labels = [agent.display for agent in agents]
@@ -329,7 +329,7 @@ class SweepConfig(BaseModel):
     def _agent_available(cls, agent: AgentRef, info: ValidationInfo) -> AgentRef:
         if info.data.get("benchmark") == "drag":
             try:
-                drag_agent(agent)
+                checked_drag_agent(agent)
             except AgentUnavailableError as exc:
                 raise ValueError(str(exc)) from None
             return agent
@@ -368,7 +368,7 @@ class SweepConfig(BaseModel):
     @model_validator(mode="after")
     def _models_fit_agent(self) -> SweepConfig:
         if self.benchmark == "drag":
-            needs = any(drag_agent(agent).needs_model for agent in self.drag_agents())
+            needs = any(needs_model(agent) for agent in self.drag_agents())
         else:
             needs = getattr(agent_class(self.agent.name), "needs_model", False)
         if needs and not self.models:

@@ -26,7 +26,7 @@ from workers.contract import (
     ObservationSettings,
     ProjectLimits,
 )
-from workers.drag import drag_agent
+from workers.drag import needs_model
 from workers.node import harness_fingerprint
 
 DRAG_MODE = "primitive"
@@ -103,7 +103,7 @@ def plan_drag_jobs(
     cells = [
         (who, model)
         for who in ([agents] if isinstance(agents, AgentRef) else agents)
-        for model in (models if drag_agent(who).needs_model else [None])
+        for model in (models if needs_model(who) else [None])
     ]
     for agent, model in cells:
         protocol = (llm or LLMSettings()) if model is not None else None

@@ -13,7 +13,7 @@ import hashlib
 import json
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
-from typing import Literal
+from typing import Literal, Protocol
 
 from pydantic import BaseModel, ConfigDict
 
@@ -230,10 +230,17 @@ def read_task(
     return TaskContent(task=task, payload=payload, task_hash=digest.hexdigest()[:16])
 
 
-def suite_hash(task_hashes: Iterable[str]) -> str:
-    """One hash for the selected tasks' contents, from their hashes (order-independent)."""
+class HashedContent(Protocol):
+    """A task read into memory (a ``TaskContent`` or a drag task's ``DragContent``)."""
+
+    @property
+    def task_hash(self) -> str: ...
+
+
+def suite_hash(contents: Iterable[HashedContent]) -> str:
+    """One hash for the selected tasks' contents (order-independent)."""
     digest = hashlib.sha256()
-    for task_hash in sorted(task_hashes):
+    for task_hash in sorted(content.task_hash for content in contents):
         digest.update(task_hash.encode())
     return digest.hexdigest()[:16]
 

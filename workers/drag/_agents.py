@@ -18,12 +18,13 @@ import random
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict
 
 from workers.agents._coordinates import SCREEN, coordinate_system, model_space
 from workers.agents._model_calls import EpisodeModels
 from workers.contract import AgentRef, AgentUnavailableError, DragParse, DragRegions, DragSetting, ModelSpec, Point
 from workers.drag._prompts import drag_messages
+from workers.drag._refs import JitterParams, checked_drag_agent
 from workers.drag._reply import parse_drag_reply
 
 
@@ -76,13 +77,6 @@ class OracleDragAgent:
     async def answer(self, question: DragQuestion, model: ModelSpec | None, models: EpisodeModels) -> DragAnswer:
         start, end = _aim(question)
         return DragAnswer(parse="ok", start=(float(start[0]), float(start[1])), end=(float(end[0]), float(end[1])))
-
-
-class JitterParams(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-    sigma_px: float = Field(default=8.0, gt=0, le=200)
-    """Standard deviation of the noise on each coordinate of each point, in page px."""
 
 
 class JitterDragAgent:
@@ -151,19 +145,9 @@ def _rounded(point: tuple[float, float]) -> tuple[float, float]:
     return round(point[0], 1), round(point[1], 1)
 
 
-DRAG_AGENTS = ("oracle", "jitter", "llm")
-
-
 def drag_agent(ref: AgentRef) -> DragAgent:
     """The drag agent a job names, its parameters validated (``AgentUnavailableError`` names the problem)."""
-    if ref.name == "jitter":
-        try:
-            return JitterDragAgent(JitterParams.model_validate(ref.params))
-        except ValidationError as exc:
-            problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
-            raise AgentUnavailableError(f"agent jitter: {problems}") from None
-    if ref.name not in DRAG_AGENTS:
-        raise AgentUnavailableError(f"the drag benchmark's agents are {', '.join(DRAG_AGENTS)}, not {ref.name!r}")
-    if ref.params:
-        raise AgentUnavailableError(f"agent {ref.name} takes no params in the drag benchmark")
+    params = checked_drag_agent(ref)
+    if params is not None:
+        return JitterDragAgent(params)
     return OracleDragAgent() if ref.name == "oracle" else LLMDragAgent()
