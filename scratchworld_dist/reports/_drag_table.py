@@ -27,6 +27,7 @@ from scratchworld_dist.reports._render import _PAGE, ReportFormat
 from scratchworld_dist.reports._runs import check_compatible, load_run
 from scratchworld_dist.reports._summary import row_label
 from scratchworld_dist.results import DragRow, RunStore
+from scratchworld_dist.sweep import NO_MODEL
 
 _DEFINITIONS = (
     "One run = the final attempt of one drag job (model, agent, setting, task, seed). Error runs (no verdict, e.g. "
@@ -96,7 +97,8 @@ def render_drag_markdown(table: DragTable) -> str:
     ks = range(1, width + 1)
 
     def label(row: DragTableRow) -> list[str]:
-        return [row_label(row.agent, row.model) if several else row.model, row.setting]
+        scripted = row.model == NO_MODEL  # a scripted agent has no model: name the agent
+        return [row_label(row.agent, row.model) if several or scripted else row.model, row.setting]
 
     main_cols = [*(f"Pass@{k}" for k in ks), "Start acc.", "End acc.", "Start err (px)", "End err (px)"]
     main = [[*label(row), *(v for c in row.cells for v in _main_cells(c, width))] for row in table.rows]

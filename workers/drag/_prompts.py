@@ -30,8 +30,9 @@ ANSWER_FORMAT = "drag(start_point='<point>x y</point>', end_point='<point>x y</p
 
 KNOWLEDGE = """\
 # How dragging works in the Scratch editor
-- Press on a part of the block that is not an input: its left end, or a word of its label. Pressing on a number or \
-text field, or on a dropdown, opens that input instead of moving the block.
+- Press on the block itself: its left end or a word of its label is safest. A press on a number, text field or \
+dropdown drags the block too once the pointer moves, but a press on a block nested inside it (a reporter in one of \
+its inputs, a block in its mouth) drags that block instead.
 - On the code area, dragging a block takes every block below it in its stack along. Dragging a block out of the \
 palette (the list of blocks left of the code area) makes a new copy of it.
 - While it moves, the block keeps its offset from the pointer, and what has to arrive near a connection for it to \
