@@ -115,24 +115,17 @@ scratchworldModule({name: 'drag/regions', requires: ['rects', 'blockly', 'geomet
   }
 
   // A stand-in for the palette block, drawn exactly over it (where the block a drag from the palette
-  // creates appears). Blockly bumps scripts away from a block appended next to them: the snap radius
-  // that decides what is "next to" is zero while the stand-in is made.
+  // creates appears). Made while the drag is simulated, so that it bumps no script it lands near.
   function standIn(flyoutBlock) {
     const SB = blockly.scratchBlocks();
     const ws = blockly.workspace();
-    const radius = SB.config.snapRadius;
-    SB.config.snapRadius = 0;
-    try {
-      const block = SB.serialization.blocks.append(blockly.flyout().serializeBlock(flyoutBlock), ws, {recordUndo: false});
-      SB.renderManagement.triggerQueuedRenders(ws);
-      const want = flyoutBlock.getSvgRoot().getBoundingClientRect();
-      const got = block.getSvgRoot().getBoundingClientRect();
-      block.moveBy((want.left - got.left) / ws.scale, (want.top - got.top) / ws.scale);
-      SB.renderManagement.triggerQueuedRenders(ws);
-      return block;
-    } finally {
-      SB.config.snapRadius = radius;
-    }
+    const block = SB.serialization.blocks.append(blockly.flyout().serializeBlock(flyoutBlock), ws, {recordUndo: false});
+    SB.renderManagement.triggerQueuedRenders(ws);
+    const want = flyoutBlock.getSvgRoot().getBoundingClientRect();
+    const got = block.getSvgRoot().getBoundingClientRect();
+    block.moveBy((want.left - got.left) / ws.scale, (want.top - got.top) / ws.scale);
+    SB.renderManagement.triggerQueuedRenders(ws);
+    return block;
   }
 
   // Whether a release at (x, y) is over a delete area (the palette): the block is deleted there.
@@ -147,7 +140,12 @@ scratchworldModule({name: 'drag/regions', requires: ['rects', 'blockly', 'geomet
   // Runs `use(drag)` with the drag of the task's source from `args.start` prepared: the moving block
   // (a stand-in for a palette source, removed afterwards), the wanted pair, and `candidateAt(x, y)`,
   // the candidate a straight `steps`-move drag released at (x, y) ends on (null: none, or deleted).
+  // All of it runs as if the drag were in progress, as a real one's choices are made.
   function withDrag(args, use) {
+    return blockly.asIfDragging(() => simulateDrag(args, use));
+  }
+
+  function simulateDrag(args, use) {
     const ws = blockly.workspace();
     const SB = blockly.scratchBlocks();
     const start = args.start;

@@ -96,11 +96,12 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
   }
 
   // Where `neighbours` are while Blockly previews `candidate` ({local, neighbour}): the drag strategy's
-  // own choice of preview, drawn for real with events off and taken down again. An insertion marker
-  // pushes what follows it aside (by its height less an empty mouth's, or its width in an input), and
-  // the next pointer move is matched against the connections where the preview left them. Only a
-  // marker that hangs from the neighbour is drawn: one above a stack (the dragged stack's last next
-  // connection) follows the pointer and carries that stack with it, moving nothing that follows.
+  // own choice of preview, drawn for real with events off and taken down again, as if a drag were in
+  // progress (so that no script is bumped). An insertion marker pushes what follows it aside (by its
+  // height less an empty mouth's, or its width in an input), and the next pointer move is matched
+  // against the connections where the preview left them. Only a marker that hangs from the neighbour
+  // is drawn: one above a stack (the dragged stack's last next connection) follows the pointer and
+  // carries that stack with it, moving nothing that follows.
   function previewedPositions(moving, candidate, neighbours) {
     const SB = blockly.scratchBlocks();
     const ws = blockly.workspace();
@@ -112,28 +113,21 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
       const fits = SB.Connection.getConnectionForOrphanedConnection(moving, local.type === OUTPUT_VALUE ? orphan.outputConnection : orphan.previousConnection);
       if (!fits) return positions; // a replacement preview fades the block it would replace, and moves none
     }
-    const tops = ws.getTopBlocks(false).map((block) => [block, block.getRelativeToSurfaceXY()]);
     const Previewer = SB.registry.getClassFromOptions(SB.registry.Type.CONNECTION_PREVIEWER, ws.options, true);
     const previewer = new Previewer(moving);
     SB.Events.disable();
     try {
-      previewer.previewConnection(local, neighbour);
-      SB.renderManagement.triggerQueuedRenders(ws);
-      for (const connection of neighbours) positions.set(connection, {x: connection.x, y: connection.y});
-    } finally {
-      previewer.hidePreview();
-      previewer.dispose();
-      SB.renderManagement.triggerQueuedRenders(ws);
-      SB.Events.enable();
-    }
-    // Connecting the marker may bump scripts it comes near; a bump is undone here, with events still off.
-    SB.Events.disable();
-    try {
-      for (const [block, at] of tops) {
-        const now = block.getRelativeToSurfaceXY();
-        if (Math.abs(now.x - at.x) > 0.01 || Math.abs(now.y - at.y) > 0.01) block.moveBy(at.x - now.x, at.y - now.y);
-      }
-      SB.renderManagement.triggerQueuedRenders(ws);
+      blockly.asIfDragging(() => {
+        try {
+          previewer.previewConnection(local, neighbour);
+          SB.renderManagement.triggerQueuedRenders(ws);
+          for (const connection of neighbours) positions.set(connection, {x: connection.x, y: connection.y});
+        } finally {
+          previewer.hidePreview();
+          previewer.dispose();
+          SB.renderManagement.triggerQueuedRenders(ws);
+        }
+      });
     } finally {
       SB.Events.enable();
     }

@@ -53,8 +53,23 @@ scratchworldModule({name: 'blockly', create(ctx) {
     return a === b;
   }
 
+  // Runs `simulate()` with the workspace as a real drag leaves it: "a move in progress". After every
+  // render Blockly bumps a script whose connections come near another's away from it, by a random
+  // offset (snap radius + 0..9 units), unless a drag is in progress; a simulated drag that drew its
+  // previews without this would see scripts a real drag never moves, and a different set each time.
+  function asIfDragging(simulate) {
+    const ws = workspace();
+    const before = ws.keyboardMoveInProgress;
+    ws.setKeyboardMoveInProgress(true);
+    try {
+      return simulate();
+    } finally {
+      ws.setKeyboardMoveInProgress(before);
+    }
+  }
+
   return {
     scratchBlocks: scratchBlocks, workspace: workspace, flyout: flyout, drawn: drawn, topBlocks: topBlocks,
-    dragging: dragging, inSync: inSync,
+    dragging: dragging, inSync: inSync, asIfDragging: asIfDragging,
   };
 }});
