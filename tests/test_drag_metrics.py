@@ -101,6 +101,7 @@ def drag_of(row: JobRow, *, start: float | None = 0.0, end: float | None = 0.0, 
         gt_start_y=None,
         start_area=400,
         end_area=100,
+        regions_json='{"start": {"rows": [[100, 90, 109]]}, "fixed_start": [100, 100], "end": {"rows": []}}',
         reply="drag(...)",
         annotated=None,
     )

@@ -14,6 +14,7 @@ from scratchworld_dist.results import RunStore
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import REPO
 from tests.sweep_driver import run_here
+from workers.contract import DragRegions
 
 SUITE = REPO / "drag-tasks"
 
@@ -95,6 +96,8 @@ def test_a_drag_sweep_runs_records_and_resumes(tmp_path: Path, shared_ray: int) 
     code, out = run_here(config)
     assert code == 0, out
     assert "not-here is not here; its tasks are skipped" in " ".join(out.split())
+    report = (tmp_path / "run" / "report.md").read_text()  # the run prints, and keeps, the drag table
+    assert report.startswith("# ScratchWorld single-step drag report") and "## Table 2" in out
     store = RunStore(tmp_path / "run")
     jobs = store.read_table("jobs").to_pylist()
     drags = store.read_table("drags").to_pylist()
@@ -105,6 +108,10 @@ def test_a_drag_sweep_runs_records_and_resumes(tmp_path: Path, shared_ray: int) 
         assert (tmp_path / "run" / row["annotated"]).is_file()
         assert row["setting"] in {"baseline", "gt_start"} and row["drag_type"] in {"T1", "T2"}
         assert (row["gt_start_x"] is not None) == (row["setting"] == "gt_start")
+        regions = DragRegions.model_validate_json(row["regions_json"])  # kept with the row, as the metrics saw them
+        assert (regions.start.area, regions.end.area) == (row["start_area"], row["end_area"])
+        assert regions.fixed_start == (row["fixed_start_x"], row["fixed_start_y"])
+        assert regions.start.contains(row["start_x"], row["start_y"]) == row["start_in_region"]
     code, out = run_here(config)
     assert code == 0, out
     assert "8 already decided, 0 to run" in " ".join(out.split())

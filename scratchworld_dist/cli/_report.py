@@ -6,8 +6,7 @@ from pathlib import Path
 
 import click
 
-from scratchworld_dist.reports import FORMATS, ReportFormat, build_report, render
-from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag
+from scratchworld_dist.reports import FORMATS, ReportFormat, report_runs
 
 
 @click.command("report")
@@ -22,12 +21,7 @@ def report_command(run_dirs: tuple[Path, ...], fmt: ReportFormat, out: Path | No
     (fingerprint) unless --force. Runs of the single-step drag benchmark get its own table
     (Pass@k, start and end accuracy and distances per drag type and setting) instead.
     """
-    if any(is_drag_run(path) for path in run_dirs):
-        drag = build_drag_report(list(run_dirs), force=force)
-        text, warnings = render_drag(drag, fmt), drag.warnings
-    else:
-        report = build_report(list(run_dirs), force=force)
-        text, warnings = render(report, fmt), report.warnings
+    text, warnings = report_runs(list(run_dirs), fmt, force=force)
     for warning in warnings:
         click.echo(f"warning: {warning}", err=True)
     if out is None:

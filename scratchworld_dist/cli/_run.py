@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 from rich.console import Console
 
-from scratchworld_dist.reports import build_report, render
+from scratchworld_dist.reports import report_runs
 from scratchworld_dist.sweep import load_sweep_config
 
 EXIT_ERRORS = 1
@@ -60,7 +60,7 @@ def run_command(
         f"ran {summary.sent} attempt(s): passed {outcomes['passed']}, failed {outcomes['failed']}, "
         f"error {outcomes['error']} (retried {summary.retried}); {summary.already_decided} decided before"
     )
-    report = render(build_report([summary.run_dir]), "md")
+    report, _ = report_runs([summary.run_dir], "md")  # its warnings are in its text
     (summary.run_dir / "report.md").write_text(report, encoding="utf-8")
     click.echo(report)
     if outcomes["error"]:

@@ -18,6 +18,7 @@ from scratchworld_dist.reports._render import (
     render_json,
     render_markdown,
 )
+from scratchworld_dist.reports._report_runs import report_runs
 from scratchworld_dist.reports._summary import (
     CATEGORIES,
     REPORT_VERSION,
@@ -55,5 +56,6 @@ __all__ = [
     "render_html",
     "render_json",
     "render_markdown",
+    "report_runs",
     "t_quantile_975",
 ]

@@ -176,12 +176,17 @@ class DragRow(BaseModel):
     end_error_px: float | None
     connected: bool
     observed: str
-    fixed_start_x: int | None
-    fixed_start_y: int | None
+    fixed_start_x: int
+    fixed_start_y: int
+    """The press the end region is for (a deepest pixel of the start region)."""
+
     gt_start_x: int | None
     gt_start_y: int | None
     start_area: int
     end_area: int
+    regions_json: str
+    """The exact regions, ``{"start": {"rows": [[y, x_first, x_last], ...]}, "fixed_start": [x, y], "end": {...}}``
+    (``DragRegions.model_validate_json`` reads it back): any other distance or metric is a query away."""
     reply: str | None
     """The model's raw reply (null for scripted agents)."""
 
@@ -306,7 +311,7 @@ def _drag_row(job: JobSpec, result: EpisodeResult, annotated: str | None) -> Dra
     drag, task = result.drag, job.drag
     if drag is None or task is None:
         raise ValueError(f"job {job.job_id} is not a drag job")
-    start, end, fixed, marked = drag.start, drag.end, drag.fixed_start, drag.gt_start
+    start, end, regions, marked = drag.start, drag.end, drag.regions, drag.gt_start
     return DragRow(
         job_id=job.job_id,
         attempt=result.attempt,
@@ -329,12 +334,13 @@ def _drag_row(job: JobSpec, result: EpisodeResult, annotated: str | None) -> Dra
         end_error_px=drag.end_error_px,
         connected=drag.connected,
         observed=drag.observed,
-        fixed_start_x=fixed[0] if fixed else None,
-        fixed_start_y=fixed[1] if fixed else None,
+        fixed_start_x=regions.fixed_start[0],
+        fixed_start_y=regions.fixed_start[1],
         gt_start_x=marked[0] if marked else None,
         gt_start_y=marked[1] if marked else None,
-        start_area=drag.start_area,
-        end_area=drag.end_area,
+        start_area=regions.start.area,
+        end_area=regions.end.area,
+        regions_json=regions.model_dump_json(exclude={"computed_s"}),
         reply=next((step.reply for step in result.steps if step.reply is not None), None),
         annotated=annotated,
     )

@@ -262,9 +262,9 @@ class DragAttempt(BaseModel):
     gt_start: Point | None = None
     """The start marked on the screenshot under ``gt_start``."""
 
-    fixed_start: Point | None = None
-    start_area: int = 0
-    end_area: int = 0
+    regions: DragRegions
+    """The task's exact regions the distances were measured against, kept with the attempt."""
+
     regions_s: float = 0.0
     """Time the worker spent computing the regions (0 when they came from its cache)."""
 

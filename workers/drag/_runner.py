@@ -195,9 +195,7 @@ def _attempt(
         connected=connected,
         observed=observed,
         gt_start=question.gt_start,
-        fixed_start=regions.fixed_start,
-        start_area=regions.start.area,
-        end_area=regions.end.area,
+        regions=regions,
         regions_s=computed_s,
         **fields,  # type: ignore[arg-type]
     )
