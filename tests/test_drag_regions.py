@@ -95,15 +95,22 @@ async def test_regions_agree_with_real_drags_at_their_edges(pool: EditorPool, ta
             assert not (await connects(editor, payload, point, (point[0] + offset[0], point[1] + offset[1])))[0]
 
 
-async def test_regions_are_read_only_and_repeatable(pool: EditorPool) -> None:
-    task = TASKS[0]
+# Tasks whose previews push a script near another: Blockly bumps such scripts apart by a random offset
+# unless a drag is in progress, which made these regions differ from one computation to the next.
+PUSHING = ["quiz_score-initial-next-4ff060e45f", "star_shower-golden-next-9eb2ff3c68", TASKS[0].id]
+
+
+@pytest.mark.parametrize("task_id", PUSHING)
+async def test_regions_are_read_only_and_repeatable(pool: EditorPool, task_id: str) -> None:
+    task = next(t for t in SUITE.tasks if t.id == task_id)
     payload = task.payload(task.initial_project.read_bytes())
     async with pool.editor() as editor:
         await page.set_up(editor, payload)
         before = project_json(await editor.save_project())
         first = await page.regions(editor, payload)
-        second = await page.regions(editor, payload)
-        assert (first.start, first.end, first.fixed_start) == (second.start, second.end, second.fixed_start)
+        for _ in range(2):
+            again = await page.regions(editor, payload)
+            assert (first.start, first.end, first.fixed_start) == (again.start, again.end, again.fixed_start)
         assert project_json(await editor.save_project()) == before
 
 
