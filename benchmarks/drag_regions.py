@@ -9,11 +9,14 @@ checked by real drags, each in the task's freshly set-up view:
 - start region: ``--boundary`` pixels just inside and outside, each pressed and dragged by the offset
   that takes the fixed start to the end region's deepest pixel (a grab there connects).
 
+``--boundary all`` drags from every boundary pixel of both regions (inside and out); with
+``--per-kind`` (one task of each connection kind and source) it checks whole boundaries of a sample.
+
 A sample agrees when the drag connects exactly when the region says it should. Upstream's own
 ``feasible_start_points`` and ``feasible_points`` (5 px grids in its editor) are compared with our
 regions as they are, and at the integer offset (within 6 px) that best aligns the two layouts.
 
-    .venv/bin/python benchmarks/drag_regions.py [SUITE ...] [--tasks N] [--boundary K] [--interior M]
+    .venv/bin/python benchmarks/drag_regions.py [SUITE ...] [--tasks N | --per-kind] [--boundary K|all] [--interior M]
 """
 
 from __future__ import annotations
@@ -47,6 +50,8 @@ class TaskFigures:
     samples: int = 0
     agreed: int = 0
     disagreements: list[str] = field(default_factory=list)
+    by_kind: dict[str, list[int]] = field(default_factory=dict)
+    """``[agreed, samples]`` per kind of sample: end or start region, a point inside or outside it."""
     upstream: tuple[float, float, float, float, tuple[int, int]] | None = None
     """Share of upstream starts in our start region, and of its ends in our end region: as is, at the best offset."""
 
@@ -100,6 +105,23 @@ def cross_check(task: DragTask, regions: DragRegions) -> tuple[float, float, flo
     )
 
 
+def some(rng: random.Random, points: list[Point], count: int | None) -> list[Point]:
+    """``count`` of ``points`` at random, or all of them (``None``)."""
+    return list(points) if count is None else rng.sample(points, min(count, len(points)))
+
+
+def per_kind(tasks: list[DragTask]) -> list[DragTask]:
+    """The first task of each (connection kind, source kind)."""
+    seen: dict[tuple[str, str], DragTask] = {}
+    for task in tasks:
+        seen.setdefault((task.connection.kind, task.source.kind), task)
+    return [seen[key] for key in sorted(seen)]
+
+
+def boundary(value: str) -> int | None:
+    return None if value == "all" else int(value)
+
+
 async def attempt(editor: Editor, payload: DragPayload, start: Point, end: Point) -> bool:
     await page.set_up(editor, payload)
     before = await page.block_ids(editor)
@@ -119,21 +141,22 @@ async def measure(editor: Editor, task: DragTask, args: argparse.Namespace) -> T
     inner = regions.end.points()
     samples: list[tuple[str, Point, Point, bool]] = []
     for points, expected in ((rim, True), (around, False)):
-        samples += [
-            ("end", regions.fixed_start, p, expected) for p in rng.sample(points, min(args.boundary, len(points)))
-        ]
+        samples += [("end", regions.fixed_start, p, expected) for p in some(rng, points, args.boundary)]
     samples += [("end", regions.fixed_start, p, True) for p in rng.sample(inner, min(args.interior, len(inner)))]
     samples += [("end", regions.fixed_start, p, False) for p in exterior(regions.end, rng, args.interior)]
     aim = regions.end.deepest()
     offset = (aim[0] - regions.fixed_start[0], aim[1] - regions.fixed_start[1])
     rim, around = edges(regions.start)
     for points, expected in ((rim, True), (around, False)):
-        for p in rng.sample(points, min(args.boundary, len(points))):
+        for p in some(rng, points, args.boundary):
             samples.append(("start", p, (p[0] + offset[0], p[1] + offset[1]), expected))
     for which, start, end, expected in samples:
         got = await attempt(editor, payload, start, end)
         figures.samples += 1
         figures.agreed += got == expected
+        tally = figures.by_kind.setdefault(f"{which} {'inside' if expected else 'outside'}", [0, 0])
+        tally[0] += got == expected
+        tally[1] += 1
         if got != expected:
             figures.disagreements.append(f"{task.id} {which} {start}->{end}: region says {expected}, drag {got}")
     return figures
@@ -169,6 +192,13 @@ def report(name: str, results: list[TaskFigures]) -> None:
         f"median {statistics.median(times):.2f} s, mean {statistics.mean(times):.2f} s, max {max(times):.2f} s"
     )
     print(f"  real-drag agreement: {agreed}/{samples} = {100 * agreed / max(samples, 1):.2f}%")
+    kinds: dict[str, list[int]] = {}
+    for r in results:
+        for kind, (good, total) in r.by_kind.items():
+            tally = kinds.setdefault(kind, [0, 0])
+            tally[0] += good
+            tally[1] += total
+    print("    " + ", ".join(f"{kind} {good}/{total}" for kind, (good, total) in sorted(kinds.items())))
     for line in [d for r in results for d in r.disagreements][:15]:
         print(f"    {line}")
     checked = [r.upstream for r in results if r.upstream is not None]
@@ -190,7 +220,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("suites", nargs="*", type=Path)
     parser.add_argument("--tasks", type=int, default=None, help="At most this many tasks per suite (a spread sample).")
-    parser.add_argument("--boundary", type=int, default=3, help="Boundary samples each side, per region.")
+    parser.add_argument("--per-kind", action="store_true", help="One task of each connection kind and source.")
+    parser.add_argument(
+        "--boundary", type=boundary, default=3, help="Boundary samples each side, per region ('all': every pixel)."
+    )
     parser.add_argument("--interior", type=int, default=2, help="Random interior and exterior end samples.")
     parser.add_argument("--editors", type=int, default=2, help="Editors measuring at once.")
     parser.add_argument("--seed", type=int, default=0)
@@ -198,7 +231,7 @@ def main() -> None:
     suites = args.suites or [REPO / "drag-tasks", *([UPSTREAM] if UPSTREAM.is_dir() else [])]
     for root in suites:
         suite = load_drag_suite(root)
-        tasks = list(suite.ready)
+        tasks = per_kind(list(suite.ready)) if args.per_kind else list(suite.ready)
         if args.tasks is not None and len(tasks) > args.tasks:
             step = len(tasks) / args.tasks
             tasks = [tasks[int(i * step)] for i in range(args.tasks)]
