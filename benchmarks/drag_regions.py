@@ -110,14 +110,6 @@ def some(rng: random.Random, points: list[Point], count: int | None) -> list[Poi
     return list(points) if count is None else rng.sample(points, min(count, len(points)))
 
 
-def per_kind(tasks: list[DragTask]) -> list[DragTask]:
-    """The first task of each (connection kind, source kind)."""
-    seen: dict[tuple[str, str], DragTask] = {}
-    for task in tasks:
-        seen.setdefault((task.connection.kind, task.source.kind), task)
-    return [seen[key] for key in sorted(seen)]
-
-
 def boundary(value: str) -> int | None:
     return None if value == "all" else int(value)
 
@@ -231,7 +223,7 @@ def main() -> None:
     suites = args.suites or [REPO / "drag-tasks", *([UPSTREAM] if UPSTREAM.is_dir() else [])]
     for root in suites:
         suite = load_drag_suite(root)
-        tasks = per_kind(list(suite.ready)) if args.per_kind else list(suite.ready)
+        tasks = list(suite.one_per_kind() if args.per_kind else suite.ready)
         if args.tasks is not None and len(tasks) > args.tasks:
             step = len(tasks) / args.tasks
             tasks = [tasks[int(i * step)] for i in range(args.tasks)]

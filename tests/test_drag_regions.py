@@ -22,15 +22,7 @@ pytestmark = [pytest.mark.browser]
 SUITE = load_drag_suite(REPO / "drag-tasks")
 
 
-def one_of_each() -> list[DragTask]:
-    """The suite's first task of each (connection kind, source kind)."""
-    seen: dict[tuple[str, str], DragTask] = {}
-    for task in SUITE.tasks:
-        seen.setdefault((task.connection.kind, task.source.kind), task)
-    return [seen[key] for key in sorted(seen)]
-
-
-TASKS = one_of_each()
+TASKS = SUITE.one_per_kind()
 
 
 @pytest.fixture(scope="module")

@@ -4,14 +4,17 @@ with ``benchmark: drag``)."""
 from __future__ import annotations
 
 import asyncio
+import json
 from pathlib import Path
 
 import click
 
+EXIT_INVALID = 1
+
 
 @click.group("drag")
 def drag_group() -> None:
-    """Single-step drag tasks: generate a suite from projects."""
+    """Single-step drag tasks: generate a suite from projects, validate a suite in this editor."""
 
 
 @drag_group.command("make")
@@ -39,3 +42,49 @@ def make_command(projects: tuple[Path, ...], out: Path, name: str | None, per_pr
         )
     )
     click.echo(f"wrote {made.tasks} drag task(s) of {made.candidates} candidate(s) to {made.root}")
+
+
+@drag_group.command("validate")
+@click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
+@click.option("--tasks", "task_ids", help="Comma-separated task ids (default: all).")
+@click.option("--parallel", type=click.IntRange(min=1), default=1, show_default=True, help="Editors at a time.")
+@click.option(
+    "--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write each task's check and regions."
+)
+def validate_command(suite_dir: Path, task_ids: str | None, parallel: int, json_file: Path | None) -> None:
+    """Check every drag task of SUITE_DIR in this editor: its exact regions, and the oracle's drag through them.
+
+    A task is valid when its view sets up, its regions are not empty and a real drag from the start
+    region's deepest pixel to the end region's makes the expected connection. Exits 1 when a task is
+    invalid or cannot be set up.
+    """
+    from rich.console import Console  # the browser stack and rich: for this command only
+
+    from scratchworld_dist.drag import load_drag_suite
+    from scratchworld_dist.drag._validate import DragTaskCheck, validate_drag_tasks
+
+    suite = load_drag_suite(suite_dir)
+    wanted = [t.strip() for t in task_ids.split(",") if t.strip()] if task_ids else None
+    tasks = [suite.task(task_id) for task_id in wanted] if wanted else list(suite.tasks)
+    console = Console(stderr=True)
+    for problem in suite.problems:
+        console.print(f"{problem.effect}: {problem}", markup=False)
+    viewless = [task.id for task in tasks if task.view is None]
+    ready = [task for task in tasks if task.view is not None]
+    console.print(f"validating {len(ready)} drag task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s)")
+
+    def progress(check: DragTaskCheck) -> None:
+        areas = f"start {check.regions.start.area} px, end {check.regions.end.area} px" if check.regions else "-"
+        verdict = "ok" if check.valid else f"INVALID: {check.detail}"
+        console.print(f"  {check.task_id} ({check.connection}, {check.source}): {areas}; {verdict}", markup=False)
+
+    checks = asyncio.run(validate_drag_tasks(ready, editors=parallel, on_checked=progress))
+    if json_file is not None:
+        rows = ",\n".join(json.dumps(check.model_dump(mode="json")) for check in checks)  # a task a line
+        json_file.write_text(f"[\n{rows}\n]\n", encoding="utf-8")
+    invalid = [check for check in checks if not check.valid]
+    if invalid or viewless:
+        unset = f"; {len(viewless)} without a view: {', '.join(viewless)}" if viewless else ""
+        console.print(f"{len(invalid)} of {len(checks)} drag task(s) invalid{unset}", markup=False)
+        raise click.exceptions.Exit(EXIT_INVALID)
+    console.print(f"all {len(checks)} drag task(s) valid")

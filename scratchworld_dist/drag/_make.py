@@ -19,7 +19,8 @@ from scratchworld_dist._files import read_file
 from scratchworld_dist.drag._generate import DragCandidate, GenerationProblem, drag_candidates, select_candidates
 from scratchworld_dist.drag._native import write_drag_suite
 from scratchworld_dist.drag._task import DragTask
-from workers.contract import MIB, AgentRef, DragPayload, DragSpec, DragView, ProjectLimits
+from scratchworld_dist.drag._validate import check_of, oracle_drag
+from workers.contract import MIB, DragView, ProjectLimits
 from workers.drag._page import SETTLE_MS
 from workers.drag._runner import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool
@@ -81,23 +82,11 @@ async def prove_tasks(
             path = folder / f"{candidate.id}.sb3"
             path.write_bytes(candidate.project)
             task = candidate.task(path, view)
-            payload: DragPayload = task.payload(candidate.project)
-            spec = DragSpec(
-                job_id=f"make-{candidate.id}",
-                attempt=1,
-                task_id=candidate.id,
-                setting="baseline",
-                agent=AgentRef(name="oracle"),
-                model=None,
-                seed=0,
-                timeout_s=120,
-            )
-            result = await runner.run(spec, payload)
-            if result.outcome == "passed":
+            check = check_of(task, await oracle_drag(runner, task.payload(candidate.project)))
+            if check.valid:
                 kept.append(task)
                 continue
-            why = result.error_message or (result.drag.observed if result.drag else result.stop_reason)
-            on_problem(f"{candidate.project_name}: {candidate.id}: the oracle does not pass it ({why})")
+            on_problem(f"{candidate.project_name}: {candidate.id}: the oracle does not pass it ({check.detail})")
     return kept
 
 

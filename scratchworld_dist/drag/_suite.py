@@ -59,6 +59,13 @@ class DragSuite(BaseModel):
         """The tasks that can be set up: those with a view."""
         return tuple(t for t in self.tasks if t.view is not None)
 
+    def one_per_kind(self) -> tuple[DragTask, ...]:
+        """The first ready task of each (connection kind, source kind), in that order: a sample of every case."""
+        first: dict[tuple[str, str], DragTask] = {}
+        for task in self.ready:
+            first.setdefault((task.connection.kind, task.source.kind), task)
+        return tuple(first[key] for key in sorted(first))
+
     def raise_for_problems(self) -> None:
         """One ``SuiteError`` listing every problem, for callers that want a clean suite or nothing."""
         problems = SuiteProblems(self.root)
