@@ -56,18 +56,6 @@ class TaskFigures:
     """Share of upstream starts in our start region, and of its ends in our end region: as is, at the best offset."""
 
 
-def edges(region: Region) -> tuple[list[Point], list[Point]]:
-    """Pixels of the region next to the outside, and outside pixels next to the region."""
-    inside = set(region.points())
-    rim, around = set(), set()
-    for x, y in inside:
-        for n in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
-            if n not in inside:
-                rim.add((x, y))
-                around.add(n)
-    return sorted(rim), sorted(around)
-
-
 def exterior(region: Region, rng: random.Random, count: int) -> list[Point]:
     inside = set(region.points())
     xs = [x for _, x0, x1 in region.rows for x in (x0, x1)]
@@ -129,7 +117,7 @@ async def measure(editor: Editor, task: DragTask, args: argparse.Namespace) -> T
     regions = await page.regions(editor, payload)
     figures = TaskFigures(task.id, time.perf_counter() - started, upstream=cross_check(task, regions))
     rng = random.Random(f"{args.seed}:{task.id}")
-    rim, around = edges(regions.end)
+    rim, around = regions.end.boundary()
     inner = regions.end.points()
     samples: list[tuple[str, Point, Point, bool]] = []
     for points, expected in ((rim, True), (around, False)):
@@ -138,7 +126,7 @@ async def measure(editor: Editor, task: DragTask, args: argparse.Namespace) -> T
     samples += [("end", regions.fixed_start, p, False) for p in exterior(regions.end, rng, args.interior)]
     aim = regions.end.deepest()
     offset = (aim[0] - regions.fixed_start[0], aim[1] - regions.fixed_start[1])
-    rim, around = edges(regions.start)
+    rim, around = regions.start.boundary()
     for points, expected in ((rim, True), (around, False)):
         for p in some(rng, points, args.boundary):
             samples.append(("start", p, (p[0] + offset[0], p[1] + offset[1]), expected))

@@ -48,6 +48,10 @@ def test_region_geometry() -> None:
     assert START.deepest() in {(119, 109), (120, 110), (119, 110), (120, 109)}
     ring = Region(rows=((0, 0, 4), (1, 0, 0), (1, 4, 4), (2, 0, 4)))  # a hollow square: no pixel is deep
     assert ring.contains(*ring.deepest())
+    block = Region(rows=((0, 0, 2), (1, 0, 2), (2, 0, 2)))  # 3x3: all but its centre is rim
+    rim, around = block.boundary()
+    assert (1, 1) not in rim and len(rim) == 8 and set(rim) <= set(block.points())
+    assert len(around) == 12 and not set(around) & set(block.points()) and (-1, 1) in around and (3, 3) not in around
     assert Region().distance(0, 0) == math.inf
     with pytest.raises(ValueError, match="empty region"):
         Region().deepest()

@@ -13,7 +13,7 @@ import pytest
 
 from scratchworld_dist.drag import DragTask, load_drag_suite
 from tests.conftest import REPO
-from workers.contract import DragPayload, Point, Region
+from workers.contract import DragPayload, Point
 from workers.drag import _page as page
 from workers.editor import BrowserSession, Editor, EditorPool
 
@@ -29,17 +29,6 @@ TASKS = SUITE.one_per_kind()
 async def pool(session: BrowserSession) -> AsyncIterator[EditorPool]:
     async with EditorPool(session, spare=0) as editors:
         yield editors
-
-
-def rim(region: Region) -> tuple[list[Point], list[Point]]:
-    inside = set(region.points())
-    edge, outside = set(), set()
-    for x, y in inside:
-        for n in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
-            if n not in inside:
-                edge.add((x, y))
-                outside.add(n)
-    return sorted(edge), sorted(outside)
 
 
 def project_json(sb3: bytes) -> object:
@@ -71,7 +60,7 @@ async def test_regions_agree_with_real_drags_at_their_edges(pool: EditorPool, ta
         await page.set_up(editor, payload)
         regions = await page.regions(editor, payload)
         assert not regions.start.empty and not regions.end.empty
-        edge, outside = rim(regions.end)
+        edge, outside = regions.end.boundary()
         for point in rng.sample(edge, 2):
             assert (await connects(editor, payload, regions.fixed_start, point))[0], ("end edge", point)
         for point in rng.sample(outside, 2):
@@ -80,7 +69,7 @@ async def test_regions_agree_with_real_drags_at_their_edges(pool: EditorPool, ta
             assert observed  # a miss says what the drag did instead
         aim = regions.end.deepest()
         offset = (aim[0] - regions.fixed_start[0], aim[1] - regions.fixed_start[1])
-        edge, outside = rim(regions.start)
+        edge, outside = regions.start.boundary()
         for point in rng.sample(edge, 1):  # grabbed at its edge: the block moves with the press, and connects
             assert (await connects(editor, payload, point, (point[0] + offset[0], point[1] + offset[1])))[0]
         for point in rng.sample(outside, 1):  # pressed just off it: the source stays where it was

@@ -211,6 +211,17 @@ class Region(BaseModel):
     def points(self) -> list[Point]:
         return [(x, y) for y, x0, x1 in self.rows for x in range(x0, x1 + 1)]
 
+    def boundary(self) -> tuple[list[Point], list[Point]]:
+        """Its pixels with an outside 4-neighbour, and those outside pixels: where a region is checked first."""
+        inside = set(self.points())
+        rim, around = set(), set()
+        for x, y in inside:
+            for n in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
+                if n not in inside:
+                    rim.add((x, y))
+                    around.add(n)
+        return sorted(rim), sorted(around)
+
 
 class DragRegions(BaseModel):
     """A task's exact feasible regions in page px at its view, as the worker's editor computed them."""
