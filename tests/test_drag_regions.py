@@ -107,3 +107,40 @@ async def test_verification_reads_the_structure_not_the_position(pool: EditorPoo
         )
         assert not made
         assert "top-level script" in observed or "hangs below" in observed
+
+
+async def test_a_parent_drag_must_move_the_whole_stack(pool: EditorPool) -> None:
+    """Pulling the tail off the source's stack and dropping it by the oracle's offset puts the same tail above
+    the reference, but the stack the instruction names stays behind: a miss (upstream's rule would pass it)."""
+    task = next(
+        t
+        for t in SUITE.tasks
+        if t.connection.kind == "parent" and t.source.kind == "canvas" and t.source.tail_block_id != t.source.block_id
+    )
+    payload = task.payload(task.initial_project.read_bytes())
+    async with pool.editor() as editor:
+        await page.set_up(editor, payload)
+        regions = await page.regions(editor, payload)
+        aim = regions.end.deepest()
+        offset = (aim[0] - regions.fixed_start[0], aim[1] - regions.fixed_start[1])
+        x = regions.fixed_start[0]
+        below = max(y for y, x0, x1 in regions.start.rows if x0 <= x <= x1) + 6  # on the block below the source
+        assert not regions.start.contains(x, below)
+        made, observed = await connects(editor, payload, (x, below), (x + offset[0], below + offset[1]))
+        assert not made
+        assert f"the dragged {task.source.opcode} is a top-level script" in observed  # the source stayed
+        assert (await connects(editor, payload, regions.fixed_start, aim))[0]  # the whole stack, the same offset
+
+
+async def test_the_end_region_reaches_as_far_as_a_kept_candidate(pool: EditorPool) -> None:
+    """Blockly keeps its current candidate past the snap radius while another connection is in reach and not
+    much closer: the region's far edge (here its left end, ~50 px from the aim) is where real drags stop connecting."""
+    task = next(t for t in SUITE.tasks if t.id == "star_shower-golden-substack_1-fee009aff4")
+    payload = task.payload(task.initial_project.read_bytes())
+    async with pool.editor() as editor:
+        await page.set_up(editor, payload)
+        regions = await page.regions(editor, payload)
+        leftmost = sorted(regions.end.rows, key=lambda row: row[1])[:2]
+        for y, x0, _ in leftmost:
+            assert (await connects(editor, payload, regions.fixed_start, (x0, y)))[0], ("far edge", (x0, y))
+            assert not (await connects(editor, payload, regions.fixed_start, (x0 - 1, y)))[0], ("past it", (x0 - 1, y))

@@ -114,16 +114,15 @@ scratchworldModule({name: 'drag/regions', requires: ['rects', 'blockly', 'geomet
     return {local: local, neighbour: neighbour};
   }
 
-  // A stand-in for the palette block, drawn exactly over it (where the block a drag from the palette
-  // creates appears). Made while the drag is simulated, so that it bumps no script it lands near.
+  // A stand-in for the palette block, made and placed over it as the palette makes the block a drag
+  // takes out of it (its own positionNewBlock, while the workspace does not resize: a resize would
+  // scroll it, and the block would land a fraction of a pixel away from where Blockly puts it).
   function standIn(flyoutBlock) {
     const SB = blockly.scratchBlocks();
     const ws = blockly.workspace();
-    const block = SB.serialization.blocks.append(blockly.flyout().serializeBlock(flyoutBlock), ws, {recordUndo: false});
-    SB.renderManagement.triggerQueuedRenders(ws);
-    const want = flyoutBlock.getSvgRoot().getBoundingClientRect();
-    const got = block.getSvgRoot().getBoundingClientRect();
-    block.moveBy((want.left - got.left) / ws.scale, (want.top - got.top) / ws.scale);
+    const flyout = blockly.flyout();
+    const block = SB.serialization.blocks.append(flyout.serializeBlock(flyoutBlock), ws, {recordUndo: false});
+    flyout.positionNewBlock(flyoutBlock, block);
     SB.renderManagement.triggerQueuedRenders(ws);
     return block;
   }
@@ -208,10 +207,12 @@ scratchworldModule({name: 'drag/regions', requires: ['rects', 'blockly', 'geomet
     const config = blockly.scratchBlocks().config;
     return withDrag(args, (drag) => {
       const {pair, scale, from, candidateAt} = drag;
-      // The release that puts `local` on `neighbour` exactly, and everything within the larger snap radius.
+      // The release that puts `local` on `neighbour` exactly, and every release that can still end on
+      // it: a current candidate outlives its snap radius while another connection is in reach and not
+      // `currentConnectionPreference` closer than it (Blockly's own rule), so that far and no farther.
       const local = from(pair.local);
       const aim = {x: args.start.x + (pair.neighbour.x - local.x) * scale, y: args.start.y + (pair.neighbour.y - local.y) * scale};
-      const reach = Math.max(config.snapRadius, config.connectingSnapRadius) * scale + 2;
+      const reach = (Math.max(config.snapRadius, config.connectingSnapRadius) + config.currentConnectionPreference) * scale + 2;
       const rows = scan({x: aim.x - reach, y: aim.y - reach, width: 2 * reach, height: 2 * reach}, (x, y) => {
         const last = candidateAt(x, y);
         return !!last && last.local === pair.local && last.neighbour === pair.neighbour;

@@ -3,7 +3,9 @@
  * project will save), by the rule of each connection kind:
  *
  * - next: the source's parent is the reference and the reference's next is the source;
- * - parent: the reference hangs from the moving stack's tail (its parent, and the tail's next);
+ * - parent: the reference hangs from the moving stack's tail (its parent, and the tail's next), and
+ *   the tail still hangs below the source: the whole stack moved, not a part of it pulled off (which
+ *   puts the same tail above the reference when dragged by the same offset);
  * - substack_1 / substack_2: the reference's SUBSTACK / SUBSTACK2 holds the source;
  * - input: the reference's named input holds the source (and, if named, the variable it reports).
  *
@@ -44,13 +46,21 @@ scratchworldModule({name: 'drag/verify', requires: [], create(ctx) {
     return fresh.find((b) => !b.parent || known.has(b.parent)) || fresh[0] || null;
   }
 
+  // Whether `last` is `top` or hangs below it, next after next.
+  function stackReaches(blocks, top, last) {
+    for (let block = top; block; block = block.next ? blocks.getBlock(block.next) : null) {
+      if (block === last) return true;
+    }
+    return false;
+  }
+
   function connected(blocks, block, source, reference, connection) {
     const kind = connection.kind;
     if (kind === 'next') return block.parent === reference.id && reference.next === block.id;
     if (kind === 'parent') {
       // The moving stack's last block, as it was before the drop (a palette block is its own).
       const tail = source.kind === 'canvas' ? blocks.getBlock(source.tail_block_id) : block;
-      return !!tail && reference.parent === tail.id && tail.next === reference.id;
+      return !!tail && reference.parent === tail.id && tail.next === reference.id && stackReaches(blocks, block, tail);
     }
     const name = kind === 'substack_1' ? 'SUBSTACK' : kind === 'substack_2' ? 'SUBSTACK2' : connection.input_name;
     const input = reference.inputs[name];

@@ -53,18 +53,22 @@ scratchworldModule({name: 'blockly', create(ctx) {
     return a === b;
   }
 
-  // Runs `simulate()` with the workspace as a real drag leaves it: "a move in progress". After every
-  // render Blockly bumps a script whose connections come near another's away from it, by a random
-  // offset (snap radius + 0..9 units), unless a drag is in progress; a simulated drag that drew its
-  // previews without this would see scripts a real drag never moves, and a different set each time.
+  // Runs `simulate()` with the workspace as a real drag leaves it: "a move in progress", and not
+  // resizing. After every render Blockly bumps a script whose connections come near another's away
+  // from it, by a random offset (snap radius + 0..9 units), unless a drag is in progress; and a
+  // workspace that resizes to a block added or moved scrolls by a fraction of a pixel. A simulated
+  // drag without this would see scripts and a view that a real drag never moves.
   function asIfDragging(simulate) {
     const ws = workspace();
-    const before = ws.keyboardMoveInProgress;
+    const moving = ws.keyboardMoveInProgress;
+    const resizes = ws.resizesEnabled;
     ws.setKeyboardMoveInProgress(true);
+    ws.setResizesEnabled(false);
     try {
       return simulate();
     } finally {
-      ws.setKeyboardMoveInProgress(before);
+      ws.setResizesEnabled(resizes);
+      ws.setKeyboardMoveInProgress(moving);
     }
   }
 
