@@ -76,7 +76,8 @@ class ExpectedConnection(BaseModel):
     """How the dragged block must end up attached to the reference block (upstream's verification).
 
     - ``next``: the source hangs directly below the reference.
-    - ``parent``: the reference hangs directly below the source stack's tail.
+    - ``parent``: the reference hangs directly below the source stack's tail, and that tail still hangs
+      below the source (the whole stack moved; upstream also passes a drag of the tail alone).
     - ``substack_1`` / ``substack_2``: the source is the first block of the reference's
       ``SUBSTACK`` / ``SUBSTACK2``.
     - ``input``: the source fills the reference's input ``input_name``.
