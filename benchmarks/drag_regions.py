@@ -52,8 +52,7 @@ class TaskFigures:
     disagreements: list[str] = field(default_factory=list)
     by_kind: dict[str, list[int]] = field(default_factory=dict)
     """``[agreed, samples]`` per kind of sample: end or start region, a point inside or outside it."""
-    upstream: tuple[float, float, float, float, tuple[int, int]] | None = None
-    """Share of upstream starts in our start region, and of its ends in our end region: as is, at the best offset."""
+    upstream: CrossCheck | None = None
 
 
 def exterior(region: Region, rng: random.Random, count: int) -> list[Point]:
@@ -74,7 +73,29 @@ def share(points: tuple[Point, ...], region: Region, dx: int, dy: int) -> float:
     return sum(region.contains(x + dx, y + dy) for x, y in points) / len(points) if points else float("nan")
 
 
-def cross_check(task: DragTask, regions: DragRegions) -> tuple[float, float, float, float, tuple[int, int]] | None:
+@dataclass
+class CrossCheck:
+    """One upstream task's own feasible points against our regions."""
+
+    starts: float
+    """Share of upstream's feasible starts inside our start region."""
+
+    starts_aligned: float
+    offset: tuple[int, int]
+    """The shift (within 6 px) that puts most of upstream's starts in ours, and the share it puts there."""
+
+    ends: float
+    """Share of upstream's feasible ends, moved with the press to our fixed start, inside our end region
+    (the move makes any layout offset cancel: an end is where the block goes relative to its grip)."""
+
+    ends_found: float | None
+    """Share of our end region's pixels on upstream's end grid that upstream lists (None: no grid)."""
+
+    end_miss_px: list[float]
+    """Distances to our end region of upstream's ends outside it."""
+
+
+def cross_check(task: DragTask, regions: DragRegions) -> CrossCheck | None:
     up = task.upstream
     if up is None or not up.feasible_start_points or not up.feasible_points:
         return None
@@ -84,12 +105,19 @@ def cross_check(task: DragTask, regions: DragRegions) -> tuple[float, float, flo
     best = max(
         ((dx, dy) for dx in OFFSETS for dy in OFFSETS), key=lambda o: share(up.feasible_start_points, regions.start, *o)
     )
-    return (
-        share(up.feasible_start_points, regions.start, 0, 0),
-        share(ends, regions.end, 0, 0),
-        share(up.feasible_start_points, regions.start, *best),
-        share(ends, regions.end, *best),
-        best,
+    found = None
+    step = up.end_grid_step
+    if step:
+        listed, (gx, gy) = set(ends), ends[0]
+        on_grid = [p for p in regions.end.points() if (p[0] - gx) % step == 0 and (p[1] - gy) % step == 0]
+        found = sum(p in listed for p in on_grid) / len(on_grid) if on_grid else None
+    return CrossCheck(
+        starts=share(up.feasible_start_points, regions.start, 0, 0),
+        starts_aligned=share(up.feasible_start_points, regions.start, *best),
+        offset=best,
+        ends=share(ends, regions.end, 0, 0),
+        ends_found=found,
+        end_miss_px=[regions.end.distance(*p) for p in ends if not regions.end.contains(*p)],
     )
 
 
@@ -183,17 +211,25 @@ def report(name: str, results: list[TaskFigures]) -> None:
         print(f"    {line}")
     checked = [r.upstream for r in results if r.upstream is not None]
     if checked:
-        mean = [statistics.mean(c[i] for c in checked) for i in range(4)]
-        offsets = sorted({c[4] for c in checked})
-        print(
-            f"  upstream cross-check over {len(checked)} task(s): "
-            f"upstream starts in our start region {100 * mean[0]:.1f}%, "
-            f"upstream ends (moved with the press) in our end region {100 * mean[1]:.1f}%;"
-        )
-        print(
-            f"    at each task's best offset (dx, dy in {offsets[:8]}{'...' if len(offsets) > 8 else ''}): "
-            f"starts {100 * mean[2]:.1f}%, ends {100 * mean[3]:.1f}%"
-        )
+        offsets = sorted({c.offset for c in checked})
+        found = [c.ends_found for c in checked if c.ends_found is not None]
+        misses = [d for c in checked for d in c.end_miss_px]
+        starts = 100 * statistics.mean(c.starts for c in checked)
+        aligned = 100 * statistics.mean(c.starts_aligned for c in checked)
+        ends = 100 * statistics.mean(c.ends for c in checked)
+        shown = f"{offsets[:8]}{'...' if len(offsets) > 8 else ''}"
+        print(f"  upstream cross-check over {len(checked)} task(s), means over tasks:")
+        print(f"    upstream's feasible starts in our start region: {starts:.1f}% as they are, {aligned:.1f}% at each")
+        print(f"      task's best offset (dx, dy in {shown})")
+        line = f"    upstream's feasible ends (moved with the press) in our end region: {ends:.1f}%"
+        if found:
+            line += f"; of ours on their grid, upstream lists {100 * statistics.mean(found):.1f}% ({len(found)} tasks)"
+        print(line)
+        if misses:
+            print(
+                f"    upstream ends outside ours: {len(misses)}, median {statistics.median(misses):.1f} px "
+                f"(max {max(misses):.1f}) from our end region"
+            )
 
 
 def main() -> None:
