@@ -16,7 +16,7 @@ A sample agrees when the drag connects exactly when the region says it should. U
 ``feasible_start_points`` and ``feasible_points`` (5 px grids in its editor) are compared with our
 regions as they are, and at the integer offset (within 6 px) that best aligns the two layouts.
 
-    .venv/bin/python benchmarks/drag_regions.py [SUITE ...] [--tasks N | --per-kind] [--boundary K|all] [--interior M]
+    .venv/bin/python benchmarks/drag_regions.py [SUITE ...] [--tasks N | --per-kind | --ids A,B] [--boundary K|all] [--interior M]
 """
 
 from __future__ import annotations
@@ -237,6 +237,7 @@ def main() -> None:
     parser.add_argument("suites", nargs="*", type=Path)
     parser.add_argument("--tasks", type=int, default=None, help="At most this many tasks per suite (a spread sample).")
     parser.add_argument("--per-kind", action="store_true", help="One task of each connection kind and source.")
+    parser.add_argument("--ids", default=None, help="Comma-separated task ids (of any suite measured).")
     parser.add_argument(
         "--boundary", type=boundary, default=3, help="Boundary samples each side, per region ('all': every pixel)."
     )
@@ -248,6 +249,8 @@ def main() -> None:
     for root in suites:
         suite = load_drag_suite(root)
         tasks = list(suite.one_per_kind() if args.per_kind else suite.ready)
+        if args.ids is not None:
+            tasks = [task for task in tasks if task.id in args.ids.split(",")]
         if args.tasks is not None and len(tasks) > args.tasks:
             step = len(tasks) / args.tasks
             tasks = [tasks[int(i * step)] for i in range(args.tasks)]
