@@ -16,7 +16,8 @@ A sample agrees when the drag connects exactly when the region says it should. U
 ``feasible_start_points`` and ``feasible_points`` (5 px grids in its editor) are compared with our
 regions as they are, and at the integer offset (within 6 px) that best aligns the two layouts.
 
-    .venv/bin/python benchmarks/drag_regions.py [SUITE ...] [--tasks N | --per-kind | --ids A,B] [--boundary K|all] [--interior M]
+    .venv/bin/python benchmarks/drag_regions.py [SUITE ...] [--tasks N | --per-kind | --ids A,B]
+        [--boundary K|all] [--interior M]
 """
 
 from __future__ import annotations
