@@ -380,6 +380,7 @@
   const context = {
     requireVm: requireVm, BridgeFailure: BridgeFailure, blocksComponent: blocksComponent,
     realNow: () => clock.realNow(), realSleep: (ms) => clock.realSleep(ms),
+    pageTimeStands: () => clock.status().paused, // an episode's virtual clock, between two advances
     onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
   };
   for (const instance of createModules(moduleSpecs, context)) {

@@ -167,6 +167,7 @@ async def test_the_oracles_episodes_in_both_modes_share_one_editor(session: Brow
             ("star_shower", "composite"),
             ("arrow_key_walker", "primitive"),
             ("quiz_score", "composite"),
+            ("star_shower", "primitive"),  # reloads its project while page time stands: no bump can be awaited
         ):
             content = read_task(suite.task(task))
             (job,) = plan_jobs([None], [mode], "oracle", [content], [0], 300, NO_OCR if mode == "primitive" else None)
@@ -174,4 +175,4 @@ async def test_the_oracles_episodes_in_both_modes_share_one_editor(session: Brow
             result = await runner.run(spec, content.payload, build_agent(AgentRef(name="oracle")))
             assert result.outcome == "passed", (task, mode, result.error_message)
             assert dict(pool.discarded) == {}, (task, mode)
-        assert pool.opened == 1 and pool.reused >= 5
+        assert pool.opened == 1 and pool.reused >= 7

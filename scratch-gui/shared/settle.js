@@ -40,8 +40,10 @@ scratchworldModule({name: 'settle', requires: ['blockly'], create(ctx, blockly) 
       if (state.ws.currentGesture_ || (state.ws.isDragging && state.ws.isDragging())) return 'gesture';
       if (state.flyoutWs && state.flyoutWs.currentGesture_) return 'gesture';
       if (state.flyout && state.flyout.scrollTarget !== undefined && state.flyout.scrollTarget !== null) return 'flyout scroll';
+      // Bumps are timers of the page clock. On an episode's paused virtual clock no page time passes
+      // before the next action, so none can come sooner, and waiting for one would never end.
       const bumpDelay = (state.SB.config && state.SB.config.bumpDelay) || 0;
-      if (performance.now() - lastMoveAt < bumpDelay) return 'bump';
+      if (!ctx.pageTimeStands() && performance.now() - lastMoveAt < bumpDelay) return 'bump';
       if (!blockly.inSync()) return 'workspace out of sync with the VM';
     }
     for (const animation of document.getAnimations()) {
