@@ -8,6 +8,7 @@ import click
 
 from scratchworld_dist._errors import ScratchWorldError
 from scratchworld_dist.cli._capacity import capacity_command
+from scratchworld_dist.cli._compare import compare_command
 from scratchworld_dist.cli._drag import drag_group
 from scratchworld_dist.cli._evaluate import evaluate_command
 from scratchworld_dist.cli._gui import gui_command
@@ -30,6 +31,7 @@ cli.add_command(validate_command)
 cli.add_command(evaluate_command)
 cli.add_command(gui_command)
 cli.add_command(report_command)
+cli.add_command(compare_command)
 cli.add_command(run_command)
 cli.add_command(replay_command)
 cli.add_command(observe_command)

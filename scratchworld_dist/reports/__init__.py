@@ -1,6 +1,17 @@
-"""Reports over run directories: the benchmark's main table as Markdown, HTML or JSON."""
+"""Reports over run directories: the benchmark's main table as Markdown, HTML or JSON, and paired comparisons."""
 
 from scratchworld_dist.reports._build import build_report
+from scratchworld_dist.reports._compare import (
+    Comparison,
+    Difference,
+    Selector,
+    SideInfo,
+    TaskOutcome,
+    compare_runs,
+    parse_selector,
+)
+from scratchworld_dist.reports._compare_render import render_comparison
+from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_exact, paired_bootstrap
 from scratchworld_dist.reports._metrics import (
     MeanInterval,
     mean_interval,
@@ -37,8 +48,12 @@ __all__ = [
     "FORMATS",
     "REPORT_VERSION",
     "CategoryStats",
+    "Comparison",
+    "Difference",
     "ErrorCount",
+    "Interval",
     "KEstimate",
+    "McNemar",
     "MeanInterval",
     "ReportFormat",
     "ReportRow",
@@ -46,13 +61,21 @@ __all__ = [
     "RunReport",
     "SeedRate",
     "SeedStats",
+    "Selector",
+    "SideInfo",
+    "TaskOutcome",
     "build_report",
+    "compare_runs",
+    "mcnemar_exact",
     "mean_interval",
     "mean_pass_at_k",
     "mean_pass_hat_k",
+    "paired_bootstrap",
+    "parse_selector",
     "pass_at_k",
     "pass_hat_k",
     "render",
+    "render_comparison",
     "render_html",
     "render_json",
     "render_markdown",

@@ -8,7 +8,6 @@ points and distances. HTML is the Markdown in a ``<pre>``: one rendering to keep
 from __future__ import annotations
 
 import html
-from collections.abc import Sequence
 from pathlib import Path
 
 from pydantic import ValidationError
@@ -23,7 +22,7 @@ from scratchworld_dist.reports._drag_metrics import (
     drag_rows,
     join_runs,
 )
-from scratchworld_dist.reports._render import _PAGE, ReportFormat
+from scratchworld_dist.reports._render import _PAGE, ReportFormat, markdown_table
 from scratchworld_dist.reports._runs import check_compatible, load_run
 from scratchworld_dist.reports._summary import row_label
 from scratchworld_dist.results import DragRow, RunStore
@@ -102,13 +101,14 @@ def render_drag_markdown(table: DragTable) -> str:
 
     main_cols = [*(f"Pass@{k}" for k in ks), "Start acc.", "End acc.", "Start err (px)", "End err (px)"]
     main = [[*label(row), *(v for c in row.cells for v in _main_cells(c, width))] for row in table.rows]
-    parts += ["## Table 2", _md(["model", "setting", *(f"{g} {c}" for g in groups for c in main_cols)], main)]
+    main_header = ["model", "setting", *(f"{g} {c}" for g in groups for c in main_cols)]
+    parts += ["## Table 2", markdown_table(main_header, main)]
     upstream = [[*label(row), *(v for c in row.cells for v in _pass_cells(c, width, True))] for row in table.rows]
     parts.append("## Pass@k as upstream computes it (any of the first k runs by seed passed)")
-    parts.append(_md(["model", "setting", *(f"{g} Pass@{k}" for g in groups for k in ks)], upstream))
+    parts.append(markdown_table(["model", "setting", *(f"{g} Pass@{k}" for g in groups for k in ks)], upstream))
     dist_cols = ["group", "start err mean", "median", "measured/misses", "end err mean", "median", "measured/misses"]
     dist = [[*label(row), c.group, *_dist(c.start_error), *_dist(c.end_error)] for row in table.rows for c in row.cells]
-    parts += ["## Distances (px)", _md(["model", "setting", *dist_cols], dist)]
+    parts += ["## Distances (px)", markdown_table(["model", "setting", *dist_cols], dist)]
     parts += ["## Counts", "\n".join(f"- {' / '.join(label(row))}: {_counts(row.cell(ALL))}" for row in table.rows)]
     parts.append(_DEFINITIONS)
     return "\n\n".join(parts) + "\n"
@@ -142,11 +142,6 @@ def _counts(cell: DragCell) -> str:
     if cell.tasks_without_runs:
         text += f"; {cell.tasks_without_runs} task(s) with only error runs (left out of Pass@k)"
     return text
-
-
-def _md(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
-    lines = [header, ["---"] * len(header), *rows]
-    return "\n".join("| " + " | ".join(c.replace("|", "\\|").replace("\n", " ") for c in line) + " |" for line in lines)
 
 
 def _pct(value: float | None) -> str:

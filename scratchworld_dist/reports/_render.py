@@ -7,6 +7,7 @@ cells), so the two always show the same numbers; only the markup differs.
 from __future__ import annotations
 
 import html
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -227,7 +228,12 @@ def _cache_hits(row: ReportRow) -> str:
     return f"{row.llm_cache_hits:,}/{row.llm_cache_calls:,} ({_pct(row.llm_cache_hits / row.llm_cache_calls)})"
 
 
-def _md_row(cells: list[str]) -> str:
+def markdown_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
+    """A Markdown table; a cell's ``|`` is escaped and its line breaks become spaces."""
+    return "\n".join(_md_row(line) for line in [header, ["---"] * len(header), *rows])
+
+
+def _md_row(cells: Sequence[str]) -> str:
     return "| " + " | ".join(c.replace("|", "\\|").replace("\n", " ") for c in cells) + " |"
 
 

@@ -1,0 +1,76 @@
+"""``Comparison`` as Markdown, as an HTML page around that Markdown, or as JSON."""
+
+from __future__ import annotations
+
+import html
+from collections import Counter
+
+from scratchworld_dist.reports._compare import Comparison, Difference, SideInfo, TaskOutcome
+from scratchworld_dist.reports._render import _PAGE, ReportFormat, markdown_table
+
+_DEFINITIONS = (
+    "Only jobs both systems ran and both got a verdict for are compared (errors have no verdict). "
+    "Differences are A - B. The interval is a percentile bootstrap over tasks: whole tasks are drawn with "
+    "replacement (all their paired jobs together) and the pooled difference recomputed. McNemar's exact test "
+    "asks whether the jobs only one system passed lean to one side more than chance would (two-sided binomial "
+    "test on the discordant pairs). A task is a win for A when A passed more of its paired jobs than B."
+)
+
+
+def render_comparison(comparison: Comparison, fmt: ReportFormat) -> str:
+    """The comparison as text in ``fmt`` (``md``, ``html`` or ``json``)."""
+    if fmt == "json":
+        return comparison.model_dump_json(indent=2) + "\n"
+    if fmt == "html":
+        return _PAGE.format(body=f"<pre>{html.escape(render_comparison_markdown(comparison))}</pre>")
+    if fmt == "md":
+        return render_comparison_markdown(comparison)
+    raise ValueError(f"No renderer for format: {fmt}")
+
+
+def render_comparison_markdown(c: Comparison) -> str:
+    parts = [f"# {_side(c.a)} vs {_side(c.b)}"]
+    parts += [f"Warning: {w}" for w in c.warnings]
+    parts.append(f"- A: {_side(c.a)}, run {c.a.run_name} ({c.a.run_dir}), {c.a.jobs} jobs")
+    parts[-1] += f"\n- B: {_side(c.b)}, run {c.b.run_name} ({c.b.run_dir}), {c.b.jobs} jobs"
+    parts.append(
+        f"Paired by {', '.join(c.paired_by)}: {c.paired_jobs} jobs over {c.tasks} tasks with a verdict on both "
+        f"sides; left out: {c.only_a} only in A, {c.only_b} only in B, {c.without_verdict} without a verdict on "
+        f"one side."
+    )
+    if c.sr is None or c.psr is None:
+        parts.append("No paired job has a verdict on both sides: nothing to compare.")
+        return "\n\n".join(parts) + "\n"
+    header = ["metric", "A", "B", "A - B", "95% interval (bootstrap over tasks)"]
+    parts.append(markdown_table(header, [_metric("SR", c.sr), _metric("PSR", c.psr)]))
+    m = c.mcnemar
+    parts.append(
+        f"McNemar (exact, two-sided): only A passed {m.only_a}, only B passed {m.only_b}, both {m.both_passed}, "
+        f"neither {m.neither}; p = {m.p_value:.4g}"
+    )
+    results = Counter(t.result for t in c.per_task)
+    parts.append(f"## Per task: A wins {results['win']}, loses {results['loss']}, ties {results['tie']}")
+    by_mode = "mode" in c.paired_by
+    header = ["task", *(["mode"] if by_mode else []), "category", "A passed", "B passed", "A"]
+    parts.append(markdown_table(header, [_task_cells(t, by_mode) for t in c.per_task]))
+    parts.append(_DEFINITIONS)
+    return "\n\n".join(parts) + "\n"
+
+
+def _task_cells(t: TaskOutcome, by_mode: bool) -> list[str]:
+    mode = [t.mode or ""] if by_mode else []
+    return [t.task_id, *mode, t.category, f"{t.a_passed}/{t.jobs}", f"{t.b_passed}/{t.jobs}", t.result]
+
+
+def _side(side: SideInfo) -> str:
+    return side.label + (f"@{side.mode}" if side.mode else "")
+
+
+def _metric(name: str, d: Difference) -> list[str]:
+    interval = "-" if d.interval is None else f"[{_points(d.interval.low)}, {_points(d.interval.high)}]"
+    return [name, f"{d.a:.1%}", f"{d.b:.1%}", _points(d.difference), interval]
+
+
+def _points(value: float) -> str:
+    """A difference of rates in percentage points, signed."""
+    return f"{value * 100:+.1f} pp"
