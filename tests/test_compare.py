@@ -306,3 +306,13 @@ def test_a_run_with_only_older_results_has_nothing_to_compare(tmp_path: Path) ->
     old = make_run(tmp_path / "old", [job("t0", suite_hash="suite0")], planned=1, tasks=1)
     with pytest.raises(RunDirError, match=r"no results of its manifest's suite and harness \(1 older rows\)"):
         compare_runs(Selector(old), Selector(old))
+
+
+def test_cli_writes_an_html_page_to_a_file(tmp_path: Path) -> None:
+    a, b = _two_runs(tmp_path)
+    out = tmp_path / "cmp.html"
+    result = CliRunner().invoke(cli, ["compare", f"{a}:gpt", str(b), "--format", "html", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    assert result.stdout == "" and f"wrote html comparison to {out}" in result.stderr
+    page = out.read_text(encoding="utf-8")
+    assert page.startswith("<!DOCTYPE html>") and "<pre># gpt vs claude" in page and "http" not in page

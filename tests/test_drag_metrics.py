@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -15,9 +14,9 @@ from scratchworld_dist.cli._main import cli
 from scratchworld_dist.reports._drag_metrics import DragRun, DragTable, drag_cell, drag_rows, join_runs
 from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag_markdown
 from scratchworld_dist.results import DragRow, JobRecord, JobRow, RunManifest, RunStore, SuiteInfo, write_manifest
+from tests.run_dirs import job as episode_job
 from workers.contract import HarnessFingerprint
 
-T0 = datetime(2026, 1, 1, tzinfo=UTC)
 HARNESS = HarnessFingerprint(digest="aaaa111122223333", parts={"scratch-gui/clock.js": "c1"})
 
 
@@ -27,25 +26,17 @@ def job(task: str, seed: int, outcome: str, **fields: Any) -> JobRow:
     setting, model = fields.pop("setting", "baseline"), fields.pop("model", "gpt")
     values: dict[str, Any] = {
         "run_name": "drag",
-        "job_id": f"{task}-{setting}-{seed}-{model}",
-        "attempt": 1,
         "model": model,
-        "litellm_model": "openai/gpt",
         "mode": "primitive",
-        "agent": "llm",
         "task_id": task,
         "category": fields.pop("drag_type", "T1"),
         "task_hash": "h" + task,
-        "suite_hash": "suite1",
         "seed": seed,
         "max_steps": 1,
         "harness_fingerprint": HARNESS.digest,
-        "outcome": outcome,
         "error_class": None if decided else "RateLimitError",
         "error_message": None if decided else "429",
-        "eval_error_kind": None,
         "eval_profile": None,
-        "stop_reason": "done" if decided else "error",
         "tests_passed": int(outcome == "passed"),
         "tests_total": int(decided),
         "psr": float(outcome == "passed") if decided else None,
@@ -54,21 +45,9 @@ def job(task: str, seed: int, outcome: str, **fields: Any) -> JobRow:
         "input_tokens": 10,
         "output_tokens": 5,
         "cost_usd": 0.01,
-        "episode_s": 1.0,
-        "setup_s": 0.1,
-        "agent_s": 0.8,
-        "evaluation_s": 0.1,
-        "started_at": T0,
-        "finished_at": T0,
-        "worker_node": None,
-        "worker_host": None,
-        "worker_pid": None,
-        "worker_index": None,
-        "artifact_dir": None,
         "setting": setting,
     }
-    values.update(fields)
-    return JobRow(**values)
+    return episode_job(f"{task}-{setting}-{seed}-{model}", outcome, **(values | fields))
 
 
 def drag_of(row: JobRow, *, start: float | None = 0.0, end: float | None = 0.0, parse: str = "ok") -> DragRow:

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from scratchworld_dist.cli._output import emit
 from scratchworld_dist.reports import FORMATS, ReportFormat, compare_runs, parse_selector, render_comparison
 
 
@@ -31,14 +32,4 @@ def compare_command(
     comparison = compare_runs(
         parse_selector(system_a), parse_selector(system_b), force=force, resamples=resamples, seed=seed
     )
-    for warning in comparison.warnings:
-        click.echo(f"warning: {warning}", err=True)
-    text = render_comparison(comparison, fmt)
-    if out is None:
-        click.echo(text, nl=False)
-        return
-    try:
-        out.write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise click.FileError(str(out), hint=str(exc)) from exc
-    click.echo(f"wrote {fmt} comparison to {out}", err=True)
+    emit(render_comparison(comparison, fmt), out, comparison.warnings, f"{fmt} comparison")

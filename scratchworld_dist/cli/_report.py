@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from scratchworld_dist.cli._output import emit
 from scratchworld_dist.reports import FORMATS, ReportFormat, report_runs
 
 
@@ -22,13 +23,4 @@ def report_command(run_dirs: tuple[Path, ...], fmt: ReportFormat, out: Path | No
     (Pass@k, start and end accuracy and distances per drag type and setting) instead.
     """
     text, warnings = report_runs(list(run_dirs), fmt, force=force)
-    for warning in warnings:
-        click.echo(f"warning: {warning}", err=True)
-    if out is None:
-        click.echo(text, nl=False)
-        return
-    try:
-        out.write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise click.FileError(str(out), hint=str(exc)) from exc
-    click.echo(f"wrote {fmt} report to {out}", err=True)
+    emit(text, out, warnings, f"{fmt} report")

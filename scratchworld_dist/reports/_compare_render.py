@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import html
 from collections import Counter
 
 from scratchworld_dist.reports._compare import Comparison, Difference, SideInfo, TaskOutcome
-from scratchworld_dist.reports._render import _PAGE, ReportFormat, markdown_table
+from scratchworld_dist.reports._render import ReportFormat, markdown_table, render_text
 
 _DEFINITIONS = (
     "Only jobs both systems ran and both got a verdict for are compared (errors have no verdict). "
@@ -19,13 +18,7 @@ _DEFINITIONS = (
 
 def render_comparison(comparison: Comparison, fmt: ReportFormat) -> str:
     """The comparison as text in ``fmt`` (``md``, ``html`` or ``json``)."""
-    if fmt == "json":
-        return comparison.model_dump_json(indent=2) + "\n"
-    if fmt == "html":
-        return _PAGE.format(body=f"<pre>{html.escape(render_comparison_markdown(comparison))}</pre>")
-    if fmt == "md":
-        return render_comparison_markdown(comparison)
-    raise ValueError(f"No renderer for format: {fmt}")
+    return render_text(comparison, lambda: render_comparison_markdown(comparison), fmt)
 
 
 def render_comparison_markdown(c: Comparison) -> str:

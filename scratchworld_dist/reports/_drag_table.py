@@ -7,7 +7,6 @@ points and distances. HTML is the Markdown in a ``<pre>``: one rendering to keep
 
 from __future__ import annotations
 
-import html
 from pathlib import Path
 
 from pydantic import ValidationError
@@ -22,7 +21,7 @@ from scratchworld_dist.reports._drag_metrics import (
     drag_rows,
     join_runs,
 )
-from scratchworld_dist.reports._render import _PAGE, ReportFormat, markdown_table
+from scratchworld_dist.reports._render import ReportFormat, markdown_table, render_text
 from scratchworld_dist.reports._runs import check_compatible, load_run
 from scratchworld_dist.reports._summary import row_label
 from scratchworld_dist.results import DragRow, RunStore
@@ -77,13 +76,7 @@ def _drag_rows(run_dir: Path) -> list[DragRow]:
 
 def render_drag(table: DragTable, fmt: ReportFormat) -> str:
     """The drag report as text in ``fmt`` (``md``, ``html`` or ``json``)."""
-    if fmt == "json":
-        return table.model_dump_json(indent=2) + "\n"
-    if fmt == "html":
-        return _PAGE.format(body=f"<pre>{html.escape(render_drag_markdown(table))}</pre>")
-    if fmt == "md":
-        return render_drag_markdown(table)
-    raise ValueError(f"No renderer for format: {fmt}")
+    return render_text(table, lambda: render_drag_markdown(table), fmt)
 
 
 def render_drag_markdown(table: DragTable) -> str:

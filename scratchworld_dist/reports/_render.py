@@ -7,9 +7,11 @@ cells), so the two always show the same numbers; only the markup differs.
 from __future__ import annotations
 
 import html
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
+
+from pydantic import BaseModel
 
 from scratchworld_dist.reports._summary import KEstimate, ReportRow, RunReport
 
@@ -60,6 +62,17 @@ def render(report: RunReport, fmt: ReportFormat) -> str:
         return render_html(report)
     if fmt == "md":
         return render_markdown(report)
+    raise ValueError(f"No renderer for format: {fmt}")
+
+
+def render_text(model: BaseModel, markdown: Callable[[], str], fmt: ReportFormat) -> str:
+    """A report drawn as Markdown in ``fmt``: that Markdown, a page with it preformatted, or the model's JSON."""
+    if fmt == "json":
+        return model.model_dump_json(indent=2) + "\n"
+    if fmt == "html":
+        return _PAGE.format(body=f"<pre>{html.escape(markdown())}</pre>")
+    if fmt == "md":
+        return markdown()
     raise ValueError(f"No renderer for format: {fmt}")
 
 
