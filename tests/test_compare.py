@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import sys
+from datetime import timedelta
 from itertools import pairwise
 from pathlib import Path
 from typing import Any
@@ -25,7 +26,7 @@ from scratchworld_dist.reports import (
     render_comparison,
 )
 from scratchworld_dist.results import JobRow
-from tests.run_dirs import HARNESS, OTHER_HARNESS, job, make_run
+from tests.run_dirs import HARNESS, OTHER_HARNESS, T0, job, make_run
 
 # -- the statistics, against computations of this file ----------------------------------------
 
@@ -316,3 +317,14 @@ def test_cli_writes_an_html_page_to_a_file(tmp_path: Path) -> None:
     assert result.stdout == "" and f"wrote html comparison to {out}" in result.stderr
     page = out.read_text(encoding="utf-8")
     assert page.startswith("<!DOCTYPE html>") and "<pre># gpt vs claude" in page and "http" not in page
+
+
+def test_a_job_run_again_under_another_config_counts_once_at_its_latest(tmp_path: Path) -> None:
+    first = job("gpt-t0-old", "failed", model="gpt", task_id="t0", task_hash="h0", max_steps=10)
+    later = job("gpt-t0-new", "passed", model="gpt", task_id="t0", task_hash="h0", finished_at=T0 + timedelta(hours=1))
+    other = [job("claude-t0", "failed", model="claude", task_id="t0", task_hash="h0")]
+    a = make_run(tmp_path / "a", [later, first], planned=2, tasks=1)
+    b = make_run(tmp_path / "b", other, planned=1, tasks=1)
+    result = compare_runs(Selector(a), Selector(b))
+    assert result.paired_jobs == 1 and result.mcnemar.only_a == 1
+    assert "1 job(s) were run again under another config (another job id); the latest counts" in result.warnings

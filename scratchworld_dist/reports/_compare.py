@@ -142,29 +142,30 @@ def compare_runs(
     keyed_a, dup_a = _keyed(rows_a, by_mode)
     keyed_b, dup_b = _keyed(rows_b, by_mode)
     if dup_a or dup_b:
-        warnings.append(f"{dup_a + dup_b} job(s) ran twice under different settings; the latest of each counts")
+        again = dup_a + dup_b
+        warnings.append(f"{again} job(s) were run again under another config (another job id); the latest counts")
     shared = sorted(keyed_a.keys() & keyed_b.keys())
     pairs = [(keyed_a[k], keyed_b[k]) for k in shared]
     decided = [(x, y) for x, y in pairs if x.outcome in DETERMINATE and y.outcome in DETERMINATE]
-    per_task = _per_task(decided, by_mode)
-    if any(t.jobs > 1 for t in per_task):
+    tasks = len({x.task_id for x, _ in decided})
+    if len(decided) > tasks:
         warnings.append(
-            "tasks have several paired jobs (seeds, settings): McNemar's test treats every job as independent, which "
-            "overstates the evidence; the bootstrap interval resamples whole tasks and does not"
+            "tasks have several paired jobs (seeds, modes, settings): McNemar's test treats every job as "
+            "independent, which overstates the evidence; the bootstrap interval resamples whole tasks and does not"
         )
     return Comparison(
         a=info_a,
         b=info_b,
         paired_by=["task", "seed", *(["mode"] if by_mode else []), "setting"],
         paired_jobs=len(decided),
-        tasks=len({x.task_id for x, _ in decided}),
+        tasks=tasks,
         only_a=len(keyed_a.keys() - keyed_b.keys()),
         only_b=len(keyed_b.keys() - keyed_a.keys()),
         without_verdict=len(pairs) - len(decided),
         sr=_difference(decided, _passed, resamples, seed),
         psr=_difference(decided, _psr, resamples, seed),
         mcnemar=mcnemar_exact([(_passed(x), _passed(y)) for x, y in decided]),
-        per_task=per_task,
+        per_task=_per_task(decided, by_mode),
         warnings=warnings,
     )
 
