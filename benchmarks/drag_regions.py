@@ -151,7 +151,7 @@ async def measure(editor: Editor, task: DragTask, args: argparse.Namespace) -> T
     samples: list[tuple[str, Point, Point, bool]] = []
     for points, expected in ((rim, True), (around, False)):
         samples += [("end", regions.fixed_start, p, expected) for p in some(rng, points, args.boundary)]
-    samples += [("end", regions.fixed_start, p, True) for p in rng.sample(inner, min(args.interior, len(inner)))]
+    samples += [("end", regions.fixed_start, p, True) for p in some(rng, inner, args.interior)]
     samples += [("end", regions.fixed_start, p, False) for p in exterior(regions.end, rng, args.interior)]
     aim = regions.end.deepest()
     offset = (aim[0] - regions.fixed_start[0], aim[1] - regions.fixed_start[1])
@@ -251,7 +251,8 @@ def main() -> None:
         suite = load_drag_suite(root)
         tasks = list(suite.one_per_kind() if args.per_kind else suite.ready)
         if args.ids is not None:
-            tasks = [task for task in tasks if task.id in args.ids.split(",")]
+            wanted = set(args.ids.split(","))
+            tasks = [task for task in tasks if task.id in wanted]
         if args.tasks is not None and len(tasks) > args.tasks:
             step = len(tasks) / args.tasks
             tasks = [tasks[int(i * step)] for i in range(args.tasks)]

@@ -83,7 +83,7 @@ PUSHING = ["quiz_score-initial-next-4ff060e45f", "star_shower-golden-next-9eb2ff
 
 @pytest.mark.parametrize("task_id", PUSHING)
 async def test_regions_are_read_only_and_repeatable(pool: EditorPool, task_id: str) -> None:
-    task = next(t for t in SUITE.tasks if t.id == task_id)
+    task = SUITE.task(task_id)
     payload = task.payload(task.initial_project.read_bytes())
     async with pool.editor() as editor:
         await page.set_up(editor, payload)
@@ -135,7 +135,7 @@ async def test_a_parent_drag_must_move_the_whole_stack(pool: EditorPool) -> None
 async def test_the_end_region_reaches_as_far_as_a_kept_candidate(pool: EditorPool) -> None:
     """Blockly keeps its current candidate past the snap radius while another connection is in reach and not
     much closer: the region's far edge (here its left end, ~50 px from the aim) is where real drags stop connecting."""
-    task = next(t for t in SUITE.tasks if t.id == "star_shower-golden-substack_1-fee009aff4")
+    task = SUITE.task("star_shower-golden-substack_1-fee009aff4")
     payload = task.payload(task.initial_project.read_bytes())
     async with pool.editor() as editor:
         await page.set_up(editor, payload)

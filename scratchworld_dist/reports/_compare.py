@@ -13,17 +13,18 @@ from collections import defaultdict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import Literal, get_args
 
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_exact, paired_bootstrap
-from scratchworld_dist.reports._runs import LoadedRun, check_compatible, load_run
+from scratchworld_dist.reports._runs import LoadedRun, incompatibilities, load_run
 from scratchworld_dist.reports._summary import DETERMINATE, row_label
 from scratchworld_dist.results import JobRow, effective_rows
+from workers.contract import Mode
 
-MODE_NAMES = ("composite", "primitive")
+MODE_NAMES: tuple[str, ...] = get_args(Mode)
 
 _Key = tuple[str, ...]
 
@@ -210,12 +211,7 @@ def _condition_problems(
     run_a: LoadedRun, run_b: LoadedRun, rows_a: list[JobRow], rows_b: list[JobRow], *, force: bool
 ) -> list[str]:
     """Warnings on the two sides' conditions; raises for what makes their verdicts incomparable, unless ``force``."""
-    problems = []
-    if run_a.path.resolve() != run_b.path.resolve():
-        try:
-            check_compatible([run_a, run_b], force=False)
-        except RunDirError as exc:
-            problems.append(str(exc).removeprefix("refusing to merge incomparable results: ").split("; use --force")[0])
+    problems = incompatibilities([run_a, run_b]) if run_a.path.resolve() != run_b.path.resolve() else []
     for field in ("eval_profile", "eval_clock"):
         if differs := _differs(field, rows_a, rows_b):
             problems.append(differs)
@@ -241,7 +237,7 @@ def _differs(field: str, rows_a: list[JobRow], rows_b: list[JobRow]) -> str | No
 
 
 def _keyed(rows: list[JobRow], by_mode: bool) -> tuple[dict[_Key, JobRow], int]:
-    """The system's rows by pairing key, and how many keys had more than one job."""
+    """The system's rows by pairing key (the latest job of each), and how many earlier jobs that set aside."""
     keyed: dict[_Key, JobRow] = {}
     duplicates = 0
     for row in sorted(rows, key=lambda r: r.finished_at):

@@ -48,8 +48,8 @@ def load_run(path: Path) -> LoadedRun:
     return LoadedRun(path=path, manifest=manifest, rows=current, stale_rows=len(rows) - len(current))
 
 
-def check_compatible(runs: Sequence[LoadedRun], *, force: bool) -> list[str]:
-    """Warnings for runs that differ in suite or harness; without ``force`` those raise instead."""
+def incompatibilities(runs: Sequence[LoadedRun]) -> list[str]:
+    """How the runs differ in suite or harness: each difference that makes their numbers incomparable."""
     problems = []
     if len({run.manifest.suite.hash for run in runs}) > 1:
         values = ", ".join(f"{run.name}: {run.manifest.suite.hash}" for run in runs)
@@ -65,6 +65,12 @@ def check_compatible(runs: Sequence[LoadedRun], *, force: bool) -> list[str]:
                 f"{first.name} and {run.name} differ in harness {ours.digest} / {theirs.digest} "
                 f"(files: {describe_differences(ours, theirs)})"
             )
+    return problems
+
+
+def check_compatible(runs: Sequence[LoadedRun], *, force: bool) -> list[str]:
+    """Warnings for runs that differ in suite or harness; without ``force`` those raise instead."""
+    problems = incompatibilities(runs)
     if problems and not force:
         raise RunDirError(f"refusing to merge incomparable results: {'; '.join(problems)}; use --force to merge anyway")
     return [f"merged anyway (--force): {p}; their numbers are not comparable" for p in problems]
