@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -65,7 +66,7 @@ def job(job_id: str, outcome: str = "passed", **fields: Any) -> JobRow:
 
 def make_run(
     run_dir: Path,
-    rows: list[JobRow],
+    rows: Sequence[JobRow | JobRecord],
     *,
     planned: int,
     tasks: int,
@@ -76,8 +77,8 @@ def make_run(
 ) -> Path:
     store = RunStore(run_dir)
     store.open_for_writing()
-    for row in rows:
-        store.commit(JobRecord(job=row))
+    for row in rows:  # a bare job row, or a record with its steps, tests and drags
+        store.commit(row if isinstance(row, JobRecord) else JobRecord(job=row))
     store.close()
     manifest = RunManifest(
         run_name=name,

@@ -13,8 +13,9 @@ from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.cli._main import cli
 from scratchworld_dist.reports._drag_metrics import DragRun, DragTable, drag_cell, drag_rows, join_runs
 from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag_markdown
-from scratchworld_dist.results import DragRow, JobRecord, JobRow, RunManifest, RunStore, SuiteInfo, write_manifest
+from scratchworld_dist.results import DragRow, JobRecord, JobRow
 from tests.run_dirs import job as episode_job
+from tests.run_dirs import make_run
 from workers.contract import HarnessFingerprint
 
 HARNESS = HarnessFingerprint(digest="aaaa111122223333", parts={"scratch-gui/clock.js": "c1"})
@@ -196,23 +197,9 @@ def drag_run_dir(run_dir: Path) -> Path:
 
 
 def write_run(run_dir: Path, records: list[JobRecord]) -> Path:
-    """A real run directory: the records committed through ``RunStore`` and a manifest."""
-    store = RunStore(run_dir)
-    store.open_for_writing()
-    for record in records:
-        store.commit(record)
-    store.close()
-    manifest = RunManifest(
-        run_name="drag",
-        schema_version=1,
-        harness=HARNESS,
-        config={"benchmark": "drag", "seeds": [0, 1, 2]},
-        config_hash="c",
-        suite=SuiteInfo(name="drag", kind="native", root="/suite", hash="suite1", tasks=3),
-        planned_jobs=9,
-    )
-    write_manifest(run_dir, manifest)
-    return run_dir
+    """A real run directory of a drag sweep: the records committed through ``RunStore`` and a manifest."""
+    config = {"benchmark": "drag", "seeds": [0, 1, 2]}
+    return make_run(run_dir, records, planned=9, tasks=3, config=config, harness=HARNESS, name="drag")
 
 
 def test_report_from_a_run_directory(tmp_path: Path) -> None:
