@@ -125,6 +125,10 @@ async def test_canned_replies_solve_a_task_in_composite_mode(
     assert result.stop_reason == "done"
     assert len(result.steps) == len(trajectory) + 1 == server.count
     assert all(step.ok for step in result.steps)
+    # Each step keeps the text it was shown, whatever the agent made of it.
+    first = result.steps[0].observation
+    assert first is not None and first.text and first.screenshot is None
+    assert first.text in str(server.requests[0].body["messages"][1]["content"])
     # Accounting: exact LiteLLM prices of gpt-4o-mini for the billed tokens, summed per step and job.
     litellm = await load_litellm()
     price = litellm.model_cost["gpt-4o-mini"]

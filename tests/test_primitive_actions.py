@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import pytest
 
+from scratchworld_dist.sb3 import Project, block, circle_costume
 from tests.conftest import SUITE_DIR
 from workers.editor import BrowserSession, Editor
 from workers.primitive import Gestures
@@ -171,3 +172,41 @@ def test_key_names() -> None:
     ]  # fmt: skip
     with pytest.raises(GestureError, match="unknown key"):
         key_name("F99")
+
+
+async def test_a_drag_records_whether_it_snapped(session: BrowserSession) -> None:
+    """Dropped on empty canvas a block stays alone; dropped under a stack it snaps, and the record says so."""
+    project = Project()
+    project.sprite("Cat", costume=circle_costume("dot", 10, "#36c")).script(
+        block("event_whenflagclicked"), block("looks_say", MESSAGE="hi"), x=40, y=40
+    ).script(block("motion_movesteps", STEPS=10), x=40, y=300)
+    async with session.editor() as editor:
+        await editor.load_project(project.to_sb3())
+        gestures = Gestures(editor.page, links=lambda: editor.call("primitiveLinks"))
+
+        async def rect(opcode: str) -> dict[str, float]:
+            listed = await editor.call("primitiveElements")
+            assert isinstance(listed, dict)
+            found = [e for e in listed["elements"] if e.get("opcode") == opcode and e.get("where") == "canvas"]  # type: ignore[union-attr]
+            assert found, f"{opcode} is not listed on the canvas"
+            return found[0]  # type: ignore[no-any-return]
+
+        move = await rect("motion_movesteps")
+        away = {"start_x": move["x"] + 8, "start_y": move["y"] + 8, "end_x": move["x"] + 208, "end_y": move["y"] + 8}
+        envelope = await gestures.execute("drag_and_drop", away)
+        assert envelope.success, envelope.error
+        assert envelope.data is not None
+        assert envelope.data["snapped"] is False  # type: ignore[index,call-overload]
+
+        move, say = await rect("motion_movesteps"), await rect("looks_say")
+        below_say = {
+            "start_x": move["x"] + 8,
+            "start_y": move["y"] + 8,
+            "end_x": say["x"] + 8,
+            "end_y": say["y"] + say["height"] + 8,
+        }
+        envelope = await gestures.execute("drag_and_drop", below_say)
+        assert envelope.success, envelope.error
+        assert envelope.data is not None
+        assert envelope.data["snapped"] is True  # type: ignore[index,call-overload]
+        assert envelope.data["attached"] == ["motion_movesteps"]  # type: ignore[index,call-overload]

@@ -79,6 +79,12 @@ async def test_an_observing_agent_sees_the_page_and_acts_by_index(
     assert click.observation_s > 0
     assert click.latency_s >= click.observation_s
     assert click.warnings == []
+    # The trajectory keeps what was shown: the screenshot by digest among the images, and the list.
+    assert click.observation is not None and done.observation is not None
+    assert click.observation.text is None
+    assert result.images[click.observation.screenshot or ""] == first.screenshot_png
+    assert click.observation.elements == first.elements
+    assert done.observation.elements == second.elements
 
 
 async def test_a_broken_ocr_backend_degrades_to_a_dom_list_with_a_warning(

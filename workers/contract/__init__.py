@@ -117,6 +117,7 @@ from workers.contract._observations import (
     Observation,
     ObservationTimings,
     PrimitiveObservation,
+    StepObservation,
     TargetName,
 )
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
@@ -211,6 +212,7 @@ __all__ = [
     "RendererUnavailableError",
     "RetryPolicy",
     "ScratchWorldError",
+    "StepObservation",
     "StepRecord",
     "SyntheticEpisodes",
     "TargetName",

@@ -19,6 +19,7 @@ from workers.contract._evaluation_spec import EvaluationSpec
 from workers.contract._memory import MemoryItem, MemorySnapshot
 from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
 from workers.contract._observation_settings import ObservationSettings
+from workers.contract._observations import StepObservation
 from workers.contract._sb3 import ProjectLimits
 
 Mode = Literal["composite", "primitive"]
@@ -246,6 +247,9 @@ class StepRecord(BaseModel):
 
     reply: str | None = None
     """The model's raw reply."""
+
+    observation: StepObservation | None = None
+    """What the environment showed before the step (None for agents that do not observe)."""
 
 
 class WorkerInfo(BaseModel):

@@ -7,6 +7,7 @@ and ``workers.primitive``.
 
 from __future__ import annotations
 
+import hashlib
 from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -97,3 +98,29 @@ class PrimitiveObservation(BaseModel):
 
 Observation = CompositeObservation | PrimitiveObservation
 """What an environment shows an agent before each action, by mode."""
+
+
+class StepObservation(BaseModel):
+    """What the agent was shown before a step, as its trajectory keeps it (for viewers and debugging).
+
+    Kept whatever the agent does with it, so a trajectory shows what a plugin agent saw too.
+    """
+
+    model_config = ConfigDict(frozen=True)
+
+    text: str | None = None
+    """Composite mode: the project as the agent read it (primitive: None, ``elements`` say it)."""
+
+    screenshot: str | None = None
+    """Primitive mode: SHA-256 of the PNG, stored with the trajectory's images."""
+
+    elements: list[Element] = Field(default_factory=list)
+    """Primitive mode: the element list as the agent got it."""
+
+    @classmethod
+    def of(cls, observation: Observation) -> tuple[StepObservation, bytes | None]:
+        """The record of ``observation``, and the screenshot it refers to (None in composite mode)."""
+        if isinstance(observation, CompositeObservation):
+            return cls(text=observation.text), None
+        digest = hashlib.sha256(observation.screenshot_png).hexdigest()
+        return cls(screenshot=digest, elements=observation.elements), observation.screenshot_png

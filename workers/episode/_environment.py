@@ -66,7 +66,7 @@ class PrimitiveEnvironment:
         """``pass_time``: see ``Gestures`` (set on an episode's virtual clock)."""
         self.editor = editor
         self.observer = observer
-        self.gestures = Gestures(editor.page, pass_time)
+        self.gestures = Gestures(editor.page, pass_time, links=lambda: editor.call("primitiveLinks"))
 
     async def observe(self) -> PrimitiveObservation:
         observation = await self.observer.observe(self.editor)

@@ -38,11 +38,13 @@ from workers.contract import (
     LLMSettings,
     LoadProject,
     ModelCallError,
+    Observation,
     ObservationSettings,
     PrimitiveAction,
     ProjectFormatError,
     ProjectLimits,
     ProjectTooLargeError,
+    StepObservation,
     StepRecord,
     TaskPayload,
     outcome_of,
@@ -314,12 +316,23 @@ async def _act(
             latency_s=time.perf_counter() - step_start,
             observation_s=observation_s,
             warnings=list(getattr(observation, "warnings", [])),
+            observation=_recorded(observation, models),
         )
         steps.append(models.drain().booked_on(step))
         last = StepResult(ok=ok, error_code=error_code, error_message=error_message, data=data)
         if action.name in FINAL_ACTIONS:
             return action.name
     return "max_steps"
+
+
+def _recorded(observation: Observation | None, models: EpisodeModels) -> StepObservation | None:
+    """What the step was shown, for the trajectory; a screenshot joins the episode's images (once per digest)."""
+    if observation is None:
+        return None
+    record, screenshot = StepObservation.of(observation)
+    if screenshot is not None and record.screenshot is not None:
+        models.images.setdefault(record.screenshot, screenshot)
+    return record
 
 
 async def _apply(

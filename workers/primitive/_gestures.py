@@ -138,11 +138,19 @@ def key_name(key: str) -> str:
 class Gestures:
     """Executes primitive actions on one page; index targets resolve against ``elements``."""
 
-    def __init__(self, page: Page, pass_time: Callable[[float], Awaitable[None]] | None = None) -> None:
+    def __init__(
+        self,
+        page: Page,
+        pass_time: Callable[[float], Awaitable[None]] | None = None,
+        links: Callable[[], Awaitable[JsonValue]] | None = None,
+    ) -> None:
         """``pass_time(ms)``: let page time pass between a drag's moves (on an episode's virtual clock,
-        where it would otherwise stand still through the whole gesture); None: it passes by itself."""
+        where it would otherwise stand still through the whole gesture); None: it passes by itself.
+        ``links()``: the workspace's block links (the bridge's ``primitiveLinks``), read around a drag
+        so its record says whether it snapped; None: drags are recorded without."""
         self.page = page
         self.pass_time = pass_time
+        self.links = links
         self.elements: Sequence[Located] | None = None
         """The element list of the latest observation (None until the first one)."""
 
@@ -202,6 +210,7 @@ class Gestures:
     async def _drag(self, args: DragArgs) -> JsonValue:
         start = self._point(args.start_x, args.start_y, args.start_index)
         end = self._point(args.end_x, args.end_y, args.end_index)
+        before = await self._parents()
         mouse = self.page.mouse
         await mouse.move(*start)
         await mouse.down()
@@ -216,7 +225,29 @@ class Gestures:
                 )
                 await self.pass_time(args.duration * 1000 / steps)
         await mouse.up()
-        return {"start": list(start), "end": list(end)}
+        data: dict[str, JsonValue] = {"start": list(start), "end": list(end)}
+        if before is not None and (after := await self._parents()) is not None:
+            # Snapped: some block (the dropped one, or one a drop went between) hangs from a new parent.
+            parent_before = {block: parent for block, (parent, _) in before.items()}
+            attached = sorted(
+                opcode for block, (parent, opcode) in after.items() if parent and parent != parent_before.get(block)
+            )
+            data.update(snapped=bool(attached), attached=list(attached))
+        return data
+
+    async def _parents(self) -> dict[str, tuple[str | None, str]] | None:
+        """Each workspace block's (parent, opcode), or None when drags are recorded without links."""
+        if self.links is None:
+            return None
+        reply = await self.links()
+        rows = reply.get("links") if isinstance(reply, dict) else None
+        if not isinstance(rows, list):
+            return None
+        parents: dict[str, tuple[str | None, str]] = {}
+        for row in rows:
+            if isinstance(row, list) and len(row) == 3:
+                parents[str(row[0])] = (row[1] if isinstance(row[1], str) else None, str(row[2]))
+        return parents
 
     async def _scroll(self, args: ScrollArgs) -> JsonValue:
         if args.x is not None or args.index is not None:
