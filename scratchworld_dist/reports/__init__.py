@@ -26,6 +26,7 @@ from scratchworld_dist.reports._render import (
     ReportFormat,
     render,
     render_html,
+    render_html_body,
     render_json,
     render_markdown,
 )
@@ -77,6 +78,7 @@ __all__ = [
     "render",
     "render_comparison",
     "render_html",
+    "render_html_body",
     "render_json",
     "render_markdown",
     "report_runs",

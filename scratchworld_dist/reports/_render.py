@@ -97,6 +97,11 @@ def render_markdown(report: RunReport) -> str:
 
 def render_html(report: RunReport) -> str:
     """One page with inline style and no external resources; every string is escaped."""
+    return _PAGE.format(body=render_html_body(report))
+
+
+def render_html_body(report: RunReport) -> str:
+    """The report's headings, paragraphs and tables as HTML elements (a page's body; the viewer's run page)."""
     body = []
     for block in _blocks(report):
         if isinstance(block, _Heading):
@@ -109,7 +114,7 @@ def render_html(report: RunReport) -> str:
                 "<tr>" + "".join(f"<td>{html.escape(cell)}</td>" for cell in row) + "</tr>" for row in block.rows
             )
             body.append(f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")
-    return _PAGE.format(body="\n".join(body))
+    return "\n".join(body)
 
 
 _PAGE = """<!DOCTYPE html>
