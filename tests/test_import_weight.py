@@ -1,4 +1,5 @@
-"""What importing a part of the package loads: the driver, reports and plugins never pull in the browser stack.
+"""What importing a part of the package loads: the driver, reports and plugins never pull in the browser stack
+(nor matplotlib, which only an HTML report's plots need).
 
 Each import runs in a fresh interpreter, since this test process has long loaded everything.
 """
@@ -12,7 +13,9 @@ from pathlib import Path
 
 import pytest
 
-BROWSER_STACK = ("playwright", "cv2", "numpy", "rapidocr", "onnxruntime", "litellm", "ray", "pyarrow")
+from tests.run_dirs import job, make_run
+
+BROWSER_STACK = ("playwright", "cv2", "numpy", "rapidocr", "onnxruntime", "litellm", "ray", "pyarrow", "matplotlib")
 
 
 def loaded_after(statement: str) -> set[str]:
@@ -47,3 +50,17 @@ def test_the_cli_loads_the_browser_stack_only_for_commands_that_need_it(tmp_path
         f"assert CliRunner().invoke(cli, ['report', {missing}]).exit_code != 0"
     )
     assert not loaded & {"playwright", "cv2", "ray", "litellm"}, sorted(loaded & set(BROWSER_STACK))
+
+
+def test_only_an_html_report_draws_with_matplotlib(tmp_path: Path) -> None:
+    run = json.dumps(str(make_run(tmp_path / "run", [job("a"), job("b", "failed")], planned=2, tasks=2)))
+    invoke = "from click.testing import CliRunner\nfrom scratchworld_dist.cli._main import cli\n"
+    for fmt in ("md", "json"):
+        loaded = loaded_after(
+            f"{invoke}assert CliRunner().invoke(cli, ['report', {run}, '--format', '{fmt}']).exit_code == 0"
+        )
+        assert "matplotlib" not in loaded, fmt
+    status = loaded_after(f"{invoke}assert CliRunner().invoke(cli, ['status', {run}]).exit_code == 0")
+    assert "matplotlib" not in status
+    html = loaded_after(f"{invoke}assert CliRunner().invoke(cli, ['report', {run}, '--format', 'html']).exit_code == 0")
+    assert "matplotlib" in html

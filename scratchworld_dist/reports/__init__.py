@@ -1,4 +1,4 @@
-"""Reports over run directories: the benchmark's main table as Markdown, HTML or JSON, and paired comparisons."""
+"""Reports over run directories: the main table as Markdown, HTML (with plots) or JSON, and paired comparisons."""
 
 from scratchworld_dist.reports._build import build_report
 from scratchworld_dist.reports._compare import (
@@ -21,6 +21,7 @@ from scratchworld_dist.reports._metrics import (
     pass_hat_k,
     t_quantile_975,
 )
+from scratchworld_dist.reports._plots import Plot, plots_html, report_plots
 from scratchworld_dist.reports._render import (
     FORMATS,
     ReportFormat,
@@ -56,6 +57,7 @@ __all__ = [
     "KEstimate",
     "McNemar",
     "MeanInterval",
+    "Plot",
     "ReportFormat",
     "ReportRow",
     "RunInfo",
@@ -75,12 +77,14 @@ __all__ = [
     "parse_selector",
     "pass_at_k",
     "pass_hat_k",
+    "plots_html",
     "render",
     "render_comparison",
     "render_html",
     "render_html_body",
     "render_json",
     "render_markdown",
+    "report_plots",
     "report_runs",
     "t_quantile_975",
 ]

@@ -10,8 +10,7 @@ from collections import Counter, defaultdict
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
-from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.reports._runs import LoadedRun, check_compatible, jobs_per_group, load_run
+from scratchworld_dist.reports._runs import LoadedRun, jobs_per_group, load_runs
 from scratchworld_dist.reports._summary import (
     CATEGORIES,
     DETERMINATE,
@@ -33,13 +32,7 @@ def build_report(run_dirs: Sequence[Path], *, force: bool = False) -> RunReport:
     Raises ``RunDirError`` for a directory that is not a run or has no results, and for runs
     of different suites or harnesses unless ``force`` (then the report carries a warning).
     """
-    if not run_dirs:
-        raise RunDirError("no run directory given")
-    unique: dict[Path, Path] = {}
-    for path in run_dirs:  # a directory named twice is one run
-        unique.setdefault(path.resolve(), path)
-    runs = [load_run(path) for path in unique.values()]
-    warnings = check_compatible(runs, force=force)
+    runs, warnings = load_runs(run_dirs, force=force)
     warnings += [
         f"{run.name}: {run.stale_rows} row(s) from an older suite (suite hash differs) excluded"
         for run in runs

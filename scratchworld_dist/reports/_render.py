@@ -13,6 +13,7 @@ from typing import Literal
 
 from pydantic import BaseModel
 
+from scratchworld_dist.reports._plots import Plot, plots_html
 from scratchworld_dist.reports._summary import KEstimate, ReportRow, RunReport
 
 ReportFormat = Literal["md", "html", "json"]
@@ -54,12 +55,12 @@ class _Table:
 _Block = _Heading | _Paragraph | _Table
 
 
-def render(report: RunReport, fmt: ReportFormat) -> str:
-    """The report as text in ``fmt`` (``md``, ``html`` or ``json``)."""
+def render(report: RunReport, fmt: ReportFormat, plots: Sequence[Plot] = ()) -> str:
+    """The report as text in ``fmt`` (``md``, ``html`` or ``json``); only HTML shows ``plots``."""
     if fmt == "json":
         return render_json(report)
     if fmt == "html":
-        return render_html(report)
+        return render_html(report, plots)
     if fmt == "md":
         return render_markdown(report)
     raise ValueError(f"No renderer for format: {fmt}")
@@ -95,9 +96,10 @@ def render_markdown(report: RunReport) -> str:
     return "\n\n".join(parts) + "\n"
 
 
-def render_html(report: RunReport) -> str:
-    """One page with inline style and no external resources; every string is escaped."""
-    return _PAGE.format(body=render_html_body(report))
+def render_html(report: RunReport, plots: Sequence[Plot] = ()) -> str:
+    """One page with inline style and no external resources; every string is escaped; ``plots`` after the tables."""
+    body = render_html_body(report)
+    return _PAGE.format(body=body + "\n" + plots_html(plots) if plots else body)
 
 
 def render_html_body(report: RunReport) -> str:

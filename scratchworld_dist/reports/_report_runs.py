@@ -1,4 +1,5 @@
-"""The report a set of run directories gets: the drag benchmark's Table 2 for drag runs, else the main table."""
+"""The report a set of run directories gets: the drag benchmark's Table 2 for drag runs, else the main table
+(with plots in HTML)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ from pathlib import Path
 
 from scratchworld_dist.reports._build import build_report
 from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag
+from scratchworld_dist.reports._plots import report_plots
 from scratchworld_dist.reports._render import ReportFormat, render
 
 
@@ -15,4 +17,5 @@ def report_runs(run_dirs: list[Path], fmt: ReportFormat, *, force: bool = False)
         drag = build_drag_report(run_dirs, force=force)
         return render_drag(drag, fmt), drag.warnings
     report = build_report(run_dirs, force=force)
-    return render(report, fmt), report.warnings
+    plots = report_plots(run_dirs, force=force) if fmt == "html" else []  # drawing is slow: only for a page
+    return render(report, fmt, plots), report.warnings

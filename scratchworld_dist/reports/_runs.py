@@ -48,6 +48,21 @@ def load_run(path: Path) -> LoadedRun:
     return LoadedRun(path=path, manifest=manifest, rows=current, stale_rows=len(rows) - len(current))
 
 
+def load_runs(run_dirs: Sequence[Path], *, force: bool) -> tuple[list[LoadedRun], list[str]]:
+    """Each distinct run directory once (a directory named twice is one run), checked for merging.
+
+    Returns the runs and the warnings of a forced merge; raises ``RunDirError`` as ``load_run`` and
+    ``check_compatible`` do, and for an empty list.
+    """
+    if not run_dirs:
+        raise RunDirError("no run directory given")
+    unique: dict[Path, Path] = {}
+    for path in run_dirs:
+        unique.setdefault(path.resolve(), path)
+    runs = [load_run(path) for path in unique.values()]
+    return runs, check_compatible(runs, force=force)
+
+
 def incompatibilities(runs: Sequence[LoadedRun]) -> list[str]:
     """How the runs differ in suite or harness: each difference that makes their numbers incomparable."""
     problems = []
