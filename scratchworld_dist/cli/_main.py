@@ -17,6 +17,7 @@ from scratchworld_dist.cli._report import report_command
 from scratchworld_dist.cli._run import run_command
 from scratchworld_dist.cli._status import status_command
 from scratchworld_dist.cli._validate import validate_command
+from scratchworld_dist.cli._view import view_command
 
 EXIT_USER_ERROR = 2
 EXIT_INTERRUPTED = 130
@@ -38,6 +39,7 @@ cli.add_command(observe_command)
 cli.add_command(status_command)
 cli.add_command(capacity_command)
 cli.add_command(drag_group)
+cli.add_command(view_command)
 
 
 def main() -> None:

@@ -1,0 +1,235 @@
+"""Each page of the viewer as data for its template: the runs, a run, its jobs, one job, a comparison.
+
+A page reads the run directories when it is built, so the server shows a run in progress as it
+stands at each refresh, and the static export is the same pages built once.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from collections import Counter
+
+from pydantic import BaseModel
+
+from scratchworld_dist._errors import RunDirError
+from scratchworld_dist.results import JobRow
+from scratchworld_dist.viewer._listing import project_listing
+from scratchworld_dist.viewer._runs import Attempt, ViewedRun
+from scratchworld_dist.viewer._timeline import StepView, step_views
+
+JOB_COLUMNS = (
+    "job_id",
+    "attempt",
+    "model",
+    "mode",
+    "agent",
+    "category",
+    "task_id",
+    "seed",
+    "setting",
+    "outcome",
+    "error_class",
+    "tests_passed",
+    "tests_total",
+    "psr",
+    "steps",
+    "cost_usd",
+    "episode_s",
+    "finished_at",
+    "error_message",
+)
+"""The columns of the jobs table's data, in order (``jobs.js`` reads them by name)."""
+
+
+class RunCard(BaseModel):
+    """A run as the runs page lists it."""
+
+    index: int
+    name: str
+    path: str
+    suite: str
+    planned: int
+    jobs: int
+    outcomes: dict[str, int]
+    in_progress: bool
+    started: str | None
+    finished: str | None
+    harness: str
+
+
+class ErrorLink(BaseModel):
+    error_class: str
+    jobs: int
+
+
+class RunPage(BaseModel):
+    card: RunCard
+    warnings: list[str]
+    report_html: str
+    """The report's tables, already escaped HTML (``reports.render_html_body``)."""
+
+    plots_html: str
+    errors: list[ErrorLink]
+    config: str
+    packages: dict[str, str]
+    harness_parts: int
+    git_commit: str | None
+    conditions: dict[str, str]
+    sessions: list[dict[str, str]]
+
+
+class AttemptView(BaseModel):
+    row: JobRow
+    steps: list[StepView]
+    steps_note: str | None
+    tests: list[dict[str, str]]
+    listing: str | None
+    files: str | None
+    """The attempt's artifact folder relative to the run's ``files/`` (None without artifacts)."""
+
+
+class JobPage(BaseModel):
+    run: RunCard
+    job_id: str
+    instruction: str | None
+    attempts: list[AttemptView]
+    """Newest first; the job's verdict is the effective one (``effective``)."""
+
+    effective: int
+    """Index in ``attempts`` of the attempt the reports count."""
+
+
+def run_card(index: int, run: ViewedRun, rows: list[JobRow] | None = None) -> RunCard:
+    manifest = run.manifest()
+    if manifest is None:
+        raise RunDirError(f"{run.path}: the manifest is gone")
+    effective = run.effective_rows() if rows is None else rows
+    sessions = manifest.sessions
+    return RunCard(
+        index=index,
+        name=manifest.run_name,
+        path=str(run.path),
+        suite=f"{manifest.suite.name} ({manifest.suite.tasks} tasks, hash {manifest.suite.hash})",
+        planned=manifest.planned_jobs,
+        jobs=len(effective),
+        outcomes=dict(Counter(r.outcome for r in effective)),
+        in_progress=bool(sessions) and sessions[-1].finished_at is None,
+        started=_time(manifest.started_at),
+        finished=_time(manifest.finished_at),
+        harness=manifest.harness.digest if manifest.harness else "-",
+    )
+
+
+def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
+    from scratchworld_dist.reports import build_report, render_html_body
+    from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag_markdown
+
+    manifest = run.manifest()
+    if manifest is None:
+        raise RunDirError(f"{run.path}: the manifest is gone")
+    effective = run.effective_rows()
+    warnings: list[str] = []
+    report_html = "<p>No job has finished yet.</p>"
+    if effective:
+        if is_drag_run(run.path):
+            drag = build_drag_report([run.path])
+            warnings = drag.warnings
+            report_html = f"<pre>{html.escape(render_drag_markdown(drag))}</pre>"
+        else:
+            report = build_report([run.path])
+            warnings = report.warnings
+            report_html = render_html_body(report)
+    errors = Counter(r.error_class or "unknown" for r in effective if r.outcome == "error")
+    config = manifest.config
+    clock = config.get("episode_clock")
+    conditions = {
+        "evaluation profile": str(config.get("profile") or "the suite's"),
+        "evaluation clock": str(config.get("clock") or "the suite's"),
+        "episode clock": json.dumps(clock) if clock else "the suite kind's default",
+        "harness": manifest.harness.digest if manifest.harness else "-",
+        "schema version": str(manifest.schema_version),
+    }
+    sessions = [
+        {
+            "started": _time(s.started_at) or "-",
+            "finished": _time(s.finished_at) or "killed or running",
+            "host": s.host,
+            "planned": str(s.planned),
+            "submitted": str(s.submitted),
+            "nodes": str(len(s.nodes)),
+        }
+        for s in manifest.sessions
+    ]
+    return RunPage(
+        card=run_card(index, run, effective),
+        warnings=warnings,
+        report_html=report_html,
+        plots_html=plots_html,
+        errors=[ErrorLink(error_class=c, jobs=n) for c, n in errors.most_common()],
+        config=json.dumps(config, indent=2, sort_keys=True),
+        packages=manifest.packages,
+        harness_parts=len(manifest.harness.parts) if manifest.harness else 0,
+        git_commit=manifest.git_commit,
+        conditions=conditions,
+        sessions=sessions,
+    )
+
+
+def jobs_data(run: ViewedRun) -> dict[str, object]:
+    """The jobs table's data: column names and one list per job (its effective attempt)."""
+    rows = sorted(run.effective_rows(), key=lambda r: (r.task_id, r.mode, r.model, r.seed, r.job_id))
+    attempts = Counter(r.job_id for r in {(r.job_id, r.attempt): r for r in run.rows()}.values())
+    values = []
+    for row in rows:
+        dumped = row.model_dump(mode="json", include=set(JOB_COLUMNS))
+        values.append([*(dumped.get(c) for c in JOB_COLUMNS), attempts[row.job_id]])
+    return {"columns": [*JOB_COLUMNS, "attempts"], "rows": values}
+
+
+def job_page(index: int, run: ViewedRun, job_id: str) -> JobPage | None:
+    found = run.attempts(job_id)
+    if not found:
+        return None
+    from scratchworld_dist.results import effective_rows
+
+    (best,) = effective_rows([a.row for a in found])
+    views = [_attempt_view(run, attempt) for attempt in found]
+    return JobPage(
+        run=run_card(index, run),
+        job_id=job_id,
+        instruction=run.instruction(found[0].row.task_id),
+        attempts=views,
+        effective=next(i for i, a in enumerate(found) if a.row.attempt == best.attempt),
+    )
+
+
+def _attempt_view(run: ViewedRun, attempt: Attempt) -> AttemptView:
+    row = attempt.row
+    listing, files = None, None
+    if row.artifact_dir is not None:
+        files = row.artifact_dir.removeprefix("artifacts/")
+        final = run.artifact(f"{files}/final.sb3")
+        if final is not None:
+            listing = project_listing(final.read_bytes())
+    tests = [
+        {
+            "name": t.name,
+            "passed": "pass" if t.passed else "fail",
+            "message": t.error or "",
+            "duration": "-" if t.duration_ms is None else f"{t.duration_ms:.0f} ms",
+        }
+        for t in attempt.tests
+    ]
+    return AttemptView(
+        row=row,
+        steps=step_views(attempt.steps),
+        steps_note=attempt.steps_note,
+        tests=tests,
+        listing=listing,
+        files=files,
+    )
+
+
+def _time(value: object) -> str | None:
+    return None if value is None else str(value)[:19].replace("T", " ")

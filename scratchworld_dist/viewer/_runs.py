@@ -1,0 +1,170 @@
+"""What the viewer reads of a run directory: its manifest, its job rows, and one job's whole record.
+
+Everything is read again on each call, from shards and journal alike, so a page refreshed while a
+run is in progress shows the jobs finished since. Trajectories are read from the attempt's
+artifacts (they hold what the Parquet ``steps`` table drops: observations, prompts, replies, data);
+an attempt without one falls back to its ``steps`` rows.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+from collections import defaultdict
+from pathlib import Path
+from typing import TypeVar
+
+import pyarrow.compute as pc
+from pydantic import BaseModel, ValidationError
+
+from scratchworld_dist._errors import RunDirError, ScratchWorldError
+from scratchworld_dist._files import read_file
+from scratchworld_dist.results import MANIFEST_NAME, JobRow, RunManifest, RunStore, StepRow, TestRow, read_manifest
+from scratchworld_dist.results import effective_rows as effective
+from workers.contract import StepRecord
+
+ARTIFACTS = "artifacts"
+
+_Row = TypeVar("_Row", StepRow, TestRow)
+
+
+class Attempt(BaseModel):
+    """One attempt of a job as its page shows it."""
+
+    row: JobRow
+    steps: list[StepRecord]
+    steps_note: str | None = None
+    """Why the steps are partial or missing (no trajectory kept, an unreadable line)."""
+
+    tests: list[TestRow]
+
+
+class ViewedRun:
+    """One run directory, read on demand."""
+
+    def __init__(self, path: Path) -> None:
+        if not path.is_dir():
+            raise RunDirError(f"{path}: no such run directory")
+        self.path = path
+        self.store = RunStore(path)
+        if self.manifest() is None:
+            raise RunDirError(f"{path}: no {MANIFEST_NAME}; not a scratchworld run directory")
+
+    def manifest(self) -> RunManifest | None:
+        return read_manifest(self.path)
+
+    def rows(self) -> list[JobRow]:
+        """Every attempt row of the run as it stands (stale rows of an older suite or harness left out)."""
+        manifest = self.manifest()
+        rows = self.store.job_rows()
+        if manifest is None:
+            return rows
+        return [r for r in rows if manifest.is_current(r.suite_hash, r.harness_fingerprint)]
+
+    def effective_rows(self) -> list[JobRow]:
+        """One row per job: its latest attempt with a verdict, else its latest error."""
+        return list(effective(self.rows()))
+
+    def attempts(self, job_id: str) -> list[Attempt]:
+        """Every attempt of ``job_id``, newest first (empty for a job the run does not hold)."""
+        rows = {r.attempt: r for r in self.rows() if r.job_id == job_id}  # an attempt committed twice is one
+        if not rows:
+            return []
+        tests = self._rows_of("tests", TestRow, job_id)
+        step_rows = self._rows_of("steps", StepRow, job_id)
+        found = []
+        for attempt in sorted(rows, reverse=True):
+            steps, note = self._steps(rows[attempt], step_rows.get(attempt, []))
+            found.append(
+                Attempt(
+                    row=rows[attempt],
+                    steps=steps,
+                    steps_note=note,
+                    tests=sorted(tests.get(attempt, []), key=lambda t: t.test_index),
+                )
+            )
+        return found
+
+    def artifact(self, relative: str) -> Path | None:
+        """The file ``relative`` names under the run's artifacts, or None if it is not one (or escapes them)."""
+        root = (self.path / ARTIFACTS).resolve()
+        try:
+            target = (root / relative).resolve()
+        except (OSError, ValueError):
+            return None
+        if not target.is_relative_to(root) or not target.is_file():
+            return None
+        return target
+
+    def instruction(self, task_id: str) -> str | None:
+        """The task's instruction from the run's suite, if that suite is still where the run found it."""
+        manifest = self.manifest()
+        if manifest is None:
+            return None
+        return _instructions(manifest.suite.root, manifest.suite.hash).get(task_id)
+
+    def _rows_of(self, table: str, model: type[_Row], job_id: str) -> dict[int, list[_Row]]:
+        data = self.store.read_table(table)
+        picked = data.filter(pc.equal(data.column("job_id"), job_id)).to_pylist()
+        by_attempt: dict[int, list[_Row]] = defaultdict(list)
+        for row in picked:
+            by_attempt[row["attempt"]].append(model.model_validate(row))
+        return by_attempt
+
+    def _steps(self, row: JobRow, rows: list[StepRow]) -> tuple[list[StepRecord], str | None]:
+        if row.artifact_dir is not None:
+            path = self.path / row.artifact_dir / "trajectory.jsonl"
+            if path.is_file():
+                return _read_trajectory(path)
+        steps = [_step_of(r) for r in sorted(rows, key=lambda r: r.step)]
+        note = "no trajectory was kept for this attempt: steps come from the steps table" if steps else None
+        return steps, note
+
+
+def _read_trajectory(path: Path) -> tuple[list[StepRecord], str | None]:
+    steps, bad = [], 0
+    try:
+        text = read_file(path, 256 * 2**20).decode("utf-8", errors="replace")
+    except OSError as exc:
+        return [], f"the trajectory cannot be read: {exc}"
+    for line in text.splitlines():
+        if not line.strip():
+            continue
+        try:
+            steps.append(StepRecord.model_validate_json(line))
+        except ValidationError:
+            bad += 1
+    return steps, f"{bad} line(s) of the trajectory are not steps and are left out" if bad else None
+
+
+def _step_of(row: StepRow) -> StepRecord:
+    try:
+        args = json.loads(row.args_json)
+    except ValueError:
+        args = {"args_json": row.args_json}
+    return StepRecord(
+        index=row.step,
+        action=row.action,
+        args=args if isinstance(args, dict) else {"args": args},
+        ok=row.ok,
+        error_code=row.error_code,
+        error_message=row.error_message,
+        latency_s=row.latency_s,
+        observation_s=row.observation_s,
+        warnings=row.warnings.splitlines() if row.warnings else [],
+        llm_calls=row.llm_calls,
+        input_tokens=row.input_tokens,
+        output_tokens=row.output_tokens,
+        cost_usd=row.cost_usd,
+    )
+
+
+@functools.lru_cache(maxsize=16)
+def _instructions(root: str, suite_hash: str) -> dict[str, str]:
+    """Instructions per task id of the suite at ``root`` (keyed by hash too: a changed suite is read again)."""
+    from scratchworld_dist.suites import load_suite
+
+    try:
+        return {task.id: task.instruction for task in load_suite(Path(root)).tasks}
+    except (ScratchWorldError, OSError):
+        return {}
