@@ -49,6 +49,7 @@ def regrade_command(
         f"regraded {summary.planned} job(s): sent {summary.sent} attempt(s) (passed {outcomes['passed']}, "
         f"failed {outcomes['failed']}, error {outcomes['error']}, retried {summary.retried}); "
         f"{summary.already_decided} decided before"
+        + (f"; {summary.elapsed_s:.1f} s, {summary.sent / summary.elapsed_s:.2f} jobs/s" if summary.sent else "")
     )
     console.print(f"verdicts: {summary.unchanged} unchanged, {len(summary.changed)} changed")
     for change in summary.changed:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import socket
+import time
 from pathlib import Path
 
 import ray
@@ -41,6 +42,17 @@ class RegradeSummary(BaseModel):
     changed: list[VerdictChange]
     without_project: list[str]
     """Source jobs that stored no project, as ``task seed mode``: not regraded."""
+
+    elapsed_s: float
+    """Wall time of this call's regrades, Ray's and the workers' start included (0 when none was sent)."""
+
+
+class _RayTarget(BaseModel):
+    """Where regrades run: a cluster's address, or a private Ray with ``local_slots`` browser slots."""
+
+    address: str | None
+    local_slots: int | None
+    connect_timeout_s: float
 
 
 def run_regrade(
@@ -109,9 +121,11 @@ def _run_plan(
             markup=False,
         )
         sent, outcomes, retried = 0, {"passed": 0, "failed": 0, "error": 0}, 0
+        started = time.perf_counter()
         if todo:
-            ray_at = (address, local_slots, connect_timeout_s)
-            sent, outcomes, retried = _execute(plan, manifest, store, todo, ray_at, console)
+            target = _RayTarget(address=address, local_slots=local_slots, connect_timeout_s=connect_timeout_s)
+            sent, outcomes, retried = _execute(plan, manifest, store, todo, target, console)
+        elapsed = time.perf_counter() - started if todo else 0.0
         session.finished_at = now()
         session.submitted = sent
         write_manifest(out, manifest)
@@ -132,6 +146,7 @@ def _run_plan(
         unchanged=unchanged,
         changed=changed,
         without_project=[f"{r.task_id} seed {r.seed} {r.mode}" for r in plan.source.without_project],
+        elapsed_s=elapsed,
     )
 
 
@@ -140,16 +155,15 @@ def _execute(
     manifest: RunManifest,
     store: RunStore,
     todo: list[tuple[RegradeJob, int]],
-    ray_at: tuple[str | None, int | None, float],
+    target: _RayTarget,
     console: Console,
 ) -> tuple[int, dict[str, int], int]:
-    """Run ``todo`` on Ray (``ray_at``: a cluster's address, or a private one's browser slots; connect timeout)."""
+    """Run ``todo`` on Ray; returns attempts sent, final outcomes and retries."""
     limits = plan.limits
     needed = {job.task_id for job, _ in todo}
-    local_slots = ray_at[1]
-    with ray_runtime(*ray_at) as slots:
+    with ray_runtime(target.address, target.local_slots, target.connect_timeout_s) as slots:
         cores = os.cpu_count() or 1
-        if local_slots is None:  # a cluster: the cores of all its nodes
+        if target.local_slots is None:  # a cluster: the cores of all its nodes
             cores = int(ray.cluster_resources().get("CPU", cores))
         pool = WorkerPool(slots, pages_per_worker(limits, slots, cores), None, limits.memory_reserve_mb * MIB)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}

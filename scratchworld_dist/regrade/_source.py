@@ -71,6 +71,8 @@ def read_source(path: Path) -> SourceRun:
             while chunk := handle.read(1 << 20):
                 digest.update(chunk)
         jobs.append(SourceJob(row=row, artifacts=folder.resolve(), project_sha256=digest.hexdigest()))
+    if not jobs:
+        raise RunDirError(f"{path}: none of its {len(without)} job(s) stored a final project: nothing to regrade")
     return SourceRun(
         path=path.resolve(), manifest=manifest, jobs=jobs, without_project=without, steps=_steps(store, jobs)
     )
