@@ -27,7 +27,9 @@ def compare_command(
     SYSTEM is a model label, an agent, or agent/model as `report` names its rows; it may be
     left out when the run holds one. @MODE pairs one mode with another (e.g. a model's
     composite against its primitive jobs); without it jobs are paired within each mode.
-    Runs of different suites, harnesses, evaluation profiles or clocks are refused unless --force.
+    Runs of different suites, harnesses, evaluation profiles or clocks are refused unless --force,
+    except a regrade and its source (`scratchworld regrade`): for those the output names the
+    regrade's conditions and lists the jobs whose verdict changed.
     """
     comparison = compare_runs(
         parse_selector(system_a), parse_selector(system_b), force=force, resamples=resamples, seed=seed

@@ -12,6 +12,7 @@ from scratchworld_dist.cli._compare import compare_command
 from scratchworld_dist.cli._drag import drag_group
 from scratchworld_dist.cli._evaluate import evaluate_command
 from scratchworld_dist.cli._gui import gui_command
+from scratchworld_dist.cli._regrade import regrade_command
 from scratchworld_dist.cli._replay import observe_command, replay_command
 from scratchworld_dist.cli._report import report_command
 from scratchworld_dist.cli._run import run_command
@@ -34,6 +35,7 @@ cli.add_command(gui_command)
 cli.add_command(report_command)
 cli.add_command(compare_command)
 cli.add_command(run_command)
+cli.add_command(regrade_command)
 cli.add_command(replay_command)
 cli.add_command(observe_command)
 cli.add_command(status_command)

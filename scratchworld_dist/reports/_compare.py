@@ -21,7 +21,8 @@ from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_exact, paired_bootstrap
 from scratchworld_dist.reports._runs import LoadedRun, incompatibilities, load_run
 from scratchworld_dist.reports._summary import DETERMINATE, row_label
-from scratchworld_dist.results import JobRow, effective_rows
+from scratchworld_dist.reports._verdict_changes import VerdictChange, verdict_changes
+from scratchworld_dist.results import JobRow, RunManifest, effective_rows
 from workers.contract import Mode
 
 MODE_NAMES: tuple[str, ...] = get_args(Mode)
@@ -99,6 +100,19 @@ class TaskOutcome(BaseModel):
     """From A's side: ``win`` when A passed more of the task's jobs than B."""
 
 
+class RegradeNote(BaseModel):
+    """One side regrades the other: under which conditions, and which verdicts that changed."""
+
+    regrading: Literal["a", "b"]
+    """The side that is the regrade (the other is its source)."""
+
+    conditions: str
+    changed: list[VerdictChange]
+    """Regraded jobs of the compared system whose verdict differs from their source's (before: the source's)."""
+
+    unchanged: int
+
+
 class Comparison(BaseModel):
     """``scratchworld compare``'s result; its JSON form is this model's dump."""
 
@@ -121,6 +135,8 @@ class Comparison(BaseModel):
     mcnemar: McNemar
     per_task: list[TaskOutcome]
     warnings: list[str]
+    regrade: RegradeNote | None = None
+    """Set when one side is a regrade of the other (its conditions are then not refused)."""
 
 
 def compare_runs(
@@ -139,7 +155,8 @@ def compare_runs(
                     f"{info.label} in {info.run_dir} ran {', '.join(modes)}: with a mode named on one side, "
                     f"name the other's too (RUN_DIR:SYSTEM@MODE)"
                 )
-    warnings = _condition_problems(run_a, run_b, rows_a, rows_b, force=force)
+    regrade = _regrade_note(run_a, run_b, rows_a, rows_b)
+    warnings = _condition_problems(run_a, run_b, rows_a, rows_b, force=force, regrade=regrade is not None)
     keyed_a, dup_a = _keyed(rows_a, by_mode)
     keyed_b, dup_b = _keyed(rows_b, by_mode)
     if dup_a or dup_b:
@@ -168,7 +185,44 @@ def compare_runs(
         mcnemar=mcnemar_exact([(_passed(x), _passed(y)) for x, y in decided]),
         per_task=_per_task(decided, by_mode),
         warnings=warnings,
+        regrade=regrade,
     )
+
+
+def _regrade_note(run_a: LoadedRun, run_b: LoadedRun, rows_a: list[JobRow], rows_b: list[JobRow]) -> RegradeNote | None:
+    """How one side regrades the other, per its manifest (None when neither does)."""
+    if _regrades(run_b, run_a):
+        regrading: Literal["a", "b"] = "b"
+        source, regraded, regrade_run = rows_a, rows_b, run_b
+    elif _regrades(run_a, run_b):
+        regrading, source, regraded, regrade_run = "a", rows_b, rows_a, run_a
+    else:
+        return None
+    info = regrade_run.manifest.regrade
+    if info is None:  # _regrades found it; this tells the type checker
+        return None
+    harness = regrade_run.manifest.harness.digest if regrade_run.manifest.harness else "-"
+    conditions = (
+        f"suite {info.suite.name} at {info.suite.root} (hash {info.suite.hash}), profile {info.profile}, "
+        f"clock {info.clock}, harness {harness} (source's {info.source_harness or '-'})"
+    )
+    changed, unchanged = verdict_changes(source, regraded)
+    return RegradeNote(regrading=regrading, conditions=conditions, changed=changed, unchanged=unchanged)
+
+
+def _regrades(regrade: LoadedRun, source: LoadedRun) -> bool:
+    """Whether ``regrade``'s manifest names ``source`` as what it regraded (by path, or by run and config)."""
+    info = regrade.manifest.regrade
+    if info is None:
+        return False
+    if Path(info.source_run).resolve() == source.path.resolve():
+        return True
+    return _same_sweep(info.source_run_name, info.source_config_hash, source.manifest)
+
+
+def _same_sweep(run_name: str, config_hash: str, manifest: RunManifest) -> bool:
+    """A source moved elsewhere is still known by its run name and config hash."""
+    return manifest.regrade is None and (manifest.run_name, manifest.config_hash) == (run_name, config_hash)
 
 
 def _system(run: LoadedRun, selector: Selector) -> tuple[list[JobRow], SideInfo]:
@@ -208,9 +262,16 @@ def _system(run: LoadedRun, selector: Selector) -> tuple[list[JobRow], SideInfo]
 
 
 def _condition_problems(
-    run_a: LoadedRun, run_b: LoadedRun, rows_a: list[JobRow], rows_b: list[JobRow], *, force: bool
+    run_a: LoadedRun, run_b: LoadedRun, rows_a: list[JobRow], rows_b: list[JobRow], *, force: bool, regrade: bool
 ) -> list[str]:
-    """Warnings on the two sides' conditions; raises for what makes their verdicts incomparable, unless ``force``."""
+    """Warnings on the two sides' conditions; raises for what makes their verdicts incomparable, unless ``force``.
+
+    A regrade differs from its source in suite, task contents, profile, clock or harness on purpose:
+    those are its stated conditions, not problems.
+    """
+    if regrade:
+        budget = _differs("max_steps", rows_a, rows_b)
+        return [f"{budget}: the systems had different step budgets"] if budget else []
     problems = incompatibilities([run_a, run_b]) if run_a.path.resolve() != run_b.path.resolve() else []
     for field in ("eval_profile", "eval_clock"):
         if differs := _differs(field, rows_a, rows_b):

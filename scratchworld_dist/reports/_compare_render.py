@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections import Counter
 
-from scratchworld_dist.reports._compare import Comparison, Difference, SideInfo, TaskOutcome
+from scratchworld_dist.reports._compare import Comparison, Difference, RegradeNote, SideInfo, TaskOutcome
 from scratchworld_dist.reports._render import ReportFormat, markdown_table, render_text
 
 _DEFINITIONS = (
@@ -26,6 +26,8 @@ def render_comparison_markdown(c: Comparison) -> str:
     parts += [f"Warning: {w}" for w in c.warnings]
     parts.append(f"- A: {_side(c.a)}, run {c.a.run_name} ({c.a.run_dir}), {c.a.jobs} jobs")
     parts[-1] += f"\n- B: {_side(c.b)}, run {c.b.run_name} ({c.b.run_dir}), {c.b.jobs} jobs"
+    if c.regrade is not None:
+        parts.append(_regrade_markdown(c.regrade))
     parts.append(
         f"Paired by {', '.join(c.paired_by)}: {c.paired_jobs} jobs over {c.tasks} tasks with a verdict on both "
         f"sides; left out: {c.only_a} only in A, {c.only_b} only in B, {c.without_verdict} without a verdict on "
@@ -48,6 +50,23 @@ def render_comparison_markdown(c: Comparison) -> str:
     parts.append(markdown_table(header, [_task_cells(t, by_mode) for t in c.per_task]))
     parts.append(_DEFINITIONS)
     return "\n\n".join(parts) + "\n"
+
+
+def _regrade_markdown(note: RegradeNote) -> str:
+    """Which side regrades which, under what, and the jobs whose verdict it changed."""
+    regrade, source = ("B", "A") if note.regrading == "b" else ("A", "B")
+    lines = [
+        f"{regrade} regrades {source}: {source}'s final projects evaluated again under {note.conditions}.",
+        f"\n\n## Verdicts changed by the regrade: {len(note.changed)} (unchanged: {note.unchanged})",
+    ]
+    if note.changed:
+        header = ["task", "seed", "mode", f"verdict {source} -> {regrade}", f"tests {source} -> {regrade}"]
+        rows = [
+            [v.task_id, str(v.seed), v.mode, f"{v.before} -> {v.after}", f"{v.tests_before} -> {v.tests_after}"]
+            for v in note.changed
+        ]
+        lines.append("\n\n" + markdown_table(header, rows))
+    return "".join(lines)
 
 
 def _task_cells(t: TaskOutcome, by_mode: bool) -> list[str]:

@@ -2,6 +2,7 @@
 
 from scratchworld_dist.results._manifest import (
     MANIFEST_NAME,
+    RegradeInfo,
     RunManifest,
     Session,
     SuiteInfo,
@@ -20,6 +21,7 @@ __all__ = [
     "DragRow",
     "JobRecord",
     "JobRow",
+    "RegradeInfo",
     "RunManifest",
     "RunStore",
     "Session",

@@ -46,6 +46,29 @@ class Session(BaseModel):
     """The nodes with browsers this session ran on (checked to run the run's harness)."""
 
 
+class RegradeInfo(BaseModel):
+    """What a regrade run re-evaluated (its source run) and under which conditions."""
+
+    source_run: str
+    """The source run directory, resolved."""
+
+    source_run_name: str
+    source_harness: str | None
+    """The source run's harness digest (its agents ran under it)."""
+
+    source_config_hash: str
+    suite: SuiteInfo
+    """The suite whose evaluation scripts made the new verdicts."""
+
+    profile: str
+    clock: str
+    regraded_jobs: int
+    """Source jobs whose stored final project is regraded (one job each here)."""
+
+    without_project: int
+    """Source jobs that stored no final project (e.g. an error before the editor opened): not regraded."""
+
+
 class RunManifest(BaseModel):
     run_name: str
     schema_version: int
@@ -61,6 +84,8 @@ class RunManifest(BaseModel):
     packages: dict[str, str] = Field(default_factory=dict)
     git_commit: str | None = None
     sessions: list[Session] = Field(default_factory=list)
+    regrade: RegradeInfo | None = None
+    """Set for a run made by ``scratchworld regrade``: its source and the new conditions (None otherwise)."""
 
     def is_current(self, suite_hash: str, harness: str | None) -> bool:
         """Whether a row of this suite and harness belongs to the run as it stands (others are stale)."""

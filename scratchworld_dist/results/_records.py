@@ -12,7 +12,7 @@ from datetime import UTC, datetime
 from pydantic import BaseModel, ConfigDict, Field
 
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import MIB, EpisodeResult
+from workers.contract import MIB, EpisodeResult, EvalResult
 
 
 class JobRow(BaseModel):
@@ -94,6 +94,9 @@ class JobRow(BaseModel):
 
     setting: str | None = None
     """A drag job's setting (baseline | gt_start | knowledge); null for episodes (and in older runs)."""
+
+    regraded_from: str | None = None
+    """A regrade's source job id (its agent-side columns are that job's); null otherwise (and in older runs)."""
 
 
 class StepRow(BaseModel):
@@ -290,11 +293,18 @@ def record_of(
         )
         for step in result.steps
     ]
-    tests = [
+    tests = test_rows(job.job_id, result.attempt, job.task_id, evaluation)
+    drags = [] if result.drag is None else [_drag_row(job, result, annotated)]
+    return JobRecord(job=row, steps=steps, tests=tests, drags=drags)
+
+
+def test_rows(job_id: str, attempt: int, task_id: str, evaluation: EvalResult | None) -> list[TestRow]:
+    """One row per unit test of an attempt's verdict (none without one)."""
+    return [
         TestRow(
-            job_id=job.job_id,
-            attempt=result.attempt,
-            task_id=job.task_id,
+            job_id=job_id,
+            attempt=attempt,
+            task_id=task_id,
             test_index=index,
             name=test.name,
             passed=test.passed,
@@ -303,8 +313,6 @@ def record_of(
         )
         for index, test in enumerate(evaluation.tests if evaluation is not None else [])
     ]
-    drags = [] if result.drag is None else [_drag_row(job, result, annotated)]
-    return JobRecord(job=row, steps=steps, tests=tests, drags=drags)
 
 
 def _drag_row(job: JobSpec, result: EpisodeResult, annotated: str | None) -> DragRow:

@@ -17,7 +17,9 @@ Layout::
 from __future__ import annotations
 
 import fcntl
+import os
 import re
+import shutil
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO
@@ -161,6 +163,24 @@ class RunStore:
         try:
             (folder / name).parent.mkdir(parents=True, exist_ok=True)
             write_atomic(folder / name, data, sync=False)  # survives the driver's death; shards are synced
+        except OSError as exc:
+            raise unwritable(self.run_dir, exc) from exc
+        return str(folder.relative_to(self.run_dir))
+
+    def link_artifact(self, job_id: str, attempt: int, name: str, source: Path) -> str:
+        """Store an existing file as one of an attempt's (a hard link when the file system allows, else a
+        copy); returns its folder relative to the run directory."""
+        folder = self.artifacts_dir / job_id / f"attempt-{attempt}"
+        target = folder / name
+        tmp = target.with_name(f".{target.name}.tmp")
+        try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            tmp.unlink(missing_ok=True)
+            try:
+                os.link(source, tmp)
+            except OSError:  # another file system, or one without hard links
+                shutil.copyfile(source, tmp)
+            os.replace(tmp, target)
         except OSError as exc:
             raise unwritable(self.run_dir, exc) from exc
         return str(folder.relative_to(self.run_dir))

@@ -27,13 +27,22 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from typing import Generic, Protocol, TypeVar
 
 import ray
 from ray.exceptions import GetTimeoutError, RayActorError, RayError
 
 from scratchworld_dist.scheduling._pool import WorkerPool
-from scratchworld_dist.sweep import JobSpec
-from workers.contract import PERMANENT_ERRORS, EpisodeResult, ErrorClass, Refusal, WorkerLoad
+from workers.contract import (
+    PERMANENT_ERRORS,
+    DragSpec,
+    EpisodeResult,
+    EpisodeSpec,
+    ErrorClass,
+    Refusal,
+    RegradeSpec,
+    WorkerLoad,
+)
 
 DEADLINE_GRACE_S = 30.0
 """How long past its own timeout a worker may stay silent before the driver restarts it."""
@@ -43,6 +52,22 @@ WAIT_SLICE_S = 0.5
 
 ADMISSION_WAIT_S = 5.0
 """How long a worker that declined a job waits for memory before it answers that it still lacks it."""
+
+
+class Job(Protocol):
+    """What the scheduler needs of a job: its name, its task's payload key, and what to send for an attempt
+    (a sweep's ``JobSpec``, or a regrade's job)."""
+
+    @property
+    def job_id(self) -> str: ...
+
+    @property
+    def task_id(self) -> str: ...
+
+    def episode(self, attempt: int, timeout_s: float) -> EpisodeSpec | DragSpec | RegradeSpec: ...
+
+
+J = TypeVar("J", bound=Job)
 
 
 @dataclass
@@ -57,8 +82,8 @@ class _Down:
 
 
 @dataclass
-class _Flight:
-    job: JobSpec
+class _Flight(Generic[J]):
+    job: J
     attempt: int
     worker: int
     deadline: float
@@ -99,10 +124,7 @@ class SchedulerStats:
     """Workers opening their editors before their first job."""
 
 
-ResultHandler = Callable[[JobSpec, EpisodeResult], None]
-
-
-class Scheduler:
+class Scheduler(Generic[J]):
     """Runs jobs on a worker pool and hands every finished attempt to ``on_result``."""
 
     def __init__(
@@ -112,7 +134,7 @@ class Scheduler:
         *,
         timeout_s: float,
         retries: int,
-        on_result: ResultHandler,
+        on_result: Callable[[J, EpisodeResult], None],
         max_in_flight: int | None = None,
         budget_usd: float | None = None,
         spent_usd: float = 0.0,
@@ -127,15 +149,15 @@ class Scheduler:
         self.stats = SchedulerStats()
         self.budget_usd = budget_usd
         self.spent_usd = spent_usd
-        self._flights: dict[ray.ObjectRef, _Flight] = {}
+        self._flights: dict[ray.ObjectRef, _Flight[J]] = {}
         self._load = [0] * len(pool)
         self._down: dict[int, _Down] = {}
         self._paused: dict[int, ray.ObjectRef] = {}
         """Workers whose node is short of memory, and the call that answers once it has enough again."""
 
-    def run(self, jobs: Iterable[tuple[JobSpec, int]]) -> None:
+    def run(self, jobs: Iterable[tuple[J, int]]) -> None:
         """Run each (job, first attempt) to a final outcome or until its retries are spent."""
-        queue: deque[tuple[JobSpec, int]] = deque(jobs)
+        queue: deque[tuple[J, int]] = deque(jobs)
         first = {job.job_id: attempt for job, attempt in queue}
         self._warm(len(queue))
         while queue or self._flights:
@@ -239,7 +261,7 @@ class Scheduler:
                 self._paused[worker] = self.pool.handles[worker].wait_admitting.remote(ADMISSION_WAIT_S)
         self.stats.paused = len(self._paused)
 
-    def _submit(self, worker: int, job: JobSpec, attempt: int) -> None:
+    def _submit(self, worker: int, job: J, attempt: int) -> None:
         handle = self.pool.handles[worker]
         ref = handle.run.remote(job.episode(attempt, self.timeout_s), self.payloads[job.task_id])
         deadline = time.monotonic() + self.timeout_s + DEADLINE_GRACE_S
@@ -248,13 +270,13 @@ class Scheduler:
         self.stats.submitted += 1
         self.stats.in_flight = len(self._flights)
 
-    def _collect(self) -> list[tuple[_Flight, EpisodeResult | Refusal | None]]:
+    def _collect(self) -> list[tuple[_Flight[J], EpisodeResult | Refusal | None]]:
         """Finished attempts (``None`` for a job to re-send as the same attempt), and declined jobs."""
         refs = list(self._flights)
         ready, _ = ray.wait(refs, num_returns=1, timeout=WAIT_SLICE_S)
         if ready:
             ready, _ = ray.wait(refs, num_returns=len(refs), timeout=0)
-        finished: list[tuple[_Flight, EpisodeResult | Refusal | None]] = []
+        finished: list[tuple[_Flight[J], EpisodeResult | Refusal | None]] = []
         for ref in ready:
             flight = self._flights.pop(ref)
             self._load[flight.worker] -= 1
@@ -263,7 +285,7 @@ class Scheduler:
         self.stats.in_flight = len(self._flights)
         return finished
 
-    def _result(self, ref: ray.ObjectRef, flight: _Flight) -> EpisodeResult | Refusal | None:
+    def _result(self, ref: ray.ObjectRef, flight: _Flight[J]) -> EpisodeResult | Refusal | None:
         try:
             return ray.get(ref, timeout=60)
         except RayActorError as exc:
@@ -274,10 +296,10 @@ class Scheduler:
         except (RayError, GetTimeoutError) as exc:
             return self._lost(flight, "internal_error", f"{type(exc).__name__}: {_first_line(exc)}")
 
-    def _overdue(self) -> list[tuple[_Flight, EpisodeResult | None]]:
+    def _overdue(self) -> list[tuple[_Flight[J], EpisodeResult | None]]:
         now = time.monotonic()
         overdue = [(ref, f) for ref, f in self._flights.items() if f.deadline < now and not f.collateral]
-        finished: list[tuple[_Flight, EpisodeResult | None]] = []
+        finished: list[tuple[_Flight[J], EpisodeResult | None]] = []
         for ref, flight in overdue:
             self._flights.pop(ref)
             self._load[flight.worker] -= 1
@@ -291,14 +313,14 @@ class Scheduler:
             finished.append((flight, self._lost(flight, "episode_timeout", message)))
         return finished
 
-    def _lost(self, flight: _Flight, error_class: ErrorClass, message: str) -> EpisodeResult:
+    def _lost(self, flight: _Flight[J], error_class: ErrorClass, message: str) -> EpisodeResult:
         """The result of an attempt whose worker never answered, stamped with the times the driver saw."""
         result = EpisodeResult.errored(flight.job.episode(flight.attempt, self.timeout_s), error_class, message)
         now = time.time()
         timings = result.timings.model_copy(update={"total_s": now - flight.sent_at})
         return result.model_copy(update={"started_at": flight.sent_at, "finished_at": now, "timings": timings})
 
-    def _record(self, job: JobSpec, result: EpisodeResult, *, final: bool) -> None:
+    def _record(self, job: J, result: EpisodeResult, *, final: bool) -> None:
         self.stats.attempts += 1
         if final:
             self.stats.outcomes[result.outcome] += 1

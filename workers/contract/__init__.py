@@ -120,6 +120,7 @@ from workers.contract._observations import (
     StepObservation,
     TargetName,
 )
+from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
 from workers.contract._synthetic import SyntheticEpisodes
 
@@ -209,6 +210,7 @@ __all__ = [
     "RateLimits",
     "Refusal",
     "Region",
+    "RegradeSpec",
     "RendererUnavailableError",
     "RetryPolicy",
     "ScratchWorldError",

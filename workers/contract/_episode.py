@@ -20,6 +20,7 @@ from workers.contract._memory import MemoryItem, MemorySnapshot
 from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
 from workers.contract._observation_settings import ObservationSettings
 from workers.contract._observations import StepObservation
+from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import ProjectLimits
 
 Mode = Literal["composite", "primitive"]
@@ -355,7 +356,7 @@ class EpisodeResult(BaseModel):
     @classmethod
     def errored(
         cls,
-        spec: EpisodeSpec | DragSpec,
+        spec: EpisodeSpec | DragSpec | RegradeSpec,
         error_class: ErrorClass,
         message: str,
         *,

@@ -11,7 +11,8 @@ A worker refuses jobs planned for another harness (the driver's fingerprint diff
 code this process runs), so no node produces verdicts under ids that name other code. It declines
 (``Refusal``, not an attempt) to start a job while its node has less memory available than the
 sweep's reserve: the driver sends it elsewhere or later, and Chromium is not pushed into the OOM
-killer. Each result carries the worker's load: its editors, their memory and the node's.
+killer. Each result carries the worker's load: its editors, their memory and the node's. A regrade
+(``RegradeSpec``) evaluates a stored project in the same recycled evaluation editors, no agent.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from workers.contract import (
     EpisodeResult,
     EpisodeSpec,
     Refusal,
+    RegradeSpec,
     SyntheticEpisodes,
     TaskPayload,
     WorkerInfo,
@@ -42,6 +44,7 @@ from workers.contract import (
 )
 from workers.drag._runner import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
+from workers.episode._regrade import regrade
 from workers.episode._runner import EpisodeRunner
 from workers.episode._synthetic import run_synthetic
 from workers.llm import close_litellm_clients, load_litellm
@@ -110,7 +113,9 @@ class EpisodeWorker:
             except (EditorError, PlaywrightError):
                 pass  # the first episode opens its own editor, or reports why it cannot
 
-    async def run(self, spec: EpisodeSpec | DragSpec, task: TaskPayload | DragPayload) -> EpisodeResult | Refusal:
+    async def run(
+        self, spec: EpisodeSpec | DragSpec | RegradeSpec, task: TaskPayload | DragPayload
+    ) -> EpisodeResult | Refusal:
         # The node's free memory alone decides (one read of /proc/meminfo); the browsers' PSS, which
         # means reading every process's smaps, only when the driver is told why the job was declined.
         if self.memory_reserve_bytes and node_memory().available_bytes < self.memory_reserve_bytes:
@@ -136,13 +141,17 @@ class EpisodeWorker:
             update.update(started_at=started, finished_at=time.time(), timings=timings)
         return result.model_copy(update=update)
 
-    async def _run(self, spec: EpisodeSpec | DragSpec, task: TaskPayload | DragPayload) -> EpisodeResult:
+    async def _run(self, spec: EpisodeSpec | DragSpec | RegradeSpec, task: TaskPayload | DragPayload) -> EpisodeResult:
         if spec.harness is not None and spec.harness != self.harness:
             message = (
                 f"{self.info_.hostname} (node {self.info_.node_id[:12]}) runs harness {self.harness}, "
                 f"the job was planned for {spec.harness}: update this node's checkout"
             )
             return EpisodeResult.errored(spec, "harness_mismatch", message)
+        if isinstance(spec, RegradeSpec):
+            if isinstance(task, DragPayload):
+                return EpisodeResult.errored(spec, "internal_error", "a regrade needs an episode task's payload")
+            return await self._regrade(spec, task)
         if isinstance(spec, DragSpec) or isinstance(task, DragPayload):
             if not (isinstance(spec, DragSpec) and isinstance(task, DragPayload)):
                 return EpisodeResult.errored(spec, "internal_error", "a drag job needs a drag spec and a drag payload")
@@ -171,6 +180,13 @@ class EpisodeWorker:
             result = await runner.run(spec, task, agent)
         except (EditorError, PlaywrightError) as exc:
             result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
+        if result.error_class == "editor_failure":
+            await self._drop_if_broken(runner.session)
+        return result
+
+    async def _regrade(self, spec: RegradeSpec, task: TaskPayload) -> EpisodeResult:
+        runner = await self._browser()
+        result = await regrade(runner.evaluator, spec, task)
         if result.error_class == "editor_failure":
             await self._drop_if_broken(runner.session)
         return result

@@ -1,0 +1,81 @@
+"""A regrade run's manifest: the source's config under the new conditions, and where it came from.
+
+Its ``config_hash`` covers the source and the conditions, so regrading into the same directory
+under another suite, profile or clock is refused (unless forced), as ``scratchworld run`` refuses
+another sweep.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+from scratchworld_dist._errors import RunDirError
+from scratchworld_dist._run import harness_changes
+from scratchworld_dist.regrade._plan import RegradePlan
+from scratchworld_dist.results import SCHEMA_VERSION, RegradeInfo, RunManifest, read_manifest
+from scratchworld_dist.results._manifest import git_commit, package_versions
+
+
+def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
+    """The manifest ``out`` gets; raises ``RunDirError`` when ``out`` holds another run, unless ``force``."""
+    source = plan.source.manifest
+    config = {
+        **source.config,
+        "name": out.name,
+        "suite": plan.suite.root,
+        "profile": plan.profile,
+        "clock": plan.clock,
+        "output": str(out),
+    }
+    conditions = {
+        "source": [str(plan.source.path), source.config_hash, source.harness.digest if source.harness else None],
+        "suite": plan.suite.hash,
+        "profile": plan.profile,
+        "clock": plan.clock,
+        "project_limits": plan.project_limits.model_dump(mode="json"),
+    }
+    info = RegradeInfo(
+        source_run=str(plan.source.path),
+        source_run_name=source.run_name,
+        source_harness=source.harness.digest if source.harness else None,
+        source_config_hash=source.config_hash,
+        suite=plan.suite,
+        profile=plan.profile,
+        clock=plan.clock,
+        regraded_jobs=len(plan.jobs),
+        without_project=len(plan.source.without_project),
+    )
+    fresh = RunManifest(
+        run_name=out.name,
+        schema_version=SCHEMA_VERSION,
+        harness=plan.harness,
+        config=config,
+        config_hash=hashlib.sha256(json.dumps(conditions, sort_keys=True).encode()).hexdigest()[:16],
+        suite=plan.suite,
+        planned_jobs=len(plan.jobs),
+        packages=package_versions(),
+        git_commit=git_commit(Path(__file__).parent),
+        regrade=info,
+    )
+    old = read_manifest(out)
+    if old is None:
+        return fresh
+    changes = [
+        f"{what} {before} -> {after}"
+        for what, before, after in (
+            ("regrade of", old.regrade.source_run if old.regrade else "(a sweep, not a regrade)", info.source_run),
+            ("regrade conditions", old.config_hash, fresh.config_hash),
+            ("suite content", old.suite.hash, fresh.suite.hash),
+            ("result schema", old.schema_version, fresh.schema_version),
+        )
+        if before != after
+    ]
+    changes += harness_changes(old.harness, plan.harness)
+    if changes and not force:
+        raise RunDirError(
+            f"{out} holds results of another run ({'; '.join(changes)}): choose another --out, or pass "
+            "--force to continue here (older rows are kept and reported as stale)"
+        )
+    return fresh.model_copy(update={"sessions": old.sessions})

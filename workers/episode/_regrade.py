@@ -1,0 +1,35 @@
+"""A regrade on the worker: the stored project evaluated as an episode's final project is, no agent.
+
+It goes through the runner's ``Evaluator`` (the worker's recycled evaluation editors, the task's
+profile and clock), so a regrade's verdict is made exactly as the episode's own would have been.
+"""
+
+from __future__ import annotations
+
+import time
+
+from workers.contract import EpisodeResult, EpisodeTimings, RegradeSpec, TaskPayload, outcome_of
+from workers.evaluation import Evaluator
+
+REGRADED = "regraded"
+"""Stop reason of a regrade's result (the driver keeps the source's in the row)."""
+
+
+async def regrade(evaluator: Evaluator, spec: RegradeSpec, task: TaskPayload) -> EpisodeResult:
+    """The verdict on ``spec.project`` under ``task.evaluation``, as an episode result without steps."""
+    started, clock = time.time(), time.perf_counter()
+    evaluation = await evaluator.evaluate(spec.project, task.evaluation, spec.project_limits)
+    elapsed = time.perf_counter() - clock
+    outcome, error_class = outcome_of(evaluation)
+    return EpisodeResult(
+        job_id=spec.job_id,
+        attempt=spec.attempt,
+        outcome=outcome,
+        error_class=error_class,
+        error_message=evaluation.error.message if error_class and evaluation.error else None,
+        stop_reason=error_class or REGRADED,
+        evaluation=evaluation,
+        timings=EpisodeTimings(evaluation_s=elapsed, total_s=elapsed),
+        started_at=started,
+        finished_at=time.time(),
+    )
