@@ -146,6 +146,17 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
     conditions = {
         "evaluation profile": str(config.get("profile") or "the suite's"),
         "evaluation clock": str(config.get("clock") or "the suite's"),
+    }
+    if manifest.regrade is not None:  # the new verdicts' conditions, and what they re-evaluated
+        regrade = manifest.regrade
+        conditions = {
+            "regrade of": f"{regrade.source_run_name} ({regrade.source_run}), harness {regrade.source_harness or '-'}",
+            "evaluation profile": regrade.profile,
+            "evaluation clock": regrade.clock,
+            "evaluation suite": f"{regrade.suite.name} ({regrade.suite.root}, hash {regrade.suite.hash})",
+            "regraded jobs": f"{regrade.regraded_jobs} ({regrade.without_project} without a final project left out)",
+        }
+    conditions |= {
         "episode clock": json.dumps(clock) if clock else "the suite kind's default",
         "harness": manifest.harness.digest if manifest.harness else "-",
         "schema version": str(manifest.schema_version),

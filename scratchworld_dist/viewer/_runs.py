@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 import json
+import os
 from collections import defaultdict
 from pathlib import Path
 from typing import TypeVar
@@ -47,19 +48,38 @@ class ViewedRun:
             raise RunDirError(f"{path}: no such run directory")
         self.path = path
         self.store = RunStore(path)
+        self._rows: tuple[tuple[tuple[str, int, int], ...], list[JobRow]] | None = None
         if self.manifest() is None:
             raise RunDirError(f"{path}: no {MANIFEST_NAME}; not a scratchworld run directory")
 
     def manifest(self) -> RunManifest | None:
         return read_manifest(self.path)
 
+    def version(self) -> tuple[tuple[str, int, int], ...]:
+        """What the run's rows are read from, as (name, size, mtime): equal versions hold equal rows."""
+        found = []
+        for folder in (self.path, self.path / "jobs", self.path / "journal"):
+            for entry in os.scandir(folder) if folder.is_dir() else ():
+                if entry.is_file() and (folder != self.path or entry.name == MANIFEST_NAME):
+                    stat = entry.stat()
+                    found.append((f"{folder.name}/{entry.name}", stat.st_size, stat.st_mtime_ns))
+        return tuple(sorted(found))
+
     def rows(self) -> list[JobRow]:
-        """Every attempt row of the run as it stands (stale rows of an older suite or harness left out)."""
+        """Every attempt row of the run as it stands (stale rows of an older suite or harness left out).
+
+        Read again only when the run's files changed since the last read (a refresh of a finished run's
+        pages costs a directory listing; a run in progress is read anew as it commits).
+        """
+        version = self.version()
+        if self._rows is not None and self._rows[0] == version:
+            return self._rows[1]
         manifest = self.manifest()
         rows = self.store.job_rows()
-        if manifest is None:
-            return rows
-        return [r for r in rows if manifest.is_current(r.suite_hash, r.harness_fingerprint)]
+        if manifest is not None:
+            rows = [r for r in rows if manifest.is_current(r.suite_hash, r.harness_fingerprint)]
+        self._rows = (version, rows)
+        return rows
 
     def effective_rows(self) -> list[JobRow]:
         """One row per job: its latest attempt with a verdict, else its latest error."""

@@ -69,6 +69,7 @@ class ViewerSite:
         for path in run_dirs:
             unique.setdefault(path.resolve(), path)
         self.runs = [ViewedRun(path) for path in unique.values()]
+        self._plots_cache: dict[Path, tuple[object, str]] = {}
 
     def get(self, path: str) -> Resource | None:
         """The resource at ``path`` (relative, ``/``-separated), or None when there is none."""
@@ -109,7 +110,7 @@ class ViewerSite:
     def _run_resource(self, k: int, rest: list[str]) -> Resource | None:
         run = self.runs[k]
         if rest == ["index.html"]:
-            return _html(render_page("run.html", "../../", page=run_page(k, run, _plots(run.path))))
+            return _html(render_page("run.html", "../../", page=run_page(k, run, self._plots(run))))
         if rest == ["jobs.html"]:
             page = render_page("jobs.html", "../../", run=run_card(k, run), filters=FILTERS, headers=HEADERS)
             return _html(page)
@@ -124,6 +125,21 @@ class ViewerSite:
             file = run.artifact("/".join(rest[1:]))
             return None if file is None else Resource(_type(file.name), file=file)
         return None
+
+    def _plots(self, run: ViewedRun) -> str:
+        """The run's plots, drawn again only when its results changed (drawing is most of a run page's time)."""
+        from scratchworld_dist.reports import plots_html, report_plots
+
+        version = run.version()
+        cached = self._plots_cache.get(run.path)
+        if cached is not None and cached[0] == version:
+            return cached[1]
+        try:
+            drawn = plots_html(report_plots([run.path]))
+        except RunDirError:
+            drawn = ""
+        self._plots_cache[run.path] = (version, drawn)
+        return drawn
 
     def _index(self) -> bytes:
         cards = [run_card(k, run) for k, run in enumerate(self.runs)]
@@ -160,13 +176,6 @@ class ViewerSite:
         return _html(render_page("compare.html", "../", title=title, c=comparison, error=error))
 
 
-def _plots(path: Path) -> str:
-    from scratchworld_dist.reports import plots_html, report_plots
-
-    try:
-        return plots_html(report_plots([path]))
-    except RunDirError:
-        return ""
 
 
 def _html(body: bytes) -> Resource:
