@@ -7,7 +7,16 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from scratchworld_dist.results import JobRecord, JobRow, RunManifest, RunStore, SuiteInfo, write_manifest
+from scratchworld_dist.results import (
+    JobRecord,
+    JobRow,
+    RegradeInfo,
+    RunManifest,
+    RunStore,
+    SuiteInfo,
+    read_manifest,
+    write_manifest,
+)
 from workers.contract import HarnessFingerprint
 
 T0 = datetime(2026, 1, 1, tzinfo=UTC)
@@ -93,3 +102,38 @@ def make_run(
     )
     write_manifest(run_dir, manifest)
     return run_dir
+
+
+def regrade_run(source: Path, out: Path, flips: set[str]) -> Path:
+    """A hand-made regrade of ``source`` (three tasks): another suite, clock and harness; ``flips`` fail now."""
+    current = {"suite_hash": "suite2", "harness_fingerprint": OTHER_HARNESS.digest, "eval_clock": "real"}
+    rows = [
+        job(
+            f"r{i}",
+            "failed" if f"t{i}" in flips else "passed",
+            task_id=f"t{i}",
+            task_hash=f"new{i}",
+            regraded_from=f"t{i}",
+            tests_passed=1 if f"t{i}" in flips else 2,
+            tests_total=2,
+            **current,
+        )
+        for i in range(3)
+    ]
+    make_run(out, rows, planned=3, tasks=3, suite_hash="suite2", harness=OTHER_HARNESS)
+    manifest = read_manifest(out)
+    assert manifest is not None
+    suite = SuiteInfo(name="fixed", kind="native", root="/fixed", hash="suite2", tasks=3)
+    info = RegradeInfo(
+        source_run=str(source.resolve()),
+        source_run_name="sweep",
+        source_harness=HARNESS.digest,
+        source_config_hash="c",
+        suite=suite,
+        profile="native",
+        clock="real",
+        regraded_jobs=3,
+        without_project=0,
+    )
+    write_manifest(out, manifest.model_copy(update={"regrade": info}))
+    return out

@@ -26,7 +26,7 @@ from scratchworld_dist.reports import (
     render_comparison,
 )
 from scratchworld_dist.results import JobRow
-from tests.run_dirs import HARNESS, OTHER_HARNESS, T0, job, make_run
+from tests.run_dirs import HARNESS, OTHER_HARNESS, T0, job, make_run, regrade_run
 
 # -- the statistics, against computations of this file ----------------------------------------
 
@@ -333,46 +333,9 @@ def test_a_job_run_again_under_another_config_counts_once_at_its_latest(tmp_path
 # -- a regrade and its source ----------------------------------------------------------------
 
 
-def _regrade_of(source: Path, out: Path, flips: set[str]) -> Path:
-    """A hand-made regrade of ``source`` (three tasks): another suite, clock and harness; ``flips`` fail now."""
-    from scratchworld_dist.results import RegradeInfo, SuiteInfo, read_manifest, write_manifest
-
-    current = {"suite_hash": "suite2", "harness_fingerprint": OTHER_HARNESS.digest, "eval_clock": "real"}
-    rows = [
-        job(
-            f"r{i}",
-            "failed" if f"t{i}" in flips else "passed",
-            task_id=f"t{i}",
-            task_hash=f"new{i}",
-            regraded_from=f"t{i}",
-            tests_passed=1 if f"t{i}" in flips else 2,
-            tests_total=2,
-            **current,
-        )
-        for i in range(3)
-    ]
-    make_run(out, rows, planned=3, tasks=3, suite_hash="suite2", harness=OTHER_HARNESS)
-    manifest = read_manifest(out)
-    assert manifest is not None
-    suite = SuiteInfo(name="fixed", kind="native", root="/fixed", hash="suite2", tasks=3)
-    info = RegradeInfo(
-        source_run=str(source.resolve()),
-        source_run_name="sweep",
-        source_harness=HARNESS.digest,
-        source_config_hash="c",
-        suite=suite,
-        profile="native",
-        clock="real",
-        regraded_jobs=3,
-        without_project=0,
-    )
-    write_manifest(out, manifest.model_copy(update={"regrade": info}))
-    return out
-
-
 def test_a_regrade_is_compared_with_its_source_and_lists_the_changed_verdicts(tmp_path: Path) -> None:
     source = make_run(tmp_path / "a", [job(f"t{i}", eval_clock="virtual") for i in range(3)], planned=3, tasks=3)
-    regrade = _regrade_of(source, tmp_path / "b", {"t1"})
+    regrade = regrade_run(source, tmp_path / "b", {"t1"})
     forward = compare_runs(Selector(source), Selector(regrade))  # no refusal: the conditions are the point
     assert forward.regrade is not None
     assert forward.regrade.regrading == "b"
@@ -392,7 +355,7 @@ def test_a_regrade_is_compared_with_its_source_and_lists_the_changed_verdicts(tm
 def test_a_run_that_regrades_another_source_is_still_refused(tmp_path: Path) -> None:
     source = make_run(tmp_path / "a", [job(f"t{i}", eval_clock="virtual") for i in range(3)], planned=3, tasks=3)
     other = make_run(tmp_path / "other", [job(f"t{i}", eval_clock="virtual") for i in range(3)], planned=3, tasks=3)
-    regrade = _regrade_of(other, tmp_path / "b", set())
+    regrade = regrade_run(other, tmp_path / "b", set())
     # ``source`` has the run name the regrade names, but another path and config: not its source.
     source_manifest = (source / "manifest.json").read_text().replace('"config_hash": "c"', '"config_hash": "d"')
     (source / "manifest.json").write_text(source_manifest)

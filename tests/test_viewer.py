@@ -27,7 +27,8 @@ from scratchworld_dist.viewer._server import serve
 from tests.cli_runner import invoke
 from tests.conftest import REPO
 from tests.openai_server import Behaviour, OpenAIServer, reply
-from tests.run_dirs import job, make_run
+from tests.projects import counter_project
+from tests.run_dirs import job, make_run, regrade_run
 from tests.sweep_driver import run_here
 from workers.node import default_chromium
 
@@ -285,3 +286,31 @@ def test_bad_run_directories_and_export_folders_get_one_line_errors(tmp_path: Pa
     assert (tmp_path / "out" / "static" / "jobs.js").is_file()
     again = invoke("view", str(run), "--export", str(tmp_path / "out"))  # an earlier export is refreshed
     assert again.returncode == 0, again.stderr
+
+
+def test_a_regrade_shows_its_source_and_the_verdicts_it_changed(tmp_path: Path) -> None:
+    source = make_run(tmp_path / "a", [job(f"t{i}", eval_clock="virtual") for i in range(3)], planned=3, tasks=3)
+    regrade = regrade_run(source, tmp_path / "b", {"t1"})
+    site = ViewerSite([source, regrade])
+    compare = site.get("compare/0-1.html")
+    assert compare is not None and compare.body is not None
+    text = compare.body.decode()
+    assert "<h2>B regrades A</h2>" in text and "1 verdict(s) changed, 2 kept." in text
+    assert "<td>t1</td><td>composite</td><td>0</td><td>passed</td><td>failed</td><td>2/2</td><td>1/2</td>" in text
+    run_page = site.get("runs/1/index.html")
+    assert run_page is not None and run_page.body is not None
+    assert f"regrade of</th><td>sweep ({source.resolve()})" in run_page.body.decode()
+
+
+def test_an_export_through_a_symlinked_run_copies_the_final_project_and_lists_its_scripts(tmp_path: Path) -> None:
+    folder = tmp_path / "run" / "artifacts" / "job-one" / "attempt-1"
+    folder.mkdir(parents=True)
+    (folder / "final.sb3").write_bytes(counter_project().to_sb3())
+    make_run(tmp_path / "run", [job("job-one", artifact_dir="artifacts/job-one/attempt-1")], planned=1, tasks=1)
+    (tmp_path / "link").symlink_to(tmp_path / "run")
+    summary = export_site(ViewerSite([tmp_path / "link"]), tmp_path / "out")
+    copied = tmp_path / "out" / "runs" / "0" / "files" / "job-one" / "attempt-1" / "final.sb3"
+    assert summary.files == 1 and copied.read_bytes() == (folder / "final.sb3").read_bytes()
+    page = (tmp_path / "out" / "runs" / "0" / "jobs" / "job-one.html").read_text()
+    assert 'href="../files/job-one/attempt-1/final.sb3"' in page
+    assert "control_repeat TIMES=&#34;10&#34;" in page and "data_changevariableby VARIABLE=count" in page

@@ -97,15 +97,16 @@ class ViewerSite:
     def artifact_files(self) -> Iterator[tuple[str, Path]]:
         """(site path, file) of every artifact the jobs' pages link to."""
         for k, run in enumerate(self.runs):
+            root = (run.path / ARTIFACTS).resolve()  # the run may be reached through a symlink
             for row in run.rows():
                 if row.artifact_dir is None:
                     continue
                 folder = (run.path / row.artifact_dir).resolve()
-                if not folder.is_relative_to((run.path / ARTIFACTS).resolve()) or not folder.is_dir():
+                if not folder.is_relative_to(root) or not folder.is_dir():
                     continue
                 for file in sorted(folder.rglob("*")):
                     if file.is_file() and file.name != "trajectory.jsonl":
-                        yield f"runs/{k}/files/{file.relative_to(run.path / ARTIFACTS).as_posix()}", file
+                        yield f"runs/{k}/files/{file.relative_to(root).as_posix()}", file
 
     def _run_resource(self, k: int, rest: list[str]) -> Resource | None:
         run = self.runs[k]
