@@ -9,8 +9,9 @@ from __future__ import annotations
 import html
 import json
 from collections import Counter
+from typing import Literal
 
-from pydantic import BaseModel
+from pydantic import BaseModel, JsonValue
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.results import JobRow
@@ -76,14 +77,42 @@ class RunPage(BaseModel):
     harness_parts: int
     git_commit: str | None
     conditions: dict[str, str]
-    sessions: list[dict[str, str]]
+    sessions: list[SessionLine]
+
+
+class TestLine(BaseModel):
+    """One unit test of an attempt, as its table shows it."""
+
+    __test__ = False
+    name: str
+    passed: Literal["pass", "fail"]
+    message: str
+    duration: str
+
+
+class SessionLine(BaseModel):
+    """One ``scratchworld run`` (or regrade) on the run directory."""
+
+    started: str
+    finished: str
+    host: str
+    planned: int
+    submitted: int
+    nodes: int
+
+
+class JobsData(BaseModel):
+    """The jobs table's data: column names, and per job (its counted attempt) one list of values."""
+
+    columns: list[str]
+    rows: list[list[JsonValue]]
 
 
 class AttemptView(BaseModel):
     row: JobRow
     steps: list[StepView]
     steps_note: str | None
-    tests: list[dict[str, str]]
+    tests: list[TestLine]
     listing: str | None
     files: str | None
     """The attempt's artifact folder relative to the run's ``files/`` (None without artifacts)."""
@@ -162,14 +191,14 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
         "schema version": str(manifest.schema_version),
     }
     sessions = [
-        {
-            "started": _time(s.started_at) or "-",
-            "finished": _time(s.finished_at) or "killed or running",
-            "host": s.host,
-            "planned": str(s.planned),
-            "submitted": str(s.submitted),
-            "nodes": str(len(s.nodes)),
-        }
+        SessionLine(
+            started=_time(s.started_at) or "-",
+            finished=_time(s.finished_at) or "killed or running",
+            host=s.host,
+            planned=s.planned,
+            submitted=s.submitted,
+            nodes=len(s.nodes),
+        )
         for s in manifest.sessions
     ]
     return RunPage(
@@ -187,15 +216,15 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
     )
 
 
-def jobs_data(run: ViewedRun) -> dict[str, object]:
-    """The jobs table's data: column names and one list per job (its effective attempt)."""
+def jobs_data(run: ViewedRun) -> JobsData:
+    """The jobs table's data: one list per job (its effective attempt), and how many attempts it had."""
     rows = sorted(run.effective_rows(), key=lambda r: (r.task_id, r.mode, r.model, r.seed, r.job_id))
     attempts = Counter(r.job_id for r in {(r.job_id, r.attempt): r for r in run.rows()}.values())
-    values = []
+    values: list[list[JsonValue]] = []
     for row in rows:
         dumped = row.model_dump(mode="json", include=set(JOB_COLUMNS))
         values.append([*(dumped.get(c) for c in JOB_COLUMNS), attempts[row.job_id]])
-    return {"columns": [*JOB_COLUMNS, "attempts"], "rows": values}
+    return JobsData(columns=[*JOB_COLUMNS, "attempts"], rows=values)
 
 
 def job_page(index: int, run: ViewedRun, job_id: str) -> JobPage | None:
@@ -224,12 +253,12 @@ def _attempt_view(run: ViewedRun, attempt: Attempt) -> AttemptView:
         if final is not None:
             listing = project_listing(final.read_bytes())
     tests = [
-        {
-            "name": t.name,
-            "passed": "pass" if t.passed else "fail",
-            "message": t.error or "",
-            "duration": "-" if t.duration_ms is None else f"{t.duration_ms:.0f} ms",
-        }
+        TestLine(
+            name=t.name,
+            passed="pass" if t.passed else "fail",
+            message=t.error or "",
+            duration="-" if t.duration_ms is None else f"{t.duration_ms:.0f} ms",
+        )
         for t in attempt.tests
     ]
     return AttemptView(

@@ -117,7 +117,9 @@ class ViewerSite:
             return _html(page)
         if rest == ["jobs-data.js"]:
             # Plain JSON is a script; "<" escaped so no text in it can ever read as markup.
-            data = json.dumps(jobs_data(run), separators=(",", ":"), ensure_ascii=True).replace("<", "\\u003c")
+            data = json.dumps(jobs_data(run).model_dump(), separators=(",", ":"), ensure_ascii=True).replace(
+                "<", "\\u003c"
+            )
             return Resource("text/javascript; charset=utf-8", body=f"window.scratchworldJobs = {data};\n".encode())
         if rest[0] == "jobs" and len(rest) == 2 and (job := rest[1].removesuffix(".html")) and _JOB_ID.fullmatch(job):
             page = job_page(k, run, job)
@@ -175,8 +177,6 @@ class ViewerSite:
         except RunDirError as exc:
             comparison, error = None, str(exc)
         return _html(render_page("compare.html", "../", title=title, c=comparison, error=error))
-
-
 
 
 def _html(body: bytes) -> Resource:
