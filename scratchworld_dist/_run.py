@@ -10,7 +10,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import socket
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +18,7 @@ from pydantic import BaseModel
 from ray.exceptions import RayError
 from rich.console import Console
 
-from scratchworld_dist._errors import ConfigError, RunDirError
+from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.drag import DragTask, load_drag_suite
 from scratchworld_dist.memory import JobItems, StoreInfo, offline_source, source_digest, start_memory_service
 from scratchworld_dist.results import (
@@ -28,11 +27,10 @@ from scratchworld_dist.results import (
     RunStore,
     Session,
     SuiteInfo,
-    read_manifest,
     record_of,
     write_manifest,
 )
-from scratchworld_dist.results._manifest import git_commit, now, package_versions
+from scratchworld_dist.results._manifest import continued, git_commit, now, package_versions
 from scratchworld_dist.scheduling import (
     Scheduler,
     WorkerPool,
@@ -54,7 +52,6 @@ from workers.contract import (
     Mode,
     ModelSpec,
     NodeReport,
-    describe_differences,
 )
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 from workers.node import describe_node, harness_fingerprint
@@ -271,34 +268,7 @@ def _checked_manifest(plan: RunPlan, run_dir: Path, force: bool) -> RunManifest:
         packages=package_versions(),
         git_commit=git_commit(Path(__file__).parent),
     )
-    old = read_manifest(run_dir)
-    if old is None:
-        return fresh
-    changes = [
-        f"{what} {before} -> {after}"
-        for what, before, after in (
-            ("sweep config", old.config_hash, fresh.config_hash),
-            ("suite content", old.suite.hash, fresh.suite.hash),
-            ("result schema", old.schema_version, fresh.schema_version),
-        )
-        if before != after
-    ]
-    changes += harness_changes(old.harness, plan.harness)
-    if changes and not force:
-        raise RunDirError(
-            f"{run_dir} holds results of another sweep ({'; '.join(changes)}): choose another --out, or pass "
-            "--force to continue here (older rows are kept and reported as stale)"
-        )
-    return fresh.model_copy(update={"sessions": old.sessions})
-
-
-def harness_changes(old: HarnessFingerprint | None, new: HarnessFingerprint) -> list[str]:
-    """How the harness of a run directory differs from this one, naming the files (empty: the same)."""
-    if old is None:
-        return [f"harness fingerprint (none recorded) -> {new.digest}"]
-    if old.digest == new.digest:
-        return []
-    return [f"harness fingerprint {old.digest} -> {new.digest} (differs in {describe_differences(old, new)})"]
+    return continued(run_dir, fresh, force=force, kind="sweep", config_label="sweep config")
 
 
 def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | None = None) -> RunSummary:
@@ -325,23 +295,12 @@ def _run_plan(plan: RunPlan, nodes: list[NodeReport], force: bool, console: Cons
         _open_model_cache(config.model_cache.dir)
     store.open_for_writing()
     try:
-        attempts = store.attempts()
-        todo = []
-        for job in plan.jobs:
-            last, decided = attempts.get(job.job_id, (0, False))
-            if not decided:
-                todo.append((job, last + 1))
+        todo = store.undecided(plan.jobs)
         local_slots = None
         if config.ray.address is None:  # admission on this machine, measured only when there is work
             local_slots = admitted_slots(config.limits, [job for job, _ in todo], plan.harness.digest, console.print)
             nodes = [nodes[0].model_copy(update={"browser_slots": local_slots})]
-        session = Session(
-            started_at=now(),
-            host=socket.gethostname(),
-            pid=os.getpid(),
-            planned=len(todo),
-            nodes=[node.summary() for node in nodes],
-        )
+        session = Session.begin(len(todo), [node.summary() for node in nodes])
         manifest.sessions.append(session)
         write_manifest(run_dir, manifest)
         console.print(

@@ -11,11 +11,9 @@ import hashlib
 import json
 from pathlib import Path
 
-from scratchworld_dist._errors import RunDirError
-from scratchworld_dist._run import harness_changes
 from scratchworld_dist.regrade._plan import RegradePlan
 from scratchworld_dist.results import SCHEMA_VERSION, RegradeInfo, RunManifest, read_manifest
-from scratchworld_dist.results._manifest import git_commit, package_versions
+from scratchworld_dist.results._manifest import continued, git_commit, package_versions
 
 
 def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
@@ -60,22 +58,6 @@ def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
         regrade=info,
     )
     old = read_manifest(out)
-    if old is None:
-        return fresh
-    changes = [
-        f"{what} {before} -> {after}"
-        for what, before, after in (
-            ("regrade of", old.regrade.source_run if old.regrade else "(a sweep, not a regrade)", info.source_run),
-            ("regrade conditions", old.config_hash, fresh.config_hash),
-            ("suite content", old.suite.hash, fresh.suite.hash),
-            ("result schema", old.schema_version, fresh.schema_version),
-        )
-        if before != after
-    ]
-    changes += harness_changes(old.harness, plan.harness)
-    if changes and not force:
-        raise RunDirError(
-            f"{out} holds results of another run ({'; '.join(changes)}): choose another --out, or pass "
-            "--force to continue here (older rows are kept and reported as stale)"
-        )
-    return fresh.model_copy(update={"sessions": old.sessions})
+    source_before = old.regrade.source_run if old is not None and old.regrade else "(a sweep, not a regrade)"
+    also = [("regrade of", source_before, info.source_run)] if old is not None else []
+    return continued(out, fresh, force=force, kind="run", config_label="regrade conditions", also=also)

@@ -7,7 +7,6 @@ scheduler (timeouts, retries, dead workers), the same journaled store; resuming 
 from __future__ import annotations
 
 import os
-import socket
 import time
 from pathlib import Path
 
@@ -96,23 +95,12 @@ def _run_plan(
     store = RunStore(out)
     store.open_for_writing()
     try:
-        attempts = store.attempts()
-        todo = []
-        for job in plan.jobs:
-            last, decided = attempts.get(job.job_id, (0, False))
-            if not decided:
-                todo.append((job, last + 1))
+        todo = store.undecided(plan.jobs)
         local_slots = None
         if address is None:
             local_slots = plan.limits.browser_slots or os.cpu_count() or 1  # no model to wait on: one per core
             nodes = [nodes[0].model_copy(update={"browser_slots": local_slots})]
-        session = Session(
-            started_at=now(),
-            host=socket.gethostname(),
-            pid=os.getpid(),
-            planned=len(todo),
-            nodes=[node.summary() for node in nodes],
-        )
+        session = Session.begin(len(todo), [node.summary() for node in nodes])
         manifest.sessions.append(session)
         write_manifest(out, manifest)
         console.print(

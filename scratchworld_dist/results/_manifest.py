@@ -5,7 +5,9 @@ from __future__ import annotations
 import json
 import os
 import platform
+import socket
 import subprocess
+from collections.abc import Sequence
 from datetime import UTC, datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -14,7 +16,7 @@ from typing import Any
 from pydantic import BaseModel, Field, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
-from workers.contract import HarnessFingerprint, NodeSummary
+from workers.contract import HarnessFingerprint, NodeSummary, describe_differences
 
 MANIFEST_NAME = "manifest.json"
 _PACKAGES = ("scratchworld-dist", "ray", "pyarrow", "playwright", "pydantic", "litellm")
@@ -44,6 +46,11 @@ class Session(BaseModel):
 
     nodes: list[NodeSummary] = Field(default_factory=list)
     """The nodes with browsers this session ran on (checked to run the run's harness)."""
+
+    @classmethod
+    def begin(cls, planned: int, nodes: list[NodeSummary]) -> Session:
+        """A session of this process starting now, with ``planned`` jobs to run."""
+        return cls(started_at=now(), host=socket.gethostname(), pid=os.getpid(), planned=planned, nodes=nodes)
 
 
 class RegradeInfo(BaseModel):
@@ -151,3 +158,47 @@ def write_manifest(run_dir: Path, manifest: RunManifest) -> None:
         os.replace(tmp, path)
     except OSError as exc:
         raise RunDirError(f"{path}: cannot write the run manifest: {exc.strerror or exc}") from exc
+
+
+def continued(
+    run_dir: Path,
+    fresh: RunManifest,
+    *,
+    force: bool,
+    kind: str,
+    config_label: str,
+    also: Sequence[tuple[str, object, object]] = (),
+) -> RunManifest:
+    """``fresh``, carrying the sessions of the manifest ``run_dir`` already holds.
+
+    A directory holding results of another ``kind`` (``also``, then the config hash named ``config_label``,
+    the suite's content, the result schema or the harness differ) is refused, naming what differs,
+    unless ``force``: its rows are then kept and reported as stale.
+    """
+    old = read_manifest(run_dir)
+    if old is None:
+        return fresh
+    checks = [
+        *also,
+        (config_label, old.config_hash, fresh.config_hash),
+        ("suite content", old.suite.hash, fresh.suite.hash),
+        ("result schema", old.schema_version, fresh.schema_version),
+    ]
+    changes = [f"{what} {before} -> {after}" for what, before, after in checks if before != after]
+    if fresh.harness is not None:
+        changes += harness_changes(old.harness, fresh.harness)
+    if changes and not force:
+        raise RunDirError(
+            f"{run_dir} holds results of another {kind} ({'; '.join(changes)}): choose another --out, or pass "
+            "--force to continue here (older rows are kept and reported as stale)"
+        )
+    return fresh.model_copy(update={"sessions": old.sessions})
+
+
+def harness_changes(old: HarnessFingerprint | None, new: HarnessFingerprint) -> list[str]:
+    """How the harness of a run directory differs from this one, naming the files (empty: the same)."""
+    if old is None:
+        return [f"harness fingerprint (none recorded) -> {new.digest}"]
+    if old.digest == new.digest:
+        return []
+    return [f"harness fingerprint {old.digest} -> {new.digest} (differs in {describe_differences(old, new)})"]

@@ -20,9 +20,9 @@ import fcntl
 import os
 import re
 import shutil
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import IO
+from typing import IO, Protocol, TypeVar
 
 import pyarrow as pa
 import pyarrow.dataset as ds
@@ -33,6 +33,14 @@ from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist._files import write_atomic
 from scratchworld_dist.results._records import JobRecord, JobRow
 from scratchworld_dist.results._schema import SCHEMAS
+
+
+class _Named(Protocol):
+    @property
+    def job_id(self) -> str: ...
+
+
+_Job = TypeVar("_Job", bound=_Named)
 
 SEGMENT_ROWS = 200
 """Attempts per journal segment before it is compacted into shards."""
@@ -288,6 +296,16 @@ class RunStore:
         """Model spend of every attempt recorded here."""
         column = self.read_table("jobs", columns=["cost_usd"]).column("cost_usd").to_pylist()
         return float(sum(value or 0.0 for value in column))
+
+    def undecided(self, jobs: Iterable[_Job]) -> list[tuple[_Job, int]]:
+        """The ``jobs`` with no verdict here yet, each with the attempt number it runs as next (resume)."""
+        attempts = self.attempts()
+        todo = []
+        for job in jobs:
+            last, decided = attempts.get(job.job_id, (0, False))
+            if not decided:
+                todo.append((job, last + 1))
+        return todo
 
     def attempts(self) -> dict[str, tuple[int, bool]]:
         """Per job id: the highest attempt number recorded, and whether any attempt has a verdict."""
