@@ -169,6 +169,9 @@ def test_what_is_no_run_to_regrade_is_one_line(tmp_path: Path) -> None:
     empty.mkdir()
     drag = make_run(tmp_path / "drag", [job("d1", setting="baseline")], planned=1, tasks=1)
     bare = make_run(tmp_path / "bare", [job("j1"), job("j2", "error")], planned=2, tasks=2)  # no artifacts
+    (tmp_path / "secret").mkdir()
+    (tmp_path / "secret" / "final.sb3").write_bytes(b"not theirs")
+    escaping = make_run(tmp_path / "escaping", [job("j1", artifact_dir="../secret")], planned=1, tasks=1)
     assert_one_line_errors(
         [
             ((str(tmp_path / "nowhere"), "--out", str(tmp_path / "a")), "no such run directory"),
@@ -176,6 +179,7 @@ def test_what_is_no_run_to_regrade_is_one_line(tmp_path: Path) -> None:
             ((str(drag), "--out", str(tmp_path / "a")), "a drag benchmark run stores drags"),
             ((str(drag), "--out", str(drag)), "--out is the source run itself"),
             ((str(bare), "--out", str(tmp_path / "a")), "none of its 2 job(s) stored a final project"),
+            ((str(escaping), "--out", str(tmp_path / "a")), "names artifacts outside the run (../secret)"),
         ]
     )
     assert not (tmp_path / "a").exists()

@@ -61,8 +61,11 @@ def read_source(path: Path) -> SourceRun:
     if not rows:
         raise RunDirError(f"{path}: no job results of its suite and harness to regrade")
     jobs, without = [], []
+    artifacts = (path / "artifacts").resolve()
     for row in sorted(effective_rows(rows), key=lambda r: (r.task_id, r.mode, r.seed, r.job_id)):
-        folder = path / row.artifact_dir if row.artifact_dir else None
+        folder = (path / row.artifact_dir).resolve() if row.artifact_dir else None
+        if folder is not None and not folder.is_relative_to(artifacts):
+            raise RunDirError(f"{path}: job {row.job_id} names artifacts outside the run ({row.artifact_dir})")
         if folder is None or not (folder / FINAL_PROJECT).is_file():
             without.append(row)
             continue
@@ -70,7 +73,7 @@ def read_source(path: Path) -> SourceRun:
         with (folder / FINAL_PROJECT).open("rb") as handle:
             while chunk := handle.read(1 << 20):
                 digest.update(chunk)
-        jobs.append(SourceJob(row=row, artifacts=folder.resolve(), project_sha256=digest.hexdigest()))
+        jobs.append(SourceJob(row=row, artifacts=folder, project_sha256=digest.hexdigest()))
     if not jobs:
         raise RunDirError(f"{path}: none of its {len(without)} job(s) stored a final project: nothing to regrade")
     return SourceRun(
