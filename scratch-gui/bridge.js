@@ -19,6 +19,7 @@
   const clock = window.__scratchworldClock;
   delete window.__scratchworldClock;
   const CLOCKS = ['virtual', 'real'];
+  const RENDERS = ['on_demand', 'every_frame'];
   // Undoing and checking what an evaluation leaves, so that the page can serve the next one.
   const recycler = window.__scratchworldRecycler;
   delete window.__scratchworldRecycler;
@@ -208,12 +209,41 @@
     return text;
   }
 
+  // `on_demand`: the stage is drawn only when something looks at it. The VM asks for a frame on every
+  // step, but touching and colour sensing and the pen do not read it: only a snapshot
+  // (`renderer.requestSnapshot`, answered inside `draw`) and the canvas's own picture do, so `draw`
+  // runs when a snapshot waits and just before the canvas is read. Returns the undo.
+  function drawOnDemand(renderer) {
+    const canvas = renderer.gl.canvas;
+    const draw = renderer.draw;
+    const hadOwnDraw = Object.prototype.hasOwnProperty.call(renderer, 'draw');
+    let drawing = false;
+    const drawNow = () => {
+      if (drawing) return; // draw itself reads the canvas for a snapshot
+      drawing = true;
+      try { draw.call(renderer); } finally { drawing = false; }
+    };
+    renderer.draw = () => { if (renderer._snapshotCallbacks && renderer._snapshotCallbacks.length) drawNow(); };
+    const readers = {};
+    for (const name of ['toDataURL', 'toBlob']) {
+      readers[name] = canvas[name];
+      canvas[name] = function (...args) { drawNow(); return readers[name].apply(canvas, args); };
+    }
+    return () => {
+      if (hadOwnDraw) renderer.draw = draw; else delete renderer.draw;
+      for (const name of Object.keys(readers)) delete canvas[name];
+      draw.call(renderer); // the page shows where the script left the stage
+    };
+  }
+
   async function evaluate(args) {
     const theVm = requireVm();
     const timeoutMs = Number(args.timeoutMs);
     if (!(timeoutMs > 0)) throw new BridgeFailure('bad_request', 'timeoutMs must be a positive number');
     const clockMode = args.clock || 'real';
     if (!CLOCKS.includes(clockMode)) throw new BridgeFailure('bad_request', 'clock must be "virtual" or "real"');
+    const render = args.render || 'every_frame';
+    if (!RENDERS.includes(render)) throw new BridgeFailure('bad_request', 'render must be "on_demand" or "every_frame"');
     const helperGlobal = args.helperGlobal || 'EvaluationUtils';
     if (!/^[A-Za-z_$][\w$]*$/.test(helperGlobal)) {
       throw new BridgeFailure('bad_request', 'helperGlobal must be a JavaScript identifier');
@@ -236,6 +266,7 @@
     // Virtual from here: the script, the VM and the timeout below all run on the skipping clock,
     // so the timeout is a cap in simulated seconds.
     if (clockMode === 'virtual') clock.startVirtual();
+    const undoRender = render === 'on_demand' ? drawOnDemand(theVm.renderer) : null;
     const timedOut = new Promise((resolve) => {
       timer = setTimeout(() => resolve(TIMED_OUT), timeoutMs);
     });
@@ -251,6 +282,7 @@
       try { theVm.runtime.stopAll(); } catch (e) { /* the verdict is already decided */ }
       durationMs = performance.now() - started;
       clock.stopVirtual();
+      if (undoRender) undoRender();
     }
     if (outcome === TIMED_OUT) {
       const unit = clockMode === 'virtual' ? 's of virtual time' : 's';

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Literal
 from pydantic import BaseModel
 
 from scratchworld_dist.suites import Task
-from workers.contract import EvalResult, EvaluationClock, EvaluationProfile, EvaluationSpec
+from workers.contract import EvalResult, EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationSpec
 
 if TYPE_CHECKING:
     from workers.editor import BrowserConfig
@@ -80,6 +80,7 @@ async def validate_tasks(
     on_evaluated: Callable[[Task, Which, EvalResult], None] | None = None,
     profile: EvaluationProfile | None = None,
     clock: EvaluationClock | None = None,
+    render: EvaluationRender | None = None,
 ) -> list[TaskValidation]:
     """Evaluate each task's golden and initial project, ``parallel`` editors at a time.
 
@@ -107,7 +108,7 @@ async def validate_tasks(
             pending = []
             for task in tasks:
                 # Files are read here, before the evaluations start; the script and helper once per task.
-                spec = task.evaluation_spec(profile, clock)
+                spec = task.evaluation_spec(profile, clock, render)
                 golden_path = task.golden_project
                 golden = group.create_task(run(task, "golden", golden_path.read_bytes(), spec)) if golden_path else None
                 initial = group.create_task(run(task, "initial", task.initial_project.read_bytes(), spec))

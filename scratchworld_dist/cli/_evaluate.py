@@ -12,8 +12,17 @@ from rich.table import Table
 from rich.text import Text
 
 from scratchworld_dist._files import read_file
+from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.suites import load_suite
-from workers.contract import MIB, EvalResult, EvaluationClock, EvaluationProfile, EvaluationSpec, ProjectLimits
+from workers.contract import (
+    MIB,
+    EvalResult,
+    EvaluationClock,
+    EvaluationProfile,
+    EvaluationRender,
+    EvaluationSpec,
+    ProjectLimits,
+)
 
 EXIT_NOT_PASSED = 1
 EXIT_NO_VERDICT = 3
@@ -44,7 +53,7 @@ def render_result(result: EvalResult, console: Console) -> None:
         c = result.conditions
         console.print(
             f"profile {c.profile}: stage canvas {c.stage_canvas[0]}x{c.stage_canvas[1]}, mouse known {c.mouse_known}; "
-            f"clock {c.clock}"
+            f"clock {c.clock}; render {c.render}"
         )
     if result.error:
         # One line whatever the terminal's width, so logs and pipes keep the cause whole.
@@ -66,6 +75,7 @@ def render_result(result: EvalResult, console: Console) -> None:
 )
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (default: the suite's).")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (default: the suite's).")
+@render_option
 def evaluate_command(
     suite_dir: Path,
     task_id: str,
@@ -73,6 +83,7 @@ def evaluate_command(
     json_file: Path | None,
     profile: EvaluationProfile | None,
     clock: EvaluationClock | None,
+    render: EvaluationRender | None,
 ) -> None:
     """Evaluate PROJECT (.sb3) against TASK_ID of the suite in SUITE_DIR.
 
@@ -80,7 +91,7 @@ def evaluate_command(
     PROJECT is not a loadable project), 2 unusable arguments (e.g. a PROJECT file over the project
     size limit, or not a regular file).
     """
-    spec = load_suite(suite_dir).task(task_id).evaluation_spec(profile, clock)
+    spec = load_suite(suite_dir).task(task_id).evaluation_spec(profile, clock, render)
     data = read_project_file(project)
     # A project no page may see is refused here, naming the file, before a browser starts.
     from workers.evaluation import project_refusal

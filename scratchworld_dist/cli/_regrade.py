@@ -7,8 +7,9 @@ from pathlib import Path
 import click
 from rich.console import Console
 
+from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.reports import report_runs
-from workers.contract import EvaluationClock, EvaluationProfile
+from workers.contract import EvaluationClock, EvaluationProfile, EvaluationRender
 
 EXIT_ERRORS = 1
 
@@ -21,6 +22,7 @@ EXIT_ERRORS = 1
     "--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (default: the source's)."
 )
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (default: the source's).")
+@render_option
 @click.option("--ray-address", help="Ray cluster to join (default: a private local Ray).")
 @click.option("--force", is_flag=True, help="Continue in an --out that holds another regrade or run.")
 def regrade_command(
@@ -29,6 +31,7 @@ def regrade_command(
     suite: Path | None,
     profile: EvaluationProfile | None,
     clock: EvaluationClock | None,
+    render: EvaluationRender | None,
     ray_address: str | None,
     force: bool,
 ) -> None:
@@ -42,7 +45,15 @@ def regrade_command(
 
     console = Console(stderr=True)
     summary = run_regrade(
-        run_dir, out, suite=suite, profile=profile, clock=clock, address=ray_address, force=force, console=console
+        run_dir,
+        out,
+        suite=suite,
+        profile=profile,
+        clock=clock,
+        render=render,
+        address=ray_address,
+        force=force,
+        console=console,
     )
     outcomes = summary.outcomes
     console.print(

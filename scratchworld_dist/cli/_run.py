@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 from rich.console import Console
 
+from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.reports import report_runs
 from scratchworld_dist.sweep import load_sweep_config
 
@@ -19,6 +20,7 @@ EXIT_ERRORS = 1
 @click.option("--address", help="Ray cluster to join (default: RAY_ADDRESS, else a private local Ray).")
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (overrides profile).")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (overrides clock).")
+@render_option
 @click.option(
     "--model-cache",
     type=click.Path(file_okay=False, path_type=Path),
@@ -31,6 +33,7 @@ def run_command(
     address: str | None,
     profile: str | None,
     clock: str | None,
+    render: str | None,
     model_cache: Path | None,
     force: bool,
 ) -> None:
@@ -48,6 +51,8 @@ def run_command(
         overrides["profile"] = profile
     if clock is not None:
         overrides["clock"] = clock
+    if render is not None:
+        overrides["render"] = render
     if model_cache is not None:  # relative to the working directory, like --out; workers get it absolute
         overrides["model_cache"] = {"dir": str(model_cache.resolve())}
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command

@@ -13,8 +13,9 @@ from rich.table import Table
 from rich.text import Text
 
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
+from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.suites import Task, load_suite
-from workers.contract import EvalResult, EvaluationClock, EvaluationProfile
+from workers.contract import EvalResult, EvaluationClock, EvaluationProfile, EvaluationRender
 
 EXIT_INVALID = 1
 
@@ -54,6 +55,7 @@ def render_table(rows: list[TaskValidation]) -> Table:
     type=click.Choice(["virtual", "real"]),
     help="Evaluation clock (default: virtual for our suites, real for upstream clones).",
 )
+@render_option
 @click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the rows as JSON.")
 def validate_command(
     suite_dir: Path,
@@ -62,6 +64,7 @@ def validate_command(
     parallel: int,
     profile: EvaluationProfile | None,
     clock: EvaluationClock | None,
+    render: EvaluationRender | None,
     json_file: Path | None,
 ) -> None:
     """Evaluate every task's golden and initial project in SUITE_DIR.
@@ -73,8 +76,8 @@ def validate_command(
     console = Console(stderr=True)
     conditions = ""
     if tasks:  # a suite's tasks share their defaults
-        spec = tasks[0].evaluation_spec(profile, clock)
-        conditions = f", profile {spec.profile}, clock {spec.clock}"
+        spec = tasks[0].evaluation_spec(profile, clock, render)
+        conditions = f", profile {spec.profile}, clock {spec.clock}, render {spec.render}"
     console.print(
         f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s){conditions}",
         markup=False,
@@ -84,7 +87,9 @@ def validate_command(
         outcome = result.error.kind if result.error else f"{result.passed}/{result.total}"
         console.print(f"  {task.id} {which}: {outcome} in {result.timings.total_s:.1f}s", markup=False)
 
-    rows = asyncio.run(validate_tasks(tasks, parallel=parallel, on_evaluated=progress, profile=profile, clock=clock))
+    rows = asyncio.run(
+        validate_tasks(tasks, parallel=parallel, on_evaluated=progress, profile=profile, clock=clock, render=render)
+    )
     Console().print(render_table(rows))
     if json_file is not None:
         json_file.write_text(json.dumps([row.model_dump() for row in rows], indent=2) + "\n", encoding="utf-8")

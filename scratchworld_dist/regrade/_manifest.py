@@ -25,6 +25,7 @@ def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
         "suite": plan.suite.root,
         "profile": plan.profile,
         "clock": plan.clock,
+        "render": plan.render,
         "output": str(out),
     }
     conditions = {
@@ -32,6 +33,7 @@ def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
         "suite": plan.suite.hash,
         "profile": plan.profile,
         "clock": plan.clock,
+        "render": plan.render,
         "project_limits": plan.project_limits.model_dump(mode="json"),
     }
     info = RegradeInfo(
@@ -42,6 +44,7 @@ def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
         suite=plan.suite,
         profile=plan.profile,
         clock=plan.clock,
+        render=plan.render,
         regraded_jobs=len(plan.jobs),
         without_project=len(plan.source.without_project),
     )

@@ -23,6 +23,7 @@ from workers.contract import (
     MIB,
     EvaluationClock,
     EvaluationProfile,
+    EvaluationRender,
     HarnessFingerprint,
     ProjectLimits,
     RegradeSpec,
@@ -76,6 +77,7 @@ class RegradePlan(BaseModel):
     suite: SuiteInfo
     profile: EvaluationProfile
     clock: EvaluationClock
+    render: EvaluationRender
     contents: list[TaskContent]
     jobs: list[RegradeJob]
     limits: Limits
@@ -111,6 +113,7 @@ def plan_regrade(
     suite_dir: Path | None = None,
     profile: EvaluationProfile | None = None,
     clock: EvaluationClock | None = None,
+    render: EvaluationRender | None = None,
 ) -> RegradePlan:
     """The source's projects against ``suite_dir`` (default: the source's suite) under ``profile`` and
     ``clock`` (default: the source sweep's, else the suite's own defaults)."""
@@ -125,7 +128,8 @@ def plan_regrade(
     limits = ProjectLimits.model_validate(config.get("project_limits") or {})
     profile = profile or config.get("profile")
     clock = clock or config.get("clock")
-    contents = {task_id: read_task(suite.task(task_id), profile, clock, limits) for task_id in needed}
+    render = render or config.get("render")
+    contents = {task_id: read_task(suite.task(task_id), profile, clock, limits, render) for task_id in needed}
     specs = [content.payload.evaluation for content in contents.values()]
     resolved_profile = specs[0].profile if specs else (profile or "native")
     resolved_clock = specs[0].clock if specs else (clock or "virtual")
@@ -150,6 +154,7 @@ def plan_regrade(
         suite=info,
         profile=resolved_profile,
         clock=resolved_clock,
+        render=specs[0].render if specs else (render or "on_demand"),
         contents=list(contents.values()),
         jobs=jobs,
         limits=_limits(config.get("limits") or {}),

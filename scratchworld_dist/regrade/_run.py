@@ -24,7 +24,7 @@ from scratchworld_dist.results import RunManifest, RunStore, Session, write_mani
 from scratchworld_dist.results._manifest import now
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, pages_per_worker, ray_runtime
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
-from workers.contract import MIB, EvaluationClock, EvaluationProfile, NodeReport
+from workers.contract import MIB, EvaluationClock, EvaluationProfile, EvaluationRender, NodeReport
 from workers.node import describe_node, harness_fingerprint
 
 
@@ -61,6 +61,7 @@ def run_regrade(
     suite: Path | None = None,
     profile: EvaluationProfile | None = None,
     clock: EvaluationClock | None = None,
+    render: EvaluationRender | None = None,
     address: str | None = None,
     connect_timeout_s: float = 30.0,
     force: bool = False,
@@ -73,12 +74,12 @@ def run_regrade(
     source = read_source(source_dir)
     if address is None:  # a private local Ray: this machine is the only node
         local = describe_node()
-        plan = plan_regrade(source, local.harness, suite, profile, clock)
+        plan = plan_regrade(source, local.harness, suite, profile, clock, render)
         return _run_plan(plan, out, [local], None, connect_timeout_s, force, console)
     with ray_runtime(address, None, connect_timeout_s):
         nodes = inspect_nodes()
         harness = agreed_harness(nodes, harness_fingerprint())
-        plan = plan_regrade(source, harness, suite, profile, clock)
+        plan = plan_regrade(source, harness, suite, profile, clock, render)
         return _run_plan(plan, out, nodes, address, connect_timeout_s, force, console)
 
 
@@ -104,7 +105,8 @@ def _run_plan(
         manifest.sessions.append(session)
         write_manifest(out, manifest)
         console.print(
-            f"regrade of {plan.source.path} under {plan.suite.name} ({plan.profile}, {plan.clock} clock): "
+            f"regrade of {plan.source.path} under {plan.suite.name} "
+            f"({plan.profile}, {plan.clock} clock, render {plan.render}): "
             f"{len(plan.jobs)} job(s), {len(plan.jobs) - len(todo)} already decided, {len(todo)} to run -> {out}",
             markup=False,
         )

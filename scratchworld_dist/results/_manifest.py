@@ -69,6 +69,9 @@ class RegradeInfo(BaseModel):
 
     profile: str
     clock: str
+    render: str | None = None
+    """When the regrade's evaluations drew the stage (None in regrades made before the choice existed)."""
+
     regraded_jobs: int
     """Source jobs whose stored final project is regraded (one job each here)."""
 

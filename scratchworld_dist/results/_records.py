@@ -50,6 +50,10 @@ class JobRow(BaseModel):
     eval_clock: str | None = None
     """Clock the verdict was made on (virtual | real); null if none was reached (and in older journals)."""
 
+    eval_render: str | None = None
+    """When the evaluation drew the stage (on_demand | every_frame); null if no verdict was reached (and in
+    older runs, whose evaluations drew every frame)."""
+
     stop_reason: str
     tests_passed: int
     tests_total: int
@@ -244,6 +248,7 @@ def record_of(
         eval_error_kind=evaluation.error.kind if evaluation is not None and evaluation.error else None,
         eval_profile=evaluation.conditions.profile if evaluation is not None and evaluation.conditions else None,
         eval_clock=evaluation.conditions.clock if evaluation is not None and evaluation.conditions else None,
+        eval_render=evaluation.conditions.render if evaluation is not None and evaluation.conditions else None,
         stop_reason=result.stop_reason,
         tests_passed=evaluation.passed if evaluation is not None else 0,
         tests_total=evaluation.total if evaluation is not None else 0,

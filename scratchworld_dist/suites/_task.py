@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
 from scratchworld_dist._errors import SuiteError, TaskNotFoundError
 from scratchworld_dist._files import read_file, read_text
-from workers.contract import CompositeAction, EvaluationClock, EvaluationProfile, EvaluationSpec
+from workers.contract import CompositeAction, EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationSpec
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
 CATEGORIES: tuple[TaskCategory, ...] = get_args(TaskCategory)
@@ -81,12 +81,16 @@ class Task(BaseModel):
     """Evaluation clock unless the user picks one (our suite: ``virtual``, checked equivalent by tests)."""
 
     def evaluation_spec(
-        self, profile: EvaluationProfile | None = None, clock: EvaluationClock | None = None
+        self,
+        profile: EvaluationProfile | None = None,
+        clock: EvaluationClock | None = None,
+        render: EvaluationRender | None = None,
     ) -> EvaluationSpec:
-        """The script and helper sources, read now, ready to send to a worker."""
+        """The script and helper sources, read now, ready to send to a worker (render: on demand by default)."""
         return EvaluationSpec(
             profile=profile or self.default_profile,
             clock=clock or self.default_clock,
+            render=render or "on_demand",
             script_name=self.evaluation_script.name,
             script_source=_read_text(self.evaluation_script),
             helper_name=self.helper_script.name if self.helper_script else None,

@@ -36,6 +36,7 @@ from workers.contract import (
     EpisodeClock,
     EvaluationClock,
     EvaluationProfile,
+    EvaluationRender,
     LLMSettings,
     MemorySettings,
     Mode,
@@ -268,6 +269,9 @@ class SweepConfig(BaseModel):
     """Evaluation profile (native | upstream); default: the suite's (upstream clones: upstream)."""
     clock: EvaluationClock | None = None
     """Evaluation clock (virtual | real); default: the suite's (ours: virtual; upstream clones: real)."""
+
+    render: EvaluationRender | None = None
+    """When evaluations draw the stage (on_demand | every_frame); default: on demand."""
 
     episode_clock: EpisodeClock | None = None
     """How time passes on the agent's page (``virtual`` or ``{mode, start_ms, settle_ms, think_ms}``);

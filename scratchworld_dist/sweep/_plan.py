@@ -32,6 +32,7 @@ from workers.contract import (
     EpisodeSpec,
     EvaluationClock,
     EvaluationProfile,
+    EvaluationRender,
     LLMSettings,
     MemoryPlacement,
     MemorySettings,
@@ -197,13 +198,14 @@ def read_task(
     profile: EvaluationProfile | None = None,
     clock: EvaluationClock | None = None,
     limits: ProjectLimits | None = None,
+    render: EvaluationRender | None = None,
 ) -> TaskContent:
     """Read a task's files once; the hash covers every byte a worker will see (and profile and clock).
 
     Its projects are checked against ``limits`` here, so a task no worker would load fails the plan.
     """
     limits = limits or ProjectLimits()
-    spec = task.evaluation_spec(profile, clock)
+    spec = task.evaluation_spec(profile, clock, render)
     golden = read_project(task.golden_project, limits) if task.golden_project is not None else None
     trajectory = task.trajectory()
     payload = TaskPayload(

@@ -83,7 +83,7 @@ from workers.contract._eval_result import (
     ProfileConditions,
     TestVerdict,
 )
-from workers.contract._evaluation_spec import EvaluationClock, EvaluationProfile, EvaluationSpec
+from workers.contract._evaluation_spec import EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationSpec
 from workers.contract._harness import (
     ENVIRONMENT_PARTS,
     HarnessFingerprint,
@@ -173,6 +173,7 @@ __all__ = [
     "EvalTimings",
     "EvaluationClock",
     "EvaluationProfile",
+    "EvaluationRender",
     "EvaluationSpec",
     "ExpectedConnection",
     "Failed",

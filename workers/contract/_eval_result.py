@@ -7,7 +7,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, field_validator
 
-from workers.contract._evaluation_spec import EvaluationClock, EvaluationProfile
+from workers.contract._evaluation_spec import EvaluationClock, EvaluationProfile, EvaluationRender
 
 EvalErrorKind = Literal[
     "project_invalid",  # the project is not a loadable .sb3 (corrupt zip, bad project.json)
@@ -41,6 +41,9 @@ class ProfileConditions(BaseModel):
 
     clock: EvaluationClock = "real"
     """The clock the script ran on (virtual: simulated time, capped at the spec's timeout)."""
+
+    render: EvaluationRender = "every_frame"
+    """When the stage was drawn (results made before ``on_demand`` existed drew every frame)."""
 
 
 class EvalError(BaseModel):

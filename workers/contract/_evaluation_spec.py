@@ -12,6 +12,10 @@ EvaluationClock = Literal["virtual", "real"]
 EvaluationProfile = Literal["native", "upstream"]
 """The page conditions of an evaluation (see ``workers.evaluation._profiles``)."""
 
+EvaluationRender = Literal["on_demand", "every_frame"]
+"""When the stage is drawn during an evaluation: only when something reads the picture (a snapshot,
+the canvas's own image), or on every VM frame as in an editor someone watches."""
+
 
 class EvaluationSpec(BaseModel):
     """Everything besides the project that an evaluation needs, as data that can cross processes."""
@@ -41,6 +45,11 @@ class EvaluationSpec(BaseModel):
 
     clock: EvaluationClock = "real"
     """Clock of the script's run (see ``scratch-gui/clock.js``); part of a job's identity like the profile."""
+
+    render: EvaluationRender = "on_demand"
+    """When the stage is drawn (see ``scratch-gui/bridge.js``, ``drawOnDemand``); part of a job's identity.
+    Touching, colour sensing and the pen do not read the drawn stage, so skipping the frames nobody
+    looks at halves an evaluation's work without changing what a script sees."""
 
     config: dict[str, JsonValue] = Field(default_factory=dict)
     """Second argument handed to the script (upstream always passes ``{}``)."""

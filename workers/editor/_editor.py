@@ -227,6 +227,7 @@ class Editor:
             "config": spec.config,
             "timeoutMs": spec.timeout_s * 1000,
             "clock": spec.clock,
+            "render": spec.render,
         }
         self.uses += 1
         return EvaluationRun.model_validate(await self.call("evaluate", args))

@@ -96,7 +96,7 @@ class Evaluator:
     ) -> EvalResult:
         conditions = await apply_profile(editor, spec.profile)  # before the project: it may read the mouse at once
         result = await self._load_and_run(editor, project, spec, limits, timings)
-        result.conditions = conditions.model_copy(update={"clock": spec.clock})
+        result.conditions = conditions.model_copy(update={"clock": spec.clock, "render": spec.render})
         return result
 
     async def _load_and_run(
