@@ -175,6 +175,7 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
     conditions = {
         "evaluation profile": str(config.get("profile") or "the suite's"),
         "evaluation clock": str(config.get("clock") or "the suite's"),
+        "evaluation render": str(config.get("render") or "on_demand"),
     }
     if manifest.regrade is not None:  # the new verdicts' conditions, and what they re-evaluated
         regrade = manifest.regrade
@@ -182,6 +183,7 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
             "regrade of": f"{regrade.source_run_name} ({regrade.source_run}), harness {regrade.source_harness or '-'}",
             "evaluation profile": regrade.profile,
             "evaluation clock": regrade.clock,
+            "evaluation render": regrade.render or "every_frame",
             "evaluation suite": f"{regrade.suite.name} ({regrade.suite.root}, hash {regrade.suite.hash})",
             "regraded jobs": f"{regrade.regraded_jobs} ({regrade.without_project} without a final project left out)",
         }
