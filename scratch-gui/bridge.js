@@ -232,7 +232,7 @@
     return () => {
       if (hadOwnDraw) renderer.draw = draw; else delete renderer.draw;
       for (const name of Object.keys(readers)) delete canvas[name];
-      draw.call(renderer); // the page shows where the script left the stage
+      try { draw.call(renderer); } catch (e) { /* the page shows the last frame drawn; the verdict stands */ }
     };
   }
 
