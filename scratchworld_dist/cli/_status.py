@@ -20,7 +20,7 @@ def status_command(run_dir: Path) -> None:
     manifest = read_manifest(run_dir)
     if manifest is None:
         raise RunDirError(f"{run_dir}: no manifest.json here; is this a run directory?")
-    rows = [r for r in RunStore(run_dir).job_rows() if manifest.is_current(r.suite_hash, r.harness_fingerprint)]
+    rows = manifest.current_rows(RunStore(run_dir).job_rows())
     effective = list(effective_rows(rows))
     outcomes = Counter(r.outcome for r in effective)
     errors = Counter(r.error_class or "?" for r in effective if r.outcome == "error")

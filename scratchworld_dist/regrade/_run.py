@@ -122,9 +122,7 @@ def _run_plan(
     finally:
         store.close()
     planned = {job.job_id for job in plan.jobs}
-    rows = [
-        r for r in store.job_rows() if r.job_id in planned and manifest.is_current(r.suite_hash, r.harness_fingerprint)
-    ]
+    rows = [r for r in manifest.current_rows(store.job_rows()) if r.job_id in planned]
     changed, unchanged = verdict_changes([job.source.row for job in plan.jobs], rows)
     return RegradeSummary(
         run_dir=out,

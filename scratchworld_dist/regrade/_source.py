@@ -10,13 +10,12 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.results import (
-    MANIFEST_NAME,
     JobRow,
     RunManifest,
     RunStore,
     StepRow,
     effective_rows,
-    read_manifest,
+    require_manifest,
 )
 
 FINAL_PROJECT = "final.sb3"
@@ -49,13 +48,9 @@ class SourceRun(BaseModel):
 
 def read_source(path: Path) -> SourceRun:
     """The source run's jobs at their effective attempts (rows of its manifest's suite and harness only)."""
-    if not path.is_dir():
-        raise RunDirError(f"{path}: no such run directory")
-    manifest = read_manifest(path)
-    if manifest is None:
-        raise RunDirError(f"{path}: no {MANIFEST_NAME}; not a scratchworld run directory")
+    manifest = require_manifest(path)
     store = RunStore(path)
-    rows = [r for r in store.job_rows() if manifest.is_current(r.suite_hash, r.harness_fingerprint)]
+    rows = manifest.current_rows(store.job_rows())
     if manifest.config.get("benchmark") == "drag" or any(r.setting is not None for r in rows):
         raise RunDirError(f"{path}: a drag benchmark run stores drags, not projects: nothing to regrade")
     if not rows:

@@ -21,7 +21,7 @@ from scratchworld_dist.reports._metrics import (
     pass_hat_k,
     t_quantile_975,
 )
-from scratchworld_dist.reports._plots import Plot, plots_html, report_plots
+from scratchworld_dist.reports._plots import Plot, plots_html, plots_of, report_plots
 from scratchworld_dist.reports._render import (
     FORMATS,
     ReportFormat,
@@ -78,6 +78,7 @@ __all__ = [
     "pass_at_k",
     "pass_hat_k",
     "plots_html",
+    "plots_of",
     "render",
     "render_comparison",
     "render_html",

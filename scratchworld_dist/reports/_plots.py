@@ -15,6 +15,7 @@ from pydantic import BaseModel
 
 from scratchworld_dist.reports._plot_data import plot_data
 from scratchworld_dist.reports._runs import load_runs
+from scratchworld_dist.results import JobRow
 
 
 class Plot(BaseModel):
@@ -43,7 +44,12 @@ def report_plots(run_dirs: Sequence[Path], *, force: bool = False) -> list[Plot]
     merged without ``force``).
     """
     runs, _ = load_runs(run_dirs, force=force)
-    data = plot_data([row for run in runs for row in run.rows])
+    return plots_of([row for run in runs for row in run.rows])
+
+
+def plots_of(rows: Sequence[JobRow]) -> list[Plot]:
+    """The plots of attempt rows already read (each job counts once, as in ``report_plots``)."""
+    data = plot_data(rows)
     if not data:
         return []
     from scratchworld_dist.reports._plot_draw import draw_svg  # imports matplotlib: only when drawing

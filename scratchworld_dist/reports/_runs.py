@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.results import MANIFEST_NAME, JobRow, RunManifest, RunStore, read_manifest
+from scratchworld_dist.results import JobRow, RunManifest, RunStore, require_manifest
 from workers.contract import describe_differences
 
 
@@ -36,15 +36,11 @@ class LoadedRun:
 
 def load_run(path: Path) -> LoadedRun:
     """Read one run directory; raises ``RunDirError`` when it is not one or holds no results."""
-    if not path.is_dir():
-        raise RunDirError(f"{path}: no such run directory")
-    manifest = read_manifest(path)
-    if manifest is None:
-        raise RunDirError(f"{path}: no {MANIFEST_NAME}; not a scratchworld run directory")
+    manifest = require_manifest(path)
     rows = RunStore(path).job_rows()
     if not rows:
         raise RunDirError(f"{path}: no job results yet (run {manifest.run_name!r} has not finished any job)")
-    current = [r for r in rows if manifest.is_current(r.suite_hash, r.harness_fingerprint)]
+    current = manifest.current_rows(rows)
     return LoadedRun(path=path, manifest=manifest, rows=current, stale_rows=len(rows) - len(current))
 
 

@@ -7,6 +7,7 @@ from scratchworld_dist.results._manifest import (
     Session,
     SuiteInfo,
     read_manifest,
+    require_manifest,
     write_manifest,
 )
 from scratchworld_dist.results._records import DragRow, JobRecord, JobRow, StepRow, TestRow, record_of
@@ -31,5 +32,6 @@ __all__ = [
     "effective_rows",
     "read_manifest",
     "record_of",
+    "require_manifest",
     "write_manifest",
 ]

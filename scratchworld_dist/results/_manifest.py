@@ -7,16 +7,19 @@ import os
 import platform
 import socket
 import subprocess
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from datetime import UTC, datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pydantic import BaseModel, Field, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
 from workers.contract import HarnessFingerprint, NodeSummary, describe_differences
+
+if TYPE_CHECKING:  # the rows module imports the sweep's plan, which needs none of this
+    from scratchworld_dist.results._records import JobRow
 
 MANIFEST_NAME = "manifest.json"
 _PACKAGES = ("scratchworld-dist", "ray", "pyarrow", "playwright", "pydantic", "litellm")
@@ -101,6 +104,10 @@ class RunManifest(BaseModel):
         """Whether a row of this suite and harness belongs to the run as it stands (others are stale)."""
         return suite_hash == self.suite.hash and harness == (self.harness.digest if self.harness else None)
 
+    def current_rows(self, rows: Iterable[JobRow]) -> list[JobRow]:
+        """The ``rows`` that belong to the run as it stands (``is_current``); the others are stale."""
+        return [r for r in rows if self.is_current(r.suite_hash, r.harness_fingerprint)]
+
     @property
     def started_at(self) -> datetime | None:
         return self.sessions[0].started_at if self.sessions else None
@@ -138,6 +145,16 @@ def git_commit(path: Path) -> str | None:
     except (OSError, subprocess.SubprocessError):
         return None
     return out.stdout.strip() or None
+
+
+def require_manifest(run_dir: Path) -> RunManifest:
+    """The manifest of ``run_dir``; ``RunDirError`` when the folder is missing or not a run directory."""
+    if not run_dir.is_dir():
+        raise RunDirError(f"{run_dir}: no such run directory")
+    manifest = read_manifest(run_dir)
+    if manifest is None:
+        raise RunDirError(f"{run_dir}: no {MANIFEST_NAME}; not a scratchworld run directory")
+    return manifest
 
 
 def read_manifest(run_dir: Path) -> RunManifest | None:

@@ -8,9 +8,9 @@ an attempt without one falls back to its ``steps`` rows.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
-import os
 from collections import defaultdict
 from pathlib import Path
 from typing import TypeVar
@@ -18,9 +18,18 @@ from typing import TypeVar
 import pyarrow.compute as pc
 from pydantic import BaseModel, ValidationError
 
-from scratchworld_dist._errors import RunDirError, ScratchWorldError
+from scratchworld_dist._errors import ScratchWorldError
 from scratchworld_dist._files import read_file
-from scratchworld_dist.results import MANIFEST_NAME, JobRow, RunManifest, RunStore, StepRow, TestRow, read_manifest
+from scratchworld_dist.results import (
+    MANIFEST_NAME,
+    JobRow,
+    RunManifest,
+    RunStore,
+    StepRow,
+    TestRow,
+    read_manifest,
+    require_manifest,
+)
 from scratchworld_dist.results import effective_rows as effective
 from workers.contract import StepRecord
 
@@ -44,26 +53,25 @@ class ViewedRun:
     """One run directory, read on demand."""
 
     def __init__(self, path: Path) -> None:
-        if not path.is_dir():
-            raise RunDirError(f"{path}: no such run directory")
+        require_manifest(path)
         self.path = path
         self.store = RunStore(path)
         self._rows: tuple[tuple[tuple[str, int, int], ...], list[JobRow]] | None = None
-        if self.manifest() is None:
-            raise RunDirError(f"{path}: no {MANIFEST_NAME}; not a scratchworld run directory")
 
     def manifest(self) -> RunManifest | None:
         return read_manifest(self.path)
 
     def version(self) -> tuple[tuple[str, int, int], ...]:
         """What the run's rows are read from, as (name, size, mtime): equal versions hold equal rows."""
+        files = [self.path / MANIFEST_NAME]
+        for folder in (self.path / "jobs", self.path / "journal"):
+            files += sorted(folder.iterdir()) if folder.is_dir() else []
         found = []
-        for folder in (self.path, self.path / "jobs", self.path / "journal"):
-            for entry in os.scandir(folder) if folder.is_dir() else ():
-                if entry.is_file() and (folder != self.path or entry.name == MANIFEST_NAME):
-                    stat = entry.stat()
-                    found.append((f"{folder.name}/{entry.name}", stat.st_size, stat.st_mtime_ns))
-        return tuple(sorted(found))
+        for file in files:
+            with contextlib.suppress(FileNotFoundError):  # compacted away meanwhile: the next look sees it
+                stat = file.stat()
+                found.append((f"{file.parent.name}/{file.name}", stat.st_size, stat.st_mtime_ns))
+        return tuple(found)
 
     def rows(self) -> list[JobRow]:
         """Every attempt row of the run as it stands (stale rows of an older suite or harness left out).
@@ -77,7 +85,7 @@ class ViewedRun:
         manifest = self.manifest()
         rows = self.store.job_rows()
         if manifest is not None:
-            rows = [r for r in rows if manifest.is_current(r.suite_hash, r.harness_fingerprint)]
+            rows = manifest.current_rows(rows)
         self._rows = (version, rows)
         return rows
 

@@ -131,16 +131,13 @@ class ViewerSite:
 
     def _plots(self, run: ViewedRun) -> str:
         """The run's plots, drawn again only when its results changed (drawing is most of a run page's time)."""
-        from scratchworld_dist.reports import plots_html, report_plots
+        from scratchworld_dist.reports import plots_html, plots_of
 
         version = run.version()
         cached = self._plots_cache.get(run.path)
         if cached is not None and cached[0] == version:
             return cached[1]
-        try:
-            drawn = plots_html(report_plots([run.path]))
-        except RunDirError:
-            drawn = ""
+        drawn = plots_html(plots_of(run.rows()))  # the rows the page read already, not the shards again
         self._plots_cache[run.path] = (version, drawn)
         return drawn
 
