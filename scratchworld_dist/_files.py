@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import errno
 import os
+import shutil
 import stat
 from pathlib import Path
 
@@ -56,4 +57,16 @@ def write_atomic(path: Path, data: bytes, *, sync: bool = True) -> None:
         if sync:
             handle.flush()
             os.fsync(handle.fileno())
+    os.replace(tmp, path)
+
+
+def link_atomic(source: Path, path: Path) -> None:
+    """``source``'s bytes at ``path``: a hard link when both are on one file system (no space used), else
+    a copy; through a temp name and a rename, like ``write_atomic``."""
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.unlink(missing_ok=True)
+    try:
+        os.link(source, tmp)
+    except OSError:  # another file system, or one without hard links
+        shutil.copyfile(source, tmp)
     os.replace(tmp, path)

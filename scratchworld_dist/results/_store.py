@@ -17,9 +17,7 @@ Layout::
 from __future__ import annotations
 
 import fcntl
-import os
 import re
-import shutil
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import IO, Protocol, TypeVar
@@ -30,7 +28,7 @@ import pyarrow.parquet as pq
 from pydantic import ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
-from scratchworld_dist._files import write_atomic
+from scratchworld_dist._files import link_atomic, write_atomic
 from scratchworld_dist.results._records import JobRecord, JobRow
 from scratchworld_dist.results._schema import SCHEMAS
 
@@ -179,16 +177,9 @@ class RunStore:
         """Store an existing file as one of an attempt's (a hard link when the file system allows, else a
         copy); returns its folder relative to the run directory."""
         folder = self.artifacts_dir / job_id / f"attempt-{attempt}"
-        target = folder / name
-        tmp = target.with_name(f".{target.name}.tmp")
         try:
-            target.parent.mkdir(parents=True, exist_ok=True)
-            tmp.unlink(missing_ok=True)
-            try:
-                os.link(source, tmp)
-            except OSError:  # another file system, or one without hard links
-                shutil.copyfile(source, tmp)
-            os.replace(tmp, target)
+            (folder / name).parent.mkdir(parents=True, exist_ok=True)
+            link_atomic(source, folder / name)
         except OSError as exc:
             raise unwritable(self.run_dir, exc) from exc
         return str(folder.relative_to(self.run_dir))

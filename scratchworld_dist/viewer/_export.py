@@ -6,13 +6,12 @@ with no network access (nothing is fetched from elsewhere).
 
 from __future__ import annotations
 
-import os
-import shutil
 from pathlib import Path
 
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError
+from scratchworld_dist._files import link_atomic
 from scratchworld_dist.viewer._site import ViewerSite
 
 
@@ -46,16 +45,7 @@ def export_site(site: ViewerSite, out: Path) -> ExportSummary:
     for path, source in site.artifact_files():
         target = out / path
         target.parent.mkdir(parents=True, exist_ok=True)
-        _link_or_copy(source, target)
+        link_atomic(source, target)
         files += 1
         size += source.stat().st_size
     return ExportSummary(out=out, pages=pages, files=files, bytes=size)
-
-
-def _link_or_copy(source: Path, target: Path) -> None:
-    """A hard link when both are on one file system (an export of a big run costs no space), else a copy."""
-    target.unlink(missing_ok=True)
-    try:
-        os.link(source, target)
-    except OSError:
-        shutil.copyfile(source, target)
