@@ -10,7 +10,16 @@ from scratchworld_dist.results._manifest import (
     require_manifest,
     write_manifest,
 )
-from scratchworld_dist.results._records import DragRow, JobRecord, JobRow, StepRow, TestRow, record_of
+from scratchworld_dist.results._records import (
+    DragRow,
+    JobRecord,
+    JobRow,
+    PerceptionRow,
+    StepRow,
+    TestRow,
+    record_of,
+    shared_image_path,
+)
 from scratchworld_dist.results._schema import SCHEMA_VERSION, SCHEMAS, TABLES
 from scratchworld_dist.results._store import RunStore, effective_rows
 
@@ -22,6 +31,7 @@ __all__ = [
     "DragRow",
     "JobRecord",
     "JobRow",
+    "PerceptionRow",
     "RegradeInfo",
     "RunManifest",
     "RunStore",
@@ -33,5 +43,6 @@ __all__ = [
     "read_manifest",
     "record_of",
     "require_manifest",
+    "shared_image_path",
     "write_manifest",
 ]

@@ -1,6 +1,6 @@
-"""Result rows: one per finished job, one per step, one per unit test, one per drag.
+"""Result rows: one per finished job, one per step, one per unit test, one per drag, one per perception answer.
 
-The four row models are the only shape results take, in the journal, in Parquet and in
+The five row models are the only shape results take, in the journal, in Parquet and in
 reports; ``schema.py`` derives the Arrow schemas from the same field list.
 """
 
@@ -201,6 +201,49 @@ class DragRow(BaseModel):
     """The annotated screenshot (prediction and regions), relative to the run directory."""
 
 
+class PerceptionRow(BaseModel):
+    """What one perception attempt answered and how it scored both ways (a row of ``perception/``)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int
+    item_id: str
+    kind: str
+    """connection, existence or field."""
+
+    tag: str
+    """The item's finer class (upstream's tags, e.g. ``connection_no_hard``, or ours)."""
+
+    answer_format: str
+    """yes_no or value."""
+
+    value_kind: str | None
+    """For value items: number, text or dropdown."""
+
+    model: str
+    agent: str
+    seed: int
+    expected: str
+    reply: str
+    """The answer as given: the model's raw reply, or a scripted agent's answer."""
+
+    extracted: str | None
+    """The answer the normalized scoring read out of the reply (null when it found none)."""
+
+    parse: str
+    """ok, no_answer (empty reply) or unparsed (no answer of the asked form in it)."""
+
+    strict_correct: bool
+    """Upstream's scoring: the stripped reply equals the answer (YES/NO case-insensitively)."""
+
+    normalized_correct: bool
+    """Ours (decides the job's outcome): the final answer read from the reply, trimmed, numbers as numbers."""
+
+    screenshot: str
+    """The item's screenshot, relative to the run directory (``images/<sha256>.png``, stored once per run)."""
+
+
 class JobRecord(BaseModel):
     """Everything one attempt adds to the results, committed together."""
 
@@ -208,6 +251,7 @@ class JobRecord(BaseModel):
     steps: list[StepRow] = Field(default_factory=list)
     tests: list[TestRow] = Field(default_factory=list)
     drags: list[DragRow] = Field(default_factory=list)
+    perception: list[PerceptionRow] = Field(default_factory=list)
 
 
 def _time(unix: float) -> datetime:
@@ -300,7 +344,8 @@ def record_of(
     ]
     tests = test_rows(job.job_id, result.attempt, job.task_id, evaluation)
     drags = [] if result.drag is None else [_drag_row(job, result, annotated)]
-    return JobRecord(job=row, steps=steps, tests=tests, drags=drags)
+    perception = [] if result.perception is None else [_perception_row(job, result)]
+    return JobRecord(job=row, steps=steps, tests=tests, drags=drags, perception=perception)
 
 
 def test_rows(job_id: str, attempt: int, task_id: str, evaluation: EvalResult | None) -> list[TestRow]:
@@ -357,3 +402,34 @@ def _drag_row(job: JobSpec, result: EpisodeResult, annotated: str | None) -> Dra
         reply=next((step.reply for step in result.steps if step.reply is not None), None),
         annotated=annotated,
     )
+
+
+def _perception_row(job: JobSpec, result: EpisodeResult) -> PerceptionRow:
+    attempt, item = result.perception, job.perception
+    if attempt is None or item is None:
+        raise ValueError(f"job {job.job_id} is not a perception job")
+    score = attempt.score
+    return PerceptionRow(
+        job_id=job.job_id,
+        attempt=result.attempt,
+        item_id=job.task_id,
+        kind=item.kind,
+        tag=item.tag,
+        answer_format=item.answer_format,
+        value_kind=item.value_kind,
+        model=job.model_name,
+        agent=job.agent_label,
+        seed=job.seed,
+        expected=attempt.expected,
+        reply=attempt.reply,
+        extracted=score.extracted,
+        parse=score.parse,
+        strict_correct=score.strict,
+        normalized_correct=score.normalized,
+        screenshot=shared_image_path(attempt.screenshot_sha256),
+    )
+
+
+def shared_image_path(sha256: str) -> str:
+    """Where a run keeps an image its jobs share (a perception item's screenshot), relative to the run directory."""
+    return f"images/{sha256}.png"

@@ -9,7 +9,7 @@ from typing import Any, Union, get_args, get_origin
 import pyarrow as pa
 from pydantic import BaseModel
 
-from scratchworld_dist.results._records import DragRow, JobRow, StepRow, TestRow
+from scratchworld_dist.results._records import DragRow, JobRow, PerceptionRow, StepRow, TestRow
 
 SCHEMA_VERSION = 3
 """Bumped on any incompatible change to a table; stored in every shard's metadata."""
@@ -37,7 +37,13 @@ def arrow_schema(model: type[BaseModel]) -> pa.Schema:
     return pa.schema(fields, metadata={"scratchworld_schema_version": str(SCHEMA_VERSION)})
 
 
-TABLES: dict[str, type[BaseModel]] = {"jobs": JobRow, "steps": StepRow, "tests": TestRow, "drags": DragRow}
+TABLES: dict[str, type[BaseModel]] = {
+    "jobs": JobRow,
+    "steps": StepRow,
+    "tests": TestRow,
+    "drags": DragRow,
+    "perception": PerceptionRow,
+}
 """Folder name of each table in a run directory, and its row model."""
 
 SCHEMAS: dict[str, pa.Schema] = {name: arrow_schema(model) for name, model in TABLES.items()}

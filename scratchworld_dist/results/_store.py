@@ -2,16 +2,17 @@
 
 Each finished attempt is appended as one JSON line to the current journal segment and flushed
 before the driver moves on, so killing the driver loses only jobs still in flight. A segment is
-compacted into ``jobs/``, ``steps/``, ``tests/`` and ``drags/`` shards named after it (temp file + rename,
-``jobs`` last), then deleted; compaction is idempotent, so a crash half-way is repaired by
+compacted into ``jobs/``, ``steps/``, ``tests/``, ``drags/`` and ``perception/`` shards named after it
+(temp file + rename, ``jobs`` last), then deleted; compaction is idempotent, so a crash half-way is repaired by
 compacting the leftover segment again on the next open. Readers see shards plus any journal.
 
 Layout::
 
     RUN_DIR/manifest.json
-    RUN_DIR/jobs/part-000001.parquet   steps/...   tests/...   drags/part-000001.parquet
+    RUN_DIR/jobs/part-000001.parquet   steps/...   tests/...   drags/...   perception/part-000001.parquet
     RUN_DIR/journal/segment-000002.jsonl   (not yet compacted)
     RUN_DIR/artifacts/<job_id>/attempt-<n>/{final.sb3, trajectory.jsonl}
+    RUN_DIR/images/<sha256>.png   (images many jobs share, e.g. perception screenshots: once per run)
 """
 
 from __future__ import annotations
@@ -74,6 +75,7 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "steps": ("job_id", "attempt", "step"),
     "tests": ("job_id", "attempt", "test_index"),
     "drags": ("job_id", "attempt", "task_id"),
+    "perception": ("job_id", "attempt", "item_id"),
 }
 """Columns every shard of a table has had in every schema version: a file without them is not one."""
 
@@ -173,6 +175,17 @@ class RunStore:
             raise unwritable(self.run_dir, exc) from exc
         return str(folder.relative_to(self.run_dir))
 
+    def write_shared_image(self, path: str, data: bytes) -> None:
+        """Store an image many jobs show (``path`` from ``shared_image_path``), once: an existing one is kept."""
+        target = self.run_dir / path
+        if target.is_file():
+            return
+        try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+            write_atomic(target, data, sync=False)
+        except OSError as exc:
+            raise unwritable(self.run_dir, exc) from exc
+
     def link_artifact(self, job_id: str, attempt: int, name: str, source: Path) -> str:
         """Store an existing file as one of an attempt's (a hard link when the file system allows, else a
         copy); returns its folder relative to the run directory."""
@@ -204,7 +217,7 @@ class RunStore:
     def _compact(self, number: int, path: Path) -> None:
         records = _read_segment(path)
         if records:
-            for table in ("steps", "tests", "drags", "jobs"):  # jobs last: its shard marks the segment done
+            for table in ("steps", "tests", "drags", "perception", "jobs"):  # jobs last: it marks the segment done
                 shard = _to_table(records, table)
                 sink = pa.BufferOutputStream()
                 pq.write_table(shard, sink, compression="zstd")

@@ -35,12 +35,10 @@ from ray.exceptions import GetTimeoutError, RayActorError, RayError
 from scratchworld_dist.scheduling._pool import WorkerPool
 from workers.contract import (
     PERMANENT_ERRORS,
-    DragSpec,
     EpisodeResult,
-    EpisodeSpec,
     ErrorClass,
     Refusal,
-    RegradeSpec,
+    WorkerJob,
     WorkerLoad,
 )
 
@@ -64,7 +62,7 @@ class Job(Protocol):
     @property
     def task_id(self) -> str: ...
 
-    def episode(self, attempt: int, timeout_s: float) -> EpisodeSpec | DragSpec | RegradeSpec: ...
+    def episode(self, attempt: int, timeout_s: float) -> WorkerJob: ...
 
 
 J = TypeVar("J", bound=Job)

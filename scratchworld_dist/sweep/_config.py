@@ -26,13 +26,12 @@ from pydantic import (
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
+from scratchworld_dist.sweep._benchmarks import DragSweep, PerceptionSweep
 from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import (
     AgentRef,
     AgentUnavailableError,
     CoordinateSystem,
-    DragSetting,
-    DragType,
     EpisodeClock,
     EvaluationClock,
     EvaluationProfile,
@@ -49,6 +48,8 @@ from workers.contract import (
 )
 from workers.drag import checked_drag_agent, needs_model
 from workers.llm import uncacheable
+from workers.perception import checked_perception_agent
+from workers.perception import needs_model as perception_needs_model
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
@@ -200,59 +201,23 @@ def _step_limits(value: Any) -> int | dict[Mode, int]:
     return {mode: positive(limit, f"the step limit of {mode} ") for mode, limit in value.items()}
 
 
-class DragSweep(BaseModel):
-    """The drag benchmark's own axes (``benchmark: drag``): jobs are model x setting x task x seed."""
-
-    model_config = ConfigDict(extra="forbid")
-
-    settings: list[DragSetting] = Field(default_factory=lambda: ["baseline"], min_length=1)
-    types: list[DragType] = Field(default_factory=list)
-    """Task types to run (empty: both)."""
-
-    agents: list[AgentRef] = Field(default_factory=list)
-    """The drag agents to compare in one sweep (default: the config's ``agent``); a scripted one runs once,
-    without the models, a model-driven one once per model."""
-
-    element_list: bool = False
-    """Show primitive mode's element list with the screenshot, and accept ``<index>`` answers."""
-
-    optional_suites: list[Path] = Field(default_factory=list)
-    """More drag suites, each run when present and skipped with a notice when not (e.g. an upstream clone)."""
-
-    @field_validator("settings")
-    @classmethod
-    def _distinct(cls, value: list[DragSetting]) -> list[DragSetting]:
-        if len(set(value)) != len(value):
-            raise ValueError("settings must be distinct")
-        return value
-
-    @field_validator("agents")
-    @classmethod
-    def _known_agents(cls, agents: list[AgentRef]) -> list[AgentRef]:
-        for agent in agents:
-            try:
-                checked_drag_agent(agent)
-            except AgentUnavailableError as exc:
-                raise ValueError(str(exc)) from None
-        labels = [agent.display for agent in agents]
-        if len(set(labels)) != len(labels):
-            raise ValueError("two drag agents share a name: give them distinct labels")
-        return agents
-
-
 class SweepConfig(BaseModel):
     """A whole sweep: the job matrix model x mode x task x seed, and how to run it."""
 
     model_config = ConfigDict(extra="forbid")
 
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
-    benchmark: Literal["tasks", "drag"] = "tasks"
-    """``tasks``: episodes on a task suite; ``drag``: the single-step drag benchmark on a drag suite."""
+    benchmark: Literal["tasks", "drag", "perception"] = "tasks"
+    """``tasks``: episodes on a task suite; ``drag``: the single-step drag benchmark on a drag suite;
+    ``perception``: the visual perception QA benchmark on a perception suite."""
 
     suite: Path
     tasks: TaskSelection = Field(default_factory=TaskSelection)
     drag: DragSweep = Field(default_factory=DragSweep)
     """Settings of the drag benchmark (``benchmark: drag`` only)."""
+
+    perception: PerceptionSweep = Field(default_factory=PerceptionSweep)
+    """Settings of the perception benchmark (``benchmark: perception`` only)."""
 
     agent: AgentRef = Field(default_factory=lambda: AgentRef(name="oracle"))
     """Who acts: a registered name (oracle, noop, llm, a plugin's) or ``package.module:Class``,
@@ -331,6 +296,12 @@ class SweepConfig(BaseModel):
     @field_validator("agent")
     @classmethod
     def _agent_available(cls, agent: AgentRef, info: ValidationInfo) -> AgentRef:
+        if info.data.get("benchmark") == "perception":
+            try:
+                checked_perception_agent(agent)
+            except AgentUnavailableError as exc:
+                raise ValueError(str(exc)) from None
+            return agent
         if info.data.get("benchmark") == "drag":
             try:
                 checked_drag_agent(agent)
@@ -351,9 +322,9 @@ class SweepConfig(BaseModel):
 
     @model_validator(mode="after")
     def _agent_fits_sweep(self) -> SweepConfig:
-        if self.benchmark == "drag":
+        if self.benchmark != "tasks":
             if self.memory is not None or self.synthetic is not None:
-                raise ValueError("memory and synthetic are for task suites, not the drag benchmark")
+                raise ValueError(f"memory and synthetic are for task suites, not the {self.benchmark} benchmark")
             return self
         agent = agent_class(self.agent.name)
         supported = getattr(agent, "modes", ("composite", "primitive"))
@@ -373,6 +344,8 @@ class SweepConfig(BaseModel):
     def _models_fit_agent(self) -> SweepConfig:
         if self.benchmark == "drag":
             needs = any(needs_model(agent) for agent in self.drag_agents())
+        elif self.benchmark == "perception":
+            needs = any(perception_needs_model(agent) for agent in self.perception_agents())
         else:
             needs = getattr(agent_class(self.agent.name), "needs_model", False)
         if needs and not self.models:
@@ -396,8 +369,8 @@ class SweepConfig(BaseModel):
         if cache is None or "models" not in info.data or "agent" not in info.data:
             return cache  # the models or the agent are invalid themselves: that error is reported instead
         agent: AgentRef = info.data["agent"]
-        drag = info.data.get("benchmark") == "drag"
-        helpers = [] if drag else extra_models(agent_params(agent_class(agent.name), agent))
+        episodes = info.data.get("benchmark", "tasks") == "tasks"
+        helpers = extra_models(agent_params(agent_class(agent.name), agent)) if episodes else []
         for spec in [*(m.spec() for m in info.data["models"]), *helpers]:
             reason = uncacheable(spec)
             if reason is not None:
@@ -407,6 +380,10 @@ class SweepConfig(BaseModel):
     def drag_agents(self) -> list[AgentRef]:
         """The agents of a drag sweep: ``drag.agents``, else ``agent``."""
         return self.drag.agents or [self.agent]
+
+    def perception_agents(self) -> list[AgentRef]:
+        """The agents of a perception sweep: ``perception.agents``, else ``agent``."""
+        return self.perception.agents or [self.agent]
 
     def model_specs(self) -> list[ModelSpec | None]:
         """The models of the matrix; a sweep without models (scripted agents) has one model-less column."""
@@ -448,6 +425,9 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     if config.drag.optional_suites:
         optional = [_resolve(base, suite) for suite in config.drag.optional_suites]
         resolved["drag"] = config.drag.model_copy(update={"optional_suites": optional})
+    if config.perception.optional_suites:
+        optional = [_resolve(base, suite) for suite in config.perception.optional_suites]
+        resolved["perception"] = config.perception.model_copy(update={"optional_suites": optional})
     if config.model_cache is not None and "model_cache" not in (overrides or {}):
         resolved["model_cache"] = ModelCacheSettings(dir=_resolve(base, config.model_cache.dir))
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):

@@ -24,6 +24,7 @@ from scratchworld_dist.suites import Task
 from workers.contract import (
     MIB,
     AgentRef,
+    AnswerFormat,
     ConnectionKind,
     DragSetting,
     DragSpec,
@@ -41,9 +42,12 @@ from workers.contract import (
     ModelCacheSettings,
     ModelSpec,
     ObservationSettings,
+    PerceptionKind,
+    PerceptionSpec,
     ProjectLimits,
     SyntheticEpisodes,
     TaskPayload,
+    ValueKind,
     check_project,
 )
 from workers.node import harness_fingerprint
@@ -62,8 +66,20 @@ class DragTaskInfo(BaseModel):
     source: Literal["canvas", "flyout"]
 
 
+class PerceptionItemInfo(BaseModel):
+    """What reports group a perception job by (its item's kind, tag and form of answer)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    kind: PerceptionKind
+    tag: str
+    answer_format: AnswerFormat
+    value_kind: ValueKind | None = None
+
+
 class JobSpec(BaseModel):
-    """One cell of the matrix, as planned by the driver: an episode, or a drag job when ``setting`` is set."""
+    """One cell of the matrix, as planned by the driver: an episode, a drag job when ``setting`` is set, or a
+    perception job when ``perception`` is."""
 
     model_config = ConfigDict(frozen=True)
 
@@ -114,6 +130,9 @@ class JobSpec(BaseModel):
     element_list: bool = False
     """A drag job shows the element list (part of its id)."""
 
+    perception: PerceptionItemInfo | None = None
+    """A perception job's item, as reports group it."""
+
     @property
     def agent_label(self) -> str:
         """The agent column of reports; memory fed by the verdict is labelled as the ablation it is."""
@@ -128,8 +147,21 @@ class JobSpec(BaseModel):
             return NO_MODEL
         return "+".join([self.model.name, *(extra.name for extra in self.extra_models)])
 
-    def episode(self, attempt: int, timeout_s: float) -> EpisodeSpec | DragSpec:
-        """What the worker is sent for ``attempt``: a drag job's spec, or an episode's."""
+    def episode(self, attempt: int, timeout_s: float) -> EpisodeSpec | DragSpec | PerceptionSpec:
+        """What the worker is sent for ``attempt``: a drag or perception job's spec, or an episode's."""
+        if self.perception is not None:
+            return PerceptionSpec(
+                job_id=self.job_id,
+                attempt=attempt,
+                task_id=self.task_id,
+                agent=self.agent,
+                model=self.model,
+                seed=self.seed,
+                timeout_s=timeout_s,
+                llm=self.llm,
+                harness=self.harness,
+                model_cache=self.model_cache,
+            )
         if self.setting is not None:
             return DragSpec(
                 job_id=self.job_id,

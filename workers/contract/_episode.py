@@ -20,6 +20,7 @@ from workers.contract._memory import MemoryItem, MemorySnapshot
 from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
 from workers.contract._observation_settings import ObservationSettings
 from workers.contract._observations import StepObservation
+from workers.contract._perception import PerceptionAttempt
 from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import ProjectLimits
 
@@ -194,6 +195,29 @@ class DragSpec(BaseModel):
     model_cache: ModelCacheSettings | None = None
 
 
+class PerceptionSpec(BaseModel):
+    """One perception job as a worker sees it: who answers which item."""
+
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int = Field(ge=1)
+    task_id: str
+    """The item's id."""
+
+    agent: AgentRef
+    model: ModelSpec | None
+    seed: int
+    timeout_s: float = Field(gt=0)
+    llm: LLMSettings | None = None
+    harness: str | None = None
+    model_cache: ModelCacheSettings | None = None
+
+
+WorkerJob = EpisodeSpec | DragSpec | PerceptionSpec | RegradeSpec
+"""Any job a worker runs, as it is sent for one attempt."""
+
+
 class TaskPayload(BaseModel):
     """The task's content, shipped once per task to the object store and shared by its jobs."""
 
@@ -324,6 +348,9 @@ class EpisodeResult(BaseModel):
     drag: DragAttempt | None = None
     """A drag job's points and their distances to the feasible regions (None for episodes)."""
 
+    perception: PerceptionAttempt | None = None
+    """A perception job's answer and its scores (None for episodes)."""
+
     worker: WorkerInfo | None = None
     load: WorkerLoad | None = None
     """The worker's browser and node when the episode ended (None when it never reached a worker)."""
@@ -356,7 +383,7 @@ class EpisodeResult(BaseModel):
     @classmethod
     def errored(
         cls,
-        spec: EpisodeSpec | DragSpec | RegradeSpec,
+        spec: WorkerJob,
         error_class: ErrorClass,
         message: str,
         *,

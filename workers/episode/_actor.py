@@ -12,7 +12,8 @@ code this process runs), so no node produces verdicts under ids that name other 
 (``Refusal``, not an attempt) to start a job while its node has less memory available than the
 sweep's reserve: the driver sends it elsewhere or later, and Chromium is not pushed into the OOM
 killer. Each result carries the worker's load: its editors, their memory and the node's. A regrade
-(``RegradeSpec``) evaluates a stored project in the same recycled evaluation editors, no agent.
+(``RegradeSpec``) evaluates a stored project in the same recycled evaluation editors, no agent; a
+perception job (``PerceptionSpec``) asks about a static screenshot and starts no browser.
 """
 
 from __future__ import annotations
@@ -34,12 +35,14 @@ from workers.contract import (
     DragSpec,
     EditorError,
     EpisodeResult,
-    EpisodeSpec,
+    PerceptionPayload,
+    PerceptionSpec,
     Refusal,
     RegradeSpec,
     SyntheticEpisodes,
     TaskPayload,
     WorkerInfo,
+    WorkerJob,
     WorkerLoad,
 )
 from workers.drag._runner import DragRunner
@@ -49,6 +52,7 @@ from workers.episode._runner import EpisodeRunner
 from workers.episode._synthetic import run_synthetic
 from workers.llm import close_litellm_clients, load_litellm
 from workers.node import browser_usage, harness_fingerprint, node_memory
+from workers.perception._runner import run_perception
 
 MEMORY_POLL_S = 0.5
 """How often a worker short of memory looks again."""
@@ -114,7 +118,9 @@ class EpisodeWorker:
                 pass  # the first episode opens its own editor, or reports why it cannot
 
     async def run(
-        self, spec: EpisodeSpec | DragSpec | RegradeSpec, task: TaskPayload | DragPayload
+        self,
+        spec: WorkerJob,
+        task: TaskPayload | DragPayload | PerceptionPayload,
     ) -> EpisodeResult | Refusal:
         # The node's free memory alone decides (one read of /proc/meminfo); the browsers' PSS, which
         # means reading every process's smaps, only when the driver is told why the job was declined.
@@ -141,15 +147,25 @@ class EpisodeWorker:
             update.update(started_at=started, finished_at=time.time(), timings=timings)
         return result.model_copy(update=update)
 
-    async def _run(self, spec: EpisodeSpec | DragSpec | RegradeSpec, task: TaskPayload | DragPayload) -> EpisodeResult:
+    async def _run(
+        self,
+        spec: WorkerJob,
+        task: TaskPayload | DragPayload | PerceptionPayload,
+    ) -> EpisodeResult:
         if spec.harness is not None and spec.harness != self.harness:
             message = (
                 f"{self.info_.hostname} (node {self.info_.node_id[:12]}) runs harness {self.harness}, "
                 f"the job was planned for {spec.harness}: update this node's checkout"
             )
             return EpisodeResult.errored(spec, "harness_mismatch", message)
+        if isinstance(spec, PerceptionSpec) or isinstance(task, PerceptionPayload):
+            if not (isinstance(spec, PerceptionSpec) and isinstance(task, PerceptionPayload)):
+                return EpisodeResult.errored(spec, "internal_error", "a perception job needs its spec and its item")
+            if spec.model is not None:
+                await load_litellm()
+            return await run_perception(spec, task)
         if isinstance(spec, RegradeSpec):
-            if isinstance(task, DragPayload):
+            if not isinstance(task, TaskPayload):
                 return EpisodeResult.errored(spec, "internal_error", "a regrade needs an episode task's payload")
             return await self._regrade(spec, task)
         if isinstance(spec, DragSpec) or isinstance(task, DragPayload):

@@ -1,0 +1,156 @@
+"""Planning the perception benchmark: the job matrix agent x model x item x seed, named by what decides each job.
+
+A perception job's id hashes the model and its parameters, the agent, the item's content (its question,
+answer, form and the screenshot's bytes), the seed, the conversation protocol and the harness fingerprint
+(the prompt and the scoring are worker code), so resume never reuses an answer given under other
+conditions.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
+
+from pydantic import BaseModel, ConfigDict
+
+from scratchworld_dist._errors import ConfigError
+from scratchworld_dist.perception import PerceptionItem, PerceptionSuite, load_perception_suite, read_screenshot
+from scratchworld_dist.sweep._plan import JobSpec, PerceptionItemInfo
+from workers.contract import AgentRef, LLMSettings, ModelCacheSettings, ModelSpec, PerceptionKind, PerceptionPayload
+from workers.node import harness_fingerprint
+from workers.perception import needs_model
+
+PERCEPTION_MODE = "primitive"
+"""The mode column of perception jobs: a screenshot is what primitive mode observes, read here in isolation."""
+
+
+class PerceptionContent(BaseModel):
+    """An item read into memory: its payload for workers and the hash of all of it."""
+
+    model_config = ConfigDict(frozen=True)
+
+    task: PerceptionItem
+    payload: PerceptionPayload
+    task_hash: str
+
+
+class PerceptionSelection(BaseModel):
+    """The items a perception sweep runs, from the suites that were there."""
+
+    model_config = ConfigDict(frozen=True)
+
+    name: str
+    kind: str
+    root: Path
+    contents: list[PerceptionContent]
+
+
+def read_perception_item(item: PerceptionItem) -> PerceptionContent:
+    """Read an item's screenshot once (checked to be a PNG); the hash covers all a worker sees."""
+    payload = item.payload(read_screenshot(item.screenshot))
+    digest = hashlib.sha256(payload.screenshot_png)
+    digest.update(payload.model_dump_json(exclude={"screenshot_png"}).encode())
+    return PerceptionContent(task=item, payload=payload, task_hash=digest.hexdigest()[:16])
+
+
+def select_perception_items(
+    suite: Path,
+    optional_suites: Sequence[Path],
+    ids: Sequence[str],
+    kinds: Sequence[PerceptionKind],
+    say: Callable[[str], None],
+) -> PerceptionSelection:
+    """The items of ``suite`` and of each optional suite that is present, selected by ``ids`` and ``kinds``.
+
+    A problem in a suite (an item left out) is said, not fatal; ids shared between suites, ids naming no
+    item and an empty selection are ``ConfigError``.
+    """
+    suites: list[PerceptionSuite] = [load_perception_suite(suite)]
+    for optional in optional_suites:
+        if optional.is_dir():
+            suites.append(load_perception_suite(optional))
+        else:
+            say(f"perception: optional suite {optional} is not here; its items are skipped")
+    for loaded in suites:
+        for problem in loaded.problems:
+            say(f"perception: {loaded.name}: {problem} (left out)")
+    items = [item for loaded in suites for item in loaded.items]
+    names = [item.id for item in items]
+    clashes = sorted({name for name in names if names.count(name) > 1})
+    if clashes:
+        raise ConfigError(f"perception suites share item ids: {', '.join(clashes[:10])}")
+    wanted = set(ids)
+    unknown = sorted(wanted - set(names))
+    if unknown:
+        raise ConfigError(f"tasks.ids names perception item(s) not in the suites: {', '.join(unknown[:10])}")
+    chosen = [i for i in items if (not wanted or i.id in wanted) and (not kinds or i.kind in kinds)]
+    if not chosen:
+        raise ConfigError(f"the selection matches no perception item of {', '.join(s.name for s in suites)}")
+    return PerceptionSelection(
+        name=" + ".join(s.name for s in suites),
+        kind=suites[0].kind,
+        root=suites[0].root,
+        contents=[read_perception_item(item) for item in chosen],
+    )
+
+
+def perception_job_id(
+    model: ModelSpec | None,
+    agent: AgentRef,
+    content: PerceptionContent,
+    seed: int,
+    *,
+    llm: LLMSettings | None,
+    harness: str,
+) -> str:
+    identity: dict[str, object] = {
+        "benchmark": "perception",
+        "model": None if model is None else model.identity(),
+        "agent": agent.identity(),
+        "task": [content.task.id, content.task_hash],
+        "seed": seed,
+        "llm": None if llm is None else llm.identity(),
+        "harness": harness,
+    }
+    canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(canonical.encode()).hexdigest()[:24]
+
+
+def plan_perception_jobs(
+    models: list[ModelSpec | None],
+    agents: list[AgentRef],
+    contents: list[PerceptionContent],
+    seeds: list[int],
+    *,
+    llm: LLMSettings | None = None,
+    harness: str | None = None,
+    model_cache: ModelCacheSettings | None = None,
+) -> Iterator[JobSpec]:
+    """The matrix in a stable order: agent, model, seed, then suite order of items. A scripted agent (one
+    that needs no model) runs once, without a model, whatever ``models`` holds."""
+    harness = harness or harness_fingerprint().digest
+    cells = [(who, model) for who in agents for model in (models if needs_model(who) else [None])]
+    for agent, model in cells:
+        protocol = (llm or LLMSettings()) if model is not None else None
+        for seed in seeds:
+            for content in contents:
+                item = content.task
+                yield JobSpec(
+                    job_id=perception_job_id(model, agent, content, seed, llm=protocol, harness=harness),
+                    model=model,
+                    mode=PERCEPTION_MODE,
+                    agent=agent,
+                    task_id=item.id,
+                    category=item.kind,
+                    task_hash=content.task_hash,
+                    seed=seed,
+                    max_steps=1,
+                    llm=protocol,
+                    harness=harness,
+                    model_cache=model_cache,
+                    perception=PerceptionItemInfo(
+                        kind=item.kind, tag=item.tag, answer_format=item.answer_format, value_kind=item.value_kind
+                    ),
+                )

@@ -1,0 +1,92 @@
+"""The visual perception QA benchmark as driver and worker share it: an item, and what one answer to it was.
+
+A perception job (``PerceptionSpec``, next to ``EpisodeSpec``) is one model call about one static
+screenshot: no editor, no action. It returns an ordinary ``EpisodeResult`` (one step, the answer;
+one test, "the answer is right" under the normalized scoring) carrying a ``PerceptionAttempt``
+with the reply read both ways: ``strict`` as upstream scores it, ``normalized`` as we do.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+PerceptionKind = Literal["connection", "existence", "field"]
+"""``connection``: is block A attached to block B, or in that slot; ``existence``: is a block of this kind
+visible; ``field``: what a block's field shows (or whether it shows a given value)."""
+
+PERCEPTION_KINDS: tuple[PerceptionKind, ...] = ("connection", "existence", "field")
+
+AnswerFormat = Literal["yes_no", "value"]
+"""``yes_no``: the answer is YES or NO; ``value``: the exact text a field shows."""
+
+ValueKind = Literal["number", "text", "dropdown"]
+"""What a ``value`` answer is: a number (compared as a number when normalized), free text, or a dropdown's
+option (compared case-insensitively when normalized)."""
+
+YES, NO = "YES", "NO"
+
+AnswerParse = Literal["ok", "no_answer", "unparsed"]
+"""How the normalized scoring read a reply: an answer found, an empty reply, or no answer of the asked
+form in it (a YES/NO question answered with neither)."""
+
+
+class PerceptionPayload(BaseModel):
+    """One item's content, shipped once per item to the object store and shared by its jobs.
+
+    ``answer`` reaches the worker for scoring and for the scripted agents, never a model's prompt.
+    """
+
+    model_config = ConfigDict(frozen=True)
+
+    item_id: str
+    kind: PerceptionKind
+    tag: str
+    """Finer class of the item (upstream's tags, e.g. ``connection_no_hard``, or ours)."""
+
+    question: str = Field(min_length=1)
+    answer_format: AnswerFormat
+    value_kind: ValueKind | None = None
+    answer: str = Field(min_length=1)
+    screenshot_png: bytes = Field(repr=False)
+
+    @model_validator(mode="after")
+    def _answer_fits_format(self) -> PerceptionPayload:
+        if self.answer_format == "yes_no" and self.answer not in (YES, NO):
+            raise ValueError(f"a yes_no item's answer is YES or NO, not {self.answer!r}")
+        if self.answer_format == "value" and self.value_kind is None:
+            raise ValueError("a value item needs value_kind (number, text or dropdown)")
+        return self
+
+
+class PerceptionScore(BaseModel):
+    """One reply judged against an item's answer, both ways."""
+
+    model_config = ConfigDict(frozen=True)
+
+    strict: bool
+    """Upstream's rule: the stripped reply equals the answer (YES/NO case-insensitively, values exactly)."""
+
+    normalized: bool
+    """Ours: the final answer read out of the reply, quotes and punctuation trimmed, numbers as numbers,
+    dropdown options case-insensitively."""
+
+    extracted: str | None
+    """The answer the normalized reading found (None when it found none)."""
+
+    parse: AnswerParse
+
+
+class PerceptionAttempt(BaseModel):
+    """What one perception job answered and how it scored."""
+
+    model_config = ConfigDict(frozen=True)
+
+    reply: str
+    """The answer as given: the model's raw reply, or a scripted agent's answer."""
+
+    expected: str
+    score: PerceptionScore
+    screenshot_sha256: str
+    """The item's screenshot, stored once per run under ``images/``."""
