@@ -229,6 +229,7 @@ def _execute(
             max_in_flight=config.limits.max_in_flight,
             budget_usd=config.limits.budget_usd,
             spent_usd=store.cost_usd() if config.limits.budget_usd is not None else 0.0,
+            open_editors=any(job.needs_browser for job, _ in todo),
         )
         console.print(f"{len(pool)} worker(s) x {pool.pages} page(s) on {slots} browser slot(s)")
         try:

@@ -16,6 +16,7 @@ suite, and its counts say how many lines there should be.
 
 from __future__ import annotations
 
+import hashlib
 import json
 from collections.abc import Iterable, Sequence
 from pathlib import Path
@@ -150,8 +151,10 @@ def write_perception_suite(
     """Write ``items`` (about ``views``) as a suite of our format at ``dest``, a new or empty folder.
 
     Each view's screenshot and project (any readable paths) are copied in as ``screenshots/<view>.png`` and
-    ``projects/<view>.sb3``; an item's screenshot must be its view's. Raises ``SuiteError`` before writing
-    anything when ids clash, an item names a view that is not given, or ``dest`` holds files.
+    ``projects/<view>.sb3``; an item of a view shows its view's screenshot, an item without one (a question
+    written by hand about any screenshot) has its own copied in by content (``screenshots/<sha256>.png``, once).
+    Raises ``SuiteError`` before writing anything when ids clash, an item names a view that is not given, or
+    ``dest`` holds files.
     """
     dest = Path(dest)
     try:
@@ -164,18 +167,27 @@ def write_perception_suite(
     _distinct("view", (view.id for view in views), dest)
     by_id = {view.id: view for view in views}
     for item in items:
-        if item.view is None or item.view not in by_id:
+        if item.view is not None and item.view not in by_id:
             raise SuiteError(f"item {item.id} names view {item.view!r}, which is not among the views", dest)
     (dest / "screenshots").mkdir(parents=True, exist_ok=True)
-    (dest / "projects").mkdir(exist_ok=True)
     written: list[PerceptionView] = []
     for view in views:
         shot, project = Path("screenshots") / f"{view.id}.png", Path("projects") / f"{view.id}.sb3"
+        (dest / "projects").mkdir(exist_ok=True)
         write_atomic(dest / shot, read_screenshot(view.screenshot), sync=False)
         write_atomic(dest / project, read_file(view.project, MAX_SCREENSHOT_BYTES * 4), sync=False)
         written.append(view.model_copy(update={"screenshot": shot, "project": project}))
     shots = {view.id: view.screenshot for view in written}
-    lines = [item.model_copy(update={"screenshot": shots[item.view or ""]}) for item in items]
+    lines: list[PerceptionItem] = []
+    for item in items:
+        if item.view is not None:
+            lines.append(item.model_copy(update={"screenshot": shots[item.view]}))
+            continue
+        data = read_screenshot(item.screenshot)
+        shot = Path("screenshots") / f"{hashlib.sha256(data).hexdigest()}.png"
+        if not (dest / shot).is_file():
+            write_atomic(dest / shot, data, sync=False)
+        lines.append(item.model_copy(update={"screenshot": shot}))
     _write_lines(dest / VIEWS_FILE, written)
     _write_lines(dest / ITEMS_FILE, lines)
     write_atomic(dest / SUITE_FILE, (manifest.model_dump_json(indent=2) + "\n").encode("utf-8"), sync=False)

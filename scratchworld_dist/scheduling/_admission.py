@@ -4,7 +4,8 @@ Jobs whose agent calls a model spend most of their time waiting on the provider,
 as many of them as its CPU (what a waiting page burns, measured) and its memory (one editor's
 PSS, measured) allow, less a margin (``workers.node.derive_slots``). Jobs without a model keep
 their page busy: one per core, as before. Either way the episodes are spread over one worker (one
-browser) per core. Explicit ``browser_slots`` and ``pages_per_worker`` win over all of this.
+browser) per core. Jobs that open no editor (perception questions about a static screenshot) cost
+the node nothing while they wait. Explicit ``browser_slots`` and ``pages_per_worker`` win over all of this.
 """
 
 from __future__ import annotations
@@ -17,6 +18,10 @@ from workers.contract import MIB, ClockMode
 from workers.editor import cached_editor_cost
 from workers.node import SlotDerivation, derive_slots, node_memory
 
+BROWSERLESS_PER_CORE = 8
+"""Slots per core for jobs that open no editor and wait on a model (perception): a waiting call costs no CPU, so
+the model's rate limits, not the node, bound them."""
+
 
 def waiting_clock(jobs: Sequence[JobSpec]) -> ClockMode | None:
     """The clock whose waiting pages bound the node (real if any job runs on it); None when no job waits on a model."""
@@ -27,10 +32,13 @@ def waiting_clock(jobs: Sequence[JobSpec]) -> ClockMode | None:
 
 
 def admitted_slots(limits: Limits, jobs: Sequence[JobSpec], harness: str, say: Callable[[str], None]) -> int:
-    """Browser slots for a private local Ray: as configured, else derived from this machine."""
+    """Browser slots for a private local Ray: as configured, else derived from this machine (jobs that open no
+    editor and wait on a model: ``BROWSERLESS_PER_CORE`` per core)."""
     if limits.browser_slots is not None:
         return limits.browser_slots
     cores = os.cpu_count() or 1
+    if not any(job.needs_browser for job in jobs):
+        return cores * (BROWSERLESS_PER_CORE if any(job.model is not None for job in jobs) else 1)
     clock = waiting_clock(jobs)
     if clock is None:
         return cores

@@ -136,8 +136,10 @@ class Scheduler(Generic[J]):
         max_in_flight: int | None = None,
         budget_usd: float | None = None,
         spent_usd: float = 0.0,
+        open_editors: bool = True,
     ) -> None:
-        """``spent_usd`` is what earlier runs of the sweep spent; it counts against ``budget_usd``."""
+        """``spent_usd`` is what earlier runs of the sweep spent; it counts against ``budget_usd``;
+        ``open_editors``: workers open their editors ahead of their first job (False when no job needs one)."""
         self.pool = pool
         self.payloads = payloads
         self.timeout_s = timeout_s
@@ -147,6 +149,7 @@ class Scheduler(Generic[J]):
         self.stats = SchedulerStats()
         self.budget_usd = budget_usd
         self.spent_usd = spent_usd
+        self.open_editors = open_editors
         self._flights: dict[ray.ObjectRef, _Flight[J]] = {}
         self._load = [0] * len(pool)
         self._down: dict[int, _Down] = {}
@@ -157,7 +160,8 @@ class Scheduler(Generic[J]):
         """Run each (job, first attempt) to a final outcome or until its retries are spent."""
         queue: deque[tuple[J, int]] = deque(jobs)
         first = {job.job_id: attempt for job, attempt in queue}
-        self._warm(len(queue))
+        if self.open_editors:
+            self._warm(len(queue))
         while queue or self._flights:
             self._probe_down()
             self._probe_paused()

@@ -134,6 +134,11 @@ class JobSpec(BaseModel):
     """A perception job's item, as reports group it."""
 
     @property
+    def needs_browser(self) -> bool:
+        """Whether the job's worker opens an editor: every job but a perception one (a static screenshot)."""
+        return self.perception is None
+
+    @property
     def agent_label(self) -> str:
         """The agent column of reports; memory fed by the verdict is labelled as the ablation it is."""
         if self.memory is not None and self.memory.settings.learn_from == "verdict_ablation":
