@@ -125,6 +125,7 @@ def test_the_scripted_agents_score_100_and_the_yes_share_and_the_run_resumes(
     assert all(row["reply"] == "YES" for row in by_agent["always_yes"])
     outcomes = {(job["agent"], job["task_id"]): job["outcome"] for job in jobs}
     assert outcomes[("always_yes", "f-num")] == "failed" and outcomes[("oracle", "f-num")] == "passed"
+    assert {job["editors_held"] for job in jobs} == {0}  # no worker opened an editor for a static screenshot
     # Three screenshots, stored once for the run's 16 jobs, where each row says.
     images = sorted((tmp_path / "run" / "images").iterdir())
     assert len(images) == 3

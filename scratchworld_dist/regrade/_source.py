@@ -53,6 +53,8 @@ def read_source(path: Path) -> SourceRun:
     rows = manifest.current_rows(store.job_rows())
     if manifest.config.get("benchmark") == "drag" or any(r.setting is not None for r in rows):
         raise RunDirError(f"{path}: a drag benchmark run stores drags, not projects: nothing to regrade")
+    if manifest.config.get("benchmark") == "perception":
+        raise RunDirError(f"{path}: a perception benchmark run stores answers, not projects: nothing to regrade")
     if not rows:
         raise RunDirError(f"{path}: no job results of its suite and harness to regrade")
     jobs, without = [], []
