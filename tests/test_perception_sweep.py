@@ -7,6 +7,7 @@ from __future__ import annotations
 import base64
 import json
 import os
+import re
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -20,6 +21,7 @@ from scratchworld_dist.perception import load_perception_suite
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.scheduling._admission import BROWSERLESS_PER_CORE, admitted_slots
 from scratchworld_dist.sweep import load_sweep_config
+from scratchworld_dist.viewer import ViewerSite, export_site
 from tests.openai_server import Behaviour, OpenAIServer, reply, status
 from tests.perception_suites import ITEMS, write_suite
 from tests.sweep_driver import Driver, run, run_here
@@ -135,6 +137,21 @@ def test_the_scripted_agents_score_100_and_the_yes_share_and_the_run_resumes(
     assert code == 0, out
     assert "16 already decided, 0 to run" in " ".join(out.split())
     assert len(store.read_table("jobs").to_pylist()) == 16
+    # The viewer shows a job's answer, both scores and the screenshot the run keeps once; an export copies it.
+    site = ViewerSite([tmp_path / "run"])
+    wrong = next(job for job in jobs if job["agent"] == "always_yes" and job["task_id"] == "f-num")
+    page = site.get(f"runs/0/jobs/{wrong['job_id']}.html")
+    assert page is not None and page.body is not None
+    text = page.body.decode()
+    assert "What number is shown in the numeric field" in text and "<code>-10</code>" in text
+    assert 'normalized <span class="badge failed">wrong</span>' in text and "Final project" not in text
+    (src,) = re.findall(r'<img loading="lazy" src="\.\./(images/[0-9a-f]{64}\.png)"', text)
+    served = site.get(f"runs/0/{src}")
+    kept = (tmp_path / "run" / src).read_bytes()
+    assert served is not None and served.file is not None and served.file.read_bytes() == kept
+    assert site.get("runs/0/images/../../manifest.json") is None and site.get("runs/0/images/x.png") is None
+    export_site(site, tmp_path / "export")
+    assert (tmp_path / "export" / "runs" / "0" / src).read_bytes() == kept
 
 
 class ItemModel:

@@ -209,6 +209,7 @@ class PerceptionRow(BaseModel):
     job_id: str
     attempt: int
     item_id: str
+    question: str
     kind: str
     """connection, existence or field."""
 
@@ -413,6 +414,7 @@ def _perception_row(job: JobSpec, result: EpisodeResult) -> PerceptionRow:
         job_id=job.job_id,
         attempt=result.attempt,
         item_id=job.task_id,
+        question=item.question,
         kind=item.kind,
         tag=item.tag,
         answer_format=item.answer_format,

@@ -151,6 +151,10 @@ def plan_perception_jobs(
                     harness=harness,
                     model_cache=model_cache,
                     perception=PerceptionItemInfo(
-                        kind=item.kind, tag=item.tag, answer_format=item.answer_format, value_kind=item.value_kind
+                        question=item.question,
+                        kind=item.kind,
+                        tag=item.tag,
+                        answer_format=item.answer_format,
+                        value_kind=item.value_kind,
                     ),
                 )

@@ -67,10 +67,11 @@ class DragTaskInfo(BaseModel):
 
 
 class PerceptionItemInfo(BaseModel):
-    """What reports group a perception job by (its item's kind, tag and form of answer)."""
+    """What reports group a perception job by (its item's kind, tag and form of answer), and its question."""
 
     model_config = ConfigDict(frozen=True)
 
+    question: str
     kind: PerceptionKind
     tag: str
     answer_format: AnswerFormat

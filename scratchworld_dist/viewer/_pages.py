@@ -14,7 +14,7 @@ from typing import Literal
 from pydantic import BaseModel, JsonValue
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.results import JobRow
+from scratchworld_dist.results import JobRow, PerceptionRow
 from scratchworld_dist.viewer._listing import project_listing
 from scratchworld_dist.viewer._runs import Attempt, ViewedRun
 from scratchworld_dist.viewer._timeline import StepView, step_views
@@ -116,6 +116,13 @@ class AttemptView(BaseModel):
     listing: str | None
     files: str | None
     """The attempt's artifact folder relative to the run's ``files/`` (None without artifacts)."""
+
+    image_hrefs: dict[str, str]
+    """Where each image its prompts showed is, by digest, relative to the job's page: the attempt's own
+    ``images/``, or the run's shared ones (a perception item's screenshot)."""
+
+    perception: PerceptionRow | None = None
+    """A perception job's answer, both scores and its screenshot's path in the run."""
 
 
 class JobPage(BaseModel):
@@ -237,10 +244,11 @@ def job_page(index: int, run: ViewedRun, job_id: str) -> JobPage | None:
 
     (best,) = effective_rows([a.row for a in found])
     views = [_attempt_view(run, attempt) for attempt in found]
+    question = next((a.perception.question for a in found if a.perception is not None), None)
     return JobPage(
         run=run_card(index, run),
         job_id=job_id,
-        instruction=run.instruction(found[0].row.task_id),
+        instruction=question or run.instruction(found[0].row.task_id),
         attempts=views,
         effective=next(i for i, a in enumerate(found) if a.row.attempt == best.attempt),
     )
@@ -263,13 +271,22 @@ def _attempt_view(run: ViewedRun, attempt: Attempt) -> AttemptView:
         )
         for t in attempt.tests
     ]
+    steps = step_views(attempt.steps)
+    hrefs: dict[str, str] = {}
+    for digest in {d for step in steps for message in step.prompt for d in message.images}:
+        if files is not None and run.artifact(f"{files}/images/{digest}.png") is not None:
+            hrefs[digest] = f"../files/{files}/images/{digest}.png"
+        elif run.shared_image(f"{digest}.png") is not None:
+            hrefs[digest] = f"../images/{digest}.png"
     return AttemptView(
         row=row,
-        steps=step_views(attempt.steps),
+        steps=steps,
         steps_note=attempt.steps_note,
         tests=tests,
         listing=listing,
         files=files,
+        image_hrefs=hrefs,
+        perception=attempt.perception,
     )
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import json
+import re
 from collections import defaultdict
 from pathlib import Path
 from typing import TypeVar
@@ -23,6 +24,7 @@ from scratchworld_dist._files import read_file
 from scratchworld_dist.results import (
     MANIFEST_NAME,
     JobRow,
+    PerceptionRow,
     RunManifest,
     RunStore,
     StepRow,
@@ -34,8 +36,10 @@ from scratchworld_dist.results import effective_rows as effective
 from workers.contract import StepRecord
 
 ARTIFACTS = "artifacts"
+SHARED_IMAGES = "images"
+_IMAGE_NAME = re.compile(r"[0-9a-f]{64}\.png")
 
-_Row = TypeVar("_Row", StepRow, TestRow)
+_Row = TypeVar("_Row", StepRow, TestRow, PerceptionRow)
 
 
 class Attempt(BaseModel):
@@ -47,6 +51,8 @@ class Attempt(BaseModel):
     """Why the steps are partial or missing (no trajectory kept, an unreadable line)."""
 
     tests: list[TestRow]
+    perception: PerceptionRow | None = None
+    """A perception job's answer and its scores (None for other jobs, and for an attempt without a verdict)."""
 
 
 class ViewedRun:
@@ -100,6 +106,7 @@ class ViewedRun:
             return []
         tests = self._rows_of("tests", TestRow, job_id)
         step_rows = self._rows_of("steps", StepRow, job_id)
+        answers = self._rows_of("perception", PerceptionRow, job_id)
         found = []
         for attempt in sorted(rows, reverse=True):
             steps, note = self._steps(rows[attempt], step_rows.get(attempt, []))
@@ -109,6 +116,7 @@ class ViewedRun:
                     steps=steps,
                     steps_note=note,
                     tests=sorted(tests.get(attempt, []), key=lambda t: t.test_index),
+                    perception=next(iter(answers.get(attempt, [])), None),
                 )
             )
         return found
@@ -123,6 +131,17 @@ class ViewedRun:
         if not target.is_relative_to(root) or not target.is_file():
             return None
         return target
+
+    def shared_image(self, name: str) -> Path | None:
+        """An image the run keeps once for many jobs (``images/<sha256>.png``), or None if ``name`` is not one."""
+        if not _IMAGE_NAME.fullmatch(name):
+            return None
+        path = self.path / SHARED_IMAGES / name
+        return path if path.is_file() else None
+
+    def shared_images(self) -> list[Path]:
+        folder = self.path / SHARED_IMAGES
+        return sorted(p for p in folder.iterdir() if _IMAGE_NAME.fullmatch(p.name)) if folder.is_dir() else []
 
     def instruction(self, task_id: str) -> str | None:
         """The task's instruction from the run's suite, if that suite is still where the run found it."""

@@ -9,6 +9,7 @@
     runs/<k>/jobs-data.js           that it loads from file:// too)
     runs/<k>/jobs/<job_id>.html     one job: header, attempts, tests, steps, final project
     runs/<k>/files/<path>           the run's artifacts (screenshots, final.sb3)
+    runs/<k>/images/<sha256>.png    images the run keeps once for many jobs (perception screenshots)
     compare/<a>-<b>.html            run a against run b; compare/<k>-gap.html: run k's composite vs primitive
 """
 
@@ -107,6 +108,8 @@ class ViewerSite:
                 for file in sorted(folder.rglob("*")):
                     if file.is_file() and file.name != "trajectory.jsonl":
                         yield f"runs/{k}/files/{file.relative_to(root).as_posix()}", file
+            for image in run.shared_images():
+                yield f"runs/{k}/images/{image.name}", image
 
     def _run_resource(self, k: int, rest: list[str]) -> Resource | None:
         run = self.runs[k]
@@ -127,6 +130,9 @@ class ViewerSite:
         if rest[0] == "files" and len(rest) > 1:
             file = run.artifact("/".join(rest[1:]))
             return None if file is None else Resource(_type(file.name), file=file)
+        if rest[0] == "images" and len(rest) == 2:
+            image = run.shared_image(rest[1])
+            return None if image is None else Resource("image/png", file=image)
         return None
 
     def _plots(self, run: ViewedRun) -> str:
