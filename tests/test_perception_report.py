@@ -20,6 +20,7 @@ from scratchworld_dist.reports._perception_metrics import (
 )
 from scratchworld_dist.reports._perception_table import build_perception_report, is_perception_run
 from scratchworld_dist.results import JobRecord
+from scratchworld_dist.viewer import ViewerSite
 from tests.cli_runner import invoke
 from tests.run_dirs import job, make_run, perception_record
 
@@ -253,3 +254,9 @@ def test_a_bad_perception_row_is_a_one_line_error(tmp_path: Path) -> None:
     pq.write_table(table.set_column(table.schema.get_field_index("kind"), "kind", pa.array([None], pa.string())), shard)
     done = invoke("report", str(run_dir))
     assert done.returncode == 2 and done.stderr.startswith("error: ") and "not a perception answer" in done.stderr
+
+
+def test_the_viewer_shows_a_perception_runs_report(tmp_path: Path) -> None:
+    page = ViewerSite([perception_run(tmp_path / "run")]).get("runs/0/index.html")
+    assert page is not None and page.body is not None
+    assert b"<h2>YES/NO confusion (YES = positive)</h2>" in page.body and b"<td>(unknown tag)</td>" in page.body

@@ -38,6 +38,8 @@ from scratchworld_dist.reports._render import (
 )
 from scratchworld_dist.reports._summary import RunReport
 
+_RUNS = {"tasks": "Episode runs", "drag": "Drag runs", "perception": "Perception runs"}
+
 MISSING = "\u2013"
 """An en dash: the model has no result there (never shown as 0)."""
 
@@ -106,7 +108,7 @@ def diagnosis_blocks(table: DiagnosisTable) -> list[Block]:
     """The diagnosis table's heading, warnings, runs, table and definitions."""
     blocks: list[Block] = [Heading(1, "ScratchWorld diagnosis")]
     blocks += [Paragraph(f"Warning: {w}") for w in table.warnings]
-    blocks += [Paragraph(f"Runs ({benchmark}): {'; '.join(names)}") for benchmark, names in table.runs.items()]
+    blocks += [Paragraph(f"{_RUNS.get(b, b)}: {'; '.join(names)}") for b, names in table.runs.items()]
     header = ["agent/model"]
     if "tasks" in table.runs:
         header += ["composite SR", "primitive SR", "gap (pp, 95% CI)"]
