@@ -71,19 +71,19 @@ class DiagnosisRow(BaseModel):
     models: list[dict[str, JsonValue]]
     """The identity of each of its models (empty for a scripted agent)."""
 
-    composite_sr: Rate | None = None
-    primitive_sr: Rate | None = None
-    gap: Gap | None = None
-    drag_pass_at_1: dict[str, Rate] = {}
+    composite_sr: Rate | None
+    primitive_sr: Rate | None
+    gap: Gap | None
+    drag_pass_at_1: dict[str, Rate]
     """Per drag setting: the unbiased Pass@1 (mean over tasks of passes / runs)."""
 
-    drag_start_accuracy: Rate | None = None
+    drag_start_accuracy: Rate | None
     """In the ``START_END_SETTING``: runs pressing inside the start region / runs."""
 
-    drag_end_accuracy: Rate | None = None
+    drag_end_accuracy: Rate | None
     """In the ``START_END_SETTING``: connected / good starts."""
 
-    perception: dict[str, PerceptionRate] = {}
+    perception: dict[str, PerceptionRate]
     """Per item kind, and ``ALL``."""
 
 
@@ -110,12 +110,6 @@ class _Results:
     drags: list[drag.DragRun] = field(default_factory=list)
     answers: list[perception.PerceptionRun] = field(default_factory=list)
 
-    def add_label(self, resolved: RowModel) -> None:
-        if resolved.label not in self.labels:
-            self.labels.append(resolved.label)
-        if not self.models:
-            self.models = [identity for _, identity in resolved.components]
-
 
 def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
     """The table over run groups of different benchmarks (reads their drag and perception rows)."""
@@ -126,27 +120,20 @@ def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
     for group in groups:
         models, unresolved = _models_of(group)
         warnings += unresolved
-
-        def results_of(job: JobRow, models: dict[str, RowModel] = models) -> _Results:
-            resolved = models[job.job_id]
-            found = results[resolved.key]
-            found.add_label(resolved)
-            return found
-
         jobs = [row for run in group.runs for row in run.rows]
         if group.benchmark == "tasks":
             for row in effective_rows(jobs):
-                results_of(row).episodes.append(row)
+                _gathered(results, models[row.job_id]).episodes.append(row)
         elif group.benchmark == "drag":
             drag_runs, _ = drag.join_runs(jobs, [d for path in group.paths for d in read_drag_rows(path)])
             for run in drag_runs:
-                results_of(run.job).drags.append(run)
+                _gathered(results, models[run.job.job_id]).drags.append(run)
                 settings.add(run.job.setting or "")
         else:
             answers = [a for path in group.paths for a in read_perception_rows(path)]
             perception_runs, _ = perception.join_runs(jobs, answers)
             for answered in perception_runs:
-                results_of(answered.job).answers.append(answered)
+                _gathered(results, models[answered.job.job_id]).answers.append(answered)
                 kinds.add(answered.kind)
     labels = _labels(results)
     rows = [diagnosis_row(labels[key], key, found) for key, found in results.items()]
@@ -226,6 +213,16 @@ def sr_gap(decided: Sequence[JobRow]) -> Gap | None:
     interval = mean_interval(gaps)
     half = None if interval.half_width is None else interval.half_width * 100
     return Gap(points=interval.mean * 100, half_width=half, seeds=len(seeds))
+
+
+def _gathered(results: dict[ModelKey, _Results], resolved: RowModel) -> _Results:
+    """The results of ``resolved``'s key, noting the label it went by here."""
+    found = results[resolved.key]
+    if resolved.label not in found.labels:
+        found.labels.append(resolved.label)
+    if not found.models:
+        found.models = [identity for _, identity in resolved.components]
+    return found
 
 
 def _models_of(group: RunGroup) -> tuple[dict[str, RowModel], list[str]]:

@@ -43,7 +43,7 @@ _RUNS = {"tasks": "Episode runs", "drag": "Drag runs", "perception": "Perception
 MISSING = "\u2013"
 """An en dash: the model has no result there (never shown as 0)."""
 
-DEFINITIONS = (
+_DEFINITIONS = (
     "One row per model: the LiteLLM model with its temperature, max_tokens and params, matched across runs by "
     "that identity, not by its label (one model named differently is one row; one name with other parameters "
     "is two, labelled by what differs). Where it is served, its key and rate limits and its coordinate "
@@ -119,7 +119,7 @@ def diagnosis_blocks(table: DiagnosisTable) -> list[Block]:
         header += [f"perception {kind} (norm. / strict)" for kind in table.perception_kinds]
         header.append("perception overall (norm. / strict)")
     rows = [_cells(row, table) for row in table.rows]
-    return [*blocks, Heading(2, "Diagnosis table"), Table(header, rows), Paragraph(DEFINITIONS)]
+    return [*blocks, Heading(2, "Diagnosis table"), Table(header, rows), Paragraph(_DEFINITIONS)]
 
 
 def _cells(row: DiagnosisRow, table: DiagnosisTable) -> list[str]:

@@ -36,7 +36,7 @@ from scratchworld_dist.reports._runs import LoadedRun, load_runs
 from scratchworld_dist.reports._summary import row_label
 from scratchworld_dist.results import PerceptionRow, RunStore, read_manifest
 
-DEFINITIONS = (
+_DEFINITIONS = (
     "One run = the effective attempt of one perception job (item, seed, agent, model): its latest attempt with "
     "an answer, else its latest error. An error run (the model call failed for good) has no answer: it is "
     "counted under errors and in coverage = scored / runs, and left out of every accuracy's denominator (never "
@@ -150,7 +150,7 @@ def perception_blocks(table: PerceptionTable) -> list[Block]:
         for row in table.rows
     ]
     counts_header = ["agent/model", "runs", "error runs", "errors by class", "parse failures", "tokens", "cost (USD)"]
-    blocks += [Heading(2, "Counts"), Table(counts_header, counts), Paragraph(DEFINITIONS)]
+    blocks += [Heading(2, "Counts"), Table(counts_header, counts), Paragraph(_DEFINITIONS)]
     return blocks
 
 
