@@ -1,4 +1,5 @@
-"""Hand-made run directories for tests of reports and comparisons: job rows with plausible defaults."""
+"""Hand-made run directories for tests of reports and comparisons: job rows with plausible defaults, and the
+drags and perception rows of those benchmarks' jobs."""
 
 from __future__ import annotations
 
@@ -8,8 +9,10 @@ from pathlib import Path
 from typing import Any
 
 from scratchworld_dist.results import (
+    DragRow,
     JobRecord,
     JobRow,
+    PerceptionRow,
     RegradeInfo,
     RunManifest,
     RunStore,
@@ -17,7 +20,8 @@ from scratchworld_dist.results import (
     read_manifest,
     write_manifest,
 )
-from workers.contract import HarnessFingerprint
+from workers.contract import AnswerFormat, HarnessFingerprint, ValueKind
+from workers.perception import score_reply
 
 T0 = datetime(2026, 1, 1, tzinfo=UTC)
 PARTS = {"workers/_evaluation.py": "e1", "scratch-gui/clock.js": "c1", "package:litellm": "1.106.2"}
@@ -71,6 +75,146 @@ def job(job_id: str, outcome: str = "passed", **fields: Any) -> JobRow:
     }
     values.update(fields)
     return JobRow(**values)
+
+
+def drag_job(task: str, seed: int, outcome: str, **fields: Any) -> JobRow:
+    """A drag job's row; ``fields`` override the defaults (job id is task/setting/seed/model)."""
+    decided = outcome != "error"
+    setting, model = fields.pop("setting", "baseline"), fields.pop("model", "gpt")
+    values: dict[str, Any] = {
+        "run_name": "drag",
+        "model": model,
+        "mode": "primitive",
+        "task_id": task,
+        "category": fields.pop("drag_type", "T1"),
+        "task_hash": "h" + task,
+        "seed": seed,
+        "max_steps": 1,
+        "harness_fingerprint": HARNESS.digest,
+        "error_class": None if decided else "RateLimitError",
+        "error_message": None if decided else "429",
+        "eval_profile": None,
+        "tests_passed": int(outcome == "passed"),
+        "tests_total": int(decided),
+        "psr": float(outcome == "passed") if decided else None,
+        "steps": 1,
+        "llm_calls": 1,
+        "input_tokens": 10,
+        "output_tokens": 5,
+        "cost_usd": 0.01,
+        "setting": setting,
+    }
+    agent = fields.get("agent", "llm")
+    return job(f"{task}-{setting}-{seed}-{model}-{agent}", outcome, **(values | fields))
+
+
+def drag_row(row: JobRow, *, start: float | None = 0.0, end: float | None = 0.0, parse: str = "ok") -> DragRow:
+    """The drags row of a drag job's row: ``start``/``end`` are the distances (0 = inside, None = no point)."""
+    return DragRow(
+        job_id=row.job_id,
+        attempt=row.attempt,
+        task_id=row.task_id,
+        drag_type=row.category,
+        connection="next",
+        source="canvas",
+        setting=row.setting or "baseline",
+        model=row.model,
+        agent=row.agent,
+        seed=row.seed,
+        parse=parse,
+        start_x=None if start is None else 100.0,
+        start_y=None if start is None else 100.0,
+        end_x=None if end is None else 200.0,
+        end_y=None if end is None else 200.0,
+        start_in_region=None if start is None else start == 0,
+        start_error_px=start,
+        end_in_region=None if end is None else end == 0,
+        end_error_px=end,
+        connected=row.outcome == "passed",
+        observed="",
+        fixed_start_x=100,
+        fixed_start_y=100,
+        gt_start_x=None,
+        gt_start_y=None,
+        start_area=400,
+        end_area=100,
+        regions_json='{"start": {"rows": [[100, 90, 109]]}, "fixed_start": [100, 100], "end": {"rows": []}}',
+        reply="drag(...)",
+        annotated=None,
+    )
+
+
+def drag_record(task: str, seed: int, outcome: str, *, start: float | None = 0.0, **fields: Any) -> JobRecord:
+    """A drag job's record: its row and, unless it ended in error, its drags row (``start`` as in ``drag_row``)."""
+    row = drag_job(task, seed, outcome, **fields)
+    return JobRecord(job=row, drags=[] if outcome == "error" else [drag_row(row, start=start)])
+
+
+def perception_record(
+    item: str,
+    expected: str,
+    reply: str | None,
+    *,
+    kind: str = "connection",
+    tag: str | None = None,
+    value_kind: ValueKind | None = None,
+    seed: int = 0,
+    model: str = "gpt",
+    agent: str = "llm",
+    attempt: int = 1,
+    error_class: str = "model_rate_limited",
+    suite_hash: str = "suite1",
+) -> JobRecord:
+    """A perception job's record, ``reply`` scored both ways by the worker's own scoring; ``reply=None`` is a
+    call that failed for good (an error row, no answer). A yes/no item unless ``value_kind`` is given."""
+    answer_format: AnswerFormat = "yes_no" if value_kind is None else "value"
+    fields: dict[str, Any] = {
+        "run_name": "perception",
+        "attempt": attempt,
+        "model": model,
+        "litellm_model": None if model == "-" else f"openai/{model}",
+        "mode": "primitive",
+        "agent": agent,
+        "task_id": item,
+        "category": kind,
+        "task_hash": "h" + item,
+        "seed": seed,
+        "max_steps": 1,
+        "eval_profile": None,
+        "steps": 1,
+        "llm_calls": int(model != "-"),
+        "input_tokens": 50,
+        "output_tokens": 2,
+        "cost_usd": 0.001,
+        "suite_hash": suite_hash,
+    }
+    job_id = f"p-{item}-{seed}-{model}-{agent}"
+    if reply is None:
+        error = {"error_class": error_class, "error_message": "gave up", "tests_total": 0, "tests_passed": 0}
+        return JobRecord(job=job(job_id, "error", **(fields | error)))
+    score = score_reply(reply, expected, answer_format, value_kind)
+    outcome = "passed" if score.normalized else "failed"
+    row = job(job_id, outcome, **(fields | {"tests_total": 1, "tests_passed": int(score.normalized)}))
+    answer = PerceptionRow(
+        job_id=job_id,
+        attempt=attempt,
+        item_id=item,
+        kind=kind,
+        tag=tag or f"{kind}_{expected.lower() if answer_format == 'yes_no' else value_kind}",
+        answer_format=answer_format,
+        value_kind=value_kind,
+        model=model,
+        agent=agent,
+        seed=seed,
+        expected=expected,
+        reply=reply,
+        extracted=score.extracted,
+        parse=score.parse,
+        strict_correct=score.strict,
+        normalized_correct=score.normalized,
+        screenshot=f"images/{item}.png",
+    )
+    return JobRecord(job=row, perception=[answer])
 
 
 def make_run(

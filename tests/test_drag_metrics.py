@@ -13,78 +13,10 @@ from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.cli._main import cli
 from scratchworld_dist.reports._drag_metrics import DragRun, DragTable, drag_cell, drag_rows, join_runs
 from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag_markdown
-from scratchworld_dist.results import DragRow, JobRecord, JobRow
-from tests.run_dirs import job as episode_job
-from tests.run_dirs import make_run
-from workers.contract import HarnessFingerprint
-
-HARNESS = HarnessFingerprint(digest="aaaa111122223333", parts={"scratch-gui/clock.js": "c1"})
-
-
-def job(task: str, seed: int, outcome: str, **fields: Any) -> JobRow:
-    """A drag job's row; ``fields`` override the defaults (job id is task/setting/seed/model)."""
-    decided = outcome != "error"
-    setting, model = fields.pop("setting", "baseline"), fields.pop("model", "gpt")
-    values: dict[str, Any] = {
-        "run_name": "drag",
-        "model": model,
-        "mode": "primitive",
-        "task_id": task,
-        "category": fields.pop("drag_type", "T1"),
-        "task_hash": "h" + task,
-        "seed": seed,
-        "max_steps": 1,
-        "harness_fingerprint": HARNESS.digest,
-        "error_class": None if decided else "RateLimitError",
-        "error_message": None if decided else "429",
-        "eval_profile": None,
-        "tests_passed": int(outcome == "passed"),
-        "tests_total": int(decided),
-        "psr": float(outcome == "passed") if decided else None,
-        "steps": 1,
-        "llm_calls": 1,
-        "input_tokens": 10,
-        "output_tokens": 5,
-        "cost_usd": 0.01,
-        "setting": setting,
-    }
-    return episode_job(f"{task}-{setting}-{seed}-{model}", outcome, **(values | fields))
-
-
-def drag_of(row: JobRow, *, start: float | None = 0.0, end: float | None = 0.0, parse: str = "ok") -> DragRow:
-    """The drags row of a job row: ``start``/``end`` are the distances (0 = inside, None = no point)."""
-    return DragRow(
-        job_id=row.job_id,
-        attempt=row.attempt,
-        task_id=row.task_id,
-        drag_type=row.category,
-        connection="next",
-        source="canvas",
-        setting=row.setting or "baseline",
-        model=row.model,
-        agent=row.agent,
-        seed=row.seed,
-        parse=parse,
-        start_x=None if start is None else 100.0,
-        start_y=None if start is None else 100.0,
-        end_x=None if end is None else 200.0,
-        end_y=None if end is None else 200.0,
-        start_in_region=None if start is None else start == 0,
-        start_error_px=start,
-        end_in_region=None if end is None else end == 0,
-        end_error_px=end,
-        connected=row.outcome == "passed",
-        observed="",
-        fixed_start_x=100,
-        fixed_start_y=100,
-        gt_start_x=None,
-        gt_start_y=None,
-        start_area=400,
-        end_area=100,
-        regions_json='{"start": {"rows": [[100, 90, 109]]}, "fixed_start": [100, 100], "end": {"rows": []}}',
-        reply="drag(...)",
-        annotated=None,
-    )
+from scratchworld_dist.results import JobRecord
+from tests.run_dirs import HARNESS, make_run
+from tests.run_dirs import drag_job as job
+from tests.run_dirs import drag_row as drag_of
 
 
 def run(task: str, seed: int, outcome: str, **drag: Any) -> DragRun:

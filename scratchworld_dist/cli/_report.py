@@ -1,4 +1,4 @@
-"""``scratchworld report``: the benchmark's main table over one or more run directories."""
+"""``scratchworld report``: each benchmark's table over one or more run directories, and the diagnosis across them."""
 
 from __future__ import annotations
 
@@ -20,7 +20,11 @@ def report_command(run_dirs: tuple[Path, ...], fmt: ReportFormat, out: Path | No
 
     Several run directories merge into one report; they must share a suite and a harness
     (fingerprint) unless --force. Runs of the single-step drag benchmark get its own table
-    (Pass@k, start and end accuracy and distances per drag type and setting) instead.
+    (Pass@k, start and end accuracy and distances per drag type and setting) instead, and runs of
+    the perception benchmark theirs (accuracy both ways per kind and tag, YES/NO confusion).
+    Runs of several benchmarks are merged only within each benchmark: the report starts with a
+    diagnosis table, one row per model (composite and primitive SR and their gap, drag Pass@1,
+    perception accuracy), then each benchmark's own report.
     """
     text, warnings = report_runs(list(run_dirs), fmt, force=force)
     emit(text, out, warnings, f"{fmt} report")

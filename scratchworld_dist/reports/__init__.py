@@ -1,4 +1,5 @@
-"""Reports over run directories: the main table as Markdown, HTML (with plots) or JSON, and paired comparisons."""
+"""Reports over run directories: the main table as Markdown, HTML (with plots) or JSON, the drag and perception
+benchmarks' tables, the diagnosis across benchmarks, and paired comparisons."""
 
 from scratchworld_dist.reports._build import build_report
 from scratchworld_dist.reports._compare import (
@@ -12,6 +13,8 @@ from scratchworld_dist.reports._compare import (
 )
 from scratchworld_dist.reports._compare_render import render_comparison
 from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_exact, paired_bootstrap
+from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable
+from scratchworld_dist.reports._diagnosis_report import DiagnosisReport
 from scratchworld_dist.reports._metrics import (
     MeanInterval,
     mean_interval,
@@ -21,6 +24,8 @@ from scratchworld_dist.reports._metrics import (
     pass_hat_k,
     t_quantile_975,
 )
+from scratchworld_dist.reports._perception_metrics import PerceptionTable, PerceptionTableRow
+from scratchworld_dist.reports._perception_table import build_perception_report, render_perception
 from scratchworld_dist.reports._plots import Plot, plots_html, plots_of, report_plots
 from scratchworld_dist.reports._render import (
     FORMATS,
@@ -51,12 +56,17 @@ __all__ = [
     "REPORT_VERSION",
     "CategoryStats",
     "Comparison",
+    "DiagnosisReport",
+    "DiagnosisRow",
+    "DiagnosisTable",
     "Difference",
     "ErrorCount",
     "Interval",
     "KEstimate",
     "McNemar",
     "MeanInterval",
+    "PerceptionTable",
+    "PerceptionTableRow",
     "Plot",
     "ReportFormat",
     "ReportRow",
@@ -67,6 +77,7 @@ __all__ = [
     "Selector",
     "SideInfo",
     "TaskOutcome",
+    "build_perception_report",
     "build_report",
     "compare_runs",
     "mcnemar_exact",
@@ -85,6 +96,7 @@ __all__ = [
     "render_html_body",
     "render_json",
     "render_markdown",
+    "render_perception",
     "report_plots",
     "report_runs",
     "t_quantile_975",

@@ -33,6 +33,12 @@ def build_report(run_dirs: Sequence[Path], *, force: bool = False) -> RunReport:
     of different suites or harnesses unless ``force`` (then the report carries a warning).
     """
     runs, warnings = load_runs(run_dirs, force=force)
+    return report_of(runs, warnings)
+
+
+def report_of(runs: Sequence[LoadedRun], warnings: list[str]) -> RunReport:
+    """The report of runs already loaded and checked for merging (``warnings``: those of the check)."""
+    warnings = [*warnings]
     warnings += [
         f"{run.name}: {run.stale_rows} row(s) from an older suite (suite hash differs) excluded"
         for run in runs

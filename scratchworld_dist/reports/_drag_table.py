@@ -7,6 +7,7 @@ points and distances. HTML is the Markdown in a ``<pre>``: one rendering to keep
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 from pydantic import ValidationError
@@ -22,7 +23,7 @@ from scratchworld_dist.reports._drag_metrics import (
     join_runs,
 )
 from scratchworld_dist.reports._render import ReportFormat, markdown_table, render_text
-from scratchworld_dist.reports._runs import check_compatible, load_run
+from scratchworld_dist.reports._runs import LoadedRun, load_runs
 from scratchworld_dist.reports._summary import row_label
 from scratchworld_dist.results import DragRow, RunStore
 from scratchworld_dist.sweep import NO_MODEL
@@ -49,24 +50,24 @@ def is_drag_run(run_dir: Path) -> bool:
 
 def build_drag_report(run_dirs: list[Path], *, force: bool = False) -> DragTable:
     """Merge the drag results of ``run_dirs``; raises ``RunDirError`` when they hold no drag job."""
-    if not run_dirs:
-        raise RunDirError("no run directory given")
-    unique: dict[Path, Path] = {}
-    for path in run_dirs:
-        unique.setdefault(path.resolve(), path)
-    loaded = [load_run(path) for path in unique.values()]
-    warnings = check_compatible(loaded, force=force)
-    warnings += [
+    loaded, warnings = load_runs(run_dirs, force=force)
+    return drag_table_of(loaded, warnings)
+
+
+def drag_table_of(loaded: Sequence[LoadedRun], warnings: list[str]) -> DragTable:
+    """The drag table of runs already loaded and checked for merging (``warnings``: those of the check)."""
+    warnings = warnings + [
         f"{r.name}: {r.stale_rows} row(s) of an older suite or harness excluded" for r in loaded if r.stale_rows
     ]
     jobs = [row for run in loaded for row in run.rows]
-    runs, notes = join_runs(jobs, [d for run in loaded for d in _drag_rows(run.path)])
+    runs, notes = join_runs(jobs, [d for run in loaded for d in read_drag_rows(run.path)])
     if not runs:
-        raise RunDirError(f"{', '.join(str(p) for p in unique.values())}: no drag job results")
+        raise RunDirError(f"{', '.join(str(r.path) for r in loaded)}: no drag job results")
     return DragTable(runs=[r.name for r in loaded], warnings=warnings + notes, rows=drag_rows(runs))
 
 
-def _drag_rows(run_dir: Path) -> list[DragRow]:
+def read_drag_rows(run_dir: Path) -> list[DragRow]:
+    """The ``drags`` rows of a run directory (``RunDirError`` for a row that is not one)."""
     store = RunStore(run_dir)
     try:
         return [DragRow.model_validate(row) for row in store.read_table("drags").to_pylist()]

@@ -1,7 +1,8 @@
 """Rendering a ``RunReport`` as Markdown, a self-contained HTML page, or JSON.
 
 Markdown and HTML are drawn from one list of blocks (headings, paragraphs, tables of text
-cells), so the two always show the same numbers; only the markup differs.
+cells), so the two always show the same numbers; only the markup differs. The perception and
+diagnosis reports are drawn from blocks too (``blocks_markdown``, ``blocks_html``).
 """
 
 from __future__ import annotations
@@ -36,23 +37,27 @@ _DEFINITIONS = (
 
 
 @dataclass(frozen=True)
-class _Heading:
+class Heading:
+    """A heading of ``level`` (1 is the page title)."""
+
     level: int
     text: str
 
 
 @dataclass(frozen=True)
-class _Paragraph:
+class Paragraph:
     text: str
 
 
 @dataclass(frozen=True)
-class _Table:
+class Table:
+    """A table of text cells (escaped when drawn, in both markups)."""
+
     header: list[str]
     rows: list[list[str]]
 
 
-_Block = _Heading | _Paragraph | _Table
+Block = Heading | Paragraph | Table
 
 
 def render(report: RunReport, fmt: ReportFormat, plots: Sequence[Plot] = ()) -> str:
@@ -71,7 +76,7 @@ def render_text(model: BaseModel, markdown: Callable[[], str], fmt: ReportFormat
     if fmt == "json":
         return model.model_dump_json(indent=2) + "\n"
     if fmt == "html":
-        return _PAGE.format(body=f"<pre>{html.escape(markdown())}</pre>")
+        return html_page(f"<pre>{html.escape(markdown())}</pre>")
     if fmt == "md":
         return markdown()
     raise ValueError(f"No renderer for format: {fmt}")
@@ -83,11 +88,16 @@ def render_json(report: RunReport) -> str:
 
 
 def render_markdown(report: RunReport) -> str:
+    return blocks_markdown(_blocks(report))
+
+
+def blocks_markdown(blocks: Sequence[Block]) -> str:
+    """Headings, paragraphs and tables as Markdown (a report of its own: the text ends with a newline)."""
     parts = []
-    for block in _blocks(report):
-        if isinstance(block, _Heading):
+    for block in blocks:
+        if isinstance(block, Heading):
             parts.append(f"{'#' * block.level} {block.text}")
-        elif isinstance(block, _Paragraph):
+        elif isinstance(block, Paragraph):
             parts.append(block.text)
         else:
             lines = [_md_row(block.header), _md_row(["---"] * len(block.header))]
@@ -99,16 +109,26 @@ def render_markdown(report: RunReport) -> str:
 def render_html(report: RunReport, plots: Sequence[Plot] = ()) -> str:
     """One page with inline style and no external resources; every string is escaped; ``plots`` after the tables."""
     body = render_html_body(report)
-    return _PAGE.format(body=body + "\n" + plots_html(plots) if plots else body)
+    return html_page(body + "\n" + plots_html(plots) if plots else body)
 
 
 def render_html_body(report: RunReport) -> str:
     """The report's headings, paragraphs and tables as HTML elements (a page's body; the viewer's run page)."""
+    return blocks_html(_blocks(report))
+
+
+def html_page(body: str) -> str:
+    """A self-contained page (inline style, no external resources) around ``body``, which must be escaped HTML."""
+    return _PAGE.format(body=body)
+
+
+def blocks_html(blocks: Sequence[Block]) -> str:
+    """Headings, paragraphs and tables as HTML elements, every string escaped."""
     body = []
-    for block in _blocks(report):
-        if isinstance(block, _Heading):
+    for block in blocks:
+        if isinstance(block, Heading):
             body.append(f"<h{block.level}>{html.escape(block.text)}</h{block.level}>")
-        elif isinstance(block, _Paragraph):
+        elif isinstance(block, Paragraph):
             body.append(f"<p>{html.escape(block.text)}</p>")
         else:
             head = "".join(f"<th>{html.escape(cell)}</th>" for cell in block.header)
@@ -139,23 +159,23 @@ th {{ background: #f3f3f3; }}
 """
 
 
-def _blocks(report: RunReport) -> list[_Block]:
-    blocks: list[_Block] = [_Heading(1, "ScratchWorld report")]
-    blocks += [_Paragraph(f"Warning: {warning}") for warning in report.warnings]
+def _blocks(report: RunReport) -> list[Block]:
+    blocks: list[Block] = [Heading(1, "ScratchWorld report")]
+    blocks += [Paragraph(f"Warning: {warning}") for warning in report.warnings]
     blocks += _runs(report)
     for mode in sorted({row.mode for row in report.rows}):
         rows = [row for row in report.rows if row.mode == mode]
-        blocks += [_Heading(2, f"Mode: {mode}"), _main_table(rows, report.categories)]
+        blocks += [Heading(2, f"Mode: {mode}"), _main_table(rows, report.categories)]
         if any(row.seeds is not None for row in rows):
-            blocks += [_Heading(3, f"Across seeds ({mode})"), _seed_table(rows)]
-    blocks.append(_Paragraph(_DEFINITIONS))
+            blocks += [Heading(3, f"Across seeds ({mode})"), _seed_table(rows)]
+    blocks.append(Paragraph(_DEFINITIONS))
     if any(row.llm_cache_hits is not None for row in report.rows):
-        blocks.append(_Paragraph(_CACHE_NOTE))
+        blocks.append(Paragraph(_CACHE_NOTE))
     blocks += _errors(report)
     return blocks
 
 
-def _runs(report: RunReport) -> list[_Block]:
+def _runs(report: RunReport) -> list[Block]:
     header = ["run", "path", "suite", "suite hash", "harness", "planned", "recorded", "determinate", "errors"]
     header += ["missing", "stale rows", "attempts", "cost of all attempts"]
     rows = [
@@ -166,14 +186,14 @@ def _runs(report: RunReport) -> list[_Block]:
         ]
         for r in report.runs
     ]
-    blocks: list[_Block] = [_Heading(2, "Runs"), _Table(header, rows)]
+    blocks: list[Block] = [Heading(2, "Runs"), Table(header, rows)]
     for run in report.runs:
         if run.budget_stop:
-            blocks.append(_Paragraph(f"Stopped by budget ({run.run_name}): {run.budget_stop}."))
+            blocks.append(Paragraph(f"Stopped by budget ({run.run_name}): {run.budget_stop}."))
     missing = sum(r.missing for r in report.runs)
     if missing:
         blocks.append(
-            _Paragraph(
+            Paragraph(
                 f"Missing: {missing} planned job(s) have no result (never run, lost, or still running); "
                 "they lower coverage and are not counted as failures."
             )
@@ -181,7 +201,7 @@ def _runs(report: RunReport) -> list[_Block]:
     return blocks
 
 
-def _main_table(rows: list[ReportRow], categories: list[str]) -> _Table:
+def _main_table(rows: list[ReportRow], categories: list[str]) -> Table:
     header = ["agent/model", *(f"{c.capitalize()} SR" for c in categories), "SR", "PSR", "coverage", "errors"]
     header += ["mean steps", "tokens (in+out)", "cost (USD)", "cost per success"]
     cache = any(row.llm_cache_hits is not None for row in rows)
@@ -202,10 +222,10 @@ def _main_table(rows: list[ReportRow], categories: list[str]) -> _Table:
         if cache:
             cells.append(_cache_hits(row))
         body.append(cells)
-    return _Table(header, body)
+    return Table(header, body)
 
 
-def _seed_table(rows: list[ReportRow]) -> _Table:
+def _seed_table(rows: list[ReportRow]) -> Table:
     most = max(len(row.seeds.pass_at_k) for row in rows if row.seeds is not None)
     header = ["agent/model", "seeds", "SR mean ± 95% CI", *(f"pass@{k}" for k in range(1, most + 1))]
     header += [f"pass^{k}" for k in range(1, most + 1)]
@@ -220,16 +240,16 @@ def _seed_table(rows: list[ReportRow]) -> _Table:
         cells = [row.label, ", ".join(str(s.seed) for s in row.seeds.per_seed), ci]
         cells += _estimates(row.seeds.pass_at_k, most) + _estimates(row.seeds.pass_hat_k, most)
         body.append(cells)
-    return _Table(header, body)
+    return Table(header, body)
 
 
-def _errors(report: RunReport) -> list[_Block]:
-    blocks: list[_Block] = [_Heading(2, "Errors")]
+def _errors(report: RunReport) -> list[Block]:
+    blocks: list[Block] = [Heading(2, "Errors")]
     if not report.errors:
-        return [*blocks, _Paragraph("No job ended in error.")]
+        return [*blocks, Paragraph("No job ended in error.")]
     rows = [[e.error_class, str(e.jobs), str(e.attempts)] for e in report.errors]
-    blocks.append(_Table(["error class", "jobs (effective outcome)", "attempts (all)"], rows))
-    blocks.append(_Paragraph(f"Recovered: {report.recovered_jobs} job(s) had an error attempt and later a verdict."))
+    blocks.append(Table(["error class", "jobs (effective outcome)", "attempts (all)"], rows))
+    blocks.append(Paragraph(f"Recovered: {report.recovered_jobs} job(s) had an error attempt and later a verdict."))
     return blocks
 
 

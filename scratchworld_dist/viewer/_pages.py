@@ -160,6 +160,12 @@ def run_card(index: int, run: ViewedRun, rows: list[JobRow] | None = None) -> Ru
 def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
     from scratchworld_dist.reports import build_report, render_html_body
     from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag_markdown
+    from scratchworld_dist.reports._perception_table import (
+        build_perception_report,
+        is_perception_run,
+        perception_blocks,
+    )
+    from scratchworld_dist.reports._render import blocks_html
 
     manifest = run.manifest()
     if manifest is None:
@@ -172,6 +178,10 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
             drag = build_drag_report([run.path])
             warnings = drag.warnings
             report_html = f"<pre>{html.escape(render_drag_markdown(drag))}</pre>"
+        elif is_perception_run(run.path):
+            perception = build_perception_report([run.path])
+            warnings = perception.warnings
+            report_html = blocks_html(perception_blocks(perception))
         else:
             report = build_report([run.path])
             warnings = report.warnings
