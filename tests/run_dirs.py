@@ -199,6 +199,7 @@ def perception_record(
         job_id=job_id,
         attempt=attempt,
         item_id=item,
+        question=f"A {kind} question about {item}?",
         kind=kind,
         tag=tag or f"{kind}_{expected.lower() if answer_format == 'yes_no' else value_kind}",
         answer_format=answer_format,

@@ -114,6 +114,8 @@ def test_the_scripted_agents_score_100_and_the_yes_share_and_the_run_resumes(
     code, out = run_here(config)
     assert code == 0, out
     assert "not-here is not here; its items are skipped" in " ".join(out.split())
+    report = (tmp_path / "run" / "report.md").read_text()  # the run prints, and keeps, the perception report
+    assert report.startswith("# ScratchWorld perception report") and "## YES/NO confusion" in out
     store = RunStore(tmp_path / "run")
     rows = store.read_table("perception").to_pylist()
     jobs = store.read_table("jobs").to_pylist()
