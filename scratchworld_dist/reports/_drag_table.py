@@ -10,9 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from pydantic import ValidationError
-
-from scratchworld_dist._errors import RunDirError, validation_summary
+from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.reports._drag_metrics import (
     ALL,
     Distance,
@@ -23,7 +21,7 @@ from scratchworld_dist.reports._drag_metrics import (
     join_runs,
 )
 from scratchworld_dist.reports._render import ReportFormat, markdown_table, render_text
-from scratchworld_dist.reports._runs import LoadedRun, load_runs
+from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
 from scratchworld_dist.reports._summary import row_label
 from scratchworld_dist.results import DragRow, RunStore
 from scratchworld_dist.sweep import NO_MODEL
@@ -56,9 +54,7 @@ def build_drag_report(run_dirs: list[Path], *, force: bool = False) -> DragTable
 
 def drag_table_of(loaded: Sequence[LoadedRun], warnings: list[str]) -> DragTable:
     """The drag table of runs already loaded and checked for merging (``warnings``: those of the check)."""
-    warnings = warnings + [
-        f"{r.name}: {r.stale_rows} row(s) of an older suite or harness excluded" for r in loaded if r.stale_rows
-    ]
+    warnings = warnings + stale_warnings(loaded)
     jobs = [row for run in loaded for row in run.rows]
     runs, notes = join_runs(jobs, [d for run in loaded for d in read_drag_rows(run.path)])
     if not runs:
@@ -68,11 +64,7 @@ def drag_table_of(loaded: Sequence[LoadedRun], warnings: list[str]) -> DragTable
 
 def read_drag_rows(run_dir: Path) -> list[DragRow]:
     """The ``drags`` rows of a run directory (``RunDirError`` for a row that is not one)."""
-    store = RunStore(run_dir)
-    try:
-        return [DragRow.model_validate(row) for row in store.read_table("drags").to_pylist()]
-    except ValidationError as exc:
-        raise RunDirError(f"{store.table_dir('drags')}: a row is not a drag: {validation_summary(exc)}") from exc
+    return read_rows(run_dir, "drags", DragRow, "a drag")
 
 
 def render_drag(table: DragTable, fmt: ReportFormat) -> str:

@@ -10,9 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from pydantic import ValidationError
-
-from scratchworld_dist._errors import RunDirError, validation_summary
+from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.reports._perception_metrics import (
     Accuracy,
     Confusion,
@@ -32,7 +30,7 @@ from scratchworld_dist.reports._render import (
     blocks_markdown,
     html_page,
 )
-from scratchworld_dist.reports._runs import LoadedRun, load_runs
+from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
 from scratchworld_dist.reports._summary import row_label
 from scratchworld_dist.results import PerceptionRow, RunStore, read_manifest
 
@@ -69,9 +67,7 @@ def build_perception_report(run_dirs: list[Path], *, force: bool = False) -> Per
 
 def perception_table_of(loaded: Sequence[LoadedRun], warnings: list[str]) -> PerceptionTable:
     """The perception table of runs already loaded and checked for merging (``warnings``: those of the check)."""
-    warnings = warnings + [
-        f"{r.name}: {r.stale_rows} row(s) of an older suite or harness excluded" for r in loaded if r.stale_rows
-    ]
+    warnings = warnings + stale_warnings(loaded)
     jobs = [row for run in loaded for row in run.rows]
     runs, notes = join_runs(jobs, [a for run in loaded for a in read_perception_rows(run.path)])
     if not runs:
@@ -81,12 +77,7 @@ def perception_table_of(loaded: Sequence[LoadedRun], warnings: list[str]) -> Per
 
 def read_perception_rows(run_dir: Path) -> list[PerceptionRow]:
     """The ``perception`` rows of a run directory (``RunDirError`` for a row that is not one)."""
-    store = RunStore(run_dir)
-    try:
-        return [PerceptionRow.model_validate(row) for row in store.read_table("perception").to_pylist()]
-    except ValidationError as exc:
-        table = store.table_dir("perception")
-        raise RunDirError(f"{table}: a row is not a perception answer: {validation_summary(exc)}") from exc
+    return read_rows(run_dir, "perception", PerceptionRow, "a perception answer")
 
 
 def render_perception(table: PerceptionTable, fmt: ReportFormat) -> str:

@@ -11,10 +11,15 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TypeVar
 
-from scratchworld_dist._errors import RunDirError
+from pydantic import BaseModel, ValidationError
+
+from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist.results import JobRow, RunManifest, RunStore, require_manifest
 from workers.contract import describe_differences
+
+RowT = TypeVar("RowT", bound=BaseModel)
 
 
 @dataclass(frozen=True)
@@ -77,6 +82,21 @@ def incompatibilities(runs: Sequence[LoadedRun]) -> list[str]:
                 f"(files: {describe_differences(ours, theirs)})"
             )
     return problems
+
+
+def stale_warnings(runs: Sequence[LoadedRun]) -> list[str]:
+    """One warning per run that holds rows of an older suite or harness (they are left out)."""
+    return [f"{r.name}: {r.stale_rows} row(s) of an older suite or harness excluded" for r in runs if r.stale_rows]
+
+
+def read_rows(run_dir: Path, table: str, model: type[RowT], noun: str) -> list[RowT]:
+    """The rows of one of a run directory's tables as ``model`` (``RunDirError`` naming the table for a row that
+    is not ``noun``)."""
+    store = RunStore(run_dir)
+    try:
+        return [model.model_validate(row) for row in store.read_table(table).to_pylist()]
+    except ValidationError as exc:
+        raise RunDirError(f"{store.table_dir(table)}: a row is not {noun}: {validation_summary(exc)}") from exc
 
 
 def check_compatible(runs: Sequence[LoadedRun], *, force: bool) -> list[str]:
