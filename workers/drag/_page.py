@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict
 from workers.contract import (
     DragPayload,
     DragRegions,
+    DragView,
     EditorError,
     ProjectLimits,
     Region,
@@ -50,16 +51,26 @@ def source_arg(payload: DragPayload) -> dict[str, object]:
     return source
 
 
-async def set_up(editor: Editor, payload: DragPayload, limits: ProjectLimits | None = None) -> None:
-    """Load the task's project and put the editor in the task's view, settled."""
-    view = payload.view
-    await editor.load_project(payload.initial_project, limits)
+async def show(
+    editor: Editor, project: bytes, view: DragView, limits: ProjectLimits | None = None, *, what: str = "the view"
+) -> None:
+    """Load ``project`` and put the editor in ``view`` (target, palette, scroll, zoom, stage size), settled.
+
+    Drag tasks and perception views are both a project shown in a semantic view; raises ``EditorError``
+    (naming ``what``) when the page does not settle in that view.
+    """
+    await editor.load_project(project, limits)
     await editor.set_stage_size(view.stage_size)
     await editor.call("dragSelectTarget", {"sprite": view.sprite})
     await settle(editor, SETTLE_MS)  # the editor draws the target's scripts asynchronously
     await editor.call("dragSetView", view.model_dump(mode="json"))
     if not await settle(editor, SETTLE_MS):
-        raise EditorError(f"drag task {payload.task_id}: the view did not settle within {SETTLE_MS} ms")
+        raise EditorError(f"{what}: the view did not settle within {SETTLE_MS} ms")
+
+
+async def set_up(editor: Editor, payload: DragPayload, limits: ProjectLimits | None = None) -> None:
+    """Load the task's project and put the editor in the task's view, settled."""
+    await show(editor, payload.initial_project, payload.view, limits, what=f"drag task {payload.task_id}")
 
 
 async def start_region(editor: Editor, payload: DragPayload) -> Region:
