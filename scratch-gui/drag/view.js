@@ -3,7 +3,8 @@
  * far its flyout is scrolled, and the workspace's scale and scroll. Upstream set the same view
  * with pixel clicks; set this way it is the same on any layout. The target is selected first and
  * on its own (`dragSelectTarget`): the editor redraws the workspace asynchronously, so Python
- * waits for the page to settle before `dragSetView` places the rest. `dragRendered` paces a real
+ * waits for the page to settle before `dragSetView` places the rest (and `dragViewState` tells whether it
+ * stayed there). `dragRendered` paces a real
  * drag: each pointer move is drawn before the next is made, as in a drag by hand.
  */
 scratchworldModule({name: 'drag/view', requires: ['blockly'], create(ctx, blockly) {
@@ -77,6 +78,15 @@ scratchworldModule({name: 'drag/view', requires: ['blockly'], create(ctx, blockl
     return Object.assign(placed, {flyoutTop: flyoutTop});
   }
 
+  // Where the canvas is now: its translation on the workspace SVG and its scale. The editor restores a
+  // target's last scroll when it redraws the target's scripts, which can come after `setView`: Python
+  // compares this with what `setView` placed and places it again when it moved.
+  function viewState() {
+    const ws = blockly.workspace();
+    const m = ws.getCanvas().getCTM();
+    return {tx: m.e, ty: m.f, scale: ws.scale};
+  }
+
   // A view that shows `blocks` (ids; their whole scripts) in the visible workspace, centred when they
   // fit, else from their top-left corner; and, for a palette source, the flyout scroll (from the top
   // of `category`) that shows its block near the top of the palette. For generating tasks.
@@ -126,7 +136,7 @@ scratchworldModule({name: 'drag/view', requires: ['blockly'], create(ctx, blockl
   return {
     api: {
       dragSelectTarget: (args) => selectTarget(args), dragSetView: (args) => setView(args), dragFrame: (args) => frame(args),
-      dragRendered: () => rendered(),
+      dragRendered: () => rendered(), dragViewState: () => viewState(),
     },
   };
 }});

@@ -367,6 +367,19 @@ def _cut(
     return blocks, moved, None
 
 
+def detach(
+    blocks: Mapping[str, Any], *, reference: str, moved: str, input_name: str | None, at: tuple[float, float]
+) -> dict[str, Any]:
+    """``blocks`` with ``moved`` (and the blocks below it) cut off ``reference`` and left top-level at ``at``
+    (workspace units): from below it when ``input_name`` is None, else from that input (a shadow it covered
+    shows again). The cut is the one drag tasks make; blocks that do not change are shared, not copied."""
+    kind: ConnectionKind = "next" if input_name is None else "input"
+    link = _Link(kind, reference, moved, _stack_tail(blocks, moved), reference, 0, input_name)
+    cut, top, _ = _cut(blocks, link, False, None)
+    cut[top] = {**cut[top], "x": _at(at[0]), "y": _at(at[1])}
+    return cut
+
+
 def _subtree(blocks: Mapping[str, Any], block_id: str) -> list[str]:
     """A block and what hangs in its inputs (for a palette-sized block: its shadows)."""
     found, todo = [], [block_id]

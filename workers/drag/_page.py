@@ -22,6 +22,8 @@ from workers.editor import Editor
 from workers.primitive import settle
 
 SETTLE_MS = 3000
+VIEW_TRIES = 3
+"""Times a view is placed before the page is given up on (a used page may move it once, restoring an old scroll)."""
 DRAG_STEPS = 15
 """Interpolated pointer moves of one drag, as upstream performs it."""
 
@@ -37,6 +39,20 @@ class _Verdict(BaseModel):
 
     connected: bool
     observed: str
+
+
+class _Placed(BaseModel):
+    """Where the workspace canvas is: its translation on the workspace SVG (px) and its scale."""
+
+    model_config = ConfigDict(extra="ignore")
+
+    tx: float
+    ty: float
+    scale: float
+
+    def near(self, other: _Placed) -> bool:
+        close = abs(self.tx - other.tx) < 0.01 and abs(self.ty - other.ty) < 0.01
+        return close and abs(self.scale - other.scale) < 1e-6
 
 
 class _Ids(BaseModel):
@@ -63,9 +79,14 @@ async def show(
     await editor.set_stage_size(view.stage_size)
     await editor.call("dragSelectTarget", {"sprite": view.sprite})
     await settle(editor, SETTLE_MS)  # the editor draws the target's scripts asynchronously
-    await editor.call("dragSetView", view.model_dump(mode="json"))
-    if not await settle(editor, SETTLE_MS):
-        raise EditorError(f"{what}: the view did not settle within {SETTLE_MS} ms")
+    for _ in range(VIEW_TRIES):
+        placed = _Placed.model_validate(await editor.call("dragSetView", view.model_dump(mode="json")))
+        if not await settle(editor, SETTLE_MS):
+            raise EditorError(f"{what}: the view did not settle within {SETTLE_MS} ms")
+        # A used page's editor may restore the target's last scroll after the view was placed.
+        if _Placed.model_validate(await editor.call("dragViewState")).near(placed):
+            return
+    raise EditorError(f"{what}: the editor moved the view away each of {VIEW_TRIES} times it was placed")
 
 
 async def set_up(editor: Editor, payload: DragPayload, limits: ProjectLimits | None = None) -> None:

@@ -1,0 +1,40 @@
+"""A perception view on an editor page: shown, measured (``perceptionFacts``) and photographed.
+
+Both ``perception make`` and ``perception validate`` go through ``look``, so an item is checked against
+facts collected exactly as the ones it was made from.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from scratchworld_dist.perception._facts import ViewFacts
+from workers.contract import DragView
+from workers.drag._page import show
+from workers.editor import Editor
+
+
+@dataclass(frozen=True)
+class Look:
+    facts: ViewFacts
+    png: bytes
+
+
+async def look(editor: Editor, project: bytes, view: DragView, what: str) -> Look:
+    """``project`` in ``view`` (settled), its facts and its screenshot."""
+    await show(editor, project, view, what=what)
+    facts = ViewFacts.model_validate(await editor.call("perceptionFacts"))
+    return Look(facts=facts, png=await editor.page.screenshot(type="png"))
+
+
+def pixel_difference(a: bytes, b: bytes) -> float:
+    """The share of pixels that differ between two PNGs (1.0 when their sizes differ)."""
+    left = cv2.imdecode(np.frombuffer(a, np.uint8), cv2.IMREAD_COLOR)
+    right = cv2.imdecode(np.frombuffer(b, np.uint8), cv2.IMREAD_COLOR)
+    if left is None or right is None or left.shape != right.shape:
+        return 1.0
+    differs = np.any(left != right, axis=2)
+    return float(differs.mean())
