@@ -30,12 +30,12 @@ from scratchworld_dist.drag._make import frame_view
 from scratchworld_dist.perception._candidates import Candidate, candidates
 from scratchworld_dist.perception._item import PerceptionItem, PerceptionView
 from scratchworld_dist.perception._native import write_perception_suite
-from scratchworld_dist.perception._page import Look, look
+from scratchworld_dist.perception._page import Look, lending_pool, look
 from scratchworld_dist.perception._perturb import bumped, edge_view, perturbations
 from scratchworld_dist.perception._select import select
 from scratchworld_dist.sb3 import Sb3Archive, check_project
 from workers.contract import MIB, BridgeError, DragView, EditorError, ProjectLimits
-from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool
+from workers.editor import Editor, EditorPool
 
 DEFAULT_PER_VIEW = 8
 EDGE_CHANGE = "the view scrolled so that the workspace's right edge cuts the widest script"
@@ -113,10 +113,12 @@ async def make_perception_suite(
     seed: int = 0,
     on_problem: Callable[[str], None] = lambda _: None,
     on_view: Callable[[PerceptionView, int], None] = lambda _view, _count: None,
+    pool: EditorPool | None = None,
 ) -> MadeSuite:
     """Make, select and write the items of ``paths`` as a suite at ``out`` (a new or empty folder).
 
     At most ``per_view`` items ask about one view, and at most ``max_views`` views (default: all) are used.
+    Editors come from ``pool`` when given, else from a browser of its own.
     """
     check_destination(out)
     projects = read_projects(paths)
@@ -130,10 +132,10 @@ async def make_perception_suite(
     shown: list[_Shown] = []
     with tempfile.TemporaryDirectory(prefix="scratchworld-perception-") as scratch:
         folder = Path(scratch)
-        async with BrowserSession(BrowserConfig()) as session, EditorPool(session, spare=0) as pool:
+        async with lending_pool(pool) as lender:
             for project in projects:
                 for index, sprite, slug in _targets(project, problem):
-                    async with pool.editor() as editor:
+                    async with lender.editor() as editor:
                         views = await _target_views(editor, project, index, sprite, slug, folder, seed, problem)
                     for view in views:
                         on_view(view.view, len(view.candidates))

@@ -6,6 +6,8 @@ facts collected exactly as the ones it was made from.
 
 from __future__ import annotations
 
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 from dataclasses import dataclass
 
 import cv2
@@ -14,7 +16,7 @@ import numpy as np
 from scratchworld_dist.perception._facts import ViewFacts
 from workers.contract import DragView
 from workers.drag._page import show
-from workers.editor import Editor
+from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool
 
 
 @dataclass(frozen=True)
@@ -28,6 +30,16 @@ async def look(editor: Editor, project: bytes, view: DragView, what: str) -> Loo
     await show(editor, project, view, what=what)
     facts = ViewFacts.model_validate(await editor.call("perceptionFacts"))
     return Look(facts=facts, png=await editor.page.screenshot(type="png"))
+
+
+@asynccontextmanager
+async def lending_pool(pool: EditorPool | None) -> AsyncIterator[EditorPool]:
+    """``pool`` when given (tests share one browser), else a browser and pool of our own, closed on exit."""
+    if pool is not None:
+        yield pool
+        return
+    async with BrowserSession(BrowserConfig()) as session, EditorPool(session, spare=0) as own:
+        yield own
 
 
 def pixel_difference(a: bytes, b: bytes) -> float:

@@ -23,11 +23,11 @@ from scratchworld_dist.perception._derive import Skip, derive
 from scratchworld_dist.perception._facts import ViewFacts
 from scratchworld_dist.perception._item import PerceptionItem, PerceptionView
 from scratchworld_dist.perception._native import MAX_SCREENSHOT_BYTES, read_screenshot
-from scratchworld_dist.perception._page import look, pixel_difference
+from scratchworld_dist.perception._page import lending_pool, look, pixel_difference
 from scratchworld_dist.perception._questions import question
 from scratchworld_dist.perception._suite import PerceptionSuite
 from workers.contract import BridgeError, EditorError, ProjectFormatError
-from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool
+from workers.editor import Editor, EditorPool
 
 
 class ItemCheck(BaseModel):
@@ -89,8 +89,10 @@ async def validate_perception_suite(
     editors: int = 1,
     views: Sequence[str] | None = None,
     on_checked: Callable[[ViewCheck], None] = lambda _: None,
+    pool: EditorPool | None = None,
 ) -> list[ViewCheck]:
-    """Check the items of ``suite`` (of ``views``, default all), view by view in ``editors`` recycled editors."""
+    """Check the items of ``suite`` (of ``views``, default all), view by view in ``editors`` recycled editors
+    (from ``pool`` when given, else from a browser of its own)."""
     refuse_upstream(suite)
     by_view: defaultdict[str, list[PerceptionItem]] = defaultdict(list)
     for item in suite.items:
@@ -100,13 +102,13 @@ async def validate_perception_suite(
     for index in range(len(wanted)):
         queue.put_nowait(index)
     checks: dict[int, ViewCheck] = {}
-    async with BrowserSession(BrowserConfig()) as session, EditorPool(session, spare=0) as pool:
+    async with lending_pool(pool) as lender:
 
         async def work() -> None:
             while not queue.empty():
                 index = queue.get_nowait()
                 view = wanted[index]
-                async with pool.editor() as editor:
+                async with lender.editor() as editor:
                     checks[index] = await _check_view(editor, view, by_view[view.id])
                 on_checked(checks[index])
 
