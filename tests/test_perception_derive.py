@@ -166,6 +166,8 @@ def test_categories_by_colour() -> None:
     looks = ExistenceFact(name="Looks", category="looks")
     assert answer(looks, covered) == ("YES", "existence_yes_unidentifiable")
     assert answer(looks, view(*SCRIPT)) == ("YES", "existence_yes_category")
+    half_read = view(*[changed(b, label=0.6, body=0.5) if b.id == "say" else b for b in SCRIPT])
+    assert answer(looks, half_read) == ("YES", "existence_yes_category")  # its words might still be made out
     sound = ExistenceFact(name="Sound", category="sound")
     assert answer(sound, view(*SCRIPT)) == ("NO", "existence_no_unidentifiable")
     with_list = view(*SCRIPT, block("list", "data_deletealloflist", (700, 500, 100, 38)))

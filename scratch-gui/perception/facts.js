@@ -105,7 +105,8 @@ scratchworldModule({name: 'perception/facts', requires: ['rects', 'blockly', 'ge
     return {seen: seen, points: points.length};
   }
 
-  // The block's own words and icons (not its values), how much of them can be seen, and the text height.
+  // The block's own words (not its values, not its icons: a flag or a loop arrow names nothing a reader
+  // needs), how much of them can be seen, and the height of the shortest.
   function labelOf(block, owner) {
     const words = [];
     let seen = 0;
@@ -113,15 +114,14 @@ scratchworldModule({name: 'perception/facts', requires: ['rects', 'blockly', 'ge
     let height = null;
     for (const input of block.inputList) {
       for (const field of input.fieldRow) {
-        if (field.EDITABLE || !field.getSvgRoot()) continue;
-        const r = rects.rectOf(field.getSvgRoot());
-        const text = field.getText ? field.getText() : '';
-        if (text) words.push(text);
-        else words.push('[image]');
+        const root = field.getSvgRoot();
+        if (field.EDITABLE || !root || !root.querySelector('text')) continue;
+        const r = rects.rectOf(root);
+        words.push(field.getText());
         const counted = seenIn(r, block, owner, FIELD_POINTS);
         seen += counted.seen;
         points += counted.points;
-        if (text && r.height > 0) height = height === null ? r.height : Math.min(height, r.height);
+        if (r.height > 0) height = height === null ? r.height : Math.min(height, r.height);
       }
     }
     return {text: oneLine(words.join(' ')), seen: seen, points: points, height: height};

@@ -7,8 +7,9 @@ a NO on nothing of the kind in the visible area, or on two blocks plainly apart 
 touching without being joined (``connection_no_hard``); what lies between is skipped.
 
 Tags follow upstream's where the meaning is the same. Ours: ``connection_no_other_slot`` (the block sits in
-another slot of the same block), ``existence_yes_category`` (a category question whose blocks are also
-readable), ``equivalence_text_yes/no`` and ``exact_match_text`` (a text slot's value).
+another slot of the same block), ``existence_yes_category`` (a category question whose blocks can also be
+read; ``existence_yes_unidentifiable`` is kept for a category told by colour alone), ``equivalence_text_yes``,
+``equivalence_text_no`` and ``exact_match_text`` (a text slot's value).
 """
 
 from __future__ import annotations
@@ -228,8 +229,9 @@ def _category(category: str, facts: ViewFacts) -> Derivation:
     mine = [b for b in in_view if category_of(b.opcode) == category]
     shown = [b for b in mine if b.well_visible]
     if shown:
-        readable = any(b.readable for b in shown)
-        return Derived(YES, "existence_yes_category" if readable else "existence_yes_unidentifiable")
+        # Unidentifiable: only the colour tells, every block of it that shows has its words hidden.
+        colour_only = all(b.unreadable for b in shown)
+        return Derived(YES, "existence_yes_unidentifiable" if colour_only else "existence_yes_category")
     if mine:
         return Skip(f"a {category} block is in view but too hidden to tell")
     if any(category_of(b.opcode) in (None, "lists", "myBlocks") for b in in_view):

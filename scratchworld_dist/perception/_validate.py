@@ -91,7 +91,7 @@ async def validate_perception_suite(
     on_checked: Callable[[ViewCheck], None] = lambda _: None,
     pool: EditorPool | None = None,
 ) -> list[ViewCheck]:
-    """Check the items of ``suite`` (of ``views``, default all), view by view in ``editors`` recycled editors
+    """Check the items of ``suite`` (of ``views``, default all), view by view in ``editors`` editors at a time
     (from ``pool`` when given, else from a browser of its own)."""
     refuse_upstream(suite)
     by_view: defaultdict[str, list[PerceptionItem]] = defaultdict(list)
@@ -105,12 +105,14 @@ async def validate_perception_suite(
     async with lending_pool(pool) as lender:
 
         async def work() -> None:
-            while not queue.empty():
-                index = queue.get_nowait()
-                view = wanted[index]
-                async with lender.editor() as editor:
+            # One editor shows view after view, as `make` shows a target's views: loading a project resets
+            # the VM and `show` sets the whole view, so recycling the page between views would only cost time.
+            async with lender.editor() as editor:
+                while not queue.empty():
+                    index = queue.get_nowait()
+                    view = wanted[index]
                     checks[index] = await _check_view(editor, view, by_view[view.id])
-                on_checked(checks[index])
+                    on_checked(checks[index])
 
         await asyncio.gather(*(work() for _ in range(max(1, editors))))
     return [checks[index] for index in range(len(wanted))]
