@@ -7,7 +7,7 @@ import pytest
 
 from scratchworld_dist.perception import BlockReference, ConnectionFact, ExistenceFact, FieldFact, PerceptionItem
 from scratchworld_dist.perception._derive import Derived, Skip, derive
-from scratchworld_dist.perception._facts import ViewFacts
+from scratchworld_dist.perception._facts import Rect, ViewFacts
 from scratchworld_dist.perception._names import kind_name, look_alikes, opcodes_named
 from scratchworld_dist.perception._questions import question
 from scratchworld_dist.perception._refs import reference_to, resolve
@@ -170,6 +170,13 @@ def test_categories_by_colour() -> None:
     assert answer(looks, half_read) == ("YES", "existence_yes_category")  # its words might still be made out
     sound = ExistenceFact(name="Sound", category="sound")
     assert answer(sound, view(*SCRIPT)) == ("NO", "existence_no_unidentifiable")
+    under_palette = covered.model_copy(update={"palette": Rect(x=380, y=90, width=40, height=600)})
+    assert answer(looks, under_palette) == ("YES", "existence_yes_category")  # its words show faintly there
+    away = view(*[changed(b, x=160, body=0, label=0) if b.id == "say" else b for b in SCRIPT])  # left of the area
+    assert answer(looks, away) == ("NO", "existence_no_unidentifiable")
+    assert "too hidden" in str(
+        answer(looks, away.model_copy(update={"palette": Rect(x=60, y=90, width=250, height=600)}))
+    )
     with_list = view(*SCRIPT, block("list", "data_deletealloflist", (700, 500, 100, 38)))
     assert "colour may pass" in str(answer(sound, with_list))
 

@@ -30,7 +30,7 @@ async def pool(session: BrowserSession) -> AsyncIterator[EditorPool]:
 
 @pytest.fixture(scope="module")
 async def made(pool: EditorPool, tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, int]:
-    """A suite made from one of our projects (all five kinds of view), and how many items it holds."""
+    """A suite made from one of our projects (all six kinds of view), and how many items it holds."""
     from scratchworld_dist.perception._make import make_perception_suite
 
     out = tmp_path_factory.mktemp("perception") / "suite"
@@ -58,7 +58,14 @@ async def test_made_items_are_rederived_from_their_saved_projects_and_a_flipped_
     root, count = made
     suite = load_perception_suite(root)
     assert not suite.problems and len(suite.items) == count >= 25
-    assert {view.id.rsplit("-", 1)[1] for view in suite.views} == {"plain", "edge", "pull_off", "cover", "beside_slot"}
+    assert {view.id.rsplit("-", 1)[1] for view in suite.views} == {
+        "plain",
+        "cut_right",
+        "cut_left",
+        "pull_off",
+        "cover",
+        "beside_slot",
+    }
     answers = Counter((item.kind, item.answer) for item in suite.items if item.answer_format == "yes_no")
     for kind in ("connection", "existence", "field"):
         assert answers[(kind, "YES")] == answers[(kind, "NO")] > 0

@@ -9,7 +9,8 @@ from typing import Any
 from scratchworld_dist.perception import BlockReference, ConnectionFact, ExistenceFact, FieldFact
 from scratchworld_dist.perception._candidates import Candidate, candidates
 from scratchworld_dist.perception._derive import Derived
-from scratchworld_dist.perception._perturb import EDGE_CUT, SIDEWAYS, bumped, edge_view, perturbations
+from scratchworld_dist.perception._facts import Point
+from scratchworld_dist.perception._perturb import CUT, SIDEWAYS, ZOOM_OUT, bumped, cut_view, perturbations, zoom_view
 from scratchworld_dist.perception._select import select
 from scratchworld_dist.sb3 import Project, block, circle_costume
 from tests.perception_facts import block as facts_block
@@ -117,14 +118,32 @@ def test_bumped_scripts_are_those_not_where_the_project_puts_them() -> None:
     assert bumped(BLOCKS, shifted) == ["Cat-7"]
 
 
-def test_the_edge_view_cuts_the_widest_script_at_the_workspace_edge() -> None:
+def test_the_cut_view_puts_the_workspace_edge_through_the_widest_script() -> None:
     plain = DragView(sprite="Cat", scroll_x=-100, scroll_y=-50, scale=0.675)
-    edge = edge_view(plain, FACTS)
-    assert edge is not None
-    widest = (400, 590)  # the first script's extent in page px
-    shift_px = (edge.scroll_x - plain.scroll_x) * FACTS.scale
-    right_in_view = FACTS.area.right + shift_px - widest[0]
-    assert abs(right_in_view - EDGE_CUT * (widest[1] - widest[0])) < 0.01
+    left, width = 400, 190  # the first script's extent in page px
+    cut = cut_view(plain, FACTS)
+    assert cut is not None
+    moved_px = (cut.scroll_x - plain.scroll_x) * FACTS.scale  # the content moves left by this
+    assert abs(FACTS.area.right + moved_px - left - CUT * width) < 0.01
+    narrow = facts_block("x", "looks_show", (600, 300, 50, 38))
+    assert cut_view(plain, view(narrow)) is None  # 38% of it is too little to cut off
+
+
+def test_the_zoomed_out_view_keeps_the_scripts_in_the_middle() -> None:
+    plain = DragView(sprite="Cat", scroll_x=-100, scroll_y=-50, scale=0.675)
+    facts = FACTS.model_copy(update={"origin": Point(x=0, y=93)})
+    zoomed = zoom_view(plain, facts)
+    assert zoomed is not None and zoomed.scale == ZOOM_OUT
+    middle = (400 + 325 / 2, 120 + 166 / 2)  # the scripts' extent's middle, page px, at the plain view
+
+    def page(x: float, y: float, at: DragView) -> tuple[float, float]:
+        units = (plain.scroll_x + x / plain.scale, plain.scroll_y + (y - 93) / plain.scale)
+        return (units[0] - at.scroll_x) * at.scale, 93 + (units[1] - at.scroll_y) * at.scale
+
+    centre = page(*middle, zoomed)
+    area = facts.area
+    assert abs(centre[0] - (area.x + area.width / 2)) < 0.01 and abs(centre[1] - (area.y + area.height / 2)) < 0.01
+    assert zoom_view(plain, FACTS) is None  # without the SVG's corner there is nothing to zoom around
 
 
 # ---------- selection ----------

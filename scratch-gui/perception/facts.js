@@ -226,7 +226,11 @@ scratchworldModule({name: 'perception/facts', requires: ['rects', 'blockly', 'ge
       target: vm.editingTarget ? vm.editingTarget.getName() : null,
       stage: !!(vm.editingTarget && vm.editingTarget.isStage),
       area: area,
+      // The palette is translucent: blocks under it stay faintly visible (Python counts them as in view).
+      palette: views.flyoutView(),
       scale: ws.scale,
+      // Where the workspace SVG starts on the page: a view's scroll is workspace units at this corner.
+      origin: (({left, top}) => ({x: left, y: top}))(ws.getParentSvg().getBoundingClientRect()),
       blocks: blocks,
       truncated: all.length > MAX_BLOCKS,
       ms: Math.round(performance.now() - started)

@@ -229,8 +229,9 @@ def _category(category: str, facts: ViewFacts) -> Derivation:
     mine = [b for b in in_view if category_of(b.opcode) == category]
     shown = [b for b in mine if b.well_visible]
     if shown:
-        # Unidentifiable: only the colour tells, every block of it that shows has its words hidden.
-        colour_only = all(b.unreadable for b in shown)
+        # Unidentifiable: only the colour tells, every block of it that shows has its words hidden (not merely
+        # under the translucent palette, where they show faintly).
+        colour_only = all(b.unreadable and not facts.under_palette(b) for b in shown)
         return Derived(YES, "existence_yes_unidentifiable" if colour_only else "existence_yes_category")
     if mine:
         return Skip(f"a {category} block is in view but too hidden to tell")

@@ -197,7 +197,13 @@ class ViewFacts(BaseModel):
     area: Rect
     """The visible workspace (right of the palette, without scrollbars), page px."""
 
+    palette: Rect | None = None
+    """The palette (flyout), drawn translucent over the workspace: blocks under it show faintly."""
+
     scale: float = Field(gt=0)
+    origin: Point | None = None
+    """The workspace SVG's top-left corner, page px (a view's scroll names the workspace point there)."""
+
     blocks: list[BlockFacts] = Field(max_length=5000)
     truncated: bool = False
     """The target has more blocks than the page reports; a view of it is not used."""
@@ -209,8 +215,12 @@ class ViewFacts(BaseModel):
         return self._by_id().get(block_id)
 
     def in_view(self, block: BlockFacts) -> bool:
-        """Whether any of its body lies inside the visible area (shown or covered)."""
-        return block.rect.intersects(self.area)
+        """Whether any of its body lies where it could be seen: the visible area (shown or covered) or under
+        the translucent palette."""
+        return block.rect.intersects(self.area) or self.under_palette(block)
+
+    def under_palette(self, block: BlockFacts) -> bool:
+        return self.palette is not None and block.rect.intersects(self.palette)
 
     def ancestors(self, block: BlockFacts) -> list[BlockFacts]:
         """Its parent, the parent's parent... up to its script's top."""

@@ -2,7 +2,7 @@
 
 For each target with scripts, the project is shown in a real editor in its plain view (the scripts framed
 as drag tasks frame them, at the default zoom), then in the views of ``_perturb`` (scrolled to cut a script
-at the edge; a stack pulled off, a script laid over another, a reporter left beside its slot). Each view's
+at the edge, zoomed out; a stack pulled off, a script laid over another, a reporter left beside its slot). Each view's
 facts give its candidates (``_candidates``); ``_select`` chooses a balanced set; the views they ask about
 are written with their screenshots and saved projects as a suite of our format.
 
@@ -31,14 +31,15 @@ from scratchworld_dist.perception._candidates import Candidate, candidates
 from scratchworld_dist.perception._item import PerceptionItem, PerceptionView
 from scratchworld_dist.perception._native import write_perception_suite
 from scratchworld_dist.perception._page import Look, lending_pool, look
-from scratchworld_dist.perception._perturb import bumped, edge_view, perturbations
+from scratchworld_dist.perception._perturb import bumped, cut_view, perturbations, zoom_view
 from scratchworld_dist.perception._select import select
 from scratchworld_dist.sb3 import Sb3Archive, check_project
 from workers.contract import MIB, BridgeError, DragView, EditorError, ProjectLimits
 from workers.editor import Editor, EditorPool
 
 DEFAULT_PER_VIEW = 8
-EDGE_CHANGE = "the view scrolled so that the workspace's right edge cuts the widest script"
+CUT_CHANGE = "the view scrolled so that the workspace's right edge cuts through the widest script"
+ZOOM_CHANGE = "the view zoomed out until the blocks' words are too small to read"
 
 
 class MadeSuite(BaseModel):
@@ -67,7 +68,7 @@ class _Project:
 @dataclass(frozen=True)
 class _Shown:
     kind: str
-    """plain, edge, or the perturbation's kind."""
+    """plain, cut, zoom_out, or the perturbation's kind."""
 
     view: PerceptionView
     candidates: list[Candidate]
@@ -153,7 +154,7 @@ async def make_perception_suite(
     )  # fmt: skip
 
 
-VIEW_PRIORITY = ("pull_off", "cover", "beside_slot", "edge", "plain")
+VIEW_PRIORITY = ("pull_off", "cover", "beside_slot", "cut", "zoom_out", "plain")
 """The order in which view kinds take turns when views are capped: the perturbed views hold the hard cases."""
 
 
@@ -210,7 +211,7 @@ async def _target_views(
     seed: int,
     problem: Callable[[str], None],
 ) -> list[_Shown]:
-    """The plain view of one target, its edge view and its perturbed views, each shown and measured."""
+    """The plain view of one target, its cut and zoomed-out views and its perturbed views, each shown and measured."""
     base = f"{project.label}-{slug}"
     blocks: dict[str, Any] = project.json["targets"][index]["blocks"]
     rng = random.Random(f"{seed}:{base}")
@@ -225,13 +226,16 @@ async def _target_views(
         problem(f"{base}: the editor moved {len(moved)} script(s) on loading it; left out")
         return []
     shown = [_keep(folder, base, "plain", project, project.data, plain, seen, "", seed)]
-    edge = edge_view(plain, seen.facts)
-    try:
-        if edge is not None:
-            cut = await look(editor, project.data, edge, base)
-            shown.append(_keep(folder, base, "edge", project, project.data, edge, cut, EDGE_CHANGE, seed))
-    except (EditorError, BridgeError) as exc:
-        problem(f"{base}: the edge view cannot be shown: {exc}")
+    for kind, other, change in (
+        ("cut", cut_view(plain, seen.facts), CUT_CHANGE),
+        ("zoom_out", zoom_view(plain, seen.facts), ZOOM_CHANGE),
+    ):
+        try:
+            if other is not None:
+                again = await look(editor, project.data, other, base)
+                shown.append(_keep(folder, base, kind, project, project.data, other, again, change, seed))
+        except (EditorError, BridgeError) as exc:
+            problem(f"{base}: the {kind} view cannot be shown: {exc}")
     for change in perturbations(blocks, seen.facts, rng):
         for attempt in change.attempts:
             data = archive.with_project(_with_blocks(project.json, index, attempt))

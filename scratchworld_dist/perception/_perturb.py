@@ -6,10 +6,14 @@ project.json, so the saved project of a view holds it:
 - ``pull_off``: a block and the blocks below it are cut off the block above and left touching or
   overlapping it, shifted sideways (a stack that only looks joined: ``connection_no_hard``);
 - ``cover``: one script is laid over part of another (or, in a one-script target, the lower half of the
-  script over its upper half), drawn on top: blocks partly hidden but readable, or readable by colour only;
+  script over its upper half), drawn on top; first over the left part, where blocks have their words, so that
+  some blocks are told by their colour only (``existence_yes_unidentifiable``), else at other points;
 - ``beside_slot``: a reporter is taken out of its slot and left lying over the block, beside the slot;
-- ``edge``: no change to the project; the view is scrolled so that the right part of the widest script is
-  cut off by the workspace's edge.
+- ``cut``: no change to the project; the view is scrolled so that the workspace's right edge cuts off the
+  right part of the widest script (its blocks keep their words: occluded but readable). The left edge is
+  not used: the palette is translucent, and blocks under it stay faintly visible;
+- ``zoom_out``: no change to the project; the view zoomed out (``ZOOM_OUT``) around the scripts, until the
+  blocks' words are too small to read and only their colours tell their categories.
 
 Blockly bumps apart scripts whose free connections come within its snap radius after every render, by a
 random offset, so a change that lands a connection that close would not give the same screenshot twice.
@@ -35,14 +39,21 @@ ChangeKind = Literal["pull_off", "cover", "beside_slot"]
 SIDEWAYS = (56.0, -56.0, 72.0, 96.0)
 """Workspace units a pulled-off stack is shifted: beyond the snap radius (48), so no bump joins them back."""
 
+LEFT_COVER = 0.35
+"""Share of the covered script's width (from its left, where blocks have their words) a covering script hides
+in its first placement."""
+
 OVER = ((0.45, 0.30), (0.30, 0.55), (0.60, 0.15), (0.20, 0.75))
-"""Where a covering script's top lands on the covered one, as shares of its width and height."""
+"""Where else a covering script's top-left corner lands on the covered one, as shares of its width and height."""
 
 BESIDE = ((56.0, 0.0), (72.0, 6.0), (56.0, 18.0), (90.0, 0.0))
 """Offsets (units) of a reporter left beside its former slot."""
 
-EDGE_CUT = 0.62
-"""Share of the widest script's width left in view by the ``edge`` view."""
+CUT = 0.62
+"""Share of the widest script's width (from its left) left in view by the ``cut`` view."""
+
+ZOOM_OUT = 0.3
+"""The zoomed-out view's scale: words 12 * 0.3 / 0.675 = 5.3 px tall, under ``MIN_TEXT_PX``."""
 
 TOLERANCE = 0.5
 """Workspace units a script may be off its saved position without counting as bumped."""
@@ -66,16 +77,33 @@ def perturbations(blocks: Mapping[str, Any], facts: ViewFacts, rng: random.Rando
     return [p for p in found if p is not None]
 
 
-def edge_view(view: DragView, facts: ViewFacts) -> DragView | None:
-    """``view`` scrolled so that the workspace's right edge cuts the widest script at ``EDGE_CUT`` of its width."""
+def cut_view(view: DragView, facts: ViewFacts) -> DragView | None:
+    """``view`` scrolled so that the workspace's right edge cuts the widest script at ``CUT`` of its width, or
+    None when no script is wide enough to be cut in a telling place."""
     scripts = [_extent(facts, top) for top in _tops(facts)]
     if not scripts:
         return None
     widest = max(scripts, key=lambda r: (r.width, -r.y))
-    shift = (widest.x + EDGE_CUT * widest.width - facts.area.right) / facts.scale
-    if widest.width * EDGE_CUT < 40:
-        return None  # too narrow to cut in a telling place
-    return view.model_copy(update={"scroll_x": round(view.scroll_x + shift, 3)})
+    if widest.width * (1 - CUT) < 24:
+        return None
+    shift = widest.x + CUT * widest.width - facts.area.right
+    return view.model_copy(update={"scroll_x": round(view.scroll_x + shift / facts.scale, 3)})
+
+
+def zoom_view(view: DragView, facts: ViewFacts) -> DragView | None:
+    """``view`` zoomed out to ``ZOOM_OUT``, the scripts' middle kept in the middle of the visible area."""
+    scripts = [_extent(facts, top) for top in _tops(facts)]
+    if not scripts or facts.origin is None:
+        return None
+    content = _union(scripts)
+    middle = (content.x + content.width / 2, content.y + content.height / 2)
+    centre = (facts.area.x + facts.area.width / 2, facts.area.y + facts.area.height / 2)
+    origin = (facts.origin.x, facts.origin.y)
+    scroll = [
+        start + (middle[i] - origin[i]) / facts.scale - (centre[i] - origin[i]) / ZOOM_OUT
+        for i, start in enumerate((view.scroll_x, view.scroll_y))
+    ]
+    return view.model_copy(update={"scroll_x": round(scroll[0], 3), "scroll_y": round(scroll[1], 3), "scale": ZOOM_OUT})
 
 
 def bumped(blocks: Mapping[str, Any], facts: ViewFacts) -> list[str]:
@@ -123,30 +151,36 @@ def _cover(blocks: Mapping[str, Any], facts: ViewFacts, rng: random.Random) -> P
     if len(tops) >= 2:
         covered = max(tops, key=lambda t: (_extent(facts, t).width * _extent(facts, t).height, t.id))
         mover = rng.choice([t for t in tops if t.id != covered.id])
-        area = _extent(facts, covered)
-        attempts = tuple(
-            _last(_moved(blocks, mover.id, _units(facts, covered, area, fx, fy)), mover.id) for fx, fy in OVER
-        )
-        return Perturbation(
-            "cover", f"the script of {_called(mover)} was laid over the script of {_called(covered)}", attempts
-        )
+        shifts = _over(facts, _extent(facts, mover), _extent(facts, covered))
+        attempts = tuple(_last(_moved(blocks, mover.id, mover, shift), mover.id) for shift in shifts)
+        change = f"the script of {_called(mover)} was laid over the script of {_called(covered)}"
+        return Perturbation("cover", change, attempts)
     chain = _chain(facts, tops[0]) if tops else []
     if len(chain) < 3:
         return None
-    cut = len(chain) // 2
-    upper, lower = chain[cut - 1], chain[cut]
-    area = _union([b.rect for b in chain[:cut]])
+    upper, lower = chain[len(chain) // 2 - 1], chain[len(chain) // 2]
+    below = {b.id for b in _script(facts, lower)}
+    rest = _union([b.rect for b in _script(facts, tops[0]) if b.id not in below])
     attempts = tuple(
         _last(
             detach(
-                blocks, reference=upper.id, moved=lower.id, input_name=None, at=_units(facts, chain[0], area, fx, fy)
+                blocks, reference=upper.id, moved=lower.id, input_name=None,
+                at=(lower.xy.x + dx, lower.xy.y + dy),
             ),
             lower.id,
         )
-        for fx, fy in OVER
-    )
+        for dx, dy in _over(facts, _extent(facts, lower), rest)
+    )  # fmt: skip
     change = f"the script was cut below {_called(upper)} and its lower part laid over its upper part"
     return Perturbation("cover", change, attempts)
+
+
+def _over(facts: ViewFacts, mover: Rect, covered: Rect) -> list[tuple[float, float]]:
+    """Shifts (workspace units) that lay ``mover`` over ``covered`` (page px): first over its left part, where
+    the words are (leaving blocks told by colour only), then at the ``OVER`` points."""
+    targets = [(covered.x + LEFT_COVER * covered.width - mover.width, covered.y + 0.3 * covered.height)]
+    targets += [(covered.x + fx * covered.width, covered.y + fy * covered.height) for fx, fy in OVER]
+    return [((x - mover.x) / facts.scale, (y - mover.y) / facts.scale) for x, y in targets]
 
 
 def _beside_slot(blocks: Mapping[str, Any], facts: ViewFacts, rng: random.Random) -> Perturbation | None:
@@ -201,16 +235,11 @@ def _union(rects: list[Rect]) -> Rect:
     return Rect(x=x, y=y, width=max(r.right for r in rects) - x, height=max(r.bottom for r in rects) - y)
 
 
-def _units(facts: ViewFacts, anchor: BlockFacts, area: Rect, fx: float, fy: float) -> tuple[float, float]:
-    """Workspace units of the point ``fx``, ``fy`` of the way across ``area`` (page px), via ``anchor``'s origin."""
-    x = area.x + fx * area.width - anchor.rect.x
-    y = area.y + fy * area.height - anchor.rect.y
-    return anchor.xy.x + x / facts.scale, anchor.xy.y + y / facts.scale
-
-
-def _moved(blocks: Mapping[str, Any], top: str, at: tuple[float, float]) -> dict[str, Any]:
+def _moved(blocks: Mapping[str, Any], top: str, block: BlockFacts, shift: tuple[float, float]) -> dict[str, Any]:
+    """``blocks`` with the script at ``top`` (shown as ``block``) shifted by ``shift`` workspace units."""
     moved = dict(blocks)
-    moved[top] = {**copy.deepcopy(blocks[top]), "x": round(at[0]), "y": round(at[1])}
+    at = (round(block.xy.x + shift[0]), round(block.xy.y + shift[1]))
+    moved[top] = {**copy.deepcopy(blocks[top]), "x": at[0], "y": at[1]}
     return moved
 
 
