@@ -27,6 +27,9 @@ from workers.drag._runner import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool
 from workers.primitive import settle
 
+DEFAULT_SCALE = 0.675
+"""The zoom Scratch opens a workspace at (a used page may still show its last view's)."""
+
 
 class _Frame(BaseModel):
     model_config = ConfigDict(extra="ignore")
@@ -68,7 +71,7 @@ async def frame_view(
     await editor.set_stage_size("small")
     await editor.call("dragSelectTarget", {"sprite": sprite})
     await settle(editor, SETTLE_MS)
-    args: dict[str, object] = {"blocks": list(blocks)}
+    args: dict[str, object] = {"blocks": list(blocks), "scale": DEFAULT_SCALE}
     if palette is not None:
         args.update(opcode=palette.opcode, category=palette.category)
         if palette.variable_name:

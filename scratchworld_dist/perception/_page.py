@@ -14,8 +14,8 @@ import cv2
 import numpy as np
 
 from scratchworld_dist.perception._facts import ViewFacts
-from workers.contract import DragView
-from workers.drag._page import show
+from workers.contract import DragView, EditorError
+from workers.drag._page import show, view_held
 from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool
 
 
@@ -25,11 +25,19 @@ class Look:
     png: bytes
 
 
+LOOK_TRIES = 3
+
+
 async def look(editor: Editor, project: bytes, view: DragView, what: str) -> Look:
-    """``project`` in ``view`` (settled), its facts and its screenshot."""
-    await show(editor, project, view, what=what)
-    facts = ViewFacts.model_validate(await editor.call("perceptionFacts"))
-    return Look(facts=facts, png=await editor.page.screenshot(type="png"))
+    """``project`` in ``view`` (settled), its facts and its screenshot, both of the view as placed: when the
+    editor moved the canvas meanwhile, the view is shown again."""
+    for _ in range(LOOK_TRIES):
+        placed = await show(editor, project, view, what=what)
+        facts = ViewFacts.model_validate(await editor.call("perceptionFacts"))
+        png = await editor.page.screenshot(type="png")
+        if await view_held(editor, placed):
+            return Look(facts=facts, png=png)
+    raise EditorError(f"{what}: the editor moved the view while it was being measured, {LOOK_TRIES} times")
 
 
 @asynccontextmanager

@@ -41,7 +41,7 @@ class _Verdict(BaseModel):
     observed: str
 
 
-class _Placed(BaseModel):
+class Placed(BaseModel):
     """Where the workspace canvas is: its translation on the workspace SVG (px) and its scale."""
 
     model_config = ConfigDict(extra="ignore")
@@ -50,7 +50,7 @@ class _Placed(BaseModel):
     ty: float
     scale: float
 
-    def near(self, other: _Placed) -> bool:
+    def near(self, other: Placed) -> bool:
         close = abs(self.tx - other.tx) < 0.01 and abs(self.ty - other.ty) < 0.01
         return close and abs(self.scale - other.scale) < 1e-6
 
@@ -69,8 +69,9 @@ def source_arg(payload: DragPayload) -> dict[str, object]:
 
 async def show(
     editor: Editor, project: bytes, view: DragView, limits: ProjectLimits | None = None, *, what: str = "the view"
-) -> None:
-    """Load ``project`` and put the editor in ``view`` (target, palette, scroll, zoom, stage size), settled.
+) -> Placed:
+    """Load ``project`` and put the editor in ``view`` (target, palette, scroll, zoom, stage size), settled;
+    returns where the canvas was placed (``view_held`` tells later whether it is still there).
 
     Drag tasks and perception views are both a project shown in a semantic view; raises ``EditorError``
     (naming ``what``) when the page does not settle in that view.
@@ -80,13 +81,18 @@ async def show(
     await editor.call("dragSelectTarget", {"sprite": view.sprite})
     await settle(editor, SETTLE_MS)  # the editor draws the target's scripts asynchronously
     for _ in range(VIEW_TRIES):
-        placed = _Placed.model_validate(await editor.call("dragSetView", view.model_dump(mode="json")))
+        placed = Placed.model_validate(await editor.call("dragSetView", view.model_dump(mode="json")))
+        await editor.call("dragRendered")  # a palette that reflows after its blocks render clamps the scroll
         if not await settle(editor, SETTLE_MS):
             raise EditorError(f"{what}: the view did not settle within {SETTLE_MS} ms")
-        # A used page's editor may restore the target's last scroll after the view was placed.
-        if _Placed.model_validate(await editor.call("dragViewState")).near(placed):
-            return
+        if await view_held(editor, placed):
+            return placed
     raise EditorError(f"{what}: the editor moved the view away each of {VIEW_TRIES} times it was placed")
+
+
+async def view_held(editor: Editor, placed: Placed) -> bool:
+    """Whether the canvas is still where ``show`` placed it."""
+    return Placed.model_validate(await editor.call("dragViewState")).near(placed)
 
 
 async def set_up(editor: Editor, payload: DragPayload, limits: ProjectLimits | None = None) -> None:
