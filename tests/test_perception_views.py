@@ -187,3 +187,11 @@ def test_candidates_of_one_view_are_settled_and_worded() -> None:
     assert len({c.question for c in found}) == len(found)
     tags = Counter(c.derived.tag for c in found)
     assert tags["connection_yes"] and tags["connection_no_easy"] and tags["existence_no_absent"]
+
+
+def test_a_target_whose_only_top_level_block_is_a_shadow_has_no_scripts_to_show() -> None:
+    from scratchworld_dist.perception._make import _has_scripts, _tops
+
+    shadow = {"opcode": "looks_backdrops", "parent": None, "shadow": True, "topLevel": True, "x": 1, "y": 2}
+    assert _tops({**BLOCKS, "menu": shadow}) == ["Cat-1", "Cat-7"]
+    assert not _has_scripts({"blocks": {"menu": shadow}})

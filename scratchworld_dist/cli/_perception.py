@@ -93,7 +93,9 @@ def validate_command(suite_dir: Path, view_ids: str | None, parallel: int) -> No
         pixels = "-" if check.pixels_differing is None else f"{check.pixels_differing:.3%}"
         bad = [item for item in check.items if not item.valid]
         verdict = f"{len(check.items) - len(bad)} of {len(check.items)} item(s) hold"
-        console.print(f"  {check.view}: {verdict}; pixels differing {pixels}; {check.seconds:.1f} s", markup=False)
+        measured = f"{check.blocks} blocks measured in {check.facts_ms:.0f} ms" if check.facts_ms is not None else "-"
+        line = f"  {check.view}: {verdict}; pixels differing {pixels}; {measured}; {check.seconds:.1f} s"
+        console.print(line, markup=False)
         for item in bad:
             console.print(f"    INVALID {item.item_id}: {item.problem}", markup=False)
 

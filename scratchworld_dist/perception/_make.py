@@ -135,12 +135,13 @@ async def make_perception_suite(
         folder = Path(scratch)
         async with lending_pool(pool) as lender:
             for project in projects:
-                for index, sprite, slug in _targets(project, problem):
-                    async with lender.editor() as editor:
+                # One editor shows a project's views; a page that died takes only its project's views along.
+                async with lender.editor() as editor:
+                    for index, sprite, slug in _targets(project, problem):
                         views = await _target_views(editor, project, index, sprite, slug, folder, seed, problem)
-                    for view in views:
-                        on_view(view.view, len(view.candidates))
-                    shown += views
+                        for view in views:
+                            on_view(view.view, len(view.candidates))
+                        shown += views
         used = choose_views(shown, max_views, seed)
         chosen = select({s.view.id: s.candidates for s in used}, per_view=per_view, seed=seed)
         views = [s.view for s in shown if s.view.id in chosen]
@@ -198,7 +199,7 @@ def _targets(project: _Project, problem: Callable[[str], None]) -> list[tuple[in
 
 def _has_scripts(target: dict[str, Any]) -> bool:
     blocks = target.get("blocks")
-    return isinstance(blocks, dict) and any(isinstance(b, dict) and b.get("topLevel") for b in blocks.values())
+    return isinstance(blocks, dict) and bool(_tops(blocks))
 
 
 async def _target_views(
@@ -254,8 +255,7 @@ async def _target_views(
 
 
 async def _view(editor: Editor, data: bytes, sprite: str | None, blocks: dict[str, Any]) -> DragView:
-    tops = [key for key, block in blocks.items() if isinstance(block, dict) and block.get("topLevel")]
-    view, _ = await frame_view(editor, data, sprite, tops)
+    view, _ = await frame_view(editor, data, sprite, _tops(blocks))
     return view
 
 
@@ -306,5 +306,11 @@ def _items(view: PerceptionView, chosen: Sequence[Candidate]) -> list[Perception
     return items
 
 
+def _tops(blocks: dict[str, Any]) -> list[str]:
+    """The ids of a target's scripts (a top-level shadow, which some saved projects hold, draws nothing)."""
+    return [key for key, b in blocks.items() if isinstance(b, dict) and b.get("topLevel") and not b.get("shadow")]
+
+
 def _slug(text: str) -> str:
-    return re.sub(r"[^A-Za-z0-9._-]+", "_", text).strip("._-")[:60] or "project"
+    """A plain name of at most 48 characters: a view id (project, target, kind) and an item id stay under 128."""
+    return re.sub(r"[^A-Za-z0-9._-]+", "_", text).strip("._-")[:48] or "project"

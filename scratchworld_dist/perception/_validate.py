@@ -49,6 +49,12 @@ class ViewCheck(BaseModel):
     """Share of the screenshot's pixels that differ from the stored one (None: the view could not be shown)."""
 
     error: str = ""
+    blocks: int = 0
+    """Blocks of the target the page measured."""
+
+    facts_ms: float | None = None
+    """What measuring them took the page (``perceptionFacts``)."""
+
     seconds: float
 
     @property
@@ -135,7 +141,10 @@ async def _check_view(editor: Editor, view: PerceptionView, items: list[Percepti
         difference: float | None = pixel_difference(read_screenshot(view.screenshot), seen.png)
     except SuiteError:
         difference = None
-    return ViewCheck(view=view.id, items=checked, pixels_differing=difference, seconds=_since(started))
+    return ViewCheck(
+        view=view.id, items=checked, pixels_differing=difference, blocks=len(seen.facts.blocks),
+        facts_ms=seen.facts.ms, seconds=_since(started),
+    )  # fmt: skip
 
 
 def _since(started: float) -> float:
