@@ -196,6 +196,17 @@ def test_a_bad_argument_is_one_line_naming_it(case: bad.CliCase, cli: Callable[.
     refused(cli(*args, process=case.process), case.exit, case.fragment, culprits)
 
 
+@pytest.mark.parametrize("case", bad.PERCEPTION_CASES, ids=lambda c: c.id)
+def test_a_bad_perception_input_is_refused_before_a_browser_starts_and_loses_nothing(
+    case: bad.CliCase, cli: Callable[..., Ran], tmp_path: Path
+) -> None:
+    args, culprits = case.build(tmp_path)
+    before = snapshot(tmp_path)
+    refused(cli(*args, process=case.process), case.exit, case.fragment, culprits)
+    kept(before, tmp_path)
+    assert not (tmp_path / "out" / "perception-suite.json").exists()
+
+
 # -- projects that load, and evaluation scripts, in the session's browser --------------------------
 
 

@@ -3,7 +3,8 @@
  * far its flyout is scrolled, and the workspace's scale and scroll. Upstream set the same view
  * with pixel clicks; set this way it is the same on any layout. The target is selected first and
  * on its own (`dragSelectTarget`): the editor redraws the workspace asynchronously, so Python
- * waits for the page to settle before `dragSetView` places the rest. `dragRendered` paces a real
+ * waits for the page to settle before `dragSetView` places the rest (and `dragViewState` tells whether it
+ * stayed there). `dragRendered` paces a real
  * drag: each pointer move is drawn before the next is made, as in a drag by hand.
  */
 scratchworldModule({name: 'drag/view', requires: ['blockly'], create(ctx, blockly) {
@@ -77,9 +78,20 @@ scratchworldModule({name: 'drag/view', requires: ['blockly'], create(ctx, blockl
     return Object.assign(placed, {flyoutTop: flyoutTop});
   }
 
-  // A view that shows `blocks` (ids; their whole scripts) in the visible workspace, centred when they
-  // fit, else from their top-left corner; and, for a palette source, the flyout scroll (from the top
-  // of `category`) that shows its block near the top of the palette. For generating tasks.
+  // Where the canvas is now: its translation on the workspace SVG and its scale. The editor can move the
+  // canvas after `setView` (restoring a target's last scroll as it redraws the target's scripts; clamping
+  // the scroll when the palette reflows): Python compares this with what `setView` placed, and places it
+  // again when it moved.
+  function viewState() {
+    const ws = blockly.workspace();
+    const m = ws.getCanvas().getCTM();
+    return {tx: m.e, ty: m.f, scale: ws.scale};
+  }
+
+  // A view that shows `blocks` (ids; their whole scripts) in the visible workspace at `scale` (default:
+  // the current zoom), centred when they fit, else from their top-left corner; and, for a palette source,
+  // the flyout scroll (from the top of `category`) that shows its block near the top of the palette. For
+  // generating tasks.
   function frame(args) {
     const ws = blockly.workspace();
     const ids = Array.isArray(args.blocks) ? args.blocks : [];
@@ -91,7 +103,9 @@ scratchworldModule({name: 'drag/view', requires: ['blockly'], create(ctx, blockl
       box = box ? {left: Math.min(box.left, r.left), top: Math.min(box.top, r.top), right: Math.max(box.right, r.right), bottom: Math.max(box.bottom, r.bottom)} : {left: r.left, top: r.top, right: r.right, bottom: r.bottom};
     }
     if (!box) throw fail('blocks must name at least one block');
-    const scale = ws.scale;
+    // At the given zoom (a used page may still be zoomed as its last view was), else at the current one.
+    const scale = args.scale === undefined || args.scale === null ? ws.scale : number(args, 'scale');
+    if (!(scale > 0)) throw fail('scale must be positive');
     const svg = ws.getParentSvg().getBoundingClientRect();
     const metrics = ws.getMetrics();
     const margin = 40;
@@ -126,7 +140,7 @@ scratchworldModule({name: 'drag/view', requires: ['blockly'], create(ctx, blockl
   return {
     api: {
       dragSelectTarget: (args) => selectTarget(args), dragSetView: (args) => setView(args), dragFrame: (args) => frame(args),
-      dragRendered: () => rendered(),
+      dragRendered: () => rendered(), dragViewState: () => viewState(),
     },
   };
 }});

@@ -212,7 +212,7 @@ scratchworldModule({name: 'geometry/blocks', requires: ['rects', 'blockly', 'geo
   }
 
   return {
-    liveBlock: liveBlock, grabPoint: grabPoint, blockFields: blockFields, flyoutState: flyoutState,
+    liveBlock: liveBlock, grabPoint: grabPoint, blockFields: blockFields, flyoutState: flyoutState, optionText: optionText,
     api: {
       geometryBlock: (args) => blockInfo(args),
       geometryField: (args) => fieldInfo(args),

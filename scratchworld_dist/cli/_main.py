@@ -12,6 +12,7 @@ from scratchworld_dist.cli._compare import compare_command
 from scratchworld_dist.cli._drag import drag_group
 from scratchworld_dist.cli._evaluate import evaluate_command
 from scratchworld_dist.cli._gui import gui_command
+from scratchworld_dist.cli._perception import perception_group
 from scratchworld_dist.cli._regrade import regrade_command
 from scratchworld_dist.cli._replay import observe_command, replay_command
 from scratchworld_dist.cli._report import report_command
@@ -41,6 +42,7 @@ cli.add_command(observe_command)
 cli.add_command(status_command)
 cli.add_command(capacity_command)
 cli.add_command(drag_group)
+cli.add_command(perception_group)
 cli.add_command(view_command)
 
 

@@ -10,12 +10,10 @@ from __future__ import annotations
 
 import copy
 import hashlib
-import io
 import json
 import math
 import random
 import re
-import zipfile
 from collections import Counter, defaultdict
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
@@ -28,7 +26,7 @@ from scratchworld_dist._errors import ProjectFormatError, validation_summary
 from scratchworld_dist.drag._labels import block_label, instruction, palette_label, palette_offers
 from scratchworld_dist.drag._project import palette_category_of
 from scratchworld_dist.drag._task import DragTask
-from scratchworld_dist.sb3 import check_project
+from scratchworld_dist.sb3 import Sb3Archive, check_project
 from scratchworld_dist.suites._task import task_id_problem
 from workers.contract import (
     CONNECTIONS_OF,
@@ -156,7 +154,7 @@ def drag_candidates(sb3: bytes, *, project_name: str) -> tuple[list[DragCandidat
     problems: list[GenerationProblem] = []
     sprites = [t for t in project["targets"] if isinstance(t, dict) and not t.get("isStage")]
     names = Counter(t["name"] for t in sprites if isinstance(t.get("name"), str))
-    archive = _Archive(sb3)
+    archive = Sb3Archive(sb3)
     candidates: list[DragCandidate] = []
     stage_seen = False
     for index, raw in enumerate(project["targets"]):
@@ -264,7 +262,7 @@ def _compact(held: Any) -> bool:
 
 
 def _candidate(
-    project_name: str, project: Mapping[str, Any], archive: _Archive, target: _Target, link: _Link, flyout: bool
+    project_name: str, project: Mapping[str, Any], archive: Sb3Archive, target: _Target, link: _Link, flyout: bool
 ) -> DragCandidate:
     before = target.blocks
     blocks, moved, comments = _cut(before, link, flyout, project["targets"][target.index].get("comments"))
@@ -369,6 +367,19 @@ def _cut(
     return blocks, moved, None
 
 
+def detach(
+    blocks: Mapping[str, Any], *, reference: str, moved: str, input_name: str | None, at: tuple[float, float]
+) -> dict[str, Any]:
+    """``blocks`` with ``moved`` (and the blocks below it) cut off ``reference`` and left top-level at ``at``
+    (workspace units): from below it when ``input_name`` is None, else from that input (a shadow it covered
+    shows again). The cut is the one drag tasks make; blocks that do not change are shared, not copied."""
+    kind: ConnectionKind = "next" if input_name is None else "input"
+    link = _Link(kind, reference, moved, _stack_tail(blocks, moved), reference, 0, input_name)
+    cut, top, _ = _cut(blocks, link, False, None)
+    cut[top] = {**cut[top], "x": _at(at[0]), "y": _at(at[1])}
+    return cut
+
+
 def _subtree(blocks: Mapping[str, Any], block_id: str) -> list[str]:
     """A block and what hangs in its inputs (for a palette-sized block: its shadows)."""
     found, todo = [], [block_id]
@@ -394,35 +405,6 @@ def _at(value: Any, shift: float = 0) -> int:
     """A coordinate ``shift`` units past ``value`` (0 when it is no number), within +-FAR."""
     ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
     return max(-FAR, min(FAR, round((value if ok else 0) + shift)))
-
-
-class _Archive:
-    """The project's files but project.json, zipped once; each candidate appends its own project.json."""
-
-    def __init__(self, data: bytes) -> None:
-        self.zipped = data[:2] == b"PK"
-        buffer = io.BytesIO()
-        if self.zipped:
-            with zipfile.ZipFile(io.BytesIO(data)) as source, zipfile.ZipFile(buffer, "w") as out:
-                for info in source.infolist():
-                    if info.filename != "project.json" and not info.is_dir():
-                        out.writestr(_entry(info.filename), source.read(info))
-        self.base = buffer.getvalue()
-
-    def with_project(self, project: Mapping[str, Any]) -> bytes:
-        text = json.dumps(project, separators=(",", ":")).encode("utf-8")
-        if not self.zipped:
-            return text
-        buffer = io.BytesIO(self.base)
-        with zipfile.ZipFile(buffer, "a") as out:
-            out.writestr(_entry("project.json"), text)
-        return buffer.getvalue()
-
-
-def _entry(name: str) -> zipfile.ZipInfo:
-    info = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
-    info.compress_type = zipfile.ZIP_DEFLATED
-    return info
 
 
 _PRIORITY: tuple[tuple[ConnectionKind, str], ...] = (

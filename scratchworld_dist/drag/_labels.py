@@ -232,7 +232,7 @@ def is_boolean(opcode: str) -> bool:
 
 def palette_label(opcode: str) -> str:
     """The text of ``opcode`` as the palette shows it, defaults in its slots."""
-    parts = _parts_of_template(opcode)
+    parts = template_parts(opcode)
     if parts is None:
         return _words(opcode)
     return _squash("".join(p if isinstance(p, str) else f"{p[0]}{p[2]}{_CLOSE[p[0]]}" for p in parts))
@@ -274,7 +274,13 @@ def slot_phrase(blocks: Mapping[str, Any], block_id: str, input_name: str) -> st
     return f"the {_ORDINALS[index] if index < len(_ORDINALS) else f'#{index + 1}'} slot (from the left)"
 
 
-def _parts_of_template(opcode: str) -> list[Part] | None:
+def templated_opcodes() -> tuple[str, ...]:
+    """The opcodes with an English text here (the Scratch 3 blocks of the standard palette)."""
+    return tuple(_TEMPLATES)
+
+
+def template_parts(opcode: str) -> list[Part] | None:
+    """``opcode``'s English text as literal words and slots (bracket, input or field name, palette default)."""
     template = _TEMPLATES.get(opcode)
     if template is None:
         return None
@@ -291,7 +297,7 @@ def _parts_of(block: Mapping[str, Any]) -> list[Part] | None:
     opcode = block.get("opcode")
     mutation = block.get("mutation")
     if opcode not in ("procedures_call", "procedures_prototype") or not isinstance(mutation, dict):
-        return _parts_of_template(str(opcode))
+        return template_parts(str(opcode))
     proccode = mutation.get("proccode")
     try:
         ids = json.loads(mutation.get("argumentids") or "[]")

@@ -10,7 +10,8 @@ generated suite is solvable in this editor, and the reason any candidate was dro
 from __future__ import annotations
 
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 from pydantic import BaseModel, ConfigDict
@@ -20,11 +21,14 @@ from scratchworld_dist.drag._generate import DragCandidate, GenerationProblem, d
 from scratchworld_dist.drag._native import write_drag_suite
 from scratchworld_dist.drag._task import DragTask
 from scratchworld_dist.drag._validate import check_of, oracle_drag
-from workers.contract import MIB, DragView, ProjectLimits
+from workers.contract import MIB, DragView, PaletteCategory, ProjectLimits
 from workers.drag._page import SETTLE_MS
 from workers.drag._runner import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool
 from workers.primitive import settle
+
+DEFAULT_SCALE = 0.675
+"""The zoom Scratch opens a workspace at (a used page may still show its last view's)."""
 
 
 class _Frame(BaseModel):
@@ -46,27 +50,51 @@ class MadeSuite(BaseModel):
     problems: list[str]
 
 
-async def _frame(editor: Editor, candidate: DragCandidate) -> DragView:
-    """The candidate's view: its scripts centred on the small stage's workspace, its palette block in view."""
-    await editor.load_project(candidate.project)
+@dataclass(frozen=True)
+class PaletteBlock:
+    """A palette block a view scrolls the palette to (a variable's reporter by its variable's name)."""
+
+    opcode: str
+    category: PaletteCategory
+    variable_name: str | None = None
+
+
+async def frame_view(
+    editor: Editor, project: bytes, sprite: str | None, blocks: Sequence[str], palette: PaletteBlock | None = None
+) -> tuple[DragView, bool]:
+    """A view of ``project`` that shows the scripts of ``blocks`` centred on the small stage's workspace (from
+    their top-left corner when they do not fit), at the editor's default zoom; and whether they fit.
+
+    ``palette`` also scrolls the palette to show that block near its top.
+    """
+    await editor.load_project(project)
     await editor.set_stage_size("small")
-    await editor.call("dragSelectTarget", {"sprite": candidate.sprite})
+    await editor.call("dragSelectTarget", {"sprite": sprite})
     await settle(editor, SETTLE_MS)
-    args: dict[str, object] = {"blocks": list(candidate.show_block_ids)}
-    if candidate.source.kind == "flyout" and candidate.category is not None:
-        args.update(opcode=candidate.source.opcode, category=candidate.category)
-        if candidate.connection.variable_name:
-            args["variable_name"] = candidate.connection.variable_name
+    args: dict[str, object] = {"blocks": list(blocks), "scale": DEFAULT_SCALE}
+    if palette is not None:
+        args.update(opcode=palette.opcode, category=palette.category)
+        if palette.variable_name:
+            args["variable_name"] = palette.variable_name
     frame = _Frame.model_validate(await editor.call("dragFrame", args))
-    flyout = candidate.source.kind == "flyout"
-    return DragView(
-        sprite=candidate.sprite,
-        category=candidate.category if flyout else None,
-        flyout_scroll=frame.flyout_scroll if flyout else 0,
+    view = DragView(
+        sprite=sprite,
+        category=palette.category if palette else None,
+        flyout_scroll=frame.flyout_scroll if palette else 0,
         scroll_x=round(frame.scroll_x, 3),
         scroll_y=round(frame.scroll_y, 3),
         scale=frame.scale,
     )
+    return view, frame.fits
+
+
+async def _frame(editor: Editor, candidate: DragCandidate) -> DragView:
+    """The candidate's view: its scripts centred on the small stage's workspace, its palette block in view."""
+    palette = None
+    if candidate.source.kind == "flyout" and candidate.category is not None:
+        palette = PaletteBlock(candidate.source.opcode, candidate.category, candidate.connection.variable_name)
+    view, _ = await frame_view(editor, candidate.project, candidate.sprite, candidate.show_block_ids, palette)
+    return view
 
 
 async def prove_tasks(

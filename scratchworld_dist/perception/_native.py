@@ -188,7 +188,7 @@ def write_perception_suite(
         if not (dest / shot).is_file():
             write_atomic(dest / shot, data, sync=False)
         lines.append(item.model_copy(update={"screenshot": shot}))
-    _write_lines(dest / VIEWS_FILE, written)
+    _write_lines(dest / VIEWS_FILE, written, exclude_none=False)
     _write_lines(dest / ITEMS_FILE, lines)
     write_atomic(dest / SUITE_FILE, (manifest.model_dump_json(indent=2) + "\n").encode("utf-8"), sync=False)
     return dest
@@ -201,6 +201,8 @@ def _distinct(what: str, ids: Iterable[str], dest: Path) -> None:
         raise SuiteError(f"two {what}s share an id: {', '.join(twice[:10])}", dest)
 
 
-def _write_lines(path: Path, records: Sequence[BaseModel]) -> None:
-    text = "".join(json.dumps(record.model_dump(mode="json", exclude_none=True)) + "\n" for record in records)
+def _write_lines(path: Path, records: Sequence[BaseModel], *, exclude_none: bool = True) -> None:
+    """One record a line; ``exclude_none`` leaves out unset optional fields (not for records where None means
+    something, such as a view's ``sprite``: None is the Stage)."""
+    text = "".join(json.dumps(record.model_dump(mode="json", exclude_none=exclude_none)) + "\n" for record in records)
     write_atomic(path, text.encode("utf-8"), sync=False)

@@ -1,5 +1,6 @@
 """Reading and building Scratch 3 project files (.sb3)."""
 
+from scratchworld_dist.sb3._archive import Sb3Archive
 from scratchworld_dist.sb3._builder import (
     Block,
     Costume,
@@ -18,6 +19,7 @@ __all__ = [
     "Block",
     "Costume",
     "Project",
+    "Sb3Archive",
     "Target",
     "backdrop_costume",
     "block",

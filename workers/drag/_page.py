@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict
 from workers.contract import (
     DragPayload,
     DragRegions,
+    DragView,
     EditorError,
     ProjectLimits,
     Region,
@@ -21,6 +22,8 @@ from workers.editor import Editor
 from workers.primitive import settle
 
 SETTLE_MS = 3000
+VIEW_TRIES = 3
+"""Times a view is placed before the page is given up on (a used page may move it once, restoring an old scroll)."""
 DRAG_STEPS = 15
 """Interpolated pointer moves of one drag, as upstream performs it."""
 
@@ -38,6 +41,20 @@ class _Verdict(BaseModel):
     observed: str
 
 
+class Placed(BaseModel):
+    """Where the workspace canvas is: its translation on the workspace SVG (px) and its scale."""
+
+    model_config = ConfigDict(extra="ignore")
+
+    tx: float
+    ty: float
+    scale: float
+
+    def near(self, other: Placed) -> bool:
+        close = abs(self.tx - other.tx) < 0.01 and abs(self.ty - other.ty) < 0.01
+        return close and abs(self.scale - other.scale) < 1e-6
+
+
 class _Ids(BaseModel):
     ids: list[str]
 
@@ -50,16 +67,37 @@ def source_arg(payload: DragPayload) -> dict[str, object]:
     return source
 
 
-async def set_up(editor: Editor, payload: DragPayload, limits: ProjectLimits | None = None) -> None:
-    """Load the task's project and put the editor in the task's view, settled."""
-    view = payload.view
-    await editor.load_project(payload.initial_project, limits)
+async def show(
+    editor: Editor, project: bytes, view: DragView, limits: ProjectLimits | None = None, *, what: str = "the view"
+) -> Placed:
+    """Load ``project`` and put the editor in ``view`` (target, palette, scroll, zoom, stage size), settled;
+    returns where the canvas was placed (``view_held`` tells later whether it is still there).
+
+    Drag tasks and perception views are both a project shown in a semantic view; raises ``EditorError``
+    (naming ``what``) when the page does not settle in that view.
+    """
+    await editor.load_project(project, limits)
     await editor.set_stage_size(view.stage_size)
     await editor.call("dragSelectTarget", {"sprite": view.sprite})
     await settle(editor, SETTLE_MS)  # the editor draws the target's scripts asynchronously
-    await editor.call("dragSetView", view.model_dump(mode="json"))
-    if not await settle(editor, SETTLE_MS):
-        raise EditorError(f"drag task {payload.task_id}: the view did not settle within {SETTLE_MS} ms")
+    for _ in range(VIEW_TRIES):
+        placed = Placed.model_validate(await editor.call("dragSetView", view.model_dump(mode="json")))
+        await editor.call("dragRendered")  # a palette that reflows after its blocks render clamps the scroll
+        if not await settle(editor, SETTLE_MS):
+            raise EditorError(f"{what}: the view did not settle within {SETTLE_MS} ms")
+        if await view_held(editor, placed):
+            return placed
+    raise EditorError(f"{what}: the editor moved the view away each of {VIEW_TRIES} times it was placed")
+
+
+async def view_held(editor: Editor, placed: Placed) -> bool:
+    """Whether the canvas is still where ``show`` placed it."""
+    return Placed.model_validate(await editor.call("dragViewState")).near(placed)
+
+
+async def set_up(editor: Editor, payload: DragPayload, limits: ProjectLimits | None = None) -> None:
+    """Load the task's project and put the editor in the task's view, settled."""
+    await show(editor, payload.initial_project, payload.view, limits, what=f"drag task {payload.task_id}")
 
 
 async def start_region(editor: Editor, payload: DragPayload) -> Region:
