@@ -11,8 +11,9 @@ Two sets of replies per item:
 
 Prints, per style, the accuracy each scoring gives and how often they disagree; the strict scoring should
 agree with the normalized one only on bare answers. (Lower-casing a text value makes another text, which
-both scorings rightly fail; a dropdown option lower-cased is still the option for the normalized one.) Run: ``.venv/bin/python benchmarks/perception_scoring.py
-[UPSTREAM_DIR]`` (default ``../shared/scratchworld-upstream``).
+both scorings rightly fail; a dropdown option lower-cased is still the option for the normalized one.)
+
+Run: ``.venv/bin/python benchmarks/perception_scoring.py [UPSTREAM_DIR]`` (default ``../shared/scratchworld-upstream``).
 """
 
 from __future__ import annotations
