@@ -32,7 +32,7 @@ def question(fact: Fact, facts: ViewFacts) -> str | None:
     if isinstance(fact, ExistenceFact):
         if fact.category is not None:
             return f"Can you see any block of the {fact.name} category in the code area?"
-        return f"Can you see a `{fact.name}` block anywhere in the code area?"
+        return f"Can you see any `{fact.name}` block in the code area?"
     return _field_question(fact, facts)
 
 
