@@ -309,7 +309,7 @@ SHIPPED = sorted((Path(__file__).resolve().parents[1] / "configs").rglob("*.yaml
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
 def test_every_shipped_config_loads_and_points_at_our_suite(path: Path) -> None:
     config = load_sweep_config(path)
-    marker = "drag-suite.json" if config.benchmark == "drag" else "create"
+    marker = {"drag": "drag-suite.json", "perception": "perception-suite.json"}.get(config.benchmark, "create")
     assert (config.suite / marker).exists(), "relative suite paths resolve against the config's folder"
     for model in config.models:
         assert model.api_key_env is None or model.api_key_env.isupper()
