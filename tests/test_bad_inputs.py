@@ -30,6 +30,7 @@ from scratchworld_dist.cli._main import main
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import plan_jobs, read_task
 from tests import bad_inputs as bad
+from tests import bad_inputs_perception as bad_perception
 from tests import bad_inputs_runtime as live
 from tests.conftest import SUITE_DIR
 from tests.loopback import LoopbackListener
@@ -196,7 +197,7 @@ def test_a_bad_argument_is_one_line_naming_it(case: bad.CliCase, cli: Callable[.
     refused(cli(*args, process=case.process), case.exit, case.fragment, culprits)
 
 
-@pytest.mark.parametrize("case", bad.PERCEPTION_CASES, ids=lambda c: c.id)
+@pytest.mark.parametrize("case", bad_perception.PERCEPTION_CASES, ids=lambda c: c.id)
 def test_a_bad_perception_input_is_refused_before_a_browser_starts_and_loses_nothing(
     case: bad.CliCase, cli: Callable[..., Ran], tmp_path: Path
 ) -> None:
