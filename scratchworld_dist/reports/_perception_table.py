@@ -28,7 +28,7 @@ from scratchworld_dist.reports._render import (
     Table,
     blocks_html,
     blocks_markdown,
-    html_page,
+    render_text,
 )
 from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
 from scratchworld_dist.reports._summary import row_label
@@ -82,13 +82,12 @@ def read_perception_rows(run_dir: Path) -> list[PerceptionRow]:
 
 def render_perception(table: PerceptionTable, fmt: ReportFormat) -> str:
     """The perception report as text in ``fmt`` (``md``, ``html`` or ``json``)."""
-    if fmt == "json":
-        return table.model_dump_json(indent=2) + "\n"
-    if fmt == "html":
-        return html_page(blocks_html(perception_blocks(table)))
-    if fmt == "md":
-        return blocks_markdown(perception_blocks(table))
-    raise ValueError(f"No renderer for format: {fmt}")
+    return render_text(
+        table,
+        lambda: blocks_markdown(perception_blocks(table)),
+        fmt,
+        body=lambda: blocks_html(perception_blocks(table)),
+    )
 
 
 def perception_blocks(table: PerceptionTable) -> list[Block]:

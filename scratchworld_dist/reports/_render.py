@@ -71,12 +71,15 @@ def render(report: RunReport, fmt: ReportFormat, plots: Sequence[Plot] = ()) -> 
     raise ValueError(f"No renderer for format: {fmt}")
 
 
-def render_text(model: BaseModel, markdown: Callable[[], str], fmt: ReportFormat) -> str:
-    """A report drawn as Markdown in ``fmt``: that Markdown, a page with it preformatted, or the model's JSON."""
+def render_text(
+    model: BaseModel, markdown: Callable[[], str], fmt: ReportFormat, body: Callable[[], str] | None = None
+) -> str:
+    """A report in ``fmt``: its Markdown, a page of its HTML ``body`` (default: the Markdown preformatted), or the
+    model's JSON."""
     if fmt == "json":
         return model.model_dump_json(indent=2) + "\n"
     if fmt == "html":
-        return html_page(f"<pre>{html.escape(markdown())}</pre>")
+        return html_page(body() if body is not None else f"<pre>{html.escape(markdown())}</pre>")
     if fmt == "md":
         return markdown()
     raise ValueError(f"No renderer for format: {fmt}")
