@@ -7,8 +7,6 @@ same conditions resumes, and any change is a new job, never a reused verdict.
 
 from __future__ import annotations
 
-import hashlib
-import json
 from pathlib import Path
 
 from pydantic import BaseModel, ConfigDict
@@ -18,7 +16,7 @@ from scratchworld_dist._files import FileTooLargeError, read_file
 from scratchworld_dist.regrade._source import FINAL_PROJECT, SourceJob, SourceRun
 from scratchworld_dist.results import SuiteInfo
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import Limits, TaskContent, read_task, suite_hash
+from scratchworld_dist.sweep import Limits, TaskContent, identity_id, read_task, suite_hash
 from workers.contract import (
     MIB,
     EvaluationClock,
@@ -103,8 +101,7 @@ def regrade_job_id(
         "project_limits": limits.model_dump(mode="json"),
         "harness": harness,
     }
-    canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(canonical.encode()).hexdigest()[:24]
+    return identity_id(identity)
 
 
 def plan_regrade(

@@ -9,13 +9,12 @@ the regions), so resume never reuses a drag made under other conditions.
 from __future__ import annotations
 
 import hashlib
-import json
 from collections.abc import Iterator
 
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.drag import DragTask
-from scratchworld_dist.sweep._plan import DragTaskInfo, JobSpec, read_project
+from scratchworld_dist.sweep._plan import DragTaskInfo, JobSpec, identity_id, read_project
 from workers.contract import (
     AgentRef,
     DragPayload,
@@ -77,8 +76,7 @@ def drag_job_id(
         "project_limits": project_limits.model_dump(mode="json"),
         "harness": harness,
     }
-    canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(canonical.encode()).hexdigest()[:24]
+    return identity_id(identity)
 
 
 def plan_drag_jobs(

@@ -9,7 +9,6 @@ conditions.
 from __future__ import annotations
 
 import hashlib
-import json
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
@@ -17,7 +16,7 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.perception import PerceptionItem, PerceptionSuite, load_perception_suite, read_screenshot
-from scratchworld_dist.sweep._plan import JobSpec, PerceptionItemInfo
+from scratchworld_dist.sweep._plan import JobSpec, PerceptionItemInfo, identity_id
 from workers.contract import AgentRef, LLMSettings, ModelCacheSettings, ModelSpec, PerceptionKind, PerceptionPayload
 from workers.node import harness_fingerprint
 from workers.perception import needs_model
@@ -114,8 +113,7 @@ def perception_job_id(
         "llm": None if llm is None else llm.identity(),
         "harness": harness,
     }
-    canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(canonical.encode()).hexdigest()[:24]
+    return identity_id(identity)
 
 
 def plan_perception_jobs(

@@ -285,6 +285,12 @@ def suite_hash(contents: Iterable[HashedContent]) -> str:
     return digest.hexdigest()[:16]
 
 
+def identity_id(identity: Mapping[str, object]) -> str:
+    """A job's name: the SHA-256 of its identity as canonical JSON, 24 hex digits (every job kind names its jobs so)."""
+    canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(canonical.encode()).hexdigest()[:24]
+
+
 def job_id(
     model: ModelSpec | None,
     mode: str,
@@ -328,8 +334,7 @@ def job_id(
         identity["memory"] = memory.identity()
     if episode_clock is not None and episode_clock.mode != "real":  # ids of real-clock jobs stay as they were
         identity["episode_clock"] = episode_clock.model_dump(mode="json")
-    canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(canonical.encode()).hexdigest()[:24]
+    return identity_id(identity)
 
 
 def plan_jobs(
