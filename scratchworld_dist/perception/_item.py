@@ -15,13 +15,12 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from scratchworld_dist.suites._task import task_id_problem
 from workers.contract import (
-    NO,
-    YES,
     AnswerFormat,
     DragView,
     PerceptionKind,
     PerceptionPayload,
     ValueKind,
+    answer_problem,
 )
 
 Position = Literal["topmost", "bottommost", "leftmost", "rightmost"]
@@ -158,10 +157,9 @@ class PerceptionItem(BaseModel):
         problem = task_id_problem(self.id)
         if problem is not None:
             raise ValueError(problem)
-        if self.answer_format == "yes_no" and self.answer not in (YES, NO):
-            raise ValueError(f"a yes_no item's answer is YES or NO, not {self.answer!r}")
-        if (self.answer_format == "value") != (self.value_kind is not None):
-            raise ValueError("value_kind is given exactly for value items")
+        problem = answer_problem(self.answer_format, self.value_kind, self.answer)
+        if problem is not None:
+            raise ValueError(problem)
         if self.fact is not None and self.fact.kind != self.kind:
             raise ValueError(f"a {self.kind} item cannot rest on a {self.fact.kind} fact")
         return self

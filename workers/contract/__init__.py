@@ -133,6 +133,7 @@ from workers.contract._perception import (
     PerceptionPayload,
     PerceptionScore,
     ValueKind,
+    answer_problem,
 )
 from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
@@ -249,6 +250,7 @@ __all__ = [
     "WorkerInfo",
     "WorkerJob",
     "WorkerLoad",
+    "answer_problem",
     "check_project",
     "composite_action",
     "describe_differences",

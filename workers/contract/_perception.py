@@ -32,6 +32,16 @@ AnswerParse = Literal["ok", "no_answer", "unparsed"]
 form in it (a YES/NO question answered with neither)."""
 
 
+def answer_problem(answer_format: AnswerFormat, value_kind: ValueKind | None, answer: str) -> str | None:
+    """Why an answer does not fit its form (a yes/no answer other than YES or NO, a value kind on the wrong
+    item), or None: the one rule for items as suites hold them and as workers get them."""
+    if answer_format == "yes_no" and answer not in (YES, NO):
+        return f"a yes_no item's answer is YES or NO, not {answer!r}"
+    if (answer_format == "value") != (value_kind is not None):
+        return "value_kind (number, text or dropdown) is given exactly for value items"
+    return None
+
+
 class PerceptionPayload(BaseModel):
     """One item's content, shipped once per item to the object store and shared by its jobs.
 
@@ -53,10 +63,9 @@ class PerceptionPayload(BaseModel):
 
     @model_validator(mode="after")
     def _answer_fits_format(self) -> PerceptionPayload:
-        if self.answer_format == "yes_no" and self.answer not in (YES, NO):
-            raise ValueError(f"a yes_no item's answer is YES or NO, not {self.answer!r}")
-        if self.answer_format == "value" and self.value_kind is None:
-            raise ValueError("a value item needs value_kind (number, text or dropdown)")
+        problem = answer_problem(self.answer_format, self.value_kind, self.answer)
+        if problem is not None:
+            raise ValueError(problem)
         return self
 
 
