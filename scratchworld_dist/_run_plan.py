@@ -20,6 +20,7 @@ from scratchworld_dist.sweep._perception_plan import (
     plan_perception_jobs,
     select_perception_items,
 )
+from scratchworld_dist.sweep._selection import present_suites, wanted_ids
 from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import EpisodeClock, HarnessFingerprint, Mode
 from workers.node import harness_fingerprint
@@ -90,12 +91,14 @@ def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any 
     """The drag benchmark's jobs: the suite's tasks (and those of each optional suite that is present)
     with a view, selected by ``tasks.ids`` and ``drag.types``; a task without a view is left out, named."""
     say = notice or Console(stderr=True).print
-    suites = [load_drag_suite(config.suite)]
-    for optional in config.drag.optional_suites:
-        if optional.is_dir():
-            suites.append(load_drag_suite(optional))
-        else:
-            say(f"drag: optional suite {optional} is not here; its tasks are skipped", markup=False)
+    suites = present_suites(
+        config.suite,
+        config.drag.optional_suites,
+        load_drag_suite,
+        lambda message: say(message, markup=False),
+        benchmark="drag",
+        item="task",
+    )
     tasks: list[DragTask] = []
     for suite in suites:
         for task in suite.tasks:
@@ -103,14 +106,7 @@ def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any 
                 say(f"drag: {suite.name} {task.id} has no usable view and is left out", markup=False)
                 continue
             tasks.append(task)
-    ids = [task.id for task in tasks]
-    clashes = sorted({i for i in ids if ids.count(i) > 1})
-    if clashes:
-        raise ConfigError(f"drag suites share task ids: {', '.join(clashes[:10])}")
-    wanted = set(config.tasks.ids)
-    unknown = sorted(wanted - set(ids))
-    if unknown:
-        raise ConfigError(f"tasks.ids names drag task(s) not in the suites: {', '.join(unknown[:10])}")
+    wanted = wanted_ids([task.id for task in tasks], config.tasks.ids, benchmark="drag", item="task")
     tasks = [
         t for t in tasks if (not wanted or t.id in wanted) and (not config.drag.types or t.type in config.drag.types)
     ]

@@ -17,6 +17,7 @@ from pydantic import BaseModel, ConfigDict
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.perception import PerceptionItem, PerceptionSuite, load_perception_suite, read_screenshot
 from scratchworld_dist.sweep._plan import JobSpec, PerceptionItemInfo, identity_id
+from scratchworld_dist.sweep._selection import present_suites, wanted_ids
 from workers.contract import AgentRef, LLMSettings, ModelCacheSettings, ModelSpec, PerceptionKind, PerceptionPayload
 from workers.node import harness_fingerprint
 from workers.perception import needs_model
@@ -66,24 +67,14 @@ def select_perception_items(
     A problem in a suite (an item left out) is said, not fatal; ids shared between suites, ids naming no
     item and an empty selection are ``ConfigError``.
     """
-    suites: list[PerceptionSuite] = [load_perception_suite(suite)]
-    for optional in optional_suites:
-        if optional.is_dir():
-            suites.append(load_perception_suite(optional))
-        else:
-            say(f"perception: optional suite {optional} is not here; its items are skipped")
+    suites: list[PerceptionSuite] = present_suites(
+        suite, optional_suites, load_perception_suite, say, benchmark="perception", item="item"
+    )
     for loaded in suites:
         for problem in loaded.problems:
             say(f"perception: {loaded.name}: {problem} (left out)")
     items = [item for loaded in suites for item in loaded.items]
-    names = [item.id for item in items]
-    clashes = sorted({name for name in names if names.count(name) > 1})
-    if clashes:
-        raise ConfigError(f"perception suites share item ids: {', '.join(clashes[:10])}")
-    wanted = set(ids)
-    unknown = sorted(wanted - set(names))
-    if unknown:
-        raise ConfigError(f"tasks.ids names perception item(s) not in the suites: {', '.join(unknown[:10])}")
+    wanted = wanted_ids([item.id for item in items], ids, benchmark="perception", item="item")
     chosen = [i for i in items if (not wanted or i.id in wanted) and (not kinds or i.kind in kinds)]
     if not chosen:
         raise ConfigError(f"the selection matches no perception item of {', '.join(s.name for s in suites)}")
