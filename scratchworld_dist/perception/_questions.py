@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from scratchworld_dist.perception._facts import BlockFacts, ViewFacts
 from scratchworld_dist.perception._item import ConnectionFact, ExistenceFact, Fact, FieldFact
-from scratchworld_dist.perception._names import ASKED_CATEGORIES
 from scratchworld_dist.perception._refs import phrase
 
 _ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
@@ -34,11 +33,6 @@ def question(fact: Fact, facts: ViewFacts) -> str | None:
             return f"Can you see any block of the {fact.name} category in the code area?"
         return f"Can you see any `{fact.name}` block in the code area?"
     return _field_question(fact, facts)
-
-
-def category_name(category: str) -> str | None:
-    """How a question names a palette category (``Motion``), or None for one it never asks about."""
-    return ASKED_CATEGORIES.get(category)  # type: ignore[call-overload]
 
 
 def slot_words(parent: BlockFacts, slot: str) -> str | None:
