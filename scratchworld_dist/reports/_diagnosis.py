@@ -19,10 +19,8 @@ from pydantic import BaseModel, JsonValue
 
 from scratchworld_dist.reports import _drag_metrics as drag
 from scratchworld_dist.reports import _perception_metrics as perception
-from scratchworld_dist.reports._drag_table import read_drag_rows
 from scratchworld_dist.reports._metrics import mean_interval
 from scratchworld_dist.reports._model_identity import ModelKey, ModelResolver, RowModel, describe
-from scratchworld_dist.reports._perception_table import read_perception_rows
 from scratchworld_dist.reports._run_groups import RunGroup
 from scratchworld_dist.reports._summary import DETERMINATE, row_label
 from scratchworld_dist.results import JobRow, effective_rows
@@ -112,7 +110,7 @@ class _Results:
 
 
 def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
-    """The table over run groups of different benchmarks (reads their drag and perception rows)."""
+    """The table over run groups of different benchmarks."""
     results: dict[ModelKey, _Results] = defaultdict(_Results)
     warnings: list[str] = []
     settings: set[str] = set()
@@ -125,13 +123,12 @@ def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
             for row in effective_rows(jobs):
                 _gathered(results, models[row.job_id]).episodes.append(row)
         elif group.benchmark == "drag":
-            drag_runs, _ = drag.join_runs(jobs, [d for path in group.paths for d in read_drag_rows(path)])
+            drag_runs, _ = drag.join_runs(jobs, group.drags)
             for run in drag_runs:
                 _gathered(results, models[run.job.job_id]).drags.append(run)
                 settings.add(run.job.setting or "")
         else:
-            answers = [a for path in group.paths for a in read_perception_rows(path)]
-            perception_runs, _ = perception.join_runs(jobs, answers)
+            perception_runs, _ = perception.join_runs(jobs, group.answers)
             for answered in perception_runs:
                 _gathered(results, models[answered.job.job_id]).answers.append(answered)
                 kinds.add(answered.kind)

@@ -52,11 +52,14 @@ def build_drag_report(run_dirs: list[Path], *, force: bool = False) -> DragTable
     return drag_table_of(loaded, warnings)
 
 
-def drag_table_of(loaded: Sequence[LoadedRun], warnings: list[str]) -> DragTable:
-    """The drag table of runs already loaded and checked for merging (``warnings``: those of the check)."""
+def drag_table_of(loaded: Sequence[LoadedRun], warnings: list[str], rows: Sequence[DragRow] | None = None) -> DragTable:
+    """The drag table of runs already loaded and checked for merging (``warnings``: those of the check;
+    ``rows``: their ``drags`` rows, when read already)."""
     warnings = warnings + stale_warnings(loaded)
     jobs = [row for run in loaded for row in run.rows]
-    runs, notes = join_runs(jobs, [d for run in loaded for d in read_drag_rows(run.path)])
+    if rows is None:  # not read already (the diagnosis reads each group's rows once, for both)
+        rows = [d for run in loaded for d in read_drag_rows(run.path)]
+    runs, notes = join_runs(jobs, rows)
     if not runs:
         raise RunDirError(f"{', '.join(str(r.path) for r in loaded)}: no drag job results")
     return DragTable(runs=[r.name for r in loaded], warnings=warnings + notes, rows=drag_rows(runs))

@@ -65,11 +65,16 @@ def build_perception_report(run_dirs: list[Path], *, force: bool = False) -> Per
     return perception_table_of(loaded, warnings)
 
 
-def perception_table_of(loaded: Sequence[LoadedRun], warnings: list[str]) -> PerceptionTable:
-    """The perception table of runs already loaded and checked for merging (``warnings``: those of the check)."""
+def perception_table_of(
+    loaded: Sequence[LoadedRun], warnings: list[str], rows: Sequence[PerceptionRow] | None = None
+) -> PerceptionTable:
+    """The perception table of runs already loaded and checked for merging (``warnings``: those of the check;
+    ``rows``: their ``perception`` rows, when read already)."""
     warnings = warnings + stale_warnings(loaded)
     jobs = [row for run in loaded for row in run.rows]
-    runs, notes = join_runs(jobs, [a for run in loaded for a in read_perception_rows(run.path)])
+    if rows is None:  # not read already (the diagnosis reads each group's rows once, for both)
+        rows = [a for run in loaded for a in read_perception_rows(run.path)]
+    runs, notes = join_runs(jobs, rows)
     if not runs:
         raise RunDirError(f"{', '.join(str(r.path) for r in loaded)}: no perception job results")
     return PerceptionTable(runs=[r.name for r in loaded], warnings=warnings + notes, rows=perception_rows(runs))

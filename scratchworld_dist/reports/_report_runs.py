@@ -47,8 +47,10 @@ def _diagnosis(paths: dict[Benchmark, list[Path]], fmt: ReportFormat, *, force: 
     report = DiagnosisReport(
         diagnosis=diagnosis_table(list(groups.values())),
         episodes=None if episodes is None else report_of(episodes.runs, episodes.warnings),
-        drag=None if drag is None else drag_table_of(drag.runs, drag.warnings),
-        perception=None if perception is None else perception_table_of(perception.runs, perception.warnings),
+        drag=None if drag is None else drag_table_of(drag.runs, drag.warnings, drag.drags),
+        perception=None
+        if perception is None
+        else perception_table_of(perception.runs, perception.warnings, perception.answers),
     )
     plots = report_plots(episodes.paths, force=force) if fmt == "html" and episodes is not None else []
     return render_diagnosis_report(report, fmt, plots), report.warnings

@@ -7,14 +7,15 @@ them side by side per model instead.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.reports._drag_table import is_drag_run
-from scratchworld_dist.reports._perception_table import is_perception_run
+from scratchworld_dist.reports._drag_table import is_drag_run, read_drag_rows
+from scratchworld_dist.reports._perception_table import is_perception_run, read_perception_rows
 from scratchworld_dist.reports._runs import LoadedRun, load_runs
+from scratchworld_dist.results import DragRow, PerceptionRow
 
 Benchmark = Literal["tasks", "drag", "perception"]
 BENCHMARKS: tuple[Benchmark, ...] = ("tasks", "drag", "perception")
@@ -29,6 +30,12 @@ class RunGroup:
     runs: list[LoadedRun]
     warnings: list[str]
     """Those of a forced merge."""
+
+    drags: list[DragRow] = field(default_factory=list)
+    """A drag group's ``drags`` rows (read once, for the diagnosis and the drag report)."""
+
+    answers: list[PerceptionRow] = field(default_factory=list)
+    """A perception group's ``perception`` rows (read once, for the diagnosis and the perception report)."""
 
     @property
     def paths(self) -> list[Path]:
@@ -67,5 +74,7 @@ def load_groups(paths: dict[Benchmark, list[Path]], *, force: bool) -> list[RunG
     groups = []
     for benchmark, members in paths.items():
         runs, warnings = load_runs(members, force=force)
-        groups.append(RunGroup(benchmark=benchmark, runs=runs, warnings=warnings))
+        drags = [d for run in runs for d in read_drag_rows(run.path)] if benchmark == "drag" else []
+        answers = [a for run in runs for a in read_perception_rows(run.path)] if benchmark == "perception" else []
+        groups.append(RunGroup(benchmark=benchmark, runs=runs, warnings=warnings, drags=drags, answers=answers))
     return groups
