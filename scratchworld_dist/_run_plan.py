@@ -49,7 +49,10 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
     tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
     if not tasks:
         raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
-    contents = [read_task(task, config.profile, config.clock, config.project_limits, config.render) for task in tasks]
+    contents = [
+        read_task(task, config.profile, config.clock, config.project_limits, config.render, config.oracle_trajectories)
+        for task in tasks
+    ]
     unknown = sorted(set(config.synthetic.tasks or []) - {t.id for t in tasks}) if config.synthetic else []
     if unknown:
         raise ConfigError(f"synthetic.tasks names task(s) not in the selection: {', '.join(unknown)}")

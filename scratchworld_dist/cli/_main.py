@@ -12,6 +12,7 @@ from scratchworld_dist.cli._compare import compare_command
 from scratchworld_dist.cli._drag import drag_group
 from scratchworld_dist.cli._evaluate import evaluate_command
 from scratchworld_dist.cli._gui import gui_command
+from scratchworld_dist.cli._oracle_plan import oracle_plan_command
 from scratchworld_dist.cli._perception import perception_group
 from scratchworld_dist.cli._regrade import regrade_command
 from scratchworld_dist.cli._replay import observe_command, replay_command
@@ -39,6 +40,7 @@ cli.add_command(run_command)
 cli.add_command(regrade_command)
 cli.add_command(replay_command)
 cli.add_command(observe_command)
+cli.add_command(oracle_plan_command)
 cli.add_command(status_command)
 cli.add_command(capacity_command)
 cli.add_command(drag_group)

@@ -53,9 +53,16 @@ def find_golden(projects: Path, task_id: str, category: str) -> Path | None:
 
 
 class UpstreamSuiteLoader:
-    """Loads a ScratchWorld clone (its ``tasks/`` and ``scratch-gui/static/`` folders)."""
+    """Loads a ScratchWorld clone (its ``tasks/`` and ``scratch-gui/static/`` folders).
+
+    ``require_scripts=False`` loads tasks whose evaluation scripts are absent (their paths are kept):
+    for what needs only the projects, such as planning oracle trajectories.
+    """
 
     kind = "upstream"
+
+    def __init__(self, require_scripts: bool = True) -> None:
+        self.require_scripts = require_scripts
 
     @staticmethod
     def handles(root: Path) -> bool:
@@ -83,7 +90,7 @@ class UpstreamSuiteLoader:
                 for name in names:
                     if not (root / "tasks" / category / name).is_file():
                         problems.add(root / "tasks" / category / name, f"listed in {task_list} but missing")
-        if tasks and not helper.is_file():
+        if tasks and self.require_scripts and not helper.is_file():
             problems.add(helper, "missing: upstream scripts need the helper module evaluation_utils.js")
         if not tasks and not problems.items:
             problems.add(root / "tasks", "no task files under tasks/<category>/")
@@ -135,7 +142,7 @@ class UpstreamSuiteLoader:
         elif not initial.is_file():
             problems.add(path, f"initial_project {task_file.initial_project!r} does not exist at {initial}")
             ok = False
-        if not script.is_file():
+        if self.require_scripts and not script.is_file():
             problems.add(path, f"evaluation script missing: {script}")
             ok = False
         if not ok:

@@ -238,6 +238,10 @@ class SweepConfig(BaseModel):
     render: EvaluationRender | None = None
     """When evaluations draw the stage (on_demand | every_frame); default: on demand."""
 
+    oracle_trajectories: Path | None = None
+    """A folder of ``<task id>.json`` trajectories (``scratchworld oracle-plan``'s output) for tasks that
+    ship none: the oracle replays them (composite) or acts them out (primitive) instead of loading the golden."""
+
     episode_clock: EpisodeClock | None = None
     """How time passes on the agent's page (``virtual`` or ``{mode, start_ms, settle_ms, think_ms}``);
     default: virtual for our suites, real for upstream clones (not yet compared with upstream's harness)."""
@@ -428,6 +432,8 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     if config.perception.optional_suites:
         optional = [_resolve(base, suite) for suite in config.perception.optional_suites]
         resolved["perception"] = config.perception.model_copy(update={"optional_suites": optional})
+    if config.oracle_trajectories is not None:
+        resolved["oracle_trajectories"] = _resolve(base, config.oracle_trajectories)
     if config.model_cache is not None and "model_cache" not in (overrides or {}):
         resolved["model_cache"] = ModelCacheSettings(dir=_resolve(base, config.model_cache.dir))
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):

@@ -21,6 +21,7 @@ from scratchworld_dist._errors import ProjectFormatError, SuiteError
 from scratchworld_dist._files import FileTooLargeError, read_file
 from scratchworld_dist.memory import store_name, task_waves
 from scratchworld_dist.suites import Task
+from scratchworld_dist.suites._task import read_trajectory
 from workers.contract import (
     MIB,
     AgentRef,
@@ -237,15 +238,23 @@ def read_task(
     clock: EvaluationClock | None = None,
     limits: ProjectLimits | None = None,
     render: EvaluationRender | None = None,
+    trajectories: Path | None = None,
 ) -> TaskContent:
     """Read a task's files once; the hash covers every byte a worker will see (and profile and clock).
 
     Its projects are checked against ``limits`` here, so a task no worker would load fails the plan.
+    A task that ships no golden trajectory takes ``trajectories/<task id>.json`` (``scratchworld
+    oracle-plan``'s output) when a folder is given.
     """
     limits = limits or ProjectLimits()
     spec = task.evaluation_spec(profile, clock, render)
     golden = read_project(task.golden_project, limits) if task.golden_project is not None else None
     trajectory = task.trajectory()
+    if trajectory is None and trajectories is not None:
+        planned = trajectories / f"{task.id}.json"
+        if not planned.is_file():
+            raise SuiteError(f"no planned trajectory for task {task.id} (run scratchworld oracle-plan)", planned)
+        trajectory = read_trajectory(planned)
     payload = TaskPayload(
         task_id=task.id,
         category=task.category,

@@ -1,0 +1,199 @@
+"""Can every task be solved through the composite API, and through primitive gestures? The harness's upper bound.
+
+For each task of a suite (an upstream clone, or ours): a trajectory is planned from its initial and golden
+projects (``scratchworld oracle-plan``), replayed through the composite API, and acted out as real mouse and
+keyboard gestures by the primitive oracle (as primitive episodes get the page: small stage). Each result is
+compared with the golden by structure (scripts, fields, literals, variables; not ids or positions) and, when
+the suite has the task's evaluation script, evaluated under both profiles where the golden itself passes.
+
+Prints per task: calls, modified blocks, composite and primitive outcome, and what the API lacks; then
+totals, and the mean modified blocks against the paper's (9.14 over its tasks; 16.96 for Compute).
+
+Run: ``.venv/bin/python benchmarks/upstream_oracle.py [SUITE_DIR] [--out DIR] [--tasks a,b] [--no-primitive]``
+(default ``../shared/scratchworld-upstream``; a clone without ``scratch-bench-api`` gets structure only).
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import time
+from pathlib import Path
+from statistics import mean
+
+from pydantic import BaseModel
+
+from scratchworld_dist.oracle_plan import (
+    ProjectState,
+    TaskPlanRecord,
+    plan_folder,
+    plan_suite,
+    planning_suite,
+    project_differences,
+    read_state,
+)
+from scratchworld_dist.suites import Task
+from scratchworld_dist.suites._task import read_trajectory
+from workers import composite
+from workers.agents._primitive_oracle import OracleDivergenceError, PrimitiveOracle
+from workers.contract import CompositeAction, Done, EvaluationProfile, PrimitiveAction
+from workers.editor import BrowserSession, Editor
+from workers.evaluation import Evaluator
+from workers.primitive import Gestures
+
+PAPER_MEAN = 9.14
+PAPER_COMPUTE_MEAN = 16.96
+PROFILES: tuple[EvaluationProfile, ...] = ("upstream", "native")
+
+
+class Outcome(BaseModel):
+    """One mode's result for a task: structure against the golden, and verdicts per profile (None: not run)."""
+
+    structure: bool = False
+    problem: str = ""
+    verdicts: dict[str, bool | None] = {}
+    seconds: float = 0.0
+
+
+class OracleRow(BaseModel):
+    plan: TaskPlanRecord
+    golden: dict[str, bool | None] = {}
+    composite: Outcome = Outcome()
+    primitive: Outcome | None = None
+
+
+async def replay(editor: Editor, initial: bytes, actions: list[CompositeAction]) -> tuple[bytes, str]:
+    await editor.load_project(initial)
+    for action in actions:
+        envelope = await composite.execute(editor, action.api, action.args)
+        if not envelope.success:
+            return await editor.save_project(), f"{action.api} refused: {envelope.error}"
+    return await editor.save_project(), ""
+
+
+async def perform(editor: Editor, initial: bytes, actions: list[CompositeAction]) -> tuple[bytes, str]:
+    """The primitive oracle's gestures, executed as an episode executes them, until it says done."""
+    await editor.load_project(initial)
+    await editor.set_stage_size("small")
+    oracle = PrimitiveOracle(initial, actions)
+    gestures = Gestures(editor.page)
+    try:
+        await oracle.begin(editor)
+        while not isinstance(action := await oracle.act(None), Done):
+            assert isinstance(action, PrimitiveAction), action
+            envelope = await gestures.execute(action.api, action.args)
+            if not envelope.success:
+                return await editor.save_project(), f"gesture {action.api} failed: {envelope.error}"
+    except OracleDivergenceError as exc:
+        return await editor.save_project(), f"diverged: {exc}"
+    return await editor.save_project(), ""
+
+
+async def outcome(
+    editor: Editor, evaluator: Evaluator, task: Task, project: bytes, problem: str, golden: ProjectState, started: float
+) -> Outcome:
+    await editor.load_project(project)
+    differences = project_differences(golden, await read_state(editor))
+    verdicts: dict[str, bool | None] = {}
+    for profile in PROFILES:
+        verdicts[profile] = (
+            (await evaluator.evaluate(project, task.evaluation_spec(profile))).success
+            if task.evaluation_script.is_file()
+            else None
+        )
+    return Outcome(
+        structure=not differences and not problem,
+        problem=problem or "; ".join(differences[:3]),
+        verdicts=verdicts,
+        seconds=time.monotonic() - started,
+    )
+
+
+async def check(rows: list[OracleRow], tasks: dict[str, Task], plans: Path, primitive: bool) -> None:
+    async with BrowserSession() as session, session.editor() as editor:
+        evaluator = Evaluator(session)
+        for row in rows:
+            task = tasks[row.plan.task_id]
+            if row.plan.trajectory is None or task.golden_project is None:
+                continue
+            actions = read_trajectory(plans / row.plan.trajectory)
+            initial, golden_bytes = task.initial_project.read_bytes(), task.golden_project.read_bytes()
+            await editor.load_project(golden_bytes)
+            golden = await read_state(editor)
+            if task.evaluation_script.is_file():
+                row.golden = {
+                    p: (await evaluator.evaluate(golden_bytes, task.evaluation_spec(p))).success for p in PROFILES
+                }
+            started = time.monotonic()
+            project, problem = await replay(editor, initial, actions)
+            row.composite = await outcome(editor, evaluator, task, project, problem, golden, started)
+            if primitive:
+                started = time.monotonic()
+                project, problem = await perform(editor, initial, actions)
+                row.primitive = await outcome(editor, evaluator, task, project, problem, golden, started)
+            print(line(row), flush=True)
+
+
+def passed(result: Outcome | None, golden: dict[str, bool | None]) -> str:
+    if result is None:
+        return "-"
+    shown = "same" if result.structure else "DIFFERS"
+    judged = [
+        f"{p}:{'pass' if ok else 'FAIL'}" for p, ok in result.verdicts.items() if ok is not None and golden.get(p)
+    ]
+    return " ".join([shown, *judged])
+
+
+def line(row: OracleRow) -> str:
+    plan = row.plan
+    text = (
+        f"{plan.task_id:<58} {plan.category:<8} {plan.actions:>5} {plan.modified_blocks:>5}  "
+        f"{passed(row.composite, row.golden):<28} {passed(row.primitive, row.golden):<28}"
+    )
+    notes = [*plan.lacks, *(r.problem for r in (row.composite, row.primitive) if r is not None and r.problem)]
+    return text + "".join(f"\n      {note}" for note in notes)
+
+
+def totals(rows: list[OracleRow]) -> None:
+    planned = [r for r in rows if r.plan.error is None]
+    print(f"\n{len(rows)} tasks, {len(planned)} planned")
+    for name, group in [
+        (c, [r for r in planned if r.plan.category == c]) for c in ("create", "debug", "extend", "compute")
+    ] + [("all", planned)]:
+        if not group:
+            continue
+        composite_ok = sum(r.composite.structure for r in group)
+        primitive = [r for r in group if r.primitive is not None]
+        primitive_ok = sum(r.primitive.structure for r in primitive if r.primitive is not None)
+        print(
+            f"  {name:<8} {len(group):>3} tasks  mean calls {mean(r.plan.actions for r in group):6.1f}  "
+            f"mean modified blocks {mean(r.plan.modified_blocks for r in group):6.2f}  "
+            f"composite same as golden {composite_ok}/{len(group)}  "
+            f"primitive same as golden {primitive_ok}/{len(primitive)}"
+        )
+    print(f"  paper: mean modified blocks {PAPER_MEAN} over its tasks, {PAPER_COMPUTE_MEAN} for Compute")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("suite", nargs="?", default="../shared/scratchworld-upstream", type=Path)
+    parser.add_argument("--out", type=Path, default=Path("results/upstream-oracle-plans"))
+    parser.add_argument("--tasks", default=None, help="comma-separated task ids (default: all)")
+    parser.add_argument("--no-primitive", action="store_true", help="skip the primitive oracle's gestures")
+    args = parser.parse_args()
+    suite = planning_suite(args.suite)
+    tasks = suite.select(ids=args.tasks.split(",") if args.tasks else None)
+    folder = plan_folder(args.out, suite)
+    started = time.monotonic()
+    plans = asyncio.run(plan_suite(suite, tasks, folder))
+    print(f"planned {len(plans.tasks)} task(s) into {folder} in {time.monotonic() - started:.0f} s")
+    print(f"{'task':<58} {'category':<8} {'calls':>5} {'mod':>5}  {'composite':<28} {'primitive':<28}")
+    rows = [OracleRow(plan=record) for record in plans.tasks]
+    asyncio.run(check(rows, {t.id: t for t in tasks}, folder, primitive=not args.no_primitive))
+    totals(rows)
+    (folder / "oracle.json").write_text("[\n" + ",\n".join(r.model_dump_json() for r in rows) + "\n]\n")
+    print(f"wall time {time.monotonic() - started:.0f} s; rows in {folder / 'oracle.json'}")
+
+
+if __name__ == "__main__":
+    main()
