@@ -19,6 +19,10 @@
   const clock = window.__scratchworldClock;
   delete window.__scratchworldClock;
   const CLOCKS = ['virtual', 'real'];
+  // Seeded `Math.random` for perturbed evaluations (random.js).
+  const random = window.__scratchworldRandom;
+  delete window.__scratchworldRandom;
+  const LATENESS_MODELS = ['fixed', 'uniform'];
   const RENDERS = ['on_demand', 'every_frame'];
   // Undoing and checking what an evaluation leaves, so that the page can serve the next one.
   const recycler = window.__scratchworldRecycler;
@@ -236,6 +240,26 @@
     };
   }
 
+  // The perturbation of an evaluation (`scratchworld flakes`), checked: null, or
+  // {randomSeed, phaseMs, lateness: null | {model, ms, seed}}. Phase and lateness need the virtual clock.
+  function perturbationOf(value, clockMode) {
+    if (value == null) return null;
+    const bad = (message) => new BridgeFailure('bad_request', `perturbation: ${message}`);
+    const seed = value.randomSeed;
+    if (!(Number.isInteger(seed) && seed >= 0 && seed < 2 ** 32)) throw bad('randomSeed must be an integer from 0 to 2^32 - 1');
+    const phaseMs = value.phaseMs == null ? 0 : value.phaseMs;
+    if (!(typeof phaseMs === 'number' && phaseMs >= 0 && phaseMs < 1000)) throw bad('phaseMs must be from 0 to under 1000');
+    const late = value.lateness == null ? null : value.lateness;
+    if (late !== null) {
+      if (!LATENESS_MODELS.includes(late.model)) throw bad(`lateness.model must be one of ${LATENESS_MODELS.join(', ')}`);
+      if (!(typeof late.ms === 'number' && late.ms >= 0 && late.ms <= 1000)) throw bad('lateness.ms must be from 0 to 1000');
+      if (!(Number.isInteger(late.seed) && late.seed >= 0 && late.seed < 2 ** 32)) throw bad('lateness.seed must be an integer from 0 to 2^32 - 1');
+      if (late.ms > 0 && clockMode !== 'virtual') throw bad('timer lateness needs the virtual clock');
+    }
+    if (phaseMs > 0 && clockMode !== 'virtual') throw bad('a frame phase needs the virtual clock');
+    return {randomSeed: seed, phaseMs: phaseMs, lateness: late};
+  }
+
   async function evaluate(args) {
     const theVm = requireVm();
     const timeoutMs = Number(args.timeoutMs);
@@ -244,6 +268,7 @@
     if (!CLOCKS.includes(clockMode)) throw new BridgeFailure('bad_request', 'clock must be "virtual" or "real"');
     const render = args.render || 'every_frame';
     if (!RENDERS.includes(render)) throw new BridgeFailure('bad_request', 'render must be "on_demand" or "every_frame"');
+    const perturbation = perturbationOf(args.perturbation, clockMode);
     const helperGlobal = args.helperGlobal || 'EvaluationUtils';
     if (!/^[A-Za-z_$][\w$]*$/.test(helperGlobal)) {
       throw new BridgeFailure('bad_request', 'helperGlobal must be a JavaScript identifier');
@@ -263,9 +288,14 @@
     const cleanup = () => theVm.runtime.stopAll();
     const TIMED_OUT = {};
     let timer = null;
+    // A perturbed run draws its random numbers from the recorded seed (and meets the VM's frame loop
+    // at the given phase, and its timers come late as given: see clock.js).
+    const undoRandom = perturbation ? random.seed(perturbation.randomSeed, theVm.runtime) : null;
     // Virtual from here: the script, the VM and the timeout below all run on the skipping clock,
     // so the timeout is a cap in simulated seconds.
-    if (clockMode === 'virtual') clock.startVirtual();
+    if (clockMode === 'virtual') {
+      clock.startVirtual(perturbation ? {phaseMs: perturbation.phaseMs, lateness: perturbation.lateness} : {});
+    }
     const undoRender = render === 'on_demand' ? drawOnDemand(theVm.renderer) : null;
     const timedOut = new Promise((resolve) => {
       timer = setTimeout(() => resolve(TIMED_OUT), timeoutMs);
@@ -282,6 +312,7 @@
       try { theVm.runtime.stopAll(); } catch (e) { /* the verdict is already decided */ }
       durationMs = performance.now() - started;
       clock.stopVirtual();
+      if (undoRandom) undoRandom();
       if (undoRender) undoRender();
     }
     if (outcome === TIMED_OUT) {

@@ -22,6 +22,12 @@
  * timeouts), and `advance(ms)` lets exactly that much virtual time pass, so what an agent sees does
  * not depend on how long its model took, and a page waiting for the model costs no CPU.
  *
+ * Perturbations (`scratchworld flakes`, all recorded with the verdict): `startVirtual` can start the
+ * script `phaseMs` before the VM's next frame instead of right at it, and make every repeating timer
+ * late by a seeded lateness model (the VM's frame loop is an interval timer, so a lateness of L ms
+ * gives 1000 / (33 + L) frames per second). Both exist only in virtual time: on the real clock the
+ * phase is whatever the wall clock gives, and timers are as late as the machine makes them.
+ *
  * Timers created during an evaluation are marked, so that a page can be reused: `drainEvaluation`
  * fires the ones still pending ahead of time and reports what keeps running (recycle.js).
  *
@@ -37,6 +43,7 @@
   const realClearTimeout = window.clearTimeout.bind(window);
   const realSetInterval = window.setInterval.bind(window);
   const realClearInterval = window.clearInterval.bind(window);
+  const seededGenerator = window.__scratchworldRandom.generator; // random.js, loaded first
   const report = (error) => (window.reportError ? window.reportError(error) : realSetTimeout(() => { throw error; }, 0));
 
   // HTML timer rules: delays are whole milliseconds, and past 5 nested levels at least 4 ms.
@@ -57,6 +64,7 @@
   // page holds it at the present (time stands still while the agent thinks) and moves it in `advance`.
   let horizonMs = Infinity;
   let advancing = null; // {resolve} while `advance` runs
+  let lateness = null; // (timer) => ms a repeating timer fires late, while a perturbed evaluation runs virtually
   const timers = new Map(); // id -> {id, seq, due, delay, repeat, nesting, fromEvaluation, callback, args, backing}
 
   function now() {
@@ -142,7 +150,7 @@
     if (next.repeat) {
       next.nesting += 1;
       if (next.nesting > NESTING_CLAMP_LEVEL && next.delay < NESTED_MIN_DELAY_MS) next.delay = NESTED_MIN_DELAY_MS;
-      next.due = virtualNowMs + next.delay;
+      next.due = virtualNowMs + next.delay + (lateness ? lateness(next) : 0);
       next.seq = nextSeq++;
     } else {
       timers.delete(next.id);
@@ -192,16 +200,43 @@
   window.clearTimeout = clearTimer;
   window.clearInterval = clearTimer;
 
-  /** Start virtual time at the current clock reading (an evaluation is about to run). */
-  function startVirtual() {
+  // How late a repeating timer fires, by model: (parameters, random) => (timer) => ms. `fixed`: every
+  // firing exactly `ms` late; `uniform`: drawn from [0, 2 ms) (mean `ms`) by the seeded generator.
+  // A calibrated per-frame model (lateness measured frame by frame on a loaded page, replayed from
+  // its distribution) joins this table with the same signature; the parameters carry its data.
+  const LATENESS_MODELS = Object.freeze({
+    fixed: (parameters) => () => parameters.ms,
+    uniform: (parameters, random) => () => random() * 2 * parameters.ms,
+  });
+
+  function latenessOf(parameters) {
+    if (!parameters || !(parameters.ms > 0)) return null; // 0: today's exact timing
+    const model = LATENESS_MODELS[parameters.model];
+    if (!model) throw new Error(`unknown lateness model ${parameters.model}`);
+    return model(parameters, seededGenerator(parameters.seed || 0));
+  }
+
+  function frameTimer() {
+    return steppedRuntime ? timers.get(steppedRuntime._steppingInterval) || null : null;
+  }
+
+  /**
+   * Start virtual time at the current clock reading (an evaluation is about to run). `phaseMs`: the
+   * VM's next frame comes that long after the start (default 0: right at it); `lateness`: the model
+   * and parameters of repeating timers' lateness until `stopVirtual` (default none).
+   */
+  function startVirtual(options = {}) {
     if (virtual) throw new Error('the clock is already virtual');
+    const late = latenessOf(options.lateness);
     virtualNowMs = now();
     // Start on the VM's next frame, not somewhere inside the current one: the script then meets
     // the VM at the same phase on every run, so the same project gives the same times to the ms.
-    const frame = steppedRuntime && timers.get(steppedRuntime._steppingInterval);
+    const frame = frameTimer();
     if (frame && frame.due > virtualNowMs) virtualNowMs = frame.due;
+    if (frame && options.phaseMs > 0) frame.due = virtualNowMs + options.phaseMs;
     for (const timer of timers.values()) disarm(timer);
     virtual = true;
+    lateness = late;
     horizonMs = Infinity;
     schedulePump();
   }
@@ -239,6 +274,7 @@
     endAdvance();
     horizonMs = Infinity;
     virtual = false;
+    lateness = null;
     offsetMs = virtualNowMs - realPerformanceNow();
     const at = now();
     for (const timer of timers.values()) arm(timer, Math.max(0, Math.ceil(timer.due - at)));

@@ -11,6 +11,7 @@ from scratchworld_dist.cli._capacity import capacity_command
 from scratchworld_dist.cli._compare import compare_command
 from scratchworld_dist.cli._drag import drag_group
 from scratchworld_dist.cli._evaluate import evaluate_command
+from scratchworld_dist.cli._flakes import flakes_command
 from scratchworld_dist.cli._gui import gui_command
 from scratchworld_dist.cli._oracle_plan import oracle_plan_command
 from scratchworld_dist.cli._perception import perception_group
@@ -32,6 +33,7 @@ def cli() -> None:
 
 
 cli.add_command(validate_command)
+cli.add_command(flakes_command)
 cli.add_command(evaluate_command)
 cli.add_command(gui_command)
 cli.add_command(report_command)

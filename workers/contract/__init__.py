@@ -135,6 +135,13 @@ from workers.contract._perception import (
     ValueKind,
     answer_problem,
 )
+from workers.contract._perturbation import (
+    VM_FRAME_MS,
+    EvaluationPerturbation,
+    LatenessModel,
+    TimerLateness,
+    frames_per_second,
+)
 from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
 from workers.contract._synthetic import SyntheticEpisodes
@@ -150,6 +157,7 @@ __all__ = [
     "PERCEPTION_KINDS",
     "PERMANENT_ERRORS",
     "VERDICT_ERROR_KINDS",
+    "VM_FRAME_MS",
     "YES",
     "Action",
     "ActionEnvelope",
@@ -192,6 +200,7 @@ __all__ = [
     "EvalResult",
     "EvalTimings",
     "EvaluationClock",
+    "EvaluationPerturbation",
     "EvaluationProfile",
     "EvaluationRender",
     "EvaluationSpec",
@@ -201,6 +210,7 @@ __all__ = [
     "HarnessFingerprint",
     "InvalidReply",
     "LLMSettings",
+    "LatenessModel",
     "LearnFrom",
     "LoadProject",
     "MemoryItem",
@@ -246,6 +256,7 @@ __all__ = [
     "TargetName",
     "TaskPayload",
     "TestVerdict",
+    "TimerLateness",
     "ValueKind",
     "WorkerInfo",
     "WorkerJob",
@@ -255,6 +266,7 @@ __all__ = [
     "composite_action",
     "describe_differences",
     "fingerprint",
+    "frames_per_second",
     "memory_digest",
     "outcome_of",
     "primitive_action",

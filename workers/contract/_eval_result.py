@@ -5,9 +5,23 @@ from __future__ import annotations
 import re
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue, field_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    JsonValue,
+    SerializerFunctionWrapHandler,
+    field_validator,
+    model_serializer,
+)
 
-from workers.contract._evaluation_spec import EvaluationClock, EvaluationProfile, EvaluationRender
+from workers.contract._evaluation_spec import (
+    EvaluationClock,
+    EvaluationProfile,
+    EvaluationRender,
+    drop_unset_perturbation,
+)
+from workers.contract._perturbation import EvaluationPerturbation
 
 EvalErrorKind = Literal[
     "project_invalid",  # the project is not a loadable .sb3 (corrupt zip, bad project.json)
@@ -44,6 +58,13 @@ class ProfileConditions(BaseModel):
 
     render: EvaluationRender = "every_frame"
     """When the stage was drawn (results made before ``on_demand`` existed drew every frame)."""
+
+    perturbation: EvaluationPerturbation | None = None
+    """What ``scratchworld flakes`` varied for this run (left out of the dump when None, as results were)."""
+
+    @model_serializer(mode="wrap")
+    def _without_default_perturbation(self, handler: SerializerFunctionWrapHandler) -> dict[str, object]:
+        return drop_unset_perturbation(handler(self), self.perturbation)
 
 
 class EvalError(BaseModel):

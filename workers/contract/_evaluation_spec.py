@@ -4,7 +4,17 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    JsonValue,
+    SerializerFunctionWrapHandler,
+    model_serializer,
+    model_validator,
+)
+
+from workers.contract._perturbation import EvaluationPerturbation
 
 EvaluationClock = Literal["virtual", "real"]
 """The page clock an evaluation script runs on: simulated time skipping ahead, or the wall clock."""
@@ -53,3 +63,31 @@ class EvaluationSpec(BaseModel):
 
     config: dict[str, JsonValue] = Field(default_factory=dict)
     """Second argument handed to the script (upstream always passes ``{}``)."""
+
+    perturbation: EvaluationPerturbation | None = None
+    """Conditions varied on purpose by ``scratchworld flakes`` (seeded randomness, frame phase, mouse,
+    timer lateness); None, the default, is left out of the dump so that job ids stay as they were."""
+
+    @model_validator(mode="after")
+    def _timing_needs_virtual_time(self) -> EvaluationSpec:
+        """The real clock has its own phase and lateness, which nothing here controls."""
+        perturbation = self.perturbation
+        if perturbation is not None and self.clock != "virtual":
+            if perturbation.lateness is not None and perturbation.lateness.ms > 0:
+                raise ValueError("timer lateness is a perturbation of the virtual clock only")
+            if perturbation.phase_ms > 0:
+                raise ValueError("the frame phase is a perturbation of the virtual clock only")
+        return self
+
+    @model_serializer(mode="wrap")
+    def _without_default_perturbation(self, handler: SerializerFunctionWrapHandler) -> dict[str, object]:
+        return drop_unset_perturbation(handler(self), self.perturbation)
+
+
+def drop_unset_perturbation(
+    dumped: dict[str, object], perturbation: EvaluationPerturbation | None
+) -> dict[str, object]:
+    """``dumped`` without its ``perturbation`` key when there is none: models that gained the field dump as before."""
+    if perturbation is None:
+        dumped.pop("perturbation", None)
+    return dumped

@@ -25,6 +25,7 @@ from workers.contract import (
     EditorError,
     EditorNotReadyError,
     EpisodeClock,
+    EvaluationPerturbation,
     EvaluationSpec,
     ProjectLimits,
     RendererUnavailableError,
@@ -228,6 +229,7 @@ class Editor:
             "timeoutMs": spec.timeout_s * 1000,
             "clock": spec.clock,
             "render": spec.render,
+            "perturbation": _perturbation_args(spec.perturbation),
         }
         self.uses += 1
         return EvaluationRun.model_validate(await self.call("evaluate", args))
@@ -301,3 +303,15 @@ async def opened(opening: Awaitable[Editor]) -> AsyncIterator[Editor]:
         yield editor
     finally:
         await editor.close()
+
+
+def _perturbation_args(perturbation: EvaluationPerturbation | None) -> dict[str, object] | None:
+    """The bridge's view of a perturbation (the mouse is placed from Python, before the project loads)."""
+    if perturbation is None:
+        return None
+    lateness = perturbation.lateness
+    return {
+        "randomSeed": perturbation.random_seed,
+        "phaseMs": perturbation.phase_ms,
+        "lateness": None if lateness is None else {"model": lateness.model, "ms": lateness.ms, "seed": lateness.seed},
+    }

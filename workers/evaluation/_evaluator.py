@@ -94,9 +94,12 @@ class Evaluator:
     async def _evaluate_in(
         self, editor: Editor, project: bytes, spec: EvaluationSpec, limits: ProjectLimits, timings: EvalTimings
     ) -> EvalResult:
-        conditions = await apply_profile(editor, spec.profile)  # before the project: it may read the mouse at once
+        mouse = spec.perturbation.mouse if spec.perturbation else None
+        conditions = await apply_profile(editor, spec.profile, mouse)  # before the project: it may read the mouse
         result = await self._load_and_run(editor, project, spec, limits, timings)
-        result.conditions = conditions.model_copy(update={"clock": spec.clock, "render": spec.render})
+        result.conditions = conditions.model_copy(
+            update={"clock": spec.clock, "render": spec.render, "perturbation": spec.perturbation}
+        )
         return result
 
     async def _load_and_run(

@@ -16,11 +16,26 @@ from workers.editor import Editor
 _STAGE_SIZE: dict[EvaluationProfile, str] = {"native": "large", "upstream": "small"}
 
 
-async def apply_profile(editor: Editor, profile: EvaluationProfile) -> ProfileConditions:
-    """Put a fresh editor into the profile's conditions; raises ``EditorError`` if they do not hold."""
+STAGE_WIDTH, STAGE_HEIGHT = 480, 360
+"""Scratch's stage in its own coordinates, whatever the canvas size."""
+
+
+async def apply_profile(
+    editor: Editor, profile: EvaluationProfile, mouse: tuple[float, float] | None = None
+) -> ProfileConditions:
+    """Put a fresh editor into the profile's conditions; raises ``EditorError`` if they do not hold.
+
+    ``mouse`` (stage coordinates, a perturbation) is where a real mouse event puts the mouse instead
+    of the profile's place (the stage centre for ``upstream``, nowhere for ``native``).
+    """
     layout = await editor.set_stage_size(_STAGE_SIZE[profile])
-    if profile == "upstream":
-        rect = layout.stage_rect
+    rect = layout.stage_rect
+    if mouse is not None:
+        x, y = mouse
+        await editor.move_mouse(
+            rect.x + (x / STAGE_WIDTH + 0.5) * rect.width, rect.y + (0.5 - y / STAGE_HEIGHT) * rect.height
+        )
+    elif profile == "upstream":
         await editor.move_mouse(rect.x + rect.width / 2, rect.y + rect.height / 2)
     status = await editor.status()
     conditions = ProfileConditions(
