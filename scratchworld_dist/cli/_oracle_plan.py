@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 from pathlib import Path
 from statistics import mean
+from typing import TYPE_CHECKING
 
 import click
 from rich.console import Console
@@ -12,8 +13,10 @@ from rich.markup import escape
 from rich.table import Table
 from rich.text import Text
 
-from scratchworld_dist.oracle_plan import TaskPlanRecord, plan_folder, plan_suite, planning_suite
 from scratchworld_dist.suites import CATEGORIES
+
+if TYPE_CHECKING:
+    from scratchworld_dist.oracle_plan import TaskPlanRecord
 
 EXIT_NOT_EXPRESSED = 1
 
@@ -56,6 +59,8 @@ def oracle_plan_command(suite_dir: Path, task_ids: str | None, out: Path) -> Non
     tasks that ship no trajectory. Exits 1 when a task's golden cannot be reached, naming what the
     API lacks.
     """
+    from scratchworld_dist.oracle_plan import plan_folder, plan_suite, planning_suite  # the browser stack: here only
+
     suite = planning_suite(suite_dir)
     tasks = suite.select(ids=[t.strip() for t in task_ids.split(",") if t.strip()] if task_ids else None)
     folder = plan_folder(out, suite)
