@@ -133,7 +133,7 @@
   // ---- Frame work (the calibrated lateness model, and the frame trace of `benchmarks/frame_lateness.py`) ----
 
   let blocksRun = 0; // block functions called by the VM (reporters included), counted by attachVm's wrappers
-  let frameTrace = null; // [[clock ms, real ms, blocks, redraw 0/1], ...] while traced
+  let frameTrace = null; // [[clock ms, real ms, blocks, redraw 0/1, real ms the frame took], ...] while traced
 
   // Runs a timer; for the VM's frame timer, returns the work its frame did, {blocks, redraw}, else null.
   function runCounted(timer) {
@@ -145,7 +145,7 @@
     if (!frame) return null;
     const work = {blocks: blocksRun - before, redraw: steppedRuntime.redrawRequested ? 1 : 0};
     if (frameTrace !== null && frameTrace.length < MAX_TRACED_FRAMES) {
-      frameTrace.push([startedMs, startedRealMs, work.blocks, work.redraw]);
+      frameTrace.push([startedMs, startedRealMs, work.blocks, work.redraw, realPerformanceNow() - startedRealMs]);
     }
     return work;
   }

@@ -107,9 +107,9 @@ class EvaluationRun(BaseModel):
 
     result_json: str = Field(alias="resultJson")
     duration_ms: float = Field(alias="durationMs")
-    frames: list[tuple[float, float, int, int]] | None = None
+    frames: list[tuple[float, float, int, int, float]] | None = None
     """With ``trace_frames``: per VM frame, its start on the page clock and on the real clock (ms), the
-    block functions it called and whether it asked for a redraw (1/0)."""
+    block functions it called, whether it asked for a redraw (1/0) and the real ms it took."""
 
 
 class Editor:
