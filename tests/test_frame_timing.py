@@ -15,6 +15,7 @@ import pytest
 from pydantic import ValidationError
 
 from scratchworld_dist import load_suite
+from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.flakes import FlakeSettings, plan_variants
 from scratchworld_dist.sb3 import Project, block, rect_costume
 from scratchworld_dist.sweep import read_task
@@ -128,6 +129,12 @@ def test_calibrated_timing_needs_the_virtual_clock_and_its_coefficients() -> Non
         EvaluationSpec(script_name="a.js", script_source="", timeout_s=1, clock="virtual", timing="calibrated")
     with pytest.raises(ValidationError, match="only used by calibrated"):
         EvaluationSpec(script_name="a.js", script_source="", timeout_s=1, frame_lateness=LATENESS)
+
+
+def test_asking_for_calibrated_timing_on_the_real_clock_is_one_clear_error() -> None:
+    task = load_suite(REPO / "tasks").select()[0]
+    with pytest.raises(ConfigError, match=r"^calibrated frame timing needs the virtual clock"):
+        task.evaluation_spec(clock="real", timing="calibrated")
 
 
 def test_our_suite_keeps_ideal_timing_and_its_job_identity() -> None:

@@ -8,7 +8,7 @@ from typing import Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
-from scratchworld_dist._errors import SuiteError, TaskNotFoundError
+from scratchworld_dist._errors import ConfigError, SuiteError, TaskNotFoundError
 from scratchworld_dist._files import read_file, read_text
 from workers.contract import (
     CompositeAction,
@@ -100,6 +100,8 @@ class Task(BaseModel):
         profile = profile or self.default_profile
         clock = clock or self.default_clock
         timing = timing or default_timing(profile, clock)
+        if timing == "calibrated" and clock != "virtual":
+            raise ConfigError("calibrated frame timing needs the virtual clock (the real clock has its own)")
         return EvaluationSpec(
             profile=profile,
             clock=clock,
