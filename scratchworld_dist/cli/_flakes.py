@@ -188,6 +188,14 @@ def flakes_command(
             markup=False,
             soft_wrap=True,
         )
+    for row in rows:  # the lateness model changes these verdicts (ideal at 0 ms vs calibrated)
+        if row.lateness_band is not None and row.lateness_band.depends_on_timing:
+            out.print(
+                f"depends on frame timing: {row.task_id} {row.which} {row.test!r}: "
+                f"{row.lateness_band.calibrated} under calibrated timing",
+                markup=False,
+                soft_wrap=True,
+            )
     if json_file is not None:
         report = FlakeReport(
             suite=suite.name,
