@@ -28,12 +28,13 @@
  * gives 1000 / (33 + L) frames per second). Both exist only in virtual time: on the real clock the
  * phase is whatever the wall clock gives, and timers are as late as the machine makes them.
  *
- * Frame timing: in Chromium the VM's frames come late, heavy ones later, so a real second holds fewer
- * than 30. The `calibrated` model (`frameTiming`) makes each frame late by a linear function of the
- * work it did (block functions called, a redraw asked for), counted here by the wrappers `attachVm`
+ * Frame timing: real frames may come late, heavy ones later (issue 20). The `calibrated` model
+ * (`frameTiming`) makes each frame late by a linear function of the work it did (block functions called, a redraw asked for), counted here by the wrappers `attachVm`
  * installs (one increment per block call, no clock read), with coefficients fitted on real runs by
  * benchmarks/frame_lateness.py and handed in by Python. The same counts feed the frame trace that
- * benchmark reads (`traceFrames`), which an evaluation takes back before it returns.
+ * benchmark reads (`traceFrames`), which an evaluation takes back before it returns. Measured on our
+ * machine, Chromium's interval keeps its 33 ms grid whatever a frame does (frames take 1-6 ms), so
+ * the fit is close to a constant (README, "Frame timing").
  *
  * Timers created during an evaluation are marked, so that a page can be reused: `drainEvaluation`
  * fires the ones still pending ahead of time and reports what keeps running (recycle.js).
@@ -246,8 +247,8 @@
   // `work` is what the VM's frame did ({blocks, redraw}) when the timer is the frame loop, else null.
   // `fixed`: every firing exactly `ms` late; `uniform`: drawn from [0, 2 ms) (mean `ms`) by the seeded
   // generator; `calibrated`: the frame loop only, late by fixedMs + perBlockMs * blocks + perRedrawMs *
-  // redraw, as Chromium's frames are on a real page (heavy frames late, coefficients fitted by
-  // benchmarks/frame_lateness.py and handed in by Python): deterministic, it reads no clock.
+  // redraw (coefficients fitted on real runs by benchmarks/frame_lateness.py and handed in by Python):
+  // deterministic, it reads no clock.
   const LATENESS_MODELS = Object.freeze({
     fixed: (parameters) => () => parameters.ms,
     uniform: (parameters, random) => () => random() * 2 * parameters.ms,
