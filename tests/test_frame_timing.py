@@ -89,7 +89,6 @@ async def frames(evaluator: Evaluator, lateness: FrameLateness | None) -> tuple[
     return result.tests[0].meta["frames"], result  # type: ignore[index, call-overload]
 
 
-@pytest.mark.slow
 async def test_heavy_frames_run_late_under_calibrated_timing_the_same_way_every_time(evaluator: Evaluator) -> None:
     ideal, ideal_result = await frames(evaluator, None)
     first, calibrated_result = await frames(evaluator, LATENESS)
