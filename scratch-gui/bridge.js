@@ -260,6 +260,17 @@
     return {randomSeed: seed, phaseMs: phaseMs, lateness: late};
   }
 
+  // The calibrated frame timing (clock.js): null, or {fixedMs, perBlockMs, perRedrawMs}; virtual clock only.
+  function frameTimingOf(value, clockMode) {
+    if (value == null) return null;
+    for (const name of ['fixedMs', 'perBlockMs', 'perRedrawMs']) {
+      const ms = value[name];
+      if (!(typeof ms === 'number' && Math.abs(ms) <= 1000)) throw new BridgeFailure('bad_request', `frameTiming.${name} must be a number from -1000 to 1000`);
+    }
+    if (clockMode !== 'virtual') throw new BridgeFailure('bad_request', 'a frame timing model needs the virtual clock');
+    return {model: 'calibrated', fixedMs: value.fixedMs, perBlockMs: value.perBlockMs, perRedrawMs: value.perRedrawMs};
+  }
+
   async function evaluate(args) {
     const theVm = requireVm();
     const timeoutMs = Number(args.timeoutMs);
@@ -269,6 +280,7 @@
     const render = args.render || 'every_frame';
     if (!RENDERS.includes(render)) throw new BridgeFailure('bad_request', 'render must be "on_demand" or "every_frame"');
     const perturbation = perturbationOf(args.perturbation, clockMode);
+    const frameTiming = frameTimingOf(args.frameTiming, clockMode);
     const helperGlobal = args.helperGlobal || 'EvaluationUtils';
     if (!/^[A-Za-z_$][\w$]*$/.test(helperGlobal)) {
       throw new BridgeFailure('bad_request', 'helperGlobal must be a JavaScript identifier');
@@ -294,8 +306,10 @@
     // Virtual from here: the script, the VM and the timeout below all run on the skipping clock,
     // so the timeout is a cap in simulated seconds.
     if (clockMode === 'virtual') {
-      clock.startVirtual(perturbation ? {phaseMs: perturbation.phaseMs, lateness: perturbation.lateness} : {});
+      const late = perturbation ? {phaseMs: perturbation.phaseMs, lateness: perturbation.lateness} : {};
+      clock.startVirtual({...late, frameTiming: frameTiming});
     }
+    if (args.traceFrames) clock.traceFrames(); // every VM frame's time and work (benchmarks/frame_lateness.py)
     const undoRender = render === 'on_demand' ? drawOnDemand(theVm.renderer) : null;
     const timedOut = new Promise((resolve) => {
       timer = setTimeout(() => resolve(TIMED_OUT), timeoutMs);
@@ -303,6 +317,7 @@
     const started = performance.now();
     let outcome;
     let durationMs;
+    let frames = null;
     try {
       outcome = await Promise.race([Promise.resolve().then(() => run(theVm, args.config || {}, cleanup)), timedOut]);
     } catch (reason) {
@@ -312,6 +327,7 @@
       try { theVm.runtime.stopAll(); } catch (e) { /* the verdict is already decided */ }
       durationMs = performance.now() - started;
       clock.stopVirtual();
+      frames = clock.takeFrameTrace();
       if (undoRandom) undoRandom();
       if (undoRender) undoRender();
     }
@@ -319,7 +335,7 @@
       const unit = clockMode === 'virtual' ? 's of virtual time' : 's';
       throw new BridgeFailure('script_timeout', `${scriptName} did not finish within ${timeoutMs / 1000} ${unit}`);
     }
-    return {resultJson: toJson(outcome, scriptName), durationMs: durationMs};
+    return {resultJson: toJson(outcome, scriptName), durationMs: durationMs, frames: frames};
   }
 
   const MAX_ADVANCE_MS = 10 * 60 * 1000;

@@ -28,6 +28,14 @@
  * gives 1000 / (33 + L) frames per second). Both exist only in virtual time: on the real clock the
  * phase is whatever the wall clock gives, and timers are as late as the machine makes them.
  *
+ * Frame timing: real frames may come late, heavy ones later (issue 20). The `calibrated` model
+ * (`frameTiming`) makes each frame late by a linear function of the work it did (block functions called, a redraw asked for), counted here by the wrappers `attachVm`
+ * installs (one increment per block call, no clock read), with coefficients fitted on real runs by
+ * benchmarks/frame_lateness.py and handed in by Python. The same counts feed the frame trace that
+ * benchmark reads (`traceFrames`), which an evaluation takes back before it returns. Measured on our
+ * machine, Chromium's interval keeps its 33 ms grid whatever a frame does (frames take 1-6 ms), so
+ * the fit is close to a constant (README, "Frame timing").
+ *
  * Timers created during an evaluation are marked, so that a page can be reused: `drainEvaluation`
  * fires the ones still pending ahead of time and reports what keeps running (recycle.js).
  *
@@ -120,7 +128,40 @@
       timers.delete(timer.id);
       timer.backing = null;
     }
+    runCounted(timer);
+  }
+
+  // ---- Frame work (the calibrated lateness model, and the frame trace of `benchmarks/frame_lateness.py`) ----
+
+  let blocksRun = 0; // block functions called by the VM (reporters included), counted by attachVm's wrappers
+  let frameTrace = null; // [[clock ms, real ms, blocks, redraw 0/1, real ms the frame took], ...] while traced
+
+  // Runs a timer; for the VM's frame timer, returns the work its frame did, {blocks, redraw}, else null.
+  function runCounted(timer) {
+    const frame = steppedRuntime !== null && steppedRuntime._steppingInterval === timer.id;
+    const startedMs = now();
+    const startedRealMs = realPerformanceNow();
+    const before = blocksRun;
     run(timer);
+    if (!frame) return null;
+    const work = {blocks: blocksRun - before, redraw: steppedRuntime.redrawRequested ? 1 : 0};
+    if (frameTrace !== null && frameTrace.length < MAX_TRACED_FRAMES) {
+      frameTrace.push([startedMs, startedRealMs, work.blocks, work.redraw, realPerformanceNow() - startedRealMs]);
+    }
+    return work;
+  }
+
+  const MAX_TRACED_FRAMES = 100000;
+
+  /** Start recording every VM frame (both clocks); `takeFrameTrace` returns and stops the recording. */
+  function traceFrames() {
+    frameTrace = [];
+  }
+
+  function takeFrameTrace() {
+    const trace = frameTrace;
+    frameTrace = null;
+    return trace;
   }
 
   // Virtual mode: one timer per task, the earliest first, ties in creation order.
@@ -150,14 +191,16 @@
     if (next.repeat) {
       next.nesting += 1;
       if (next.nesting > NESTING_CLAMP_LEVEL && next.delay < NESTED_MIN_DELAY_MS) next.delay = NESTED_MIN_DELAY_MS;
-      next.due = virtualNowMs + next.delay + (lateness ? lateness(next) : 0);
+      next.due = virtualNowMs + next.delay;
       next.seq = nextSeq++;
     } else {
       timers.delete(next.id);
     }
     firedVirtual += 1;
     if (draining) draining.firings += 1;
-    run(next);
+    const work = runCounted(next);
+    // Lateness comes after the run: a work-based model reads what the frame did (time stood still meanwhile).
+    if (next.repeat && lateness && timers.get(next.id) === next) next.due += lateness(next, work);
     schedulePump();
   };
 
@@ -200,20 +243,32 @@
   window.clearTimeout = clearTimer;
   window.clearInterval = clearTimer;
 
-  // How late a repeating timer fires, by model: (parameters, random) => (timer) => ms. `fixed`: every
-  // firing exactly `ms` late; `uniform`: drawn from [0, 2 ms) (mean `ms`) by the seeded generator.
-  // A calibrated per-frame model (lateness measured frame by frame on a loaded page, replayed from
-  // its distribution) joins this table with the same signature; the parameters carry its data.
+  // How late a repeating timer fires, by model: (parameters, random) => (timer, work) => ms, where
+  // `work` is what the VM's frame did ({blocks, redraw}) when the timer is the frame loop, else null.
+  // `fixed`: every firing exactly `ms` late; `uniform`: drawn from [0, 2 ms) (mean `ms`) by the seeded
+  // generator; `calibrated`: the frame loop only, late by fixedMs + perBlockMs * blocks + perRedrawMs *
+  // redraw (coefficients fitted on real runs by benchmarks/frame_lateness.py and handed in by Python):
+  // deterministic, it reads no clock.
   const LATENESS_MODELS = Object.freeze({
     fixed: (parameters) => () => parameters.ms,
     uniform: (parameters, random) => () => random() * 2 * parameters.ms,
+    calibrated: (parameters) => (timer, work) => (work === null ? 0 : Math.max(0,
+      parameters.fixedMs + parameters.perBlockMs * work.blocks + parameters.perRedrawMs * work.redraw)),
   });
 
   function latenessOf(parameters) {
-    if (!parameters || !(parameters.ms > 0)) return null; // 0: today's exact timing
+    if (!parameters) return null;
+    if (parameters.model !== 'calibrated' && !(parameters.ms > 0)) return null; // 0: today's exact timing
     const model = LATENESS_MODELS[parameters.model];
     if (!model) throw new Error(`unknown lateness model ${parameters.model}`);
     return model(parameters, seededGenerator(parameters.seed || 0));
+  }
+
+  // Several models at once (a perturbation on top of the calibrated frame timing): their sum.
+  function combinedLateness(models) {
+    const parts = models.map(latenessOf).filter((part) => part !== null);
+    if (parts.length === 0) return null;
+    return (timer, work) => parts.reduce((total, part) => total + part(timer, work), 0);
   }
 
   function frameTimer() {
@@ -223,11 +278,12 @@
   /**
    * Start virtual time at the current clock reading (an evaluation is about to run). `phaseMs`: the
    * VM's next frame comes that long after the start (default 0: right at it); `lateness`: the model
-   * and parameters of repeating timers' lateness until `stopVirtual` (default none).
+   * and parameters of repeating timers' lateness until `stopVirtual` (default none); `frameTiming`:
+   * a second model for the frame loop (the calibrated one), added to the first.
    */
   function startVirtual(options = {}) {
     if (virtual) throw new Error('the clock is already virtual');
-    const late = latenessOf(options.lateness);
+    const late = combinedLateness([options.lateness, options.frameTiming]);
     virtualNowMs = now();
     // Start on the VM's next frame, not somewhere inside the current one: the script then meets
     // the VM at the same phase on every run, so the same project gives the same times to the ms.
@@ -350,6 +406,8 @@
       pendingTimers: timers.size,
       firedVirtual: firedVirtual,
       sideEffects: sideEffects,
+      blocksRun: blocksRun,
+      tracing: frameTrace !== null,
     };
   }
 
@@ -404,6 +462,14 @@
     return function (args, util) {
       sideEffects += 1;
       if (opcode.startsWith('sound_') && util && util.target) patchSoundPlayers(util.target);
+      return fn.call(this, args, util);
+    };
+  }
+
+  // Every block call counts as work (the calibrated lateness model): one increment, no clock read.
+  function countingWork(fn) {
+    return function (args, util) {
+      blocksRun += 1;
       return fn.call(this, args, util);
     };
   }
@@ -499,10 +565,10 @@
     const wrapped = new Map();
     runtime.getOpcodeFunction = function (opcode) {
       const fn = getOpcodeFunction.call(this, opcode);
-      if (typeof fn !== 'function' || isPure(opcode)) return fn;
+      if (typeof fn !== 'function') return fn;
       const cached = wrapped.get(opcode);
       if (cached && cached.fn === fn) return cached.wrapper;
-      const wrapper = countingBlock(opcode, fn);
+      const wrapper = countingWork(isPure(opcode) ? fn : countingBlock(opcode, fn));
       wrapped.set(opcode, {fn, wrapper});
       return wrapper;
     };
@@ -510,6 +576,7 @@
 
   window.__scratchworldClock = Object.freeze({
     startVirtual, stopVirtual, pauseVirtual, advance, status, attachVm, now, beginEvaluation, drainEvaluation,
+    traceFrames, takeFrameTrace,
     realNow: realPerformanceNow,
     realSleep: (ms) => new Promise((resolve) => realSetTimeout(resolve, ms)),
   });

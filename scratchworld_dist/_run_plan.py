@@ -50,7 +50,15 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
     if not tasks:
         raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
     contents = [
-        read_task(task, config.profile, config.clock, config.project_limits, config.render, config.oracle_trajectories)
+        read_task(
+            task,
+            config.profile,
+            config.clock,
+            config.project_limits,
+            config.render,
+            config.oracle_trajectories,
+            config.timing,
+        )
         for task in tasks
     ]
     unknown = sorted(set(config.synthetic.tasks or []) - {t.id for t in tasks}) if config.synthetic else []

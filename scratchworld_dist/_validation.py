@@ -14,7 +14,14 @@ from typing import TYPE_CHECKING, Literal
 from pydantic import BaseModel
 
 from scratchworld_dist.suites import Task
-from workers.contract import EvalResult, EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationSpec
+from workers.contract import (
+    EvalResult,
+    EvaluationClock,
+    EvaluationProfile,
+    EvaluationRender,
+    EvaluationSpec,
+    EvaluationTiming,
+)
 
 if TYPE_CHECKING:
     from workers.editor import BrowserConfig
@@ -81,10 +88,11 @@ async def validate_tasks(
     profile: EvaluationProfile | None = None,
     clock: EvaluationClock | None = None,
     render: EvaluationRender | None = None,
+    timing: EvaluationTiming | None = None,
 ) -> list[TaskValidation]:
     """Evaluate each task's golden and initial project, ``parallel`` editors at a time.
 
-    ``profile`` and ``clock`` override each task's default evaluation profile and clock.
+    ``profile``, ``clock``, ``render`` and ``timing`` override each task's defaults.
     """
     if parallel < 1:
         raise ValueError("parallel must be at least 1")
@@ -108,7 +116,7 @@ async def validate_tasks(
             pending = []
             for task in tasks:
                 # Files are read here, before the evaluations start; the script and helper once per task.
-                spec = task.evaluation_spec(profile, clock, render)
+                spec = task.evaluation_spec(profile, clock, render, timing)
                 golden_path = task.golden_project
                 golden = group.create_task(run(task, "golden", golden_path.read_bytes(), spec)) if golden_path else None
                 initial = group.create_task(run(task, "initial", task.initial_project.read_bytes(), spec))

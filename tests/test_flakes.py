@@ -87,17 +87,17 @@ def test_a_stable_suite_is_reported_stable_with_every_perturbation_recorded(
     }  # fmt: skip
     assert report["conditions"] == {"profile": "native", "clock": "virtual", "render": "on_demand"}
     assert report["settings"]["axes"] == ["seed", "phase", "mouse", "lateness", "clock", "render", "load"]
-    # baseline + seed, phase, mouse, 2 lateness levels, clock, render, load: 9 runs of each project.
-    assert report["evaluations"] == 18 == len(report["runs"])
+    # baseline + seed, phase, mouse, 2 lateness levels, calibrated timing, clock, render, load: 10 runs each.
+    assert report["evaluations"] == 20 == len(report["runs"])
     assert (report["unstable"], report["blocking"]) == (0, 0)
     for row in report["tests"]:
-        assert set(row) == TEST_KEYS and row["stable"] and row["flips"] == [] and row["runs"] == 9
+        assert set(row) == TEST_KEYS and row["stable"] and row["flips"] == [] and row["runs"] == 10
     golden_draw = next(r for r in report["tests"] if r["which"] == "golden" and r["test"] == "a draw from 1 to 10")
     assert golden_draw["lateness_band"]["passes_ms"] == [0, 25]
     runs = report["runs"]
     for record in runs:
         assert set(record) == RUN_KEYS and record["error"] is None
-        assert set(record["variant"]) == {"axis", "label", "clock", "render", "perturbation", "cpu_load"}
+        assert set(record["variant"]) == {"axis", "label", "clock", "render", "perturbation", "timing", "cpu_load"}
         assert isinstance(record["variant"]["perturbation"]["random_seed"], int)
     by_axis = {record["variant"]["axis"]: record["variant"] for record in runs if record["which"] == "golden"}
     assert by_axis["clock"]["clock"] == "real" and by_axis["render"]["render"] == "every_frame"

@@ -13,6 +13,7 @@ from rich.text import Text
 
 from scratchworld_dist._files import read_file
 from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._timing_option import timing_option
 from scratchworld_dist.suites import load_suite
 from workers.contract import (
     MIB,
@@ -21,6 +22,7 @@ from workers.contract import (
     EvaluationProfile,
     EvaluationRender,
     EvaluationSpec,
+    EvaluationTiming,
     ProjectLimits,
 )
 
@@ -53,7 +55,7 @@ def render_result(result: EvalResult, console: Console) -> None:
         c = result.conditions
         console.print(
             f"profile {c.profile}: stage canvas {c.stage_canvas[0]}x{c.stage_canvas[1]}, mouse known {c.mouse_known}; "
-            f"clock {c.clock}; render {c.render}"
+            f"clock {c.clock}; render {c.render}; timing {c.timing}"
         )
     if result.error:
         # One line whatever the terminal's width, so logs and pipes keep the cause whole.
@@ -76,6 +78,7 @@ def render_result(result: EvalResult, console: Console) -> None:
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (default: the suite's).")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (default: the suite's).")
 @render_option
+@timing_option
 def evaluate_command(
     suite_dir: Path,
     task_id: str,
@@ -84,6 +87,7 @@ def evaluate_command(
     profile: EvaluationProfile | None,
     clock: EvaluationClock | None,
     render: EvaluationRender | None,
+    timing: EvaluationTiming | None,
 ) -> None:
     """Evaluate PROJECT (.sb3) against TASK_ID of the suite in SUITE_DIR.
 
@@ -91,7 +95,7 @@ def evaluate_command(
     PROJECT is not a loadable project), 2 unusable arguments (e.g. a PROJECT file over the project
     size limit, or not a regular file).
     """
-    spec = load_suite(suite_dir).task(task_id).evaluation_spec(profile, clock, render)
+    spec = load_suite(suite_dir).task(task_id).evaluation_spec(profile, clock, render, timing)
     data = read_project_file(project)
     # A project no page may see is refused here, naming the file, before a browser starts.
     from workers.evaluation import project_refusal

@@ -27,7 +27,7 @@ from scratchworld_dist.flakes import (
     run_flakes,
     stability_of_tests,
 )
-from scratchworld_dist.suites import load_suite
+from scratchworld_dist.suites import default_timing, load_suite
 from workers.contract import EvaluationClock, EvaluationProfile, EvaluationRender
 
 EXIT_UNSTABLE = 1
@@ -38,10 +38,14 @@ def _band(band: LatenessBand | None) -> str:
     if band is None:
         return "-"
     if band.min_fps is None:
-        return "passes at no lateness"
-    if not band.fails_ms:
-        return f"all ({band.min_fps:g}-{band.max_fps:g} fps)"
-    return f"{band.min_fps:g}-{band.max_fps:g} fps (fails at {', '.join(f'{ms:g}' for ms in band.fails_ms)} ms)"
+        text = "passes at no lateness"
+    elif not band.fails_ms:
+        text = f"all ({band.min_fps:g}-{band.max_fps:g} fps)"
+    else:
+        text = f"{band.min_fps:g}-{band.max_fps:g} fps (fails at {', '.join(f'{ms:g}' for ms in band.fails_ms)} ms)"
+    if band.calibrated is not None:
+        text += f"; calibrated: {band.calibrated}{' (depends on frame timing)' if band.depends_on_timing else ''}"
+    return text
 
 
 def _flips(row: TestStability) -> str:
@@ -156,7 +160,7 @@ def flakes_command(
         raise click.UsageError(f"{suite_dir} has no tasks to check")
     spec = tasks[0].evaluation_spec(profile, clock, render)  # a suite's tasks share their defaults
     conditions = FlakeConditions(profile=spec.profile, clock=spec.clock, render=spec.render)
-    variants = plan_variants(settings, spec.clock, spec.render)
+    variants = plan_variants(settings, spec.clock, spec.render, default_timing(spec.profile, "virtual"))
     projects = sum(2 if task.golden_project else 1 for task in tasks)
     console.print(
         f"checking {len(tasks)} task(s) of {suite.name} ({projects} projects x {len(variants)} runs) "
@@ -184,6 +188,14 @@ def flakes_command(
             markup=False,
             soft_wrap=True,
         )
+    for row in rows:  # the lateness model changes these verdicts (ideal at 0 ms vs calibrated)
+        if row.lateness_band is not None and row.lateness_band.depends_on_timing:
+            out.print(
+                f"depends on frame timing: {row.task_id} {row.which} {row.test!r}: "
+                f"{row.lateness_band.calibrated} under calibrated timing",
+                markup=False,
+                soft_wrap=True,
+            )
     if json_file is not None:
         report = FlakeReport(
             suite=suite.name,

@@ -8,6 +8,7 @@ import click
 from rich.console import Console
 
 from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._timing_option import timing_option
 from scratchworld_dist.reports import report_runs
 from scratchworld_dist.sweep import load_sweep_config
 
@@ -21,6 +22,7 @@ EXIT_ERRORS = 1
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (overrides profile).")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (overrides clock).")
 @render_option
+@timing_option
 @click.option(
     "--model-cache",
     type=click.Path(file_okay=False, path_type=Path),
@@ -34,6 +36,7 @@ def run_command(
     profile: str | None,
     clock: str | None,
     render: str | None,
+    timing: str | None,
     model_cache: Path | None,
     force: bool,
 ) -> None:
@@ -53,6 +56,8 @@ def run_command(
         overrides["clock"] = clock
     if render is not None:
         overrides["render"] = render
+    if timing is not None:
+        overrides["timing"] = timing
     if model_cache is not None:  # relative to the working directory, like --out; workers get it absolute
         overrides["model_cache"] = {"dir": str(model_cache.resolve())}
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command

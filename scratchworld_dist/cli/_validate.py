@@ -14,8 +14,9 @@ from rich.text import Text
 
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
 from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._timing_option import timing_option
 from scratchworld_dist.suites import Task, load_suite
-from workers.contract import EvalResult, EvaluationClock, EvaluationProfile, EvaluationRender
+from workers.contract import EvalResult, EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationTiming
 
 EXIT_INVALID = 1
 
@@ -56,6 +57,7 @@ def render_table(rows: list[TaskValidation]) -> Table:
     help="Evaluation clock (default: virtual for our suites, real for upstream clones).",
 )
 @render_option
+@timing_option
 @click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the rows as JSON.")
 def validate_command(
     suite_dir: Path,
@@ -65,6 +67,7 @@ def validate_command(
     profile: EvaluationProfile | None,
     clock: EvaluationClock | None,
     render: EvaluationRender | None,
+    timing: EvaluationTiming | None,
     json_file: Path | None,
 ) -> None:
     """Evaluate every task's golden and initial project in SUITE_DIR.
@@ -76,8 +79,8 @@ def validate_command(
     console = Console(stderr=True)
     conditions = ""
     if tasks:  # a suite's tasks share their defaults
-        spec = tasks[0].evaluation_spec(profile, clock, render)
-        conditions = f", profile {spec.profile}, clock {spec.clock}, render {spec.render}"
+        spec = tasks[0].evaluation_spec(profile, clock, render, timing)
+        conditions = f", profile {spec.profile}, clock {spec.clock}, render {spec.render}, timing {spec.timing}"
     console.print(
         f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s){conditions}",
         markup=False,
@@ -88,7 +91,15 @@ def validate_command(
         console.print(f"  {task.id} {which}: {outcome} in {result.timings.total_s:.1f}s", markup=False)
 
     rows = asyncio.run(
-        validate_tasks(tasks, parallel=parallel, on_evaluated=progress, profile=profile, clock=clock, render=render)
+        validate_tasks(
+            tasks,
+            parallel=parallel,
+            on_evaluated=progress,
+            profile=profile,
+            clock=clock,
+            render=render,
+            timing=timing,
+        )
     )
     Console().print(render_table(rows))
     if json_file is not None:

@@ -34,6 +34,11 @@ class LatenessBand(BaseModel):
     min_fps: float | None
     """The lowest frame rate at which it passes (None: it passes at no level)."""
     max_fps: float | None
+    calibrated: str | None = None
+    """The verdict under the calibrated frame timing (None: not run)."""
+    depends_on_timing: bool | None = None
+    """Whether the verdict under calibrated timing differs from the one at 0 ms on ideal timing (None: one
+    of the two was not run): a test that does depends on the lateness model at all."""
 
 
 class TestStability(BaseModel):
@@ -92,17 +97,27 @@ def _verdict(run: FlakeRun, test: str) -> str:
 
 def _band(runs: list[FlakeRun], test: str) -> LatenessBand | None:
     passes, fails = [], []
+    ideal: str | None = None
+    calibrated: str | None = None
     for run in runs:
-        if run.variant.axis == "lateness" and run.variant.perturbation.lateness is not None:
+        if run.variant.axis != "lateness":
+            continue
+        if run.variant.timing == "calibrated":
+            calibrated = _verdict(run, test)
+        elif run.variant.perturbation.lateness is not None:
             ms = run.variant.perturbation.lateness.ms
             (passes if _verdict(run, test) == "pass" else fails).append(ms)
-    if not passes and not fails:
+            if ms == 0:
+                ideal = _verdict(run, test)
+    if not passes and not fails and calibrated is None:
         return None
     return LatenessBand(
         passes_ms=sorted(passes),
         fails_ms=sorted(fails),
         min_fps=round(frames_per_second(max(passes)), 1) if passes else None,
         max_fps=round(frames_per_second(min(passes)), 1) if passes else None,
+        calibrated=calibrated,
+        depends_on_timing=None if ideal is None or calibrated is None else ideal != calibrated,
     )
 
 

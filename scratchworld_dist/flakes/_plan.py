@@ -16,6 +16,7 @@ from workers.contract import (
     EvaluationClock,
     EvaluationPerturbation,
     EvaluationRender,
+    EvaluationTiming,
     TimerLateness,
     frames_per_second,
 )
@@ -56,20 +57,32 @@ class Variant(BaseModel):
     clock: EvaluationClock
     render: EvaluationRender
     perturbation: EvaluationPerturbation
+    timing: EvaluationTiming = "ideal"
+    """Frame timing in virtual time (always ``ideal`` on the real clock, which has its own)."""
     cpu_load: int = 0
     """Busy processes running meanwhile."""
 
 
-def plan_variants(settings: FlakeSettings, clock: EvaluationClock, render: EvaluationRender) -> list[Variant]:
-    """The baseline (the task's own clock and render, phase 0, no lateness) and the varied runs, in order."""
+def plan_variants(
+    settings: FlakeSettings, clock: EvaluationClock, render: EvaluationRender, timing: EvaluationTiming = "ideal"
+) -> list[Variant]:
+    """The baseline (the task's own clock, render and virtual frame timing, phase 0, no lateness) and the
+    varied runs, in order. The lateness axis runs its levels on ideal timing, then the calibrated model once,
+    so that the report shows which tests depend on the frame timing at all."""
     draw = random.Random(settings.seed)
     base = EvaluationPerturbation(random_seed=draw.randrange(2**32))
-    variants = [Variant(axis="baseline", label="baseline", clock=clock, render=render, perturbation=base)]
+
+    def variant(axis: Axis | Literal["baseline"], label: str, **changes: object) -> Variant:
+        perturbation = base.model_copy(update=changes.pop("perturbation", {}))
+        fields: dict[str, object] = {"clock": clock, "render": render, "timing": timing, **changes}
+        if fields["clock"] == "real":
+            fields["timing"] = "ideal"
+        return Variant(axis=axis, label=label, perturbation=perturbation, **fields)  # type: ignore[arg-type]
+
+    variants = [variant("baseline", "baseline")]
 
     def add(axis: Axis, label: str, **changes: object) -> None:
-        perturbation = base.model_copy(update=changes.pop("perturbation", {}))
-        fields = {"clock": clock, "render": render, **changes}
-        variants.append(Variant(axis=axis, label=label, perturbation=perturbation, **fields))  # type: ignore[arg-type]
+        variants.append(variant(axis, label, **changes))
 
     for axis in settings.axes:
         for index in range(settings.runs):
@@ -94,5 +107,6 @@ def plan_variants(settings: FlakeSettings, clock: EvaluationClock, render: Evalu
             for ms in settings.lateness_ms:
                 lateness = TimerLateness(ms=ms)
                 label = f"lateness {ms:g} ms ({frames_per_second(ms):.1f} fps)"
-                add(axis, label, clock="virtual", perturbation={"lateness": lateness})
+                add(axis, label, clock="virtual", timing="ideal", perturbation={"lateness": lateness})
+            add(axis, "calibrated frame timing", clock="virtual", timing="calibrated")
     return variants

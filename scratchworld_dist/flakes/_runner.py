@@ -12,7 +12,7 @@ from scratchworld_dist._validation import Which
 from scratchworld_dist.flakes._load import cpu_load, load_average
 from scratchworld_dist.flakes._plan import Variant
 from scratchworld_dist.suites import Task
-from workers.contract import EvalResult, EvaluationProfile, EvaluationSpec
+from workers.contract import EvalResult, EvaluationProfile, EvaluationSpec, calibrated_frame_lateness
 
 if TYPE_CHECKING:
     from workers.editor import BrowserConfig
@@ -52,7 +52,13 @@ class FlakeRun(BaseModel):
 def variant_spec(base: EvaluationSpec, variant: Variant) -> EvaluationSpec:
     """The task's spec under ``variant`` (validated: phase and lateness need the virtual clock)."""
     fields = base.model_dump()
-    fields.update(clock=variant.clock, render=variant.render, perturbation=variant.perturbation)
+    fields.update(
+        clock=variant.clock,
+        render=variant.render,
+        perturbation=variant.perturbation,
+        timing=variant.timing,
+        frame_lateness=calibrated_frame_lateness() if variant.timing == "calibrated" else None,
+    )
     return EvaluationSpec.model_validate(fields)
 
 

@@ -2,7 +2,7 @@
 
 from scratchworld_dist.suites._detect import LOADERS, SuiteLoader, load_suite
 from scratchworld_dist.suites._native import NativeSuiteLoader
-from scratchworld_dist.suites._task import CATEGORIES, Suite, SuiteKind, Task, TaskCategory
+from scratchworld_dist.suites._task import CATEGORIES, Suite, SuiteKind, Task, TaskCategory, default_timing
 from scratchworld_dist.suites._upstream import UPSTREAM_TIMEOUT_S, UpstreamSuiteLoader, find_golden
 
 __all__ = [
@@ -16,6 +16,7 @@ __all__ = [
     "Task",
     "TaskCategory",
     "UpstreamSuiteLoader",
+    "default_timing",
     "find_golden",
     "load_suite",
 ]

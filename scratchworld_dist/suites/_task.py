@@ -8,9 +8,17 @@ from typing import Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
-from scratchworld_dist._errors import SuiteError, TaskNotFoundError
+from scratchworld_dist._errors import ConfigError, SuiteError, TaskNotFoundError
 from scratchworld_dist._files import read_file, read_text
-from workers.contract import CompositeAction, EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationSpec
+from workers.contract import (
+    CompositeAction,
+    EvaluationClock,
+    EvaluationProfile,
+    EvaluationRender,
+    EvaluationSpec,
+    EvaluationTiming,
+    calibrated_frame_lateness,
+)
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
 CATEGORIES: tuple[TaskCategory, ...] = get_args(TaskCategory)
@@ -85,12 +93,21 @@ class Task(BaseModel):
         profile: EvaluationProfile | None = None,
         clock: EvaluationClock | None = None,
         render: EvaluationRender | None = None,
+        timing: EvaluationTiming | None = None,
     ) -> EvaluationSpec:
-        """The script and helper sources, read now, ready to send to a worker (render: on demand by default)."""
+        """The script and helper sources, read now, ready to send to a worker (render: on demand by default;
+        timing: see ``default_timing``)."""
+        profile = profile or self.default_profile
+        clock = clock or self.default_clock
+        timing = timing or default_timing(profile, clock)
+        if timing == "calibrated" and clock != "virtual":
+            raise ConfigError("calibrated frame timing needs the virtual clock (the real clock has its own)")
         return EvaluationSpec(
-            profile=profile or self.default_profile,
-            clock=clock or self.default_clock,
+            profile=profile,
+            clock=clock,
             render=render or "on_demand",
+            timing=timing,
+            frame_lateness=calibrated_frame_lateness() if timing == "calibrated" else None,
             script_name=self.evaluation_script.name,
             script_source=_read_text(self.evaluation_script),
             helper_name=self.helper_script.name if self.helper_script else None,
@@ -104,6 +121,12 @@ class Task(BaseModel):
         if self.golden_trajectory is None:
             return None
         return read_trajectory(self.golden_trajectory)
+
+
+def default_timing(profile: EvaluationProfile, clock: EvaluationClock) -> EvaluationTiming:
+    """``calibrated`` for upstream suites in virtual time (their goldens are tuned to Chromium's real frame
+    rate), ``ideal`` otherwise (our suite's verdicts were checked equivalent in ideal time)."""
+    return "calibrated" if profile == "upstream" and clock == "virtual" else "ideal"
 
 
 def read_trajectory(path: Path) -> list[CompositeAction]:

@@ -36,6 +36,7 @@ from workers.contract import (
     EvaluationClock,
     EvaluationProfile,
     EvaluationRender,
+    EvaluationTiming,
     LLMSettings,
     MemorySettings,
     Mode,
@@ -237,6 +238,10 @@ class SweepConfig(BaseModel):
 
     render: EvaluationRender | None = None
     """When evaluations draw the stage (on_demand | every_frame); default: on demand."""
+
+    timing: EvaluationTiming | None = None
+    """How virtual-clock frames are timed (ideal | calibrated); default: calibrated for upstream in virtual
+    time, ideal otherwise (part of each job's identity)."""
 
     oracle_trajectories: Path | None = None
     """A folder of ``<task id>.json`` trajectories (``scratchworld oracle-plan``'s output) for tasks that

@@ -35,6 +35,7 @@ from workers.contract import (
     EvaluationClock,
     EvaluationProfile,
     EvaluationRender,
+    EvaluationTiming,
     LLMSettings,
     MemoryPlacement,
     MemorySettings,
@@ -239,6 +240,7 @@ def read_task(
     limits: ProjectLimits | None = None,
     render: EvaluationRender | None = None,
     trajectories: Path | None = None,
+    timing: EvaluationTiming | None = None,
 ) -> TaskContent:
     """Read a task's files once; the hash covers every byte a worker will see (and profile and clock).
 
@@ -247,7 +249,7 @@ def read_task(
     oracle-plan``'s output) when a folder is given.
     """
     limits = limits or ProjectLimits()
-    spec = task.evaluation_spec(profile, clock, render)
+    spec = task.evaluation_spec(profile, clock, render, timing)
     golden = read_project(task.golden_project, limits) if task.golden_project is not None else None
     trajectory = task.trajectory()
     if trajectory is None and trajectories is not None:

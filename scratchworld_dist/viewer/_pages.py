@@ -193,6 +193,7 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
         "evaluation profile": str(config.get("profile") or "the suite's"),
         "evaluation clock": str(config.get("clock") or "the suite's"),
         "evaluation render": str(config.get("render") or "on_demand"),
+        "evaluation timing": str(config.get("timing") or "the profile's (upstream in virtual time: calibrated)"),
     }
     if manifest.regrade is not None:  # the new verdicts' conditions, and what they re-evaluated
         regrade = manifest.regrade

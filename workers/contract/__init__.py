@@ -86,6 +86,13 @@ from workers.contract._eval_result import (
     TestVerdict,
 )
 from workers.contract._evaluation_spec import EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationSpec
+from workers.contract._frame_timing import (
+    EvaluationTiming,
+    FrameLateness,
+    FrameTimingCalibration,
+    RecordedTiming,
+    calibrated_frame_lateness,
+)
 from workers.contract._harness import (
     ENVIRONMENT_PARTS,
     HarnessFingerprint,
@@ -204,9 +211,12 @@ __all__ = [
     "EvaluationProfile",
     "EvaluationRender",
     "EvaluationSpec",
+    "EvaluationTiming",
     "ExpectedConnection",
     "Failed",
     "FlyoutSource",
+    "FrameLateness",
+    "FrameTimingCalibration",
     "HarnessFingerprint",
     "InvalidReply",
     "LLMSettings",
@@ -244,6 +254,7 @@ __all__ = [
     "ProjectLimits",
     "ProjectTooLargeError",
     "RateLimits",
+    "RecordedTiming",
     "Refusal",
     "Region",
     "RegradeSpec",
@@ -262,6 +273,7 @@ __all__ = [
     "WorkerJob",
     "WorkerLoad",
     "answer_problem",
+    "calibrated_frame_lateness",
     "check_project",
     "composite_action",
     "describe_differences",

@@ -21,6 +21,7 @@ from workers.contract._evaluation_spec import (
     EvaluationRender,
     drop_unset_perturbation,
 )
+from workers.contract._frame_timing import FrameLateness, RecordedTiming
 from workers.contract._perturbation import EvaluationPerturbation
 
 EvalErrorKind = Literal[
@@ -58,6 +59,13 @@ class ProfileConditions(BaseModel):
 
     render: EvaluationRender = "every_frame"
     """When the stage was drawn (results made before ``on_demand`` existed drew every frame)."""
+
+    timing: RecordedTiming | None = None
+    """How the VM's frames were timed: ``real`` on the real clock, else the virtual model (None: recorded
+    before timing was, when virtual frames were always ``ideal``)."""
+
+    frame_lateness: FrameLateness | None = None
+    """The coefficients of ``calibrated`` timing."""
 
     perturbation: EvaluationPerturbation | None = None
     """What ``scratchworld flakes`` varied for this run (left out of the dump when None, as results were)."""

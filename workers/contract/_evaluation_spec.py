@@ -14,6 +14,7 @@ from pydantic import (
     model_validator,
 )
 
+from workers.contract._frame_timing import EvaluationTiming, FrameLateness
 from workers.contract._perturbation import EvaluationPerturbation
 
 EvaluationClock = Literal["virtual", "real"]
@@ -61,6 +62,13 @@ class EvaluationSpec(BaseModel):
     Touching, colour sensing and the pen do not read the drawn stage, so skipping the frames nobody
     looks at halves an evaluation's work without changing what a script sees."""
 
+    timing: EvaluationTiming = "ideal"
+    """How the VM's frames are timed in virtual time (``workers.contract._frame_timing``); part of a
+    job's identity, left out of the dump when ``ideal`` (today's exact timing) so that job ids stay as they were."""
+
+    frame_lateness: FrameLateness | None = None
+    """The coefficients of ``calibrated`` timing (None otherwise): a re-calibration changes job identity."""
+
     config: dict[str, JsonValue] = Field(default_factory=dict)
     """Second argument handed to the script (upstream always passes ``{}``)."""
 
@@ -79,9 +87,29 @@ class EvaluationSpec(BaseModel):
                 raise ValueError("the frame phase is a perturbation of the virtual clock only")
         return self
 
+    @model_validator(mode="after")
+    def _calibrated_timing_has_its_model(self) -> EvaluationSpec:
+        if self.timing == "calibrated":
+            if self.clock != "virtual":
+                raise ValueError("calibrated frame timing is a model of the virtual clock (the real clock has its own)")
+            if self.frame_lateness is None:
+                raise ValueError("calibrated frame timing needs its frame_lateness coefficients")
+        elif self.frame_lateness is not None:
+            raise ValueError(f"frame_lateness is only used by calibrated frame timing, not {self.timing}")
+        return self
+
     @model_serializer(mode="wrap")
     def _without_default_perturbation(self, handler: SerializerFunctionWrapHandler) -> dict[str, object]:
-        return drop_unset_perturbation(handler(self), self.perturbation)
+        dumped = drop_unset_timing(handler(self), self.timing)
+        return drop_unset_perturbation(dumped, self.perturbation)
+
+
+def drop_unset_timing(dumped: dict[str, object], timing: str | None) -> dict[str, object]:
+    """``dumped`` without ``timing`` and ``frame_lateness`` under ``ideal`` timing, as before timing existed."""
+    if timing in ("ideal", None):
+        dumped.pop("timing", None)
+        dumped.pop("frame_lateness", None)
+    return dumped
 
 
 def drop_unset_perturbation(

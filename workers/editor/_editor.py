@@ -107,6 +107,9 @@ class EvaluationRun(BaseModel):
 
     result_json: str = Field(alias="resultJson")
     duration_ms: float = Field(alias="durationMs")
+    frames: list[tuple[float, float, int, int, float]] | None = None
+    """With ``trace_frames``: per VM frame, its start on the page clock and on the real clock (ms), the
+    block functions it called, whether it asked for a redraw (1/0) and the real ms it took."""
 
 
 class Editor:
@@ -212,8 +215,9 @@ class Editor:
         """The current project as .sb3 bytes, as the editor would save it."""
         return base64.b64decode(_Saved.model_validate(await self.call("saveProject")).sb3_base64)
 
-    async def run_evaluation(self, spec: EvaluationSpec) -> EvaluationRun:
-        """Run an evaluation script on the loaded project, on the spec's clock.
+    async def run_evaluation(self, spec: EvaluationSpec, *, trace_frames: bool = False) -> EvaluationRun:
+        """Run an evaluation script on the loaded project, on the spec's clock (``trace_frames``: and
+        record every VM frame, see ``EvaluationRun.frames``).
 
         The page enforces ``spec.timeout_s`` itself (on its clock, so in simulated seconds under
         the virtual clock); a script that blocks the page entirely is the caller's to kill (by
@@ -230,6 +234,8 @@ class Editor:
             "clock": spec.clock,
             "render": spec.render,
             "perturbation": _perturbation_args(spec.perturbation),
+            "frameTiming": spec.frame_lateness.bridge_args() if spec.frame_lateness else None,
+            "traceFrames": trace_frames,
         }
         self.uses += 1
         return EvaluationRun.model_validate(await self.call("evaluate", args))

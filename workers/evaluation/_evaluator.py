@@ -98,7 +98,13 @@ class Evaluator:
         conditions = await apply_profile(editor, spec.profile, mouse)  # before the project: it may read the mouse
         result = await self._load_and_run(editor, project, spec, limits, timings)
         result.conditions = conditions.model_copy(
-            update={"clock": spec.clock, "render": spec.render, "perturbation": spec.perturbation}
+            update={
+                "clock": spec.clock,
+                "render": spec.render,
+                "timing": spec.timing if spec.clock == "virtual" else "real",
+                "frame_lateness": spec.frame_lateness,
+                "perturbation": spec.perturbation,
+            }
         )
         return result
 
