@@ -6,9 +6,9 @@ Each project (our suite's goldens in ``tasks/``, and the upstream goldens in ``-
 folder exists) runs from the green flag for ``--seconds`` on the REAL clock while the page traces every
 VM frame: its start on the real clock, the block functions it called and whether it asked for a
 redraw. A frame's lateness is the real time to the next frame minus the nominal 33 ms; the model
-``lateness = a + b * blocks + c * redraw`` is fitted over all frames by ordinary least squares
-(``numpy.linalg.lstsq``). Each project then runs the same simulated seconds in virtual time, ideal and
-calibrated, and the table compares frames per second. ``--write`` stores the fit in
+``lateness = a + b * blocks + c * redraw`` is fitted over all frames by least squares with no
+coefficient below 0 (``scipy.optimize.nnls``). Each project then runs the same simulated seconds in
+virtual time, ideal and calibrated, and the table compares frames per second. ``--write`` stores the fit in
 ``workers/contract/frame_timing.json`` (the default of upstream evaluations in virtual time).
 """
 
@@ -24,6 +24,7 @@ import statistics
 from pathlib import Path
 
 import numpy as np
+from scipy.optimize import nnls
 
 from scratchworld_dist import load_suite
 from workers.contract import (
@@ -80,14 +81,15 @@ async def trace(pool: EditorPool, project: bytes, run_spec: EvaluationSpec) -> l
 
 
 def fit(traces: list[list[Frame]]) -> tuple[FrameLateness, int]:
-    """Least squares of (real interval to the next frame - 33 ms) on [1, blocks, redraw]."""
+    """Least squares of (real interval to the next frame - 33 ms) on [1, blocks, redraw], with every
+    coefficient at least 0 (``scipy.optimize.nnls``): work never makes a frame come early."""
     rows, late = [], []
     for frames in traces:
         used = frames[SKIP_FRAMES:]
         for frame, following in itertools.pairwise(used):
             rows.append((1.0, frame[2], frame[3]))
             late.append(following[1] - frame[1] - VM_FRAME_MS)
-    coefficients, *_ = np.linalg.lstsq(np.array(rows), np.array(late), rcond=None)
+    coefficients, _ = nnls(np.array(rows), np.array(late))
     a, b, c = (float(x) for x in coefficients)
     return FrameLateness(fixed_ms=round(a, 4), per_block_ms=round(b, 6), per_redraw_ms=round(c, 4)), len(rows)
 
@@ -148,7 +150,7 @@ async def main(seconds: float, upstream: Path, limit: int | None, write: bool) -
                 "load_average": round(load, 1),
                 "seconds_per_project": seconds,
             },
-            method="ordinary least squares (numpy.linalg.lstsq) of real frame interval - 33 ms on [1, blocks, redraw]",
+            method="non-negative least squares (scipy.optimize.nnls) of real interval - 33 ms on [1, blocks, redraw]",
             frames=used,
             projects=[{k: round(v, 2) if isinstance(v, float) else v for k, v in row.items()} for row in rows],
         )
