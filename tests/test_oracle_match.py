@@ -5,13 +5,15 @@ from __future__ import annotations
 
 from scratchworld_dist.oracle_plan._match import match_blocks
 from scratchworld_dist.oracle_plan._state import TargetState
-from scratchworld_dist.oracle_plan._tree import canonical_chain, script_differences
+from scratchworld_dist.oracle_plan._tree import canonical_chain, script_differences, top_blocks
 
 
-def target(*scripts: list[tuple[str, str]], held: dict[str, tuple[str, str]] | None = None) -> TargetState:
+def target(
+    *scripts: list[tuple[str, str]], held: dict[str, tuple[str, str]] | None = None, ys: list[float] | None = None
+) -> TargetState:
     """A sprite whose scripts are chains of (id, opcode); ``held``: {block: (parent, C-slot)} nests a chain."""
     blocks: dict[str, dict[str, object]] = {}
-    for script in scripts:
+    for number, script in enumerate(scripts):
         for position, (block_id, opcode) in enumerate(script):
             blocks[block_id] = {
                 "id": block_id,
@@ -19,6 +21,7 @@ def target(*scripts: list[tuple[str, str]], held: dict[str, tuple[str, str]] | N
                 "topLevel": position == 0,
                 "parent": script[position - 1][0] if position else None,
                 "next": script[position + 1][0] if position + 1 < len(script) else None,
+                "y": (ys[number] if ys else 100 * number) if position == 0 else None,
             }
     for block_id, (parent, name) in (held or {}).items():
         blocks[block_id].update(topLevel=False, parent=parent)
@@ -61,3 +64,13 @@ def test_scripts_compare_by_structure_not_ids() -> None:
         "Cat: a script starting with event_whenflagclicked is missing",
         "Cat: a script starting with event_whenflagclicked is not in the golden",
     ]
+
+
+def test_ties_are_broken_by_position_never_by_id() -> None:
+    """The VM may give a project's blocks new ids when it loads it again: with the ids of two equal
+    candidate scripts swapped, the script higher on the workspace is still the one matched."""
+    golden = target([("g1", "event_whenflagclicked"), ("g2", "looks_say")])
+    for upper, lower in (("a", "z"), ("z", "a")):
+        initial = target([(upper, "event_whenflagclicked")], [(lower, "event_whenflagclicked")], ys=[0, 300])
+        assert top_blocks(initial) == [upper, lower]
+        assert match_blocks(golden, initial)["g1"] == upper

@@ -1,6 +1,7 @@
 /*
  * What the oracle planner reads of a loaded project: every original target's blocks exactly as the
- * VM holds them (id, opcode, fields, inputs with their block and shadow, next, parent), its
+ * VM holds them (id, opcode, fields, inputs with their block and shadow, next, parent, a script's
+ * position), its
  * variables, lists and messages, its costumes and sounds, and the state a sprite is saved with;
  * plus the composite numbering of the editing target (the block id behind each #n), so a plan made
  * of block ids can be written as the index-based calls an agent sends. Read-only.
@@ -26,6 +27,7 @@ scratchworldModule({name: 'oracle/project-state', requires: ['composite/target',
     return {
       id: block.id, opcode: block.opcode, shadow: !!block.shadow, topLevel: !!block.topLevel,
       parent: block.parent || null, next: block.next || null, fields: fields, inputs: inputs,
+      x: typeof block.x === 'number' ? block.x : null, y: typeof block.y === 'number' ? block.y : null,
       mutation: block.mutation ? plain(block.mutation) : null
     };
   }

@@ -12,14 +12,24 @@ from __future__ import annotations
 from functools import cache
 
 from scratchworld_dist.oracle_plan._state import TargetState
-from scratchworld_dist.oracle_plan._tree import chain, fields_of, held_inputs, literals_of, top_blocks
+from scratchworld_dist.oracle_plan._tree import (
+    block_order,
+    chain,
+    fields_of,
+    held_inputs,
+    literals_of,
+    preorder,
+    top_blocks,
+)
 
 Matching = dict[str, str]
 """Golden block id -> initial block id."""
 
 
 def match_blocks(golden: TargetState, initial: TargetState) -> Matching:
+    """Ties are broken by where blocks sit in their scripts (``block_order``), never by id."""
     aligner = _Aligner(golden, initial)
+    g_order, i_order = block_order(golden), block_order(initial)
     pairs = sorted(
         (
             (score, g_top, i_top)
@@ -27,7 +37,7 @@ def match_blocks(golden: TargetState, initial: TargetState) -> Matching:
             for i_top in top_blocks(initial)
             if (score := aligner.chains(g_top, i_top)) > 0
         ),
-        key=lambda item: (-item[0], item[1], item[2]),
+        key=lambda item: (-item[0], g_order[item[1]], i_order[item[2]]),
     )
     matching: Matching = {}
     used: set[str] = set()
@@ -38,20 +48,25 @@ def match_blocks(golden: TargetState, initial: TargetState) -> Matching:
             if g_id not in matching and i_id not in used:
                 matching[g_id] = i_id
                 used.add(i_id)
-    _match_leftovers(golden, initial, matching, used, aligner)
+    _match_leftovers(golden, initial, matching, used, aligner, i_order)
     return matching
 
 
 def _match_leftovers(
-    golden: TargetState, initial: TargetState, matching: Matching, used: set[str], aligner: _Aligner
+    golden: TargetState,
+    initial: TargetState,
+    matching: Matching,
+    used: set[str],
+    aligner: _Aligner,
+    i_order: dict[str, int],
 ) -> None:
-    free = [b.id for b in initial.blocks.values() if not b.shadow and b.id not in used]
-    for g_id in sorted(b.id for b in golden.blocks.values() if not b.shadow and b.id not in matching):
+    free = [i_id for i_id in preorder(initial) if i_id not in used]
+    for g_id in [g_id for g_id in preorder(golden) if g_id not in matching]:
         opcode = golden.blocks[g_id].opcode
         candidates = [i_id for i_id in free if initial.blocks[i_id].opcode == opcode]
         if not candidates:
             continue
-        best = max(candidates, key=lambda i_id: (aligner.blocks(g_id, i_id), i_id))
+        best = max(candidates, key=lambda i_id: (aligner.blocks(g_id, i_id), -i_order[i_id]))
         matching[g_id] = best
         used.add(best)
         free.remove(best)

@@ -25,6 +25,7 @@ from scratchworld_dist.oracle_plan._tree import (
     held_inputs,
     is_statement_input,
     literal,
+    preorder,
     script_differences,
     top_blocks,
     variable_names,
@@ -207,7 +208,7 @@ class _Planner:
     async def _delete_unkept(self, wanted: TargetState, kept: set[str]) -> None:
         while True:
             live = await self.live(wanted)
-            doomed = next((b for b in _preorder(live) if b not in kept), None)
+            doomed = next((b for b in preorder(live) if b not in kept), None)
             if doomed is None:
                 return
             for child in _children(live, doomed):
@@ -217,7 +218,7 @@ class _Planner:
             self.deleted += int(answer.get("deleted", 1))  # type: ignore[call-overload]
 
     async def _add_missing(self, wanted: TargetState, matching: Matching) -> None:
-        for block_id in _preorder(wanted):
+        for block_id in preorder(wanted):
             if block_id in matching:
                 continue
             block = wanted.blocks[block_id]
@@ -249,7 +250,7 @@ class _Planner:
 
     async def _set_values(self, wanted: TargetState, matching: Matching) -> None:
         live = await self.live(wanted)
-        for block_id in _preorder(wanted):
+        for block_id in preorder(wanted):
             block, mine = wanted.blocks[block_id], live.blocks[matching[block_id]]
             edits = [
                 (name, field.value)
@@ -328,19 +329,6 @@ def _attachment(target: TargetState, block_id: str) -> tuple[str, str | None] | 
     if parent.next == block_id:
         return (parent_id, None)
     return next(((parent_id, name) for name, held in held_inputs(parent) if held == block_id), None)
-
-
-def _preorder(target: TargetState) -> Iterator[str]:
-    """Non-shadow blocks, script by script: a block, what its inputs hold, then its next."""
-
-    def visit(first: str) -> Iterator[str]:
-        for block_id in chain(target, first):
-            yield block_id
-            for _, held in held_inputs(target.blocks[block_id]):
-                yield from visit(held)
-
-    for top in top_blocks(target):
-        yield from visit(top)
 
 
 def _spine_first(target: TargetState) -> Iterator[str]:

@@ -33,6 +33,9 @@ class BlockState(_PageModel):
     fields: dict[str, FieldState] = Field(default_factory=dict)
     inputs: dict[str, InputState] = Field(default_factory=dict)
     mutation: JsonValue = None
+    x: float | None = None
+    y: float | None = None
+    """Where a script's first block sits (the VM reassigns ids on a load, so order comes from here)."""
 
     def held(self, name: str) -> str | None:
         """The non-shadow block in input ``name``, if any."""

@@ -6,6 +6,7 @@ differs is described in words, so a plan that cannot reach its golden says where
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Iterator
 
 from scratchworld_dist.oracle_plan._state import BlockState, TargetState
 
@@ -64,7 +65,29 @@ def canonical_chain(target: TargetState, first: str) -> Canonical:
 
 
 def top_blocks(target: TargetState) -> list[str]:
-    return sorted(b.id for b in target.blocks.values() if b.top_level and not b.shadow)
+    """Scripts top to bottom, then left to right, then by content: never by id, which the VM may
+    reassign when it loads a project again, so plans come out the same on every run."""
+    tops = [b for b in target.blocks.values() if b.top_level and not b.shadow]
+    tops.sort(key=lambda b: (b.y or 0.0, b.x or 0.0, repr(canonical_chain(target, b.id))))
+    return [b.id for b in tops]
+
+
+def preorder(target: TargetState) -> Iterator[str]:
+    """Non-shadow blocks, script by script: a block, what its inputs hold, then its next."""
+
+    def visit(first: str) -> Iterator[str]:
+        for block_id in chain(target, first):
+            yield block_id
+            for _, held in held_inputs(target.blocks[block_id]):
+                yield from visit(held)
+
+    for top in top_blocks(target):
+        yield from visit(top)
+
+
+def block_order(target: TargetState) -> dict[str, int]:
+    """Each block's place in ``preorder``: the tie-break wherever ids would otherwise decide."""
+    return {block_id: place for place, block_id in enumerate(preorder(target))}
 
 
 def scripts_of(target: TargetState) -> Counter[Canonical]:
