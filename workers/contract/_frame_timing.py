@@ -3,8 +3,8 @@
 Upstream goldens are sensitive to the frame rate on both sides (issue 20), and real frames may come
 late, heavy ones later. ``calibrated`` makes each virtual frame late by a linear function of the work
 the VM did in it, with coefficients fitted on real runs (``benchmarks/frame_lateness.py``) and stored
-in ``frame_timing.json`` next to this module. Measured here, Chromium's frame loop keeps its 33 ms
-grid whatever the work, so the fit is close to a constant 0.2-0.5 ms (README, "Frame timing").
+in ``frame_timing.json`` next to this module. Measured here on an idle machine, Chromium's frame loop
+keeps its 33 ms grid whatever the work, so every coefficient fits to 0 (README, "Frame timing").
 """
 
 from __future__ import annotations
@@ -32,9 +32,10 @@ class FrameLateness(BaseModel):
 
     model_config = ConfigDict(frozen=True)
 
-    fixed_ms: float = Field(ge=-1000, le=1000)
-    per_block_ms: float = Field(ge=-1000, le=1000)
-    per_redraw_ms: float = Field(ge=-1000, le=1000)
+    fixed_ms: float = Field(ge=0, le=1000)
+    per_block_ms: float = Field(ge=0, le=1000)
+    per_redraw_ms: float = Field(ge=0, le=1000)
+    """No coefficient is negative: work never makes a frame come early (the fit is non-negative)."""
 
     def bridge_args(self) -> dict[str, float]:
         """The page's view (``scratch-gui/bridge.js``, ``frameTiming``)."""
