@@ -28,13 +28,10 @@
  * gives 1000 / (33 + L) frames per second). Both exist only in virtual time: on the real clock the
  * phase is whatever the wall clock gives, and timers are as late as the machine makes them.
  *
- * Frame timing: real frames may come late, heavy ones later (issue 20). The `calibrated` model
- * (`frameTiming`) makes each frame late by a linear function of the work it did (block functions called, a redraw asked for), counted here by the wrappers `attachVm`
- * installs (one increment per block call, no clock read), with coefficients fitted on real runs by
- * benchmarks/frame_lateness.py and handed in by Python. The same counts feed the frame trace that
- * benchmark reads (`traceFrames`), which an evaluation takes back before it returns. Measured on our
- * machine, Chromium's interval keeps its 33 ms grid whatever a frame does (frames take 1-6 ms), so
- * the fit is close to a constant (README, "Frame timing").
+ * Frame timing (`frameTiming`, the `calibrated` model of lateness.js): each frame late by a linear
+ * function of the work it did, counted here by the wrappers `attachVm` installs (one increment per
+ * block call, no clock read). The same counts feed the frame trace benchmarks/frame_lateness.py
+ * reads (`traceFrames`), which an evaluation takes back before it returns.
  *
  * Timers created during an evaluation are marked, so that a page can be reused: `drainEvaluation`
  * fires the ones still pending ahead of time and reports what keeps running (recycle.js).
@@ -51,7 +48,8 @@
   const realClearTimeout = window.clearTimeout.bind(window);
   const realSetInterval = window.setInterval.bind(window);
   const realClearInterval = window.clearInterval.bind(window);
-  const seededGenerator = window.__scratchworldRandom.generator; // random.js, loaded first
+  const combinedLateness = window.__scratchworldLateness.combined; // lateness.js, loaded first
+  delete window.__scratchworldLateness;
   const report = (error) => (window.reportError ? window.reportError(error) : realSetTimeout(() => { throw error; }, 0));
 
   // HTML timer rules: delays are whole milliseconds, and past 5 nested levels at least 4 ms.
@@ -242,34 +240,6 @@
   window.setInterval = (handler, delay, ...args) => addTimer(handler, delay, args, true);
   window.clearTimeout = clearTimer;
   window.clearInterval = clearTimer;
-
-  // How late a repeating timer fires, by model: (parameters, random) => (timer, work) => ms, where
-  // `work` is what the VM's frame did ({blocks, redraw}) when the timer is the frame loop, else null.
-  // `fixed`: every firing exactly `ms` late; `uniform`: drawn from [0, 2 ms) (mean `ms`) by the seeded
-  // generator; `calibrated`: the frame loop only, late by fixedMs + perBlockMs * blocks + perRedrawMs *
-  // redraw (coefficients fitted on real runs by benchmarks/frame_lateness.py and handed in by Python):
-  // deterministic, it reads no clock.
-  const LATENESS_MODELS = Object.freeze({
-    fixed: (parameters) => () => parameters.ms,
-    uniform: (parameters, random) => () => random() * 2 * parameters.ms,
-    calibrated: (parameters) => (timer, work) => (work === null ? 0 : Math.max(0,
-      parameters.fixedMs + parameters.perBlockMs * work.blocks + parameters.perRedrawMs * work.redraw)),
-  });
-
-  function latenessOf(parameters) {
-    if (!parameters) return null;
-    if (parameters.model !== 'calibrated' && !(parameters.ms > 0)) return null; // 0: today's exact timing
-    const model = LATENESS_MODELS[parameters.model];
-    if (!model) throw new Error(`unknown lateness model ${parameters.model}`);
-    return model(parameters, seededGenerator(parameters.seed || 0));
-  }
-
-  // Several models at once (a perturbation on top of the calibrated frame timing): their sum.
-  function combinedLateness(models) {
-    const parts = models.map(latenessOf).filter((part) => part !== null);
-    if (parts.length === 0) return null;
-    return (timer, work) => parts.reduce((total, part) => total + part(timer, work), 0);
-  }
 
   function frameTimer() {
     return steppedRuntime ? timers.get(steppedRuntime._steppingInterval) || null : null;

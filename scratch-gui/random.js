@@ -4,7 +4,7 @@
  * An evaluation run under a perturbation (`scratchworld flakes`) draws `Math.random` from a
  * generator seeded with the recorded seed: the VM's "pick random", clones' ids and the script's
  * own draws all follow it (in two streams, see `seed`), and the flake finder varies the seed on purpose. Outside such runs the
- * browser's generator is in place. clock.js draws its seeded timer lateness from the same
+ * browser's generator is in place. lateness.js draws its seeded timer lateness from the same
  * generator. bridge.js takes the controller from `window.__scratchworldRandom` (and deletes it).
  */
 (function () {
