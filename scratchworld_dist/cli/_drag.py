@@ -9,6 +9,8 @@ from pathlib import Path
 
 import click
 
+from scratchworld_dist.cli._suite_options import comma_list, tasks_option
+
 EXIT_INVALID = 1
 
 
@@ -46,7 +48,7 @@ def make_command(projects: tuple[Path, ...], out: Path, name: str | None, per_pr
 
 @drag_group.command("validate")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
-@click.option("--tasks", "task_ids", help="Comma-separated task ids (default: all).")
+@tasks_option
 @click.option("--parallel", type=click.IntRange(min=1), default=1, show_default=True, help="Editors at a time.")
 @click.option(
     "--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write each task's check and regions."
@@ -64,7 +66,7 @@ def validate_command(suite_dir: Path, task_ids: str | None, parallel: int, json_
     from scratchworld_dist.drag._validate import DragTaskCheck, validate_drag_tasks
 
     suite = load_drag_suite(suite_dir)
-    wanted = [t.strip() for t in task_ids.split(",") if t.strip()] if task_ids else None
+    wanted = comma_list(task_ids)
     tasks = [suite.task(task_id) for task_id in wanted] if wanted else list(suite.tasks)
     console = Console(stderr=True)
     for problem in suite.problems:

@@ -13,6 +13,7 @@ from rich.table import Table
 from rich.text import Text
 
 from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._suite_options import comma_list, suite_check_options
 from scratchworld_dist.flakes import (
     AXES,
     DEFAULT_LATENESS_MS,
@@ -95,14 +96,7 @@ def _levels(text: str) -> tuple[float, ...]:
 
 @click.command("flakes")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
-@click.option("--tasks", "task_ids", help="Comma-separated task ids (default: all).")
-@click.option("--task-list", help="Upstream task list, e.g. all_tasks or 15_tasks.")
-@click.option("--parallel", type=click.IntRange(min=1), default=1, show_default=True, help="Editors at a time.")
-@click.option(
-    "--profile",
-    type=click.Choice(["native", "upstream"]),
-    help="Evaluation profile (default: upstream for upstream clones, native for our suites).",
-)
+@suite_check_options
 @click.option(
     "--clock",
     type=click.Choice(["virtual", "real"]),
@@ -154,7 +148,7 @@ def flakes_command(
         load_processes=load_processes or os.cpu_count() or 1,
     )
     suite = load_suite(suite_dir, task_list=task_list)
-    tasks = suite.select(ids=[t.strip() for t in task_ids.split(",") if t.strip()] if task_ids else None)
+    tasks = suite.select(ids=comma_list(task_ids))
     console = Console(stderr=True)
     if not tasks:
         raise click.UsageError(f"{suite_dir} has no tasks to check")

@@ -13,6 +13,7 @@ from rich.markup import escape
 from rich.table import Table
 from rich.text import Text
 
+from scratchworld_dist.cli._suite_options import comma_list, tasks_option
 from scratchworld_dist.suites import CATEGORIES
 
 if TYPE_CHECKING:
@@ -42,7 +43,7 @@ def render_totals(records: list[TaskPlanRecord]) -> Table:
 
 @click.command("oracle-plan")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
-@click.option("--tasks", "task_ids", help="Comma-separated task ids (default: all).")
+@tasks_option
 @click.option(
     "--out",
     required=True,
@@ -62,7 +63,7 @@ def oracle_plan_command(suite_dir: Path, task_ids: str | None, out: Path) -> Non
     from scratchworld_dist.oracle_plan import plan_folder, plan_suite, planning_suite  # the browser stack: here only
 
     suite = planning_suite(suite_dir)
-    tasks = suite.select(ids=[t.strip() for t in task_ids.split(",") if t.strip()] if task_ids else None)
+    tasks = suite.select(ids=comma_list(task_ids))
     folder = plan_folder(out, suite)
     console = Console(stderr=True)
     console.print(f"planning {len(tasks)} task(s) of {suite.name} into {folder}", markup=False)

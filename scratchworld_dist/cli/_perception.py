@@ -8,6 +8,7 @@ from pathlib import Path
 
 import click
 
+from scratchworld_dist.cli._suite_options import comma_list
 from scratchworld_dist.perception import PerceptionView
 
 EXIT_INVALID = 1
@@ -79,7 +80,7 @@ def validate_command(suite_dir: Path, view_ids: str | None, parallel: int) -> No
 
     suite = load_perception_suite(suite_dir)
     refuse_upstream(suite)
-    wanted = [v.strip() for v in view_ids.split(",") if v.strip()] if view_ids else None
+    wanted = comma_list(view_ids)
     if wanted is not None:
         for view_id in wanted:
             suite.view(view_id)  # an unknown view is a one-line error

@@ -14,6 +14,7 @@ from rich.text import Text
 
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
 from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._suite_options import comma_list, suite_check_options
 from scratchworld_dist.cli._timing_option import timing_option
 from scratchworld_dist.suites import Task, load_suite
 from workers.contract import EvalResult, EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationTiming
@@ -43,14 +44,7 @@ def render_table(rows: list[TaskValidation]) -> Table:
 
 @click.command("validate")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
-@click.option("--tasks", "task_ids", help="Comma-separated task ids (default: all).")
-@click.option("--task-list", help="Upstream task list, e.g. all_tasks or 15_tasks.")
-@click.option("--parallel", type=click.IntRange(min=1), default=1, show_default=True, help="Editors at a time.")
-@click.option(
-    "--profile",
-    type=click.Choice(["native", "upstream"]),
-    help="Evaluation profile (default: upstream for upstream clones, native for our suites).",
-)
+@suite_check_options
 @click.option(
     "--clock",
     type=click.Choice(["virtual", "real"]),
@@ -75,7 +69,7 @@ def validate_command(
     Exits 1 when a golden fails or a debug initial passes.
     """
     suite = load_suite(suite_dir, task_list=task_list)
-    tasks = suite.select(ids=[t.strip() for t in task_ids.split(",") if t.strip()] if task_ids else None)
+    tasks = suite.select(ids=comma_list(task_ids))
     console = Console(stderr=True)
     conditions = ""
     if tasks:  # a suite's tasks share their defaults
