@@ -164,10 +164,7 @@ class _Planner:
         return (await read_indexes(self.editor)).index(block_id)
 
     async def live(self, wanted: TargetState) -> TargetState:
-        found = (await read_state(self.editor)).target(wanted.name, wanted.is_stage)
-        if found is None:
-            raise PlanRefusedError(f"target {wanted.name!r} went away while planning")
-        return found
+        return _live_target(await read_state(self.editor), wanted)
 
     async def select(self, wanted: TargetState) -> None:
         if self.selected == wanted.name:
@@ -189,9 +186,7 @@ class _Planner:
 
     async def target(self, wanted: TargetState) -> None:
         state = await read_state(self.editor)
-        live, stage = state.target(wanted.name, wanted.is_stage), state.target("", is_stage=True)
-        if live is None:
-            raise PlanRefusedError(f"target {wanted.name!r} went away while planning")
+        live, stage = _live_target(state, wanted), state.target("", is_stage=True)
         shared = variable_names(stage) if stage is not None and not wanted.is_stage else set()
         local = variable_names(wanted) - variable_names(live) - shared
         if not script_differences(wanted, live) and not local:
@@ -236,14 +231,16 @@ class _Planner:
             self.touched.add(created)
 
     async def _restructure(self, wanted: TargetState, matching: Matching) -> None:
+        order = list(_spine_first(wanted))  # the golden does not change while the live target does
         for _ in range(MOVES_PER_BLOCK * len(matching) + 10):
-            move = _first_misplaced(wanted, await self.live(wanted), matching)
+            move = _first_misplaced(wanted, order, await self.live(wanted), matching)
             if move is None:
                 return
             api, source, placement, target = move
-            args: dict[str, object] = {"sourceBlockIndex" if target else "blockIndex": await self.index(source)}
+            indexes = await read_indexes(self.editor)
+            args: dict[str, object] = {"sourceBlockIndex" if target else "blockIndex": indexes.index(source)}
             if target is not None:
-                args["targetBlockIndex"] = await self.index(target)
+                args["targetBlockIndex"] = indexes.index(target)
                 args["placement"] = placement
             await self.call(api, args, source)
         raise PlanRefusedError(f"{wanted.name}: the scripts did not settle into the golden's shape")
@@ -266,14 +263,21 @@ class _Planner:
                 await self.call("set_block_field", args, mine.id)
 
 
+def _live_target(state: ProjectState, wanted: TargetState) -> TargetState:
+    found = state.target(wanted.name, wanted.is_stage)
+    if found is None:
+        raise PlanRefusedError(f"target {wanted.name!r} went away while planning")
+    return found
+
+
 Move = tuple[str, str, dict[str, str] | None, str | None]
 """(api, source block, placement, target block); a detach has neither placement nor target."""
 
 
-def _first_misplaced(wanted: TargetState, live: TargetState, matching: Matching) -> Move | None:
-    """The move for the first golden block (spines before C-slots) whose live block hangs elsewhere, or holds
-    what it should not."""
-    for block_id in _spine_first(wanted):
+def _first_misplaced(wanted: TargetState, order: list[str], live: TargetState, matching: Matching) -> Move | None:
+    """The move for the first golden block in ``order`` (``_spine_first``) whose live block hangs elsewhere,
+    or holds what it should not."""
+    for block_id in order:
         block, mine = wanted.blocks[block_id], live.blocks[matching[block_id]]
         want = _attachment(wanted, block_id)
         have = _attachment(live, mine.id)
