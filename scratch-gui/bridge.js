@@ -265,7 +265,7 @@
     if (value == null) return null;
     for (const name of ['fixedMs', 'perBlockMs', 'perRedrawMs']) {
       const ms = value[name];
-      if (!(typeof ms === 'number' && Math.abs(ms) <= 1000)) throw new BridgeFailure('bad_request', `frameTiming.${name} must be a number from -1000 to 1000`);
+      if (!(typeof ms === 'number' && ms >= 0 && ms <= 1000)) throw new BridgeFailure('bad_request', `frameTiming.${name} must be a number from 0 to 1000`);
     }
     if (clockMode !== 'virtual') throw new BridgeFailure('bad_request', 'a frame timing model needs the virtual clock');
     return {model: 'calibrated', fixedMs: value.fixedMs, perBlockMs: value.perBlockMs, perRedrawMs: value.perRedrawMs};
