@@ -124,7 +124,7 @@ def test_bad_options_get_a_one_line_error_and_exit_2(
 def test_the_upstream_clone_runs_and_reports_its_tests(
     tmp_path: Path, upstream_clone: Path, run: Callable[..., Done]
 ) -> None:
-    """Upstream ships no evaluation scripts: the clone carries ours (tests/data); skipped without upstream data."""
+    """The upstream data here has no evaluation scripts: the clone carries ours (tests/data); skipped without it."""
     out = tmp_path / "flakes.json"
     done = run(
         "flakes", str(upstream_clone), "--tasks", "calculate_gcd", "--axes", "seed,phase", "--runs", "1",
