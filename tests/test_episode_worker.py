@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import os
 from collections.abc import AsyncIterator
 
+import psutil
 import pytest
 from playwright.async_api import Error as PlaywrightError
 
@@ -13,10 +15,11 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
-from workers.agent_api import AgentBase, StepResult
+from workers.agent_api import AgentBase, StepResult, build_agent
 from workers.contract import (
     Action,
     AgentRef,
+    Done,
     EpisodeSpec,
     LLMSettings,
     LoadProject,
@@ -29,7 +32,7 @@ from workers.contract import (
 )
 from workers.editor import BrowserSession
 from workers.episode import EpisodeRunner, EpisodeWorker
-from workers.node import harness_fingerprint
+from workers.node import harness_fingerprint, thread_policies
 from workers.primitive import PRIMITIVE_APIS
 
 pytestmark = pytest.mark.browser
@@ -252,3 +255,65 @@ async def test_agent_crash_step_limit_and_rejected_actions(
     assert len(busy.steps) == few.max_steps == 4
     assert all(step.ok for step in busy.steps)
     assert busy.outcome == "passed"  # the step limit ends the episode; the project is still judged
+
+
+class WaitingAgent(AgentBase):
+    """Says done once ``go`` is set: an agent whose model is still thinking until then."""
+
+    observes = False
+
+    def __init__(self, go: asyncio.Event) -> None:
+        super().__init__()
+        self.go = go
+        self.acting = asyncio.Event()
+
+    async def act(self, observation: Observation | None, last: StepResult | None) -> Action:
+        self.acting.set()
+        await self.go.wait()
+        return Done()
+
+
+SAME_VERDICT = {"timings", "console"}
+"""What may differ between two evaluations of one project: how long they took, and the editor's own warnings."""
+
+
+def idle_threads(browser_pid: int) -> set[bool]:
+    """For every thread of a browser's processes but realtime ones (audio): whether it is in the idle class."""
+    root = psutil.Process(browser_pid)
+    policies = {policy for process in [root, *root.children(recursive=True)] for policy in thread_policies(process.pid)}
+    return {policy == os.SCHED_IDLE for policy in policies - {os.SCHED_RR, os.SCHED_FIFO}}
+
+
+async def test_an_evaluation_gives_way_to_episodes_still_acting(
+    session: BrowserSession, contents: dict[str, TaskContent]
+) -> None:
+    """While another episode of the runner acts, a virtual-clock evaluation runs in a browser of the idle class,
+    with the verdict it gets at full priority; with no other episode acting, it runs in the runner's own."""
+    content = contents["bouncing_ball_stuck"]
+    spec, payload = episode(content)
+    assert payload.evaluation.clock == "virtual"
+    runner = EpisodeRunner(session)
+    go = asyncio.Event()
+    agent = WaitingAgent(go)
+    waiting = asyncio.ensure_future(runner.run(spec, payload, agent))
+    try:
+        await agent.acting.wait()
+        solved = await runner.run(spec, payload, build_agent(spec.agent))
+        background = runner.background
+        assert background is not None and background.session is not session
+        assert solved.outcome == "passed" and solved.evaluation is not None and solved.final_project is not None
+        assert idle_threads(await background.session.browser_pid()) == {True}  # its editors opened after launch
+        assert idle_threads(await session.browser_pid()) == {False}
+        at_full_priority = await runner.evaluator.evaluate(solved.final_project, payload.evaluation)
+        assert at_full_priority.model_dump(exclude=SAME_VERDICT) == solved.evaluation.model_dump(exclude=SAME_VERDICT)
+        assert background.pool is not None
+        opened, reused = background.pool.opened, background.pool.reused
+        go.set()
+        alone = await waiting
+        assert alone.outcome == "failed" and alone.evaluation is not None
+        assert (background.pool.opened, background.pool.reused) == (opened, reused)  # evaluated at full priority
+    finally:
+        go.set()
+        await waiting
+        await runner.close()
+    assert runner.background is None and not background.session.connected

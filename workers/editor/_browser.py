@@ -26,6 +26,7 @@ from workers.contract import ChromiumNotFoundError, EditorCrashedError, EditorEr
 from workers.editor._editor import Editor, opened
 from workers.editor._server import EditorAssets, EditorServer
 from workers.node._installation import default_chromium
+from workers.node._priority import idle_priority
 
 CHROMIUM_ARGS: tuple[str, ...] = (
     "--headless",
@@ -75,6 +76,10 @@ class BrowserConfig(BaseModel):
     """Editors this browser opens at once. Opening one is CPU-bound (the editor's bundle is parsed,
     compiled and run), so more at once only make each later: 16 at once on 2 cores ran past the
     ready timeout. The others wait their turn."""
+
+    idle_priority: bool = False
+    """Run all the browser's processes in Linux's idle scheduling class: they get only the CPU time that
+    other work leaves over (a worker's virtual-clock evaluations give way to its agents' steps)."""
 
 
 class _State(enum.Enum):
@@ -145,6 +150,8 @@ class BrowserSession:
                 headless=True,
                 args=[*CHROMIUM_ARGS, *isolation_args(self._server.proxy), *self.config.extra_args],
             )
+            if self.config.idle_priority:
+                await asyncio.to_thread(idle_priority, await self.browser_pid())
         except PlaywrightError as exc:
             await self.close()
             raise EditorError(f"Chromium at {executable} failed to start: {exc.message}") from exc
@@ -152,6 +159,17 @@ class BrowserSession:
             await self.close()
             raise
         return self
+
+    async def browser_pid(self) -> int:
+        """The process id of Chromium's browser process (the root of all its processes)."""
+        if self._browser is None:
+            raise RuntimeError("the browser session is not open")
+        cdp = await self._browser.new_browser_cdp_session()
+        try:
+            processes = (await cdp.send("SystemInfo.getProcessInfo"))["processInfo"]
+        finally:
+            await cdp.detach()
+        return next(int(process["id"]) for process in processes if process["type"] == "browser")
 
     async def responsive(self, timeout_s: float = RESPONSIVE_TIMEOUT_S) -> bool:
         """Whether the browser still does its work: it opens and closes an empty context in time.

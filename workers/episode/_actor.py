@@ -88,7 +88,7 @@ class EpisodeWorker:
         """This worker's editors and their memory, the node's available memory, and whether it takes jobs."""
         usage, memory = await asyncio.to_thread(lambda: (browser_usage(), node_memory()))
         return WorkerLoad(
-            editors=self._runner.pool.held if self._runner is not None else 0,
+            editors=self._runner.editors_held if self._runner is not None else 0,
             browser_pss_bytes=usage.pss_bytes,
             node_available_bytes=memory.available_bytes,
             admits=memory.available_bytes >= self.memory_reserve_bytes,
@@ -235,11 +235,15 @@ class EpisodeWorker:
         if await session.responsive():
             return  # only the episode's own page broke: its siblings carry on
         if session is self._session:
+            if self._runner is not None:
+                await self._runner.close()
             self._session = self._runner = None
         await session.close()
 
     async def _drop_browser(self) -> None:
-        session, self._session, self._runner = self._session, None, None
+        session, runner, self._session, self._runner = self._session, self._runner, None, None
+        if runner is not None:
+            await runner.close()
         if session is not None:
             await session.close()
 

@@ -86,6 +86,17 @@ after the other, the first agent acts sooner and the episodes' steps do not all 
 moments (measured with 32 episodes on 2 cores: every step then waited seconds for the others')."""
 
 
+BACKGROUND_EVALUATIONS = "a second browser in Linux's idle scheduling class"
+"""Where an episode's evaluation runs while other episodes of the runner are acting, when it is on the
+virtual clock: its verdict does not depend on how fast it runs, while every step of the others
+does (measured with 32 episodes on 2 cores: their last steps waited seconds for the evaluations of
+the first). The browser gets only the CPU time the agents' browser leaves over."""
+
+EVALUATIONS_AT_ONCE = 2
+"""Evaluations a runner's background browser runs at once (each is CPU-bound: more would only make
+each later and hold more editors)."""
+
+
 class _Turn:
     """One of a limited number of turns, given back on exit or earlier by ``release`` (once)."""
 
@@ -115,7 +126,13 @@ class EpisodeRunner:
         self.session = session
         self.pool = pool
         self.evaluator = Evaluator(session, pool)
+        self._background: Evaluator | None = None
+        """Evaluations that give way to agents (``BACKGROUND_EVALUATIONS``): its own browser, opened at first use."""
+        self._background_opening = asyncio.Lock()
+        self._background_turns = asyncio.Semaphore(EVALUATIONS_AT_ONCE)
         self._starts = asyncio.Semaphore(STARTS_AT_ONCE)
+        self._acting = 0
+        """Episodes of this runner in their agent loop (waiting on their agents or acting)."""
         self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
         """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
 
@@ -153,6 +170,7 @@ class EpisodeRunner:
                 starting.release()
                 context = _context(spec, task, agent, editor, environment, models, memory)
                 stop_reason = "internal_error"
+                self._acting += 1
                 try:
                     await _guarded(agent.start(context), "failed to start")
                     timings.setup_s = time.perf_counter() - clock
@@ -167,6 +185,7 @@ class EpisodeRunner:
                     stop_reason = "editor_failure"
                     raise
                 finally:
+                    self._acting -= 1
                     ended = agent.finish(EpisodeEnd(stop_reason=stop_reason, steps=len(steps)))
                     if stop_reason in (*FINAL_ACTIONS, "max_steps"):
                         await _guarded(ended, "failed to finish")
@@ -187,7 +206,12 @@ class EpisodeRunner:
             result = EpisodeResult.errored(spec, exc.error_class, str(exc), steps=steps)
             return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
         evaluation_start = time.perf_counter()
-        evaluation = await self.evaluator.evaluate(final_project, task.evaluation, spec.project_limits)
+        if self._acting and task.evaluation.clock == "virtual":
+            async with self._background_turns:
+                background = await self._background_evaluator()
+                evaluation = await background.evaluate(final_project, task.evaluation, spec.project_limits)
+        else:
+            evaluation = await self.evaluator.evaluate(final_project, task.evaluation, spec.project_limits)
         timings.evaluation_s = time.perf_counter() - evaluation_start
         outcome, error_class = outcome_of(evaluation)
         result = EpisodeResult(
@@ -202,6 +226,38 @@ class EpisodeRunner:
             final_project=final_project,
         )
         return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
+
+    async def _background_evaluator(self) -> Evaluator:
+        """The evaluator of the low-priority browser, started (again, if it died) on first use."""
+        async with self._background_opening:
+            if self._background is None or not self._background.session.connected:
+                await self._close_background()
+                session = await BrowserSession(self.session.config.model_copy(update={"idle_priority": True})).start()
+                self._background = Evaluator(session, EditorPool(session, spare=0))
+            return self._background
+
+    @property
+    def background(self) -> Evaluator | None:
+        """The evaluator that gives way to acting episodes, once one evaluation has needed it."""
+        return self._background
+
+    @property
+    def editors_held(self) -> int:
+        """Editors of both browsers: waiting, lent or opening."""
+        held = self.pool.held if self.pool is not None else 0
+        background = self._background.pool if self._background is not None else None
+        return held + (background.held if background is not None else 0)
+
+    async def _close_background(self) -> None:
+        background, self._background = self._background, None
+        if background is not None:
+            if background.pool is not None:
+                await background.pool.close()
+            await background.session.close()
+
+    async def close(self) -> None:
+        """Close the background browser (the runner's own session and pool belong to its caller)."""
+        await self._close_background()
 
 
 def _context(

@@ -12,6 +12,7 @@ from workers.node._installation import (
     default_chromium,
     default_gui_dir,
 )
+from workers.node._priority import idle_priority, thread_policies
 from workers.node._usage import BrowserUsage, NodeMemory, browser_usage, node_memory
 
 __all__ = [
@@ -31,5 +32,7 @@ __all__ = [
     "describe_node",
     "environment_parts",
     "harness_fingerprint",
+    "idle_priority",
     "node_memory",
+    "thread_policies",
 ]
