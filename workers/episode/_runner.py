@@ -6,6 +6,12 @@ recycled after an earlier episode or evaluation and verified as good as fresh.
 
 On the virtual episode clock (``EpisodeSpec.episode_clock``) the agent's page time stands still
 while the agent decides and moves by a fixed amount after each action.
+
+A verdict on the virtual evaluation clock does not depend on how fast the evaluation runs, while
+every step of an episode waiting on its model counts in its latency. So while other episodes of the
+runner act, a virtual-clock evaluation runs in a second browser in Linux's idle scheduling class,
+which gets only the CPU time the agents' browser leaves over (measured with 32 episodes on 2 cores:
+their last steps had waited seconds for the evaluations of the first).
 """
 
 from __future__ import annotations
@@ -86,12 +92,6 @@ after the other, the first agent acts sooner and the episodes' steps do not all 
 moments (measured with 32 episodes on 2 cores: every step then waited seconds for the others')."""
 
 
-BACKGROUND_EVALUATIONS = "a second browser in Linux's idle scheduling class"
-"""Where an episode's evaluation runs while other episodes of the runner are acting, when it is on the
-virtual clock: its verdict does not depend on how fast it runs, while every step of the others
-does (measured with 32 episodes on 2 cores: their last steps waited seconds for the evaluations of
-the first). The browser gets only the CPU time the agents' browser leaves over."""
-
 EVALUATIONS_AT_ONCE = 2
 """Evaluations a runner's background browser runs at once (each is CPU-bound: more would only make
 each later and hold more editors)."""
@@ -127,7 +127,7 @@ class EpisodeRunner:
         self.pool = pool
         self.evaluator = Evaluator(session, pool)
         self._background: Evaluator | None = None
-        """Evaluations that give way to agents (``BACKGROUND_EVALUATIONS``): its own browser, opened at first use."""
+        """Evaluations that give way to acting episodes (see the module's docstring); opened at first use."""
         self._background_opening = asyncio.Lock()
         self._background_turns = asyncio.Semaphore(EVALUATIONS_AT_ONCE)
         self._starts = asyncio.Semaphore(STARTS_AT_ONCE)

@@ -3,10 +3,10 @@
 A thread in ``SCHED_IDLE`` runs only on CPU time that threads of the normal class leave over
 (its weight is under a third of a percent of a default thread's). Niceness would not hold:
 Chromium sets its threads' nice values itself (e.g. -8 for display threads when it may), but it
-leaves the scheduling class alone (except for realtime audio threads, which it moves to
-``SCHED_RR`` when allowed: they are left so), and a new thread or process starts in its creator's class. So
-every thread of the browser's processes moves, and the renderers Chromium forks later (from its
-zygote) and the processes it launches later (from its browser process) start in the class too.
+leaves the scheduling class alone (but for realtime audio threads, which it moves to ``SCHED_RR``
+when it may), and a new thread or process starts in its creator's class. So every thread of the
+browser's processes moves, and the renderers Chromium forks later (from its zygote) and the
+processes it launches later (from its browser process) start in the class too.
 Moving into the class needs no privilege, and nothing here ever moves a thread out of it.
 """
 
@@ -20,7 +20,10 @@ import psutil
 
 
 def idle_priority(root_pid: int) -> int:
-    """Move ``root_pid`` and its descendants, every thread, to ``SCHED_IDLE``; the number of threads moved."""
+    """Move ``root_pid`` and its descendants, every thread, to ``SCHED_IDLE``; the number of threads moved
+    (0 where the system has no such class: the browser then runs at normal priority)."""
+    if not hasattr(os, "SCHED_IDLE"):
+        return 0
     try:
         root = psutil.Process(root_pid)
         processes = [root, *root.children(recursive=True)]
@@ -37,7 +40,7 @@ def idle_priority(root_pid: int) -> int:
 
 
 def thread_policies(pid: int) -> list[int]:
-    """The scheduling policy (``os.SCHED_*``) of each thread of ``pid``."""
+    """The scheduling policy (``os.SCHED_*``, Linux) of each thread of ``pid``."""
     policies = []
     for tid in _threads(pid):
         with contextlib.suppress(OSError):
