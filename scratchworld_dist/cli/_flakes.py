@@ -77,7 +77,7 @@ def render_table(rows: list[TestStability]) -> Table:
 
 
 def _axes(text: str) -> tuple[Axis, ...]:
-    names = [name.strip() for name in text.split(",") if name.strip()]
+    names = comma_list(text) or []
     unknown = [name for name in names if name not in AXES]
     if unknown or not names:
         raise click.BadParameter(f"{', '.join(unknown) or 'none given'}; choose from {', '.join(AXES)}")
@@ -86,7 +86,7 @@ def _axes(text: str) -> tuple[Axis, ...]:
 
 def _levels(text: str) -> tuple[float, ...]:
     try:
-        levels = tuple(float(part) for part in text.split(",") if part.strip())
+        levels = tuple(float(part) for part in comma_list(text) or [])
     except ValueError:
         raise click.BadParameter(f"{text!r} is not a comma-separated list of milliseconds") from None
     if not levels or any(not 0 <= level <= 1000 for level in levels):
