@@ -106,7 +106,7 @@ def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any 
         config.suite,
         config.drag.optional_suites,
         load_drag_suite,
-        lambda message: say(message, markup=False),
+        lambda message: say(message, markup=False, soft_wrap=True),
         benchmark="drag",
         item="task",
     )
@@ -114,7 +114,7 @@ def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any 
     for suite in suites:
         for task in suite.tasks:
             if task.view is None:
-                say(f"drag: {suite.name} {task.id} has no usable view and is left out", markup=False)
+                say(f"drag: {suite.name} {task.id} has no usable view and is left out", markup=False, soft_wrap=True)
                 continue
             tasks.append(task)
     wanted = wanted_ids([task.id for task in tasks], config.tasks.ids, benchmark="drag", item="task")
@@ -159,7 +159,7 @@ def plan_perception_run(config: SweepConfig, harness: HarnessFingerprint, notice
         perception.optional_suites,
         config.tasks.ids,
         perception.kinds,
-        lambda message: say(message, markup=False),
+        lambda message: say(message, markup=False, soft_wrap=True),
     )
     contents = selection.contents
     info = SuiteInfo(

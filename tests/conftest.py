@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import shutil
+from collections import Counter
 from collections.abc import AsyncIterator, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -34,14 +35,31 @@ BROWSER_FIXTURES = frozenset({"session", "evaluator", "fresh_evaluator"})
 RAY_FIXTURES = frozenset({"shared_ray"})
 
 
+MARKER_SECONDS = {"slow": 20.0, "ray": 4.0, "browser": 2.0}
+"""Roughly what a test with the marker takes on 2 cores; a test with none takes next to nothing."""
+
+
+def expected_seconds(item: pytest.Item) -> float:
+    return max((MARKER_SECONDS[m.name] for m in item.iter_markers() if m.name in MARKER_SECONDS), default=0.05)
+
+
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """A test that uses the shared browser (or Ray) is a browser (ray) test, whichever module it is in."""
+    """A test that uses the shared browser (or Ray) is a browser (ray) test, whichever module it is in.
+
+    Modules are then ordered by the time their markers promise, longest first: the parallel run
+    (``-n 2 --dist loadfile``, pyproject) hands out whole modules in this order, so the last
+    ones to start are short and neither worker idles long at the end.
+    """
     for item in items:
         fixtures = set(getattr(item, "fixturenames", ()))
         if BROWSER_FIXTURES & fixtures:
             item.add_marker(pytest.mark.browser)
         if RAY_FIXTURES & fixtures:
             item.add_marker(pytest.mark.ray)
+    modules: Counter[str] = Counter()
+    for item in items:
+        modules[item.path.name] += expected_seconds(item)
+    items.sort(key=lambda item: -modules[item.path.name])  # stable: a module's own order stays
 
 
 @pytest.fixture(scope="session")

@@ -163,6 +163,16 @@ class OpenAIServer:
     def release(self) -> None:
         self._open.set()
 
+    def reset(self, responder: Callable[[dict[str, Any]], Behaviour] | None = None) -> OpenAIServer:
+        """Forget the script and the requests so far and answer with ``responder``: one server serves a
+        module's tests (its address can then be in the environment of a Ray started once)."""
+        with self._lock:
+            self._script.clear()
+            self._requests.clear()
+            self.responder = responder
+        self.release()
+        return self
+
     def push(self, *behaviours: Behaviour) -> None:
         with self._lock:
             self._script.extend(behaviours)

@@ -16,6 +16,7 @@ import pytest
 
 from scratchworld_dist.sb3 import Project, block, rect_costume
 from workers.contract import EvalResult, EvaluationSpec
+from workers.editor import BrowserSession, EditorPool
 from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
@@ -85,12 +86,12 @@ async def test_frames_nobody_looks_at_are_not_drawn_and_a_picture_asked_for_is_r
 
 
 async def test_a_page_after_an_on_demand_evaluation_recycles_clean_and_draws_every_frame_again(
-    evaluator: Evaluator,
+    session: BrowserSession,
 ) -> None:
-    pool = evaluator.pool
-    assert pool is not None
-    await evaluate(evaluator, "on_demand")
-    discarded, opened = sum(pool.discarded.values()), pool.opened
-    again = await evaluate(evaluator, "every_frame")
-    assert (sum(pool.discarded.values()), pool.opened) == (discarded, opened)  # the same page served again
+    """(A pool of its own: an editor of the shared one may retire at its use limit between the two.)"""
+    async with EditorPool(session, spare=0) as pool:
+        evaluator = Evaluator(session, pool)
+        await evaluate(evaluator, "on_demand")
+        again = await evaluate(evaluator, "every_frame")
+        assert (pool.opened, pool.reused, dict(pool.discarded)) == (1, 1, {})  # the same page served again
     assert again.tests[0].meta["draws"] >= 25  # type: ignore[index]

@@ -17,11 +17,12 @@ import pytest
 import yaml
 
 from scratchworld_dist.results import RunStore
+from scratchworld_dist.scheduling import ray_runtime
 from scratchworld_dist.suites import load_suite
 from tests.cli_runner import invoke
 from tests.conftest import REPO
 from tests.openai_server import Behaviour, OpenAIServer, reply, status
-from tests.sweep_driver import Driver, run
+from tests.sweep_driver import run_here
 
 pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow]
 
@@ -68,10 +69,27 @@ class TrajectoryModel:
         return reply(text, prompt_tokens=PROMPT_TOKENS, completion_tokens=COMPLETION_TOKENS)
 
 
-@pytest.fixture
-def server() -> Iterator[OpenAIServer]:
-    with OpenAIServer(responder=TrajectoryModel()) as running:
+@pytest.fixture(scope="module")
+def module_server() -> Iterator[OpenAIServer]:
+    """The module's server, its address and key in the environment for as long as the module runs."""
+    with OpenAIServer() as running, pytest.MonkeyPatch.context() as patch:
+        patch.setenv("SCRATCHWORLD_LLM_BASE_URL", running.url)
+        patch.setenv("SCRATCHWORLD_LLM_API_KEY", SECRET)
         yield running
+
+
+@pytest.fixture(scope="module")
+def shared_ray(module_server: OpenAIServer) -> Iterator[int]:
+    """The module's Ray, started once the server is in the environment: its workers read the address and
+    key from theirs, as the workers of a node do. The drivers run in the test's process (``run_here``)."""
+    with ray_runtime(None, None) as slots:
+        yield slots
+
+
+@pytest.fixture
+def server(module_server: OpenAIServer, shared_ray: int) -> OpenAIServer:
+    """The module's server with no request yet, answering as the golden-following model."""
+    return module_server.reset(TrajectoryModel())
 
 
 def sweep(tmp_path: Path, name: str, **fields: Any) -> Path:
@@ -99,24 +117,15 @@ def sweep(tmp_path: Path, name: str, **fields: Any) -> Path:
     return path
 
 
-@pytest.fixture
-def llm_env(server: OpenAIServer, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("SCRATCHWORLD_LLM_BASE_URL", server.url)
-    monkeypatch.setenv("SCRATCHWORLD_LLM_API_KEY", SECRET)
-
-
 def report(run_dir: Path) -> dict[str, Any]:
     done = invoke("report", str(run_dir), "--format", "json")
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout)
 
 
-@pytest.mark.usefixtures("llm_env")
-def test_two_models_run_both_modes_and_the_report_shows_tokens_and_cost(
-    tmp_path: Path, server: OpenAIServer, drivers: list[Driver]
-) -> None:
+def test_two_models_run_both_modes_and_the_report_shows_tokens_and_cost(tmp_path: Path, server: OpenAIServer) -> None:
     config = sweep(tmp_path, "llm")
-    code, log = run(drivers, config, timeout=600)
+    code, log = run_here(config)
     assert code == 1, log  # the denied model's jobs remain errors
     all_rows = RunStore(tmp_path / "llm").job_rows()
     denied = [r for r in all_rows if r.model == "denied"]
@@ -169,8 +178,8 @@ def test_two_models_run_both_modes_and_the_report_shows_tokens_and_cost(
     assert all(r.headers["authorization"] == f"Bearer {SECRET}" for r in server.requests)
 
 
-@pytest.mark.usefixtures("llm_env")
-def test_a_budget_stops_new_jobs_and_the_report_says_so(tmp_path: Path, drivers: list[Driver]) -> None:
+@pytest.mark.usefixtures("server")
+def test_a_budget_stops_new_jobs_and_the_report_says_so(tmp_path: Path) -> None:
     config = sweep(
         tmp_path,
         "budget",
@@ -185,41 +194,37 @@ def test_a_budget_stops_new_jobs_and_the_report_says_so(tmp_path: Path, drivers:
         seeds=[0, 1, 2],
         limits={"budget_usd": 0.001, "max_in_flight": 1, "retries": 0},
     )
-    code, log = run(drivers, config, timeout=600)
+    code, log = run_here(config)
     assert code == 0, log
     rows = RunStore(tmp_path / "budget").job_rows()
     assert len(rows) == 1 and rows[0].cost_usd > 0.001  # the job that crossed the budget finishes; no other starts
     text = invoke("report", str(tmp_path / "budget")).stdout
     assert "Stopped by budget" in text and "2 job(s) not started" in text
     # Resuming spends nothing more: the budget counts what the directory already holds.
-    code, log = run(drivers, config, timeout=600)
+    code, log = run_here(config)
     assert code == 0 and "2 job(s) not started" in log
     assert len(RunStore(tmp_path / "budget").job_rows()) == 1
 
 
-def test_a_rerun_with_the_model_cache_replays_every_reply_at_no_cost(
-    tmp_path: Path, drivers: list[Driver], monkeypatch: pytest.MonkeyPatch
-) -> None:
+def test_a_rerun_with_the_model_cache_replays_every_reply_at_no_cost(tmp_path: Path, server: OpenAIServer) -> None:
     """The model selects the sprite, then stops: actions whose answers hold no generated ids (the page names
     new blocks and variables by the clock, so a conversation past one differs between runs and misses)."""
-    with OpenAIServer(responder=TrajectoryModel(turns=1)) as server:
-        monkeypatch.setenv("SCRATCHWORLD_LLM_BASE_URL", server.url)
-        monkeypatch.setenv("SCRATCHWORLD_LLM_API_KEY", SECRET)
-        model = {"api_base_env": "SCRATCHWORLD_LLM_BASE_URL", "api_key_env": "SCRATCHWORLD_LLM_API_KEY"}
-        fields: dict[str, Any] = {"models": [{"model": "openai/gpt-4o", "temperature": 0, **model}]}
-        first = sweep(tmp_path, "cached-first", model_cache={"dir": "model-cache"}, modes=["composite"], **fields)
-        code, log = run(drivers, first, timeout=600)
-        assert code == 0, log
-        (made,) = RunStore(tmp_path / "cached-first").job_rows()
-        assert (made.outcome, made.llm_calls, made.llm_cache_hits, server.count) == ("failed", 2, 0, 2)
-        assert made.cost_usd > 0
-        stored = list((tmp_path / "model-cache").glob("*/*.json"))
-        assert len(stored) == 2 and all(SECRET.encode() not in path.read_bytes() for path in stored)
+    server.reset(TrajectoryModel(turns=1))
+    model = {"api_base_env": "SCRATCHWORLD_LLM_BASE_URL", "api_key_env": "SCRATCHWORLD_LLM_API_KEY"}
+    fields: dict[str, Any] = {"models": [{"model": "openai/gpt-4o", "temperature": 0, **model}]}
+    first = sweep(tmp_path, "cached-first", model_cache={"dir": "model-cache"}, modes=["composite"], **fields)
+    code, log = run_here(first)
+    assert code == 0, log
+    (made,) = RunStore(tmp_path / "cached-first").job_rows()
+    assert (made.outcome, made.llm_calls, made.llm_cache_hits, server.count) == ("failed", 2, 0, 2)
+    assert made.cost_usd > 0
+    stored = list((tmp_path / "model-cache").glob("*/*.json"))
+    assert len(stored) == 2 and all(SECRET.encode() not in path.read_bytes() for path in stored)
 
-        # Another run (another directory), given the same folder on the command line: every reply is replayed.
-        second = sweep(tmp_path, "cached-again", modes=["composite"], **fields)
-        code, log = run(drivers, second, "--model-cache", str(tmp_path / "model-cache"), timeout=600)
-        assert code == 0, log
+    # Another run (another directory), given the same folder on the command line: every reply is replayed.
+    second = sweep(tmp_path, "cached-again", modes=["composite"], **fields)
+    code, log = run_here(second, "--model-cache", str(tmp_path / "model-cache"))
+    assert code == 0, log
     (replayed,) = RunStore(tmp_path / "cached-again").job_rows()
     assert server.count == 2  # no request reached the server
     assert replayed.job_id == made.job_id  # the cache is not part of a job's identity
