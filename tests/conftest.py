@@ -16,6 +16,7 @@ from workers.evaluation import Evaluator
 from workers.node import OWN_FILES
 
 if TYPE_CHECKING:
+    from tests.openai_server import OpenAIServer
     from tests.sweep_driver import Driver
 
 REPO = Path(__file__).resolve().parents[1]
@@ -32,7 +33,7 @@ def copy_page_files(gui_dir: Path, names: tuple[str, ...] = OWN_FILES) -> None:
 
 
 BROWSER_FIXTURES = frozenset({"session", "evaluator", "fresh_evaluator"})
-RAY_FIXTURES = frozenset({"shared_ray"})
+RAY_FIXTURES = frozenset({"shared_ray", "model_ray"})
 
 
 MARKER_SECONDS = {"slow": 20.0, "ray": 4.0, "browser": 2.0}
@@ -118,6 +119,32 @@ def shared_ray() -> Iterator[int]:
     It is started as ``scratchworld run`` starts its own, and a driver that finds Ray running uses
     it, so the module pays for one Ray instead of one per run. Yields its browser slots.
     """
+    from scratchworld_dist.scheduling import ray_runtime
+
+    with ray_runtime(None, None) as slots:
+        yield slots
+
+
+MODEL_KEY = "sk-test-0b7e4c2a91"
+"""The API key ``model_server`` puts in the environment (tests check that it reaches no file and no log)."""
+
+
+@pytest.fixture(scope="module")
+def model_server() -> Iterator[OpenAIServer]:
+    """A module's OpenAI-compatible server (``reset`` it per test), its address and ``MODEL_KEY`` in the
+    environment (``SCRATCHWORLD_LLM_BASE_URL``, ``SCRATCHWORLD_LLM_API_KEY``) while the module runs."""
+    from tests.openai_server import OpenAIServer
+
+    with OpenAIServer() as running, pytest.MonkeyPatch.context() as patch:
+        patch.setenv("SCRATCHWORLD_LLM_BASE_URL", running.url)
+        patch.setenv("SCRATCHWORLD_LLM_API_KEY", MODEL_KEY)
+        yield running
+
+
+@pytest.fixture(scope="module")
+def model_ray(model_server: OpenAIServer) -> Iterator[int]:
+    """``shared_ray`` for drivers whose workers call ``model_server``: started once the server is in the
+    environment, since workers find a model's address and key in theirs, as on a node."""
     from scratchworld_dist.scheduling import ray_runtime
 
     with ray_runtime(None, None) as slots:

@@ -2,7 +2,8 @@
 
 Every driver is killed with its whole group after the test (the ``drivers`` fixture of conftest),
 so a killed driver's Ray helpers never outlive it. A test that neither kills nor signals its driver,
-nor needs its workers to see a changed environment, runs it in its own process instead (``run_here``).
+nor needs its workers to see an environment of its own, runs it in its own process instead (``run_here``);
+workers that call a test model server find it in the environment of the module's ``model_ray``.
 """
 
 from __future__ import annotations
@@ -52,6 +53,6 @@ def run(drivers: list[Driver], config: Path, *args: str, timeout: float = 300) -
 
 
 def run_here(config: Path, *args: str) -> tuple[int, str]:
-    """The driver in this process, on the module's Ray (the ``shared_ray`` fixture): exit code and output."""
+    """The driver in this process, on the module's Ray (``shared_ray`` or ``model_ray``): exit code and output."""
     done = invoke("run", str(config), *args)
     return done.returncode, done.stdout + done.stderr

@@ -1,16 +1,15 @@
 """AWM in real sweeps: online waves, a driver killed mid-wave and resumed, and offline memory from a run dir.
 
-The sweeps run as `scratchworld run` processes (Ray, real Chromium) against a real local
-OpenAI-compatible server that plays the model: acting turns answer ``done``, the self-evaluation
-answers by task, and each induction answers with a numbered workflow, so an induction that ran
-twice would show in the memory's text and in its digest.
+The sweeps run as `scratchworld run` does (Ray, real Chromium; the one that is killed as a process of
+its own) against a real local OpenAI-compatible server that plays the model: acting turns answer
+``done``, the self-evaluation answers by task, and each induction answers with a numbered workflow,
+so an induction that ran twice would show in the memory's text and in its digest.
 """
 
 from __future__ import annotations
 
 import json
 import threading
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +21,7 @@ from scratchworld_dist.results import JobRow, RunStore
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
 from tests.openai_server import Behaviour, OpenAIServer, reply
-from tests.sweep_driver import Driver, run
+from tests.sweep_driver import Driver, run_here
 from workers.agents._awm_prompts import JUDGE_SYSTEM
 from workers.contract import memory_digest
 
@@ -66,13 +65,12 @@ class AWMModel:
 
 
 @pytest.fixture
-def model(monkeypatch: pytest.MonkeyPatch) -> Iterator[AWMModel]:
+def model(model_server: OpenAIServer, model_ray: int) -> AWMModel:
+    """The module's server answering as the AWM model; drivers that are not killed run in the test's
+    process on the module's Ray (``run_here``), which has the server in its environment."""
     model = AWMModel()
-    with OpenAIServer(responder=model) as server:
-        model.server = server
-        monkeypatch.setenv("SCRATCHWORLD_LLM_BASE_URL", server.url)
-        monkeypatch.setenv("SCRATCHWORLD_LLM_API_KEY", "sk-awm-test")
-        yield model
+    model.server = model_server.reset(model)
+    return model
 
 
 def sweep(tmp_path: Path, name: str, memory: dict[str, Any], tasks: list[str] = TASKS) -> Path:
@@ -128,7 +126,7 @@ def test_online_waves_learn_from_self_judged_successes_and_resume_where_they_sto
     assert first is not None and first.snapshot.text.startswith("Workflow 1: routine 1")
     driver.kill_group()  # wave 1's job is in flight: its reply is held
     model.server.release()  # type: ignore[union-attr]
-    code, log = run(drivers, config, timeout=600)
+    code, log = run_here(config)
     assert code == 0, log
 
     rows = rows_by_task(tmp_path / "online")
@@ -158,7 +156,7 @@ def test_online_waves_learn_from_self_judged_successes_and_resume_where_they_sto
     offline = sweep(
         tmp_path, "offline", {"kind": "offline", "from_run": str(tmp_path / "online")}, tasks=[JUDGED_FAILURE]
     )
-    code, log = run(drivers, offline, timeout=600)
+    code, log = run_here(offline)
     assert code == 0, log
     (row,) = rows_by_task(tmp_path / "offline").values()
     (offline_store,) = [path.name for path in (tmp_path / "offline" / MEMORY_DIR).iterdir()]

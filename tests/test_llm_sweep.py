@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -17,16 +16,15 @@ import pytest
 import yaml
 
 from scratchworld_dist.results import RunStore
-from scratchworld_dist.scheduling import ray_runtime
 from scratchworld_dist.suites import load_suite
 from tests.cli_runner import invoke
-from tests.conftest import REPO
+from tests.conftest import MODEL_KEY, REPO
 from tests.openai_server import Behaviour, OpenAIServer, reply, status
 from tests.sweep_driver import run_here
 
 pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow]
 
-SECRET = "sk-sweep-test-0b7e4c2a91"
+SECRET = MODEL_KEY
 TASK = "quiz_score"
 PROMPT_TOKENS, COMPLETION_TOKENS = 1200, 80
 PRICES = {"gpt-4o-mini": (0.15e-6, 0.6e-6), "gpt-4o": (2.5e-6, 10e-6)}
@@ -69,27 +67,11 @@ class TrajectoryModel:
         return reply(text, prompt_tokens=PROMPT_TOKENS, completion_tokens=COMPLETION_TOKENS)
 
 
-@pytest.fixture(scope="module")
-def module_server() -> Iterator[OpenAIServer]:
-    """The module's server, its address and key in the environment for as long as the module runs."""
-    with OpenAIServer() as running, pytest.MonkeyPatch.context() as patch:
-        patch.setenv("SCRATCHWORLD_LLM_BASE_URL", running.url)
-        patch.setenv("SCRATCHWORLD_LLM_API_KEY", SECRET)
-        yield running
-
-
-@pytest.fixture(scope="module")
-def shared_ray(module_server: OpenAIServer) -> Iterator[int]:
-    """The module's Ray, started once the server is in the environment: its workers read the address and
-    key from theirs, as the workers of a node do. The drivers run in the test's process (``run_here``)."""
-    with ray_runtime(None, None) as slots:
-        yield slots
-
-
 @pytest.fixture
-def server(module_server: OpenAIServer, shared_ray: int) -> OpenAIServer:
-    """The module's server with no request yet, answering as the golden-following model."""
-    return module_server.reset(TrajectoryModel())
+def server(model_server: OpenAIServer, model_ray: int) -> OpenAIServer:
+    """The module's server with no request yet, answering as the golden-following model; the drivers run in
+    the test's process (``run_here``) on the module's Ray."""
+    return model_server.reset(TrajectoryModel())
 
 
 def sweep(tmp_path: Path, name: str, **fields: Any) -> Path:

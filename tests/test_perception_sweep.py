@@ -8,7 +8,6 @@ import base64
 import json
 import os
 import re
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -22,11 +21,12 @@ from scratchworld_dist.results import RunStore
 from scratchworld_dist.scheduling._admission import BROWSERLESS_PER_CORE, admitted_slots
 from scratchworld_dist.sweep import load_sweep_config
 from scratchworld_dist.viewer import ViewerSite, export_site
+from tests.conftest import MODEL_KEY
 from tests.openai_server import Behaviour, OpenAIServer, reply, status
 from tests.perception_suites import ITEMS, write_suite
-from tests.sweep_driver import Driver, run, run_here
+from tests.sweep_driver import run_here
 
-SECRET = "sk-perception-test-5d1f"
+SECRET = MODEL_KEY
 
 
 @pytest.fixture
@@ -104,8 +104,9 @@ def test_the_matrix_is_agents_models_items_seeds_with_ids_that_follow_the_conten
 
 @pytest.mark.ray
 def test_the_scripted_agents_score_100_and_the_yes_share_and_the_run_resumes(
-    tmp_path: Path, suite: Path, shared_ray: int
+    tmp_path: Path, suite: Path, model_ray: int
 ) -> None:
+    """(On the module's ``model_ray``, which the LLM test needs, rather than a second Ray.)"""
     config = write(
         tmp_path,
         suite,
@@ -180,18 +181,16 @@ class ItemModel:
 
 
 @pytest.fixture
-def server() -> Iterator[OpenAIServer]:
-    with OpenAIServer(responder=ItemModel()) as running:
-        yield running
+def server(model_server: OpenAIServer, model_ray: int) -> OpenAIServer:
+    """The module's server answering as the item models; the module's Ray has it in its environment."""
+    return model_server.reset(ItemModel())
 
 
 @pytest.mark.ray
 @pytest.mark.slow
 def test_the_llm_agent_sees_each_screenshot_and_question_and_failed_calls_are_errors(
-    tmp_path: Path, suite: Path, server: OpenAIServer, drivers: list[Driver], monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, suite: Path, server: OpenAIServer
 ) -> None:
-    monkeypatch.setenv("SCRATCHWORLD_LLM_BASE_URL", server.url)
-    monkeypatch.setenv("SCRATCHWORLD_LLM_API_KEY", SECRET)
     config = write(
         tmp_path,
         suite,
@@ -200,7 +199,7 @@ def test_the_llm_agent_sees_each_screenshot_and_question_and_failed_calls_are_er
         llm={"retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
         limits={"retries": 1, "episode_timeout_s": 60},
     )
-    code, log = run(drivers, config, timeout=300)
+    code, log = run_here(config)
     assert code == 1, log  # the denied model's jobs remain errors
     store = RunStore(tmp_path / "run")
     jobs = store.read_table("jobs").to_pylist()

@@ -151,11 +151,12 @@ def edited_editor(tmp_path: Path) -> Path:
 
 @pytest.mark.slow
 def test_results_of_another_harness_are_refused_then_set_aside(
-    tmp_path: Path, drivers: list[Driver], monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, drivers: list[Driver], monkeypatch: pytest.MonkeyPatch, shared_ray: int
 ) -> None:
+    """The runs under the "upgraded" editor are processes of their own: a process computes its harness once."""
     config = write_config(tmp_path, tasks={"ids": TASKS[:2]}, synthetic={"duration_s": 0})
     run_dir = tmp_path / "run"
-    assert run(drivers, config)[0] == 0
+    assert run_here(config)[0] == 0
     before = {row.job_id for row in RunStore(run_dir).job_rows()}
 
     monkeypatch.setenv("SCRATCHWORLD_GUI_DIR", str(edited_editor(tmp_path)))  # the "upgraded" checkout
@@ -178,7 +179,7 @@ def test_results_of_another_harness_are_refused_then_set_aside(
 
     monkeypatch.delenv("SCRATCHWORLD_GUI_DIR")
     other = write_config(tmp_path, tasks={"ids": TASKS[:2]}, synthetic={"duration_s": 0}, output=str(tmp_path / "b"))
-    assert run(drivers, other)[0] == 0
+    assert run_here(other)[0] == 0
     report = invoke("report", str(run_dir), str(tmp_path / "b"))
     assert report.returncode == 2
     assert "differ in harness" in report.stderr and "scratch-gui/clock.js" in report.stderr
