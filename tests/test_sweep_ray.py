@@ -4,7 +4,7 @@ Synthetic (browserless) episodes exercise scheduling, faults and resume quickly;
 real episodes in Chromium. A driver that is killed, whose workers are killed or must see another
 environment, or that joins another cluster is `scratchworld run` in a subprocess, in its own process
 group, killed after the test so its Ray helpers never outlive it; the others run in this process on
-one Ray for the module (the ``shared_ray`` fixture), after the subprocess tests.
+one Ray for the module (the ``shared_ray`` fixture).
 """
 
 from __future__ import annotations
