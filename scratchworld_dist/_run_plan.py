@@ -101,12 +101,12 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> 
 def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any = None) -> RunPlan:
     """The drag benchmark's jobs: the suite's tasks (and those of each optional suite that is present)
     with a view, selected by ``tasks.ids`` and ``drag.types``; a task without a view is left out, named."""
-    say = notice or Console(stderr=True).print
+    say = notice or Console(stderr=True, soft_wrap=True).print
     suites = present_suites(
         config.suite,
         config.drag.optional_suites,
         load_drag_suite,
-        lambda message: say(message, markup=False, soft_wrap=True),
+        lambda message: say(message, markup=False),
         benchmark="drag",
         item="task",
     )
@@ -114,7 +114,7 @@ def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any 
     for suite in suites:
         for task in suite.tasks:
             if task.view is None:
-                say(f"drag: {suite.name} {task.id} has no usable view and is left out", markup=False, soft_wrap=True)
+                say(f"drag: {suite.name} {task.id} has no usable view and is left out", markup=False)
                 continue
             tasks.append(task)
     wanted = wanted_ids([task.id for task in tasks], config.tasks.ids, benchmark="drag", item="task")
@@ -152,14 +152,14 @@ def plan_drag_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any 
 def plan_perception_run(config: SweepConfig, harness: HarnessFingerprint, notice: Any = None) -> RunPlan:
     """The perception benchmark's jobs: the items of the suite (and of each optional suite that is present),
     selected by ``tasks.ids`` and ``perception.kinds``."""
-    say = notice or Console(stderr=True).print
+    say = notice or Console(stderr=True, soft_wrap=True).print
     perception = config.perception
     selection = select_perception_items(
         config.suite,
         perception.optional_suites,
         config.tasks.ids,
         perception.kinds,
-        lambda message: say(message, markup=False, soft_wrap=True),
+        lambda message: say(message, markup=False),
     )
     contents = selection.contents
     info = SuiteInfo(
