@@ -62,6 +62,10 @@
     return [...document.querySelectorAll('*')].filter((el) => el.scrollTop !== 0 || el.scrollLeft !== 0);
   }
 
+  function unscroll() {
+    for (const el of scrolledElements()) el.scrollTo(0, 0);
+  }
+
   const describeElement = (el) => `${el.tagName.toLowerCase()}.${String(el.className && el.className.baseVal !== undefined ? el.className.baseVal : el.className).split(' ')[0]}`;
 
   function pageState() {
@@ -157,13 +161,14 @@
     if (!clean) return ['the page was not marked clean'];
     const differences = [];
     if (document.activeElement && document.activeElement !== document.body) document.activeElement.blur();
-    for (const el of scrolledElements()) el.scrollTo(0, 0);
+    unscroll();
     resetStore(gui);
     if (document.fullscreenElement && document.exitFullscreen) await document.exitFullscreen();
     // The block editor after the store: showing the code tab again restores the sprite's saved view.
     for (let i = 0; i < FRAMES_FOR_REACT; i++) await nextFrame();
     resetBlockly(gui, differences);
     for (let i = 0; i < FRAMES_FOR_REACT; i++) await nextFrame();
+    unscroll(); // again: a panel inside a tab that was hidden keeps its scroll and shows it now
     return differences;
   }
 
