@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 import pytest
 
 from workers.editor import BrowserSession, EditorPool
+from workers.episode import EpisodeRunner
 from workers.evaluation import Evaluator
 from workers.node import OWN_FILES
 
@@ -32,7 +33,7 @@ def copy_page_files(gui_dir: Path, names: tuple[str, ...] = OWN_FILES) -> None:
         shutil.copyfile(REPO / "scratch-gui" / name, gui_dir / name)
 
 
-BROWSER_FIXTURES = frozenset({"session", "evaluator", "fresh_evaluator"})
+BROWSER_FIXTURES = frozenset({"session", "evaluator", "fresh_evaluator", "episode_runner"})
 RAY_FIXTURES = frozenset({"shared_ray", "model_ray"})
 
 
@@ -79,6 +80,19 @@ async def evaluator(session: BrowserSession) -> AsyncIterator[Evaluator]:
     """
     async with EditorPool(session, spare=0) as pool:
         yield Evaluator(session, pool)
+
+
+@pytest.fixture(scope="session")
+async def episode_runner(session: BrowserSession, evaluator: Evaluator) -> AsyncIterator[EpisodeRunner]:
+    """Episodes as workers run them: agent and evaluation pages from ``evaluator``'s pool, recycled.
+
+    Whether a recycled agent page starts an episode as a fresh one would is what
+    tests/test_agent_editor_recycling.py checks; a test of a fresh page or of a runner's own pool
+    makes its own ``EpisodeRunner``.
+    """
+    runner = EpisodeRunner(session, evaluator.pool)
+    yield runner
+    await runner.close()
 
 
 @pytest.fixture(scope="session")

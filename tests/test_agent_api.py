@@ -13,7 +13,6 @@ from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentBase, EpisodeEnd, StepResult, TaskContext
 from workers.contract import Action, CompositeAction, Done, EpisodeSpec, LoadProject, ModelSpec, Observation
-from workers.editor import BrowserSession
 from workers.episode import EpisodeRunner
 
 pytestmark = pytest.mark.browser
@@ -53,10 +52,10 @@ class Recorder(AgentBase):
 
 
 async def test_an_episode_calls_start_then_act_with_each_result_then_finish(
-    session: BrowserSession, content: TaskContent
+    episode_runner: EpisodeRunner, content: TaskContent
 ) -> None:
     agent = Recorder([LoadProject(sb3=b"PK"), CompositeAction(api="select_stage"), Done()])
-    result = await EpisodeRunner(session).run(spec(content), content.payload, agent)
+    result = await episode_runner.run(spec(content), content.payload, agent)
     assert result.stop_reason == "done" and result.outcome == "failed"  # judged, and nothing was built
     names = [name for name, _ in agent.calls]
     assert names == ["start", "act", "act", "act", "finish"]
@@ -82,10 +81,10 @@ async def test_an_episode_calls_start_then_act_with_each_result_then_finish(
     ],
 )
 async def test_an_agent_that_breaks_ends_the_job_as_agent_error_with_its_traceback(
-    session: BrowserSession, content: TaskContent, fail_in: str | None, plan: list[Any], fragment: str
+    episode_runner: EpisodeRunner, content: TaskContent, fail_in: str | None, plan: list[Any], fragment: str
 ) -> None:
     agent = Recorder(plan, fail_in)
-    result = await EpisodeRunner(session).run(spec(content), content.payload, agent)
+    result = await episode_runner.run(spec(content), content.payload, agent)
     assert (result.outcome, result.error_class) == ("error", "agent_error")
     assert fragment in (result.error_message or "")
     last = result.steps[-1]
@@ -126,13 +125,13 @@ def model_server(monkeypatch: pytest.MonkeyPatch) -> Iterator[OpenAIServer]:
 @pytest.mark.usefixtures("litellm_clients")
 @pytest.mark.parametrize("crash", [False, True])
 async def test_calls_in_start_and_finish_are_booked_too(
-    session: BrowserSession, content: TaskContent, model_server: OpenAIServer, crash: bool
+    episode_runner: EpisodeRunner, content: TaskContent, model_server: OpenAIServer, crash: bool
 ) -> None:
     model = ModelSpec(
         name="m", model="openai/gpt-4o-mini", api_base=model_server.url, api_key_env="SCRATCHWORLD_TEST_JUDGE_KEY"
     )
     (job,) = plan_jobs([model], ["composite"], "llm", [content], [0], 10)
-    result = await EpisodeRunner(session).run(job.episode(1, 120), content.payload, Judge(crash))
+    result = await episode_runner.run(job.episode(1, 120), content.payload, Judge(crash))
     assert model_server.count == 2  # the plan, and the self-evaluation however the episode ended
     assert result.llm_calls == 2 and result.input_tokens == 100 and result.cost_usd > 0
     if crash:

@@ -425,7 +425,7 @@ class Scripted(AgentBase):
 
 
 @pytest.fixture(scope="module")
-async def episodes(session: BrowserSession) -> dict[str, EpisodeResult]:
+async def episodes(episode_runner: EpisodeRunner) -> dict[str, EpisodeResult]:
     """One real episode per mode, on sum_two_numbers, made of the catalog's actions."""
     content = read_task(load_suite(SUITE_DIR).task(bad.TASK))
     results = {}
@@ -434,7 +434,7 @@ async def episodes(session: BrowserSession) -> dict[str, EpisodeResult]:
         observation = ObservationSettings(ocr="none") if mode == "primitive" else None
         (job,) = plan_jobs([None], [mode], "noop", [content], [0], 50, observation)  # type: ignore[list-item]
         agent = Scripted(requests, mode, observes=mode == "primitive")
-        results[mode] = await EpisodeRunner(session).run(job.episode(1, 600), content.payload, agent)  # type: ignore[arg-type]
+        results[mode] = await episode_runner.run(job.episode(1, 600), content.payload, agent)  # type: ignore[arg-type]
     return results
 
 

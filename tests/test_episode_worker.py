@@ -235,9 +235,9 @@ class BusyAgent(AgentBase):
 
 
 async def test_agent_crash_step_limit_and_rejected_actions(
-    session: BrowserSession, contents: dict[str, TaskContent]
+    episode_runner: EpisodeRunner, contents: dict[str, TaskContent]
 ) -> None:
-    runner = EpisodeRunner(session)
+    runner = episode_runner
     content = contents["sum_two_numbers"]
     spec, payload = episode(content)
 

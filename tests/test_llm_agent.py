@@ -24,7 +24,6 @@ from workers.contract import (
     PrimitiveObservation,
     RetryPolicy,
 )
-from workers.editor import BrowserSession
 from workers.episode import EpisodeRunner
 from workers.llm import load_litellm
 
@@ -113,13 +112,13 @@ def image_parts(body: dict[str, Any]) -> int:
 
 
 async def test_canned_replies_solve_a_task_in_composite_mode(
-    session: BrowserSession, content: TaskContent, server: OpenAIServer
+    episode_runner: EpisodeRunner, content: TaskContent, server: OpenAIServer
 ) -> None:
     trajectory = [a.model_dump(mode="json", include={"api", "args"}) for a in content.payload.golden_trajectory or []]
     server.push(*(reply(answer(a), prompt_tokens=1000, completion_tokens=100) for a in trajectory))
     server.push(reply(answer({"api": "done", "args": {}}), prompt_tokens=1000, completion_tokens=100))
     spec = episode(content, server)
-    result = await EpisodeRunner(session).run(spec, content.payload, LLMAgent())
+    result = await episode_runner.run(spec, content.payload, LLMAgent())
 
     assert result.outcome == "passed", result.evaluation
     assert result.stop_reason == "done"
@@ -158,7 +157,7 @@ async def test_canned_replies_solve_a_task_in_composite_mode(
 
 
 async def test_an_unparsable_reply_costs_the_step_and_is_fed_back(
-    session: BrowserSession, content: TaskContent, server: OpenAIServer
+    episode_runner: EpisodeRunner, content: TaskContent, server: OpenAIServer
 ) -> None:
     server.push(
         reply("I would add a block now, but I am not sure which one."),
@@ -166,7 +165,7 @@ async def test_an_unparsable_reply_costs_the_step_and_is_fed_back(
         reply(answer({"api": "done"})),
     )
     spec = episode(content, server)
-    result = await EpisodeRunner(session).run(spec, content.payload, LLMAgent())
+    result = await episode_runner.run(spec, content.payload, LLMAgent())
     unparsable, refused, done = result.steps
     assert (unparsable.action, unparsable.ok, unparsable.error_code) == ("invalid_reply", False, "INVALID_REPLY")
     assert unparsable.llm_calls == 1  # a wasted step still costs its call
@@ -180,20 +179,20 @@ async def test_an_unparsable_reply_costs_the_step_and_is_fed_back(
 
 
 async def test_the_papers_protocol_shows_no_results(
-    session: BrowserSession, content: TaskContent, server: OpenAIServer
+    episode_runner: EpisodeRunner, content: TaskContent, server: OpenAIServer
 ) -> None:
     server.push(reply("no action here"), reply(answer({"api": "done"})))
     spec = episode(content, server, llm=LLMSettings(show_action_result=False))
-    await EpisodeRunner(session).run(spec, content.payload, LLMAgent())
+    await episode_runner.run(spec, content.payload, LLMAgent())
     assert not any("Result of your previous action" in text for text in user_texts(server.requests[1].body))
 
 
 async def test_a_permanent_model_error_ends_the_job_with_its_class(
-    session: BrowserSession, content: TaskContent, server: OpenAIServer
+    episode_runner: EpisodeRunner, content: TaskContent, server: OpenAIServer
 ) -> None:
     server.push(reply(answer({"api": "add_block", "args": {"blockType": "looks_say"}})), status(401))
     spec = episode(content, server)
-    result = await EpisodeRunner(session).run(spec, content.payload, LLMAgent())
+    result = await episode_runner.run(spec, content.payload, LLMAgent())
     assert (result.outcome, result.error_class) == ("error", "model_auth")
     assert len(result.steps) == 1 and result.steps[0].ok  # what happened before is kept
     assert SECRET not in (result.error_message or "")
@@ -201,7 +200,7 @@ async def test_a_permanent_model_error_ends_the_job_with_its_class(
 
 
 async def test_primitive_turns_send_the_newest_screenshot_and_map_model_coordinates(
-    session: BrowserSession, content: TaskContent, server: OpenAIServer
+    episode_runner: EpisodeRunner, content: TaskContent, server: OpenAIServer
 ) -> None:
     # A Qwen-VL model answers in 0-1000 coordinates: (500, 500) is the centre of the page.
     server.push(
@@ -211,7 +210,7 @@ async def test_primitive_turns_send_the_newest_screenshot_and_map_model_coordina
     )
     spec = episode(content, server, mode="primitive", model="openai/qwen3-vl-8b")
     agent = LLMAgent()
-    result = await EpisodeRunner(session).run(spec, content.payload, agent)
+    result = await episode_runner.run(spec, content.payload, agent)
     click, scroll, _ = result.steps
     assert (click.action, click.args, click.ok) == ("click", {"x": 640.0, "y": 360.0}, True)
     assert (scroll.args["x"], scroll.args["y"]) == (128.0, 648.0)

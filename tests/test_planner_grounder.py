@@ -23,7 +23,6 @@ from tests.openai_server import OpenAIServer, reply
 from workers.agent_api import build_agent
 from workers.agents import OracleAgent
 from workers.contract import AgentRef, EpisodeResult, LLMSettings, ModelSpec, ObservationSettings, RetryPolicy
-from workers.editor import BrowserSession
 from workers.episode import EpisodeRunner
 
 pytestmark = [pytest.mark.usefixtures("litellm_clients"), pytest.mark.browser]
@@ -76,12 +75,12 @@ def content() -> TaskContent:
 
 
 @pytest.fixture(scope="module")
-async def gestures(session: BrowserSession, content: TaskContent) -> list[Gesture]:
+async def gestures(episode_runner: EpisodeRunner, content: TaskContent) -> list[Gesture]:
     """The privileged oracle's primitive solution, as the episode recorded it."""
     (job,) = plan_jobs(
         [None], ["primitive"], AgentRef(name="oracle"), [content], [7], 40, ObservationSettings(ocr="none")
     )
-    result = await EpisodeRunner(session).run(job.episode(1, 300), content.payload, OracleAgent())
+    result = await episode_runner.run(job.episode(1, 300), content.payload, OracleAgent())
     assert result.outcome == "passed", result.evaluation
     *moves, done = result.steps
     assert done.action == "done" and moves and all(step.ok for step in moves)
@@ -124,7 +123,7 @@ def point(x: float, y: float) -> str:
 
 
 async def run_agent(
-    session: BrowserSession, content: TaskContent, planner: OpenAIServer, grounder: OpenAIServer
+    episode_runner: EpisodeRunner, content: TaskContent, planner: OpenAIServer, grounder: OpenAIServer
 ) -> EpisodeResult:
     planner_spec = ModelSpec(name="planner", model="openai/gpt-4o-mini", api_base=planner.url, api_key_env=PLANNER_ENV)
     grounder_spec = ModelSpec(
@@ -139,7 +138,7 @@ async def run_agent(
         extra_models=[grounder_spec],
     )
     assert job.model_name == "planner+ui-tars"
-    return await EpisodeRunner(session).run(job.episode(1, 300), content.payload, build_agent(ref))
+    return await episode_runner.run(job.episode(1, 300), content.payload, build_agent(ref))
 
 
 def image_urls(body: dict[str, Any]) -> list[str]:
@@ -162,7 +161,7 @@ def texts(body: dict[str, Any]) -> str:
 
 
 async def test_a_planner_and_a_grounder_solve_a_primitive_task(
-    session: BrowserSession,
+    episode_runner: EpisodeRunner,
     content: TaskContent,
     gestures: list[Gesture],
     planner: OpenAIServer,
@@ -174,7 +173,7 @@ async def test_a_planner_and_a_grounder_solve_a_primitive_task(
     planner.push(reply(answer({"api": "done", "args": {}}), prompt_tokens=1000, completion_tokens=50))
     grounder.push(*(reply(point(t.x, t.y)) for t in targets))
 
-    result = await run_agent(session, content, planner, grounder)
+    result = await run_agent(episode_runner, content, planner, grounder)
 
     assert result.outcome == "passed", result.evaluation
     assert result.stop_reason == "done"
@@ -209,7 +208,7 @@ async def test_a_planner_and_a_grounder_solve_a_primitive_task(
 
 
 async def test_a_misgrounded_drop_fails_the_task(
-    session: BrowserSession,
+    episode_runner: EpisodeRunner,
     content: TaskContent,
     gestures: list[Gesture],
     planner: OpenAIServer,
@@ -222,7 +221,7 @@ async def test_a_misgrounded_drop_fails_the_task(
     assert last.description.endswith("target")
     grounder.push(*(reply(point(t.x, t.y)) for t in right), reply(point(700, 620)))
 
-    result = await run_agent(session, content, planner, grounder)
+    result = await run_agent(episode_runner, content, planner, grounder)
 
     assert grounder.count == len(targets)
     assert all(step.ok for step in result.steps)  # every gesture ran; the drop just missed

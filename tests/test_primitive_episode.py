@@ -24,7 +24,6 @@ from workers.contract import (
     PrimitiveAction,
     PrimitiveObservation,
 )
-from workers.editor import BrowserSession
 from workers.episode import EpisodeRunner
 
 pytestmark = pytest.mark.browser
@@ -60,10 +59,10 @@ class ClickByText(AgentBase):
 
 
 async def test_an_observing_agent_sees_the_page_and_acts_by_index(
-    session: BrowserSession, content: TaskContent
+    episode_runner: EpisodeRunner, content: TaskContent
 ) -> None:
     agent = ClickByText("category_menu_item", "Variables")
-    result = await EpisodeRunner(session).run(episode(content, "primitive"), content.payload, agent)
+    result = await episode_runner.run(episode(content, "primitive"), content.payload, agent)
     assert result.outcome == "failed"  # nothing was built; the episode itself ran cleanly
     first, second = agent.seen
     image = cv2.imdecode(np.frombuffer(first.screenshot_png, np.uint8), cv2.IMREAD_COLOR)
@@ -88,13 +87,13 @@ async def test_an_observing_agent_sees_the_page_and_acts_by_index(
 
 
 async def test_a_broken_ocr_backend_degrades_to_a_dom_list_with_a_warning(
-    session: BrowserSession, content: TaskContent, tmp_path: Path
+    episode_runner: EpisodeRunner, content: TaskContent, tmp_path: Path
 ) -> None:
     empty = tmp_path / "no-model"
     empty.mkdir()
     settings = ObservationSettings(ocr="paddleocr", paddle_det_model_dir=empty, paddle_rec_model_dir=empty)
     agent = ClickByText("category_menu_item", "Looks")
-    result = await EpisodeRunner(session).run(episode(content, "primitive", settings), content.payload, agent)
+    result = await episode_runner.run(episode(content, "primitive", settings), content.payload, agent)
     assert result.outcome == "failed"
     assert all(step.ok for step in result.steps)
     for step in result.steps:
@@ -128,11 +127,11 @@ class OtherModesAction(AgentBase):
     ],
 )
 async def test_actions_of_the_other_mode_are_refused(
-    session: BrowserSession, content: TaskContent, mode: Mode, action: Action, observation_type: type
+    episode_runner: EpisodeRunner, content: TaskContent, mode: Mode, action: Action, observation_type: type
 ) -> None:
     agent = OtherModesAction(action)
     spec = episode(content, mode, ObservationSettings(ocr="none"))
-    result = await EpisodeRunner(session).run(spec, content.payload, agent)
+    result = await episode_runner.run(spec, content.payload, agent)
     refused = result.steps[0]
     assert (refused.ok, refused.error_code) == (False, "UNKNOWN_API")
     assert f"not an action of {mode} mode" in (refused.error_message or "")
