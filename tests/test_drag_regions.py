@@ -3,6 +3,7 @@ and each connection kind's verification, made and missed."""
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import random
@@ -31,6 +32,14 @@ async def pool(session: BrowserSession) -> AsyncIterator[EditorPool]:
         yield editors
 
 
+@contextlib.asynccontextmanager
+async def used(pool: EditorPool) -> AsyncIterator[Editor]:
+    """An editor of the module's pool, recycled afterwards as the drag runner's are."""
+    async with pool.editor() as editor:
+        editor.uses += 1  # as DragRunner books a job: the pool recycles a used page, and closes an unused one
+        yield editor
+
+
 def project_json(sb3: bytes) -> object:
     """The project itself: the archive's bytes also carry each entry's modification time."""
     with zipfile.ZipFile(io.BytesIO(sb3)) as archive:
@@ -56,7 +65,7 @@ def test_the_suite_covers_every_kind_from_both_sources() -> None:
 async def test_regions_agree_with_real_drags_at_their_edges(pool: EditorPool, task: DragTask) -> None:
     payload = task.payload(task.initial_project.read_bytes())
     rng = random.Random(task.id)
-    async with pool.editor() as editor:
+    async with used(pool) as editor:
         await page.set_up(editor, payload)
         regions = await page.regions(editor, payload)
         assert not regions.start.empty and not regions.end.empty
@@ -85,7 +94,7 @@ PUSHING = ["quiz_score-initial-next-4ff060e45f", "star_shower-golden-next-9eb2ff
 async def test_regions_are_read_only_and_repeatable(pool: EditorPool, task_id: str) -> None:
     task = SUITE.task(task_id)
     payload = task.payload(task.initial_project.read_bytes())
-    async with pool.editor() as editor:
+    async with used(pool) as editor:
         await page.set_up(editor, payload)
         before = project_json(await editor.save_project())
         first = await page.regions(editor, payload)
@@ -99,7 +108,7 @@ async def test_verification_reads_the_structure_not_the_position(pool: EditorPoo
     """A drop of the source on the reference's other side (a wrong connection) is a miss, named."""
     task = next(t for t in SUITE.tasks if t.connection.kind == "next" and t.source.kind == "canvas")
     payload = task.payload(task.initial_project.read_bytes())
-    async with pool.editor() as editor:
+    async with used(pool) as editor:
         await page.set_up(editor, payload)
         regions = await page.regions(editor, payload)
         made, observed = await connects(
@@ -118,7 +127,7 @@ async def test_a_parent_drag_must_move_the_whole_stack(pool: EditorPool) -> None
         if t.connection.kind == "parent" and t.source.kind == "canvas" and t.source.tail_block_id != t.source.block_id
     )
     payload = task.payload(task.initial_project.read_bytes())
-    async with pool.editor() as editor:
+    async with used(pool) as editor:
         await page.set_up(editor, payload)
         regions = await page.regions(editor, payload)
         aim = regions.end.deepest()
@@ -137,7 +146,7 @@ async def test_the_end_region_reaches_as_far_as_a_kept_candidate(pool: EditorPoo
     much closer: the region's far edge (here its left end, ~50 px from the aim) is where real drags stop connecting."""
     task = SUITE.task("star_shower-golden-substack_1-fee009aff4")
     payload = task.payload(task.initial_project.read_bytes())
-    async with pool.editor() as editor:
+    async with used(pool) as editor:
         await page.set_up(editor, payload)
         regions = await page.regions(editor, payload)
         leftmost = sorted(regions.end.rows, key=lambda row: row[1])[:2]
