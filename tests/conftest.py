@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 from collections import Counter
@@ -11,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import pytest
 
-from workers.editor import BrowserSession, EditorPool
+from workers.editor import BrowserSession, Editor, EditorPool
 from workers.episode import EpisodeRunner
 from workers.evaluation import Evaluator
 from workers.node import OWN_FILES
@@ -33,7 +34,7 @@ def copy_page_files(gui_dir: Path, names: tuple[str, ...] = OWN_FILES) -> None:
         shutil.copyfile(REPO / "scratch-gui" / name, gui_dir / name)
 
 
-BROWSER_FIXTURES = frozenset({"session", "evaluator", "fresh_evaluator", "episode_runner"})
+BROWSER_FIXTURES = frozenset({"session", "shared_pool", "evaluator", "fresh_evaluator", "episode_runner"})
 RAY_FIXTURES = frozenset({"shared_ray", "model_ray"})
 
 
@@ -72,25 +73,42 @@ async def session() -> AsyncIterator[BrowserSession]:
 
 
 @pytest.fixture(scope="session")
-async def evaluator(session: BrowserSession) -> AsyncIterator[Evaluator]:
-    """Evaluations as workers run them: one pool's editors, reused when they recycle clean.
+async def shared_pool(session: BrowserSession) -> AsyncIterator[EditorPool]:
+    """The run's editors, reused when they recycle clean: for evaluations, episodes and tests' own pages.
 
-    Opening an editor costs more than most evaluations, so tests share them; whether reuse is safe
-    is what tests/test_editor_pool.py checks. ``fresh_evaluator`` is for tests of a fresh page.
+    Opening an editor costs ten times what most evaluations do, so tests share them; whether reuse
+    is safe is what tests/test_editor_pool.py and tests/test_agent_editor_recycling.py check.
     """
     async with EditorPool(session, spare=0) as pool:
-        yield Evaluator(session, pool)
+        yield pool
 
 
 @pytest.fixture(scope="session")
-async def episode_runner(session: BrowserSession, evaluator: Evaluator) -> AsyncIterator[EpisodeRunner]:
-    """Episodes as workers run them: agent and evaluation pages from ``evaluator``'s pool, recycled.
+def evaluator(session: BrowserSession, shared_pool: EditorPool) -> Evaluator:
+    """Evaluations as workers run them, in ``shared_pool``'s editors (``fresh_evaluator``: a fresh page each)."""
+    return Evaluator(session, shared_pool)
+
+
+@contextlib.asynccontextmanager
+async def pooled_editor(pool: EditorPool) -> AsyncIterator[Editor]:
+    """An editor of ``pool`` that a test drives itself, recycled afterwards as a runner's is.
+
+    A use is booked as runners book an episode: the pool closes a page returned unused.
+    """
+    async with pool.editor() as editor:
+        editor.uses += 1
+        yield editor
+
+
+@pytest.fixture(scope="session")
+async def episode_runner(session: BrowserSession, shared_pool: EditorPool) -> AsyncIterator[EpisodeRunner]:
+    """Episodes as workers run them: agent and evaluation pages from ``shared_pool``, recycled.
 
     Whether a recycled agent page starts an episode as a fresh one would is what
     tests/test_agent_editor_recycling.py checks; a test of a fresh page or of a runner's own pool
     makes its own ``EpisodeRunner``.
     """
-    runner = EpisodeRunner(session, evaluator.pool)
+    runner = EpisodeRunner(session, shared_pool)
     yield runner
     await runner.close()
 

@@ -3,20 +3,18 @@ and each connection kind's verification, made and missed."""
 
 from __future__ import annotations
 
-import contextlib
 import io
 import json
 import random
 import zipfile
-from collections.abc import AsyncIterator
 
 import pytest
 
 from scratchworld_dist.drag import DragTask, load_drag_suite
-from tests.conftest import REPO
+from tests.conftest import REPO, pooled_editor
 from workers.contract import DragPayload, Point
 from workers.drag import _page as page
-from workers.editor import BrowserSession, Editor, EditorPool
+from workers.editor import Editor, EditorPool
 
 pytestmark = [pytest.mark.browser]
 
@@ -24,20 +22,6 @@ SUITE = load_drag_suite(REPO / "drag-tasks")
 
 
 TASKS = SUITE.one_per_kind()
-
-
-@pytest.fixture(scope="module")
-async def pool(session: BrowserSession) -> AsyncIterator[EditorPool]:
-    async with EditorPool(session, spare=0) as editors:
-        yield editors
-
-
-@contextlib.asynccontextmanager
-async def used(pool: EditorPool) -> AsyncIterator[Editor]:
-    """An editor of the module's pool, recycled afterwards as the drag runner's are."""
-    async with pool.editor() as editor:
-        editor.uses += 1  # as DragRunner books a job: the pool recycles a used page, and closes an unused one
-        yield editor
 
 
 def project_json(sb3: bytes) -> object:
@@ -62,10 +46,10 @@ def test_the_suite_covers_every_kind_from_both_sources() -> None:
 
 
 @pytest.mark.parametrize("task", TASKS, ids=[f"{t.connection.kind}-{t.source.kind}" for t in TASKS])
-async def test_regions_agree_with_real_drags_at_their_edges(pool: EditorPool, task: DragTask) -> None:
+async def test_regions_agree_with_real_drags_at_their_edges(shared_pool: EditorPool, task: DragTask) -> None:
     payload = task.payload(task.initial_project.read_bytes())
     rng = random.Random(task.id)
-    async with used(pool) as editor:
+    async with pooled_editor(shared_pool) as editor:
         await page.set_up(editor, payload)
         regions = await page.regions(editor, payload)
         assert not regions.start.empty and not regions.end.empty
@@ -91,10 +75,10 @@ PUSHING = ["quiz_score-initial-next-4ff060e45f", "star_shower-golden-next-9eb2ff
 
 
 @pytest.mark.parametrize("task_id", PUSHING)
-async def test_regions_are_read_only_and_repeatable(pool: EditorPool, task_id: str) -> None:
+async def test_regions_are_read_only_and_repeatable(shared_pool: EditorPool, task_id: str) -> None:
     task = SUITE.task(task_id)
     payload = task.payload(task.initial_project.read_bytes())
-    async with used(pool) as editor:
+    async with pooled_editor(shared_pool) as editor:
         await page.set_up(editor, payload)
         before = project_json(await editor.save_project())
         first = await page.regions(editor, payload)
@@ -104,11 +88,11 @@ async def test_regions_are_read_only_and_repeatable(pool: EditorPool, task_id: s
         assert project_json(await editor.save_project()) == before
 
 
-async def test_verification_reads_the_structure_not_the_position(pool: EditorPool) -> None:
+async def test_verification_reads_the_structure_not_the_position(shared_pool: EditorPool) -> None:
     """A drop of the source on the reference's other side (a wrong connection) is a miss, named."""
     task = next(t for t in SUITE.tasks if t.connection.kind == "next" and t.source.kind == "canvas")
     payload = task.payload(task.initial_project.read_bytes())
-    async with used(pool) as editor:
+    async with pooled_editor(shared_pool) as editor:
         await page.set_up(editor, payload)
         regions = await page.regions(editor, payload)
         made, observed = await connects(
@@ -118,7 +102,7 @@ async def test_verification_reads_the_structure_not_the_position(pool: EditorPoo
         assert "top-level script" in observed or "hangs below" in observed
 
 
-async def test_a_parent_drag_must_move_the_whole_stack(pool: EditorPool) -> None:
+async def test_a_parent_drag_must_move_the_whole_stack(shared_pool: EditorPool) -> None:
     """Pulling the tail off the source's stack and dropping it by the oracle's offset puts the same tail above
     the reference, but the stack the instruction names stays behind: a miss (upstream's rule would pass it)."""
     task = next(
@@ -127,7 +111,7 @@ async def test_a_parent_drag_must_move_the_whole_stack(pool: EditorPool) -> None
         if t.connection.kind == "parent" and t.source.kind == "canvas" and t.source.tail_block_id != t.source.block_id
     )
     payload = task.payload(task.initial_project.read_bytes())
-    async with used(pool) as editor:
+    async with pooled_editor(shared_pool) as editor:
         await page.set_up(editor, payload)
         regions = await page.regions(editor, payload)
         aim = regions.end.deepest()
@@ -141,12 +125,12 @@ async def test_a_parent_drag_must_move_the_whole_stack(pool: EditorPool) -> None
         assert (await connects(editor, payload, regions.fixed_start, aim))[0]  # the whole stack, the same offset
 
 
-async def test_the_end_region_reaches_as_far_as_a_kept_candidate(pool: EditorPool) -> None:
+async def test_the_end_region_reaches_as_far_as_a_kept_candidate(shared_pool: EditorPool) -> None:
     """Blockly keeps its current candidate past the snap radius while another connection is in reach and not
     much closer: the region's far edge (here its left end, ~50 px from the aim) is where real drags stop connecting."""
     task = SUITE.task("star_shower-golden-substack_1-fee009aff4")
     payload = task.payload(task.initial_project.read_bytes())
-    async with used(pool) as editor:
+    async with pooled_editor(shared_pool) as editor:
         await page.set_up(editor, payload)
         regions = await page.regions(editor, payload)
         leftmost = sorted(regions.end.rows, key=lambda row: row[1])[:2]

@@ -14,11 +14,11 @@ import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
 from scratchworld_dist.suites import load_suite
-from tests.conftest import SUITE_DIR
+from tests.conftest import SUITE_DIR, pooled_editor
 from workers import composite
 from workers.agents._primitive_oracle import OracleDivergenceError, PrimitiveOracle
 from workers.contract import CompositeAction, Done, EvalResult, PrimitiveAction
-from workers.editor import BrowserSession, Editor
+from workers.editor import Editor, EditorPool
 from workers.evaluation import Evaluator
 from workers.primitive import Gestures
 
@@ -54,9 +54,9 @@ def cat_project() -> Project:
 
 
 @asynccontextmanager
-async def primitive_editor(session: BrowserSession, sb3: bytes) -> AsyncIterator[Editor]:
+async def primitive_editor(pool: EditorPool, sb3: bytes) -> AsyncIterator[Editor]:
     """An editor as primitive episodes get it: the project loaded, the small stage."""
-    async with session.editor() as editor:
+    async with pooled_editor(pool) as editor:
         await editor.load_project(sb3)
         await editor.set_stage_size("small")
         yield editor
@@ -89,11 +89,11 @@ async def drive(editor: Editor, oracle: PrimitiveOracle, tamper: Tamper | None =
 
 
 async def solve(
-    session: BrowserSession, evaluator: Evaluator, task_id: str, tamper: Tamper | None = None
+    shared_pool: EditorPool, evaluator: Evaluator, task_id: str, tamper: Tamper | None = None
 ) -> tuple[Run, EvalResult]:
     task = load_suite(SUITE_DIR).task(task_id)
     initial = task.initial_project.read_bytes()
-    async with primitive_editor(session, initial) as editor:
+    async with primitive_editor(shared_pool, initial) as editor:
         oracle = PrimitiveOracle(initial, task.trajectory() or [])
         await oracle.begin(editor)
         run = await drive(editor, oracle, tamper)
@@ -105,7 +105,7 @@ async def solve(
 @pytest.mark.parametrize("task_id", ALL_TASKS)
 @pytest.mark.slow
 async def test_each_golden_trajectory_solves_its_task_in_both_modes(
-    session: BrowserSession, evaluator: Evaluator, task_id: str
+    shared_pool: EditorPool, evaluator: Evaluator, task_id: str
 ) -> None:
     """The trajectory replayed through the composite API, then performed by the oracle as gestures in the
     same page (reloaded, as the oracle's own dry run leaves it): each saved project passes the task.
@@ -114,7 +114,7 @@ async def test_each_golden_trajectory_solves_its_task_in_both_modes(
     """
     task = load_suite(SUITE_DIR).task(task_id)
     initial = task.initial_project.read_bytes()
-    async with session.editor() as editor:
+    async with pooled_editor(shared_pool) as editor:
         await editor.load_project(initial)
         for action in task.trajectory() or []:
             envelope = await composite.execute(editor, action.api, action.args)
@@ -153,8 +153,8 @@ async def cat_ids(editor: Editor) -> dict[str, str]:
     return found
 
 
-async def test_a_planned_drag_snaps_and_a_drop_in_free_space_does_not(session: BrowserSession) -> None:
-    async with primitive_editor(session, cat_project().to_sb3()) as editor:
+async def test_a_planned_drag_snaps_and_a_drop_in_free_space_does_not(shared_pool: EditorPool) -> None:
+    async with primitive_editor(shared_pool, cat_project().to_sb3()) as editor:
         ids = await cat_ids(editor)
         gestures = Gestures(editor.page)
         # The forever loop goes under the say block: its top meets the say block's next connection.
@@ -212,23 +212,23 @@ class DropInPlace:
         return PrimitiveAction(api=action.api, args={**action.args, "end_x": start_x + 4, "end_y": start_y + 4})
 
 
-async def test_the_self_check_stops_at_a_block_that_did_not_snap(session: BrowserSession, evaluator: Evaluator) -> None:
+async def test_the_self_check_stops_at_a_block_that_did_not_snap(shared_pool: EditorPool, evaluator: Evaluator) -> None:
     tamper = DropInPlace()
     with pytest.raises(
         OracleDivergenceError, match=r"after step \d+ connect_blocks .*differs from the composite dry run.*lacks script"
     ):
-        await solve(session, evaluator, "quiz_score", tamper)
+        await solve(shared_pool, evaluator, "quiz_score", tamper)
     assert tamper.done
 
 
 async def test_the_self_check_stops_at_a_value_that_was_not_typed(
-    session: BrowserSession, evaluator: Evaluator
+    shared_pool: EditorPool, evaluator: Evaluator
 ) -> None:
     def mistype(count: int, action: PrimitiveAction) -> PrimitiveAction:
         return PrimitiveAction(api="type", args={"text": "7"}) if action.api == "type" else action
 
     with pytest.raises(OracleDivergenceError, match=r"step 9 set_block_field .*typing 'Reset!' left \['7', '7', '7'\]"):
-        await solve(session, evaluator, "click_counter_reset", mistype)
+        await solve(shared_pool, evaluator, "click_counter_reset", mistype)
 
 
 CAT_TRAJECTORY = [
@@ -246,15 +246,15 @@ CAT_TRAJECTORY = [
 """Insert before a middle block, detach, wrap, stack after, delete, and put a block on top of a script."""
 
 
-async def test_detach_delete_wrap_and_stack_before_end_as_in_composite_mode(session: BrowserSession) -> None:
+async def test_detach_delete_wrap_and_stack_before_end_as_in_composite_mode(shared_pool: EditorPool) -> None:
     sb3 = cat_project().to_sb3()
     trajectory = [CompositeAction(api=api, args=args) for api, args in CAT_TRAJECTORY]
-    async with primitive_editor(session, sb3) as editor:
+    async with primitive_editor(shared_pool, sb3) as editor:
         for action in trajectory:
             assert (await composite.execute(editor, action.api, action.args)).success
         expected = (await editor.call("geometrySnapshot"))["text"]  # type: ignore[index,call-overload]
         assert "looks_show" in expected
-    async with primitive_editor(session, sb3) as editor:
+    async with primitive_editor(shared_pool, sb3) as editor:
         oracle = PrimitiveOracle(sb3, trajectory)
         await oracle.begin(editor)
         run = await drive(editor, oracle)
@@ -262,9 +262,9 @@ async def test_detach_delete_wrap_and_stack_before_end_as_in_composite_mode(sess
     assert run.gestures >= 10
 
 
-async def test_a_trajectory_that_fails_in_composite_mode_is_refused_at_begin(session: BrowserSession) -> None:
+async def test_a_trajectory_that_fails_in_composite_mode_is_refused_at_begin(shared_pool: EditorPool) -> None:
     sb3 = cat_project().to_sb3()
-    async with primitive_editor(session, sb3) as editor:
+    async with primitive_editor(shared_pool, sb3) as editor:
         oracle = PrimitiveOracle(sb3, [CompositeAction(api="add_block", args={"blockType": "motion_teleport"})])
         with pytest.raises(OracleDivergenceError, match="fails in composite mode at step 1: INVALID_ARG"):
             await oracle.begin(editor)
