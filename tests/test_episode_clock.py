@@ -75,7 +75,7 @@ def click_the_script_then_wait(delay_s: float) -> Callable[[dict[str, Any]], Beh
 
 
 async def screenshots_seen(
-    session: BrowserSession, content: TaskContent, clock: EpisodeClock, delay_s: float, pool: EditorPool | None = None
+    runner: EpisodeRunner, content: TaskContent, clock: EpisodeClock, delay_s: float
 ) -> list[str]:
     """The screenshots the model was sent, in order, for one primitive episode."""
     with OpenAIServer(responder=click_the_script_then_wait(delay_s)) as server:
@@ -84,7 +84,7 @@ async def screenshots_seen(
         (job,) = plan_jobs([model], ["primitive"], "llm", [content], [3], 6, ObservationSettings(ocr="none"))
         spec = job.episode(1, 300)
         spec = spec.model_copy(update={"episode_clock": clock, "llm": spec.llm.model_copy(update=settings)})  # type: ignore[union-attr]
-        result = await EpisodeRunner(session, pool).run(spec, content.payload, LLMAgent())
+        result = await runner.run(spec, content.payload, LLMAgent())
         assert [step.action for step in result.steps] == ["click", "click", "click", "done"], result.error_message
         assert all(step.ok for step in result.steps)
         return [
@@ -99,10 +99,10 @@ VIRTUAL = EpisodeClock(mode="virtual", settle_ms=300)
 
 
 async def test_a_slow_model_sees_what_a_fast_one_sees_on_the_virtual_clock(
-    session: BrowserSession, content: TaskContent
+    episode_runner: EpisodeRunner, content: TaskContent
 ) -> None:
-    fast = await screenshots_seen(session, content, VIRTUAL, delay_s=0)
-    slow = await screenshots_seen(session, content, VIRTUAL, delay_s=SLOW_MODEL_S)
+    fast = await screenshots_seen(episode_runner, content, VIRTUAL, delay_s=0)
+    slow = await screenshots_seen(episode_runner, content, VIRTUAL, delay_s=SLOW_MODEL_S)
     assert len(fast) == 4
     assert len(set(fast)) == 4  # the ball moved between the screenshots: they show time passing
     assert slow == fast
@@ -111,19 +111,19 @@ async def test_a_slow_model_sees_what_a_fast_one_sees_on_the_virtual_clock(
 async def test_a_loaded_machine_and_a_recycled_editor_see_the_same_pages(
     session: BrowserSession, content: TaskContent
 ) -> None:
-    idle = await screenshots_seen(session, content, VIRTUAL, delay_s=0)
+    idle = await screenshots_seen(EpisodeRunner(session), content, VIRTUAL, delay_s=0)  # a fresh editor
     with hogging_the_cpu():
         async with EditorPool(session, spare=0) as pool:
-            first = await screenshots_seen(session, content, VIRTUAL, delay_s=0, pool=pool)
-            again = await screenshots_seen(session, content, VIRTUAL, delay_s=0, pool=pool)  # a recycled editor
+            first = await screenshots_seen(EpisodeRunner(session, pool), content, VIRTUAL, delay_s=0)
+            again = await screenshots_seen(EpisodeRunner(session, pool), content, VIRTUAL, delay_s=0)  # recycled
             assert pool.reused >= 1
     assert first == idle and again == idle
 
 
 async def test_on_the_real_clock_the_model_s_latency_shows_on_the_stage(
-    session: BrowserSession, content: TaskContent
+    episode_runner: EpisodeRunner, content: TaskContent
 ) -> None:
-    fast = await screenshots_seen(session, content, EpisodeClock(mode="real"), delay_s=0)
-    slow = await screenshots_seen(session, content, EpisodeClock(mode="real"), delay_s=SLOW_MODEL_S)
+    fast = await screenshots_seen(episode_runner, content, EpisodeClock(mode="real"), delay_s=0)
+    slow = await screenshots_seen(episode_runner, content, EpisodeClock(mode="real"), delay_s=SLOW_MODEL_S)
     assert fast[0] == slow[0]  # nothing runs before the first click
     assert fast[1:] != slow[1:]  # the ball went on moving while the slow model thought
