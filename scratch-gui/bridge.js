@@ -156,6 +156,7 @@
       throw new BridgeFailure('project_invalid', `the VM refused the project: ${describe(reason)}`);
     }
     recycler.beforeEvaluation(theVm); // what an agent's page is compared with when it is recycled
+    guiState.showTargetPosition(gui());
     for (const hook of projectLoadedHooks) hook();
     return {targets: theVm.runtime.targets.filter(t => t.isOriginal).map(t => t.getName())};
   }

@@ -126,6 +126,25 @@
     }
   }
 
+  /**
+   * Show the loaded project's sprite position in the palette's motion blocks, as a fresh page does.
+   * The GUI writes it there on the VM's next targets update, which on the real clock may come after
+   * an agent's first look; until then a recycled page would show where the last project's sprite was
+   * (a fresh page draws a new palette, from XML holding 0s, for its first project).
+   */
+  function showTargetPosition(gui) {
+    const component = gui.blocks();
+    const target = component.props.vm.editingTarget;
+    const palette = component.workspace.getFlyout().getWorkspace();
+    if (!target) return;
+    for (const prefix of ['glide', 'move', 'set']) {
+      for (const axis of ['x', 'y']) {
+        const block = palette.getBlockById(prefix + axis); // the ids the GUI gives these fields' blocks
+        if (block) block.inputList[0].fieldRow[0].setValue(String(Math.round(target[axis])));
+      }
+    }
+  }
+
   // Every UI slice that an agent can change and an action can undo goes back to its fresh value.
   function resetStore(gui) {
     const store = gui.store;
@@ -189,5 +208,5 @@
     return differences;
   }
 
-  window.__scratchworldGuiState = Object.freeze({markClean, reset, compare});
+  window.__scratchworldGuiState = Object.freeze({markClean, reset, compare, showTargetPosition});
 })();
