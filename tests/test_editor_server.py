@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import http.client
 import urllib.error
 import urllib.request
 from pathlib import Path
@@ -11,6 +12,7 @@ import pytest
 from scratchworld_dist import EditorBundleMissingError
 from tests.conftest import copy_page_files
 from workers.editor import EditorAssets, EditorServer
+from workers.editor._server import REFUSALS_KEPT
 
 
 def _get(url: str) -> tuple[int, bytes]:
@@ -57,3 +59,28 @@ def test_a_symlinked_node_modules_is_served(tmp_path: Path) -> None:
         base = server.url.rsplit("/", 1)[0]
         status, bundle = _get(f"{base}/scratch-gui-standalone.js")
         assert status == 200 and len(bundle) > 10_000_000
+
+
+def _proxied(server: EditorServer, method: str, url: str) -> int:
+    """A request sent to the server as to a proxy, as Chromium sends all of a page's requests."""
+    host, port = server.proxy.removeprefix("http://").split(":")
+    connection = http.client.HTTPConnection(host, int(port), timeout=10)
+    try:
+        connection.request(method, url)
+        return connection.getresponse().status
+    finally:
+        connection.close()
+
+
+def test_a_pages_refused_attempt_stays_in_view_through_repeated_background_calls() -> None:
+    """Chromium's own update checks differ only in their query (a fresh key each); they count as one."""
+    with EditorServer() as server:
+        assert _proxied(server, "GET", "http://device-manager.example/scratch/ble") == 403
+        for key in range(REFUSALS_KEPT + 50):
+            assert _proxied(server, "POST", f"http://update.example/service/update2/json?cup2key={key}") == 403
+        assert server.refusals.count == REFUSALS_KEPT + 51
+        assert server.refusals.latest == [
+            "GET http://device-manager.example/scratch/ble",
+            "POST http://update.example/service/update2/json",
+        ]
+

@@ -104,7 +104,9 @@ class _Handler(SimpleHTTPRequestHandler):
 class Refusals:
     """Requests the server refused (a page, or Chromium itself, tried to reach something else): a count,
     and the latest distinct ones, so the browser's own repeated background calls (autofill, sign-in,
-    component updates, all refused) cannot push a page's attempts out of view."""
+    component updates, all refused) cannot push a page's attempts out of view. Requests are told apart
+    without their query: Chromium's update checks carry a fresh key each time, and 200 of them would
+    otherwise be 200 distinct requests."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
@@ -112,7 +114,7 @@ class Refusals:
         self.count = 0
 
     def note(self, request: str) -> None:
-        request = request[:300]
+        request = request.split("?", 1)[0][:300]
         with self._lock:
             self.count += 1
             first = request not in self._latest
