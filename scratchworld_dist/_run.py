@@ -217,7 +217,8 @@ def _execute(
         if local_slots is None:  # a cluster: the cores of all its nodes
             cores = int(ray.cluster_resources().get("CPU", cores))
         pages = pages_per_worker(config.limits, slots, cores)
-        pool = WorkerPool(slots, pages, config.synthetic, config.limits.memory_reserve_mb * MIB)
+        at_once = min(len(todo), config.limits.max_in_flight or len(todo))
+        pool = WorkerPool(slots, pages, config.synthetic, config.limits.memory_reserve_mb * MIB, at_once)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
         _store_shared_images(store, [c for c in plan.contents if c.task.id in needed])
         scheduler = Scheduler(

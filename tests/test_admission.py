@@ -166,6 +166,19 @@ def test_workers_take_no_job_while_the_node_is_short_of_memory(
         assert result.load.node_available_bytes >= reserve
 
 
+@pytest.mark.ray
+def test_a_run_starts_no_more_workers_than_it_can_keep_busy(shared_ray: int) -> None:
+    """Each worker launches a browser and opens editors: a one-job run on two slots starts one."""
+    sizes = {}
+    for pages, at_once in [(1, 1), (1, 2), (1, 7), (1, None), (2, 1), (2, 3)]:
+        pool = WorkerPool(2, pages, SyntheticEpisodes(), at_once=at_once)
+        try:
+            sizes[pages, at_once] = len(pool)
+        finally:
+            pool.close()
+    assert sizes == {(1, 1): 1, (1, 2): 2, (1, 7): 2, (1, None): 2, (2, 1): 1, (2, 3): 1}
+
+
 def read_task_payload(job: JobSpec) -> object:
     suite = load_suite(REPO / "tasks")
     (task,) = [task for task in suite.tasks if task.id == job.task_id]

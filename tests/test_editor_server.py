@@ -83,4 +83,3 @@ def test_a_pages_refused_attempt_stays_in_view_through_repeated_background_calls
             "GET http://device-manager.example/scratch/ble",
             "POST http://update.example/service/update2/json",
         ]
-

@@ -197,6 +197,7 @@ def test_a_rerun_with_the_model_cache_replays_every_reply_at_no_cost(tmp_path: P
     first = sweep(tmp_path, "cached-first", model_cache={"dir": "model-cache"}, modes=["composite"], **fields)
     code, log = run_here(first)
     assert code == 0, log
+    assert "\n1 worker(s) x 1 page(s) on " in log  # one job: no other slot's browser starts
     (made,) = RunStore(tmp_path / "cached-first").job_rows()
     assert (made.outcome, made.llm_calls, made.llm_cache_hits, server.count) == ("failed", 2, 0, 2)
     assert made.cost_usd > 0

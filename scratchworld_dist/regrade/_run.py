@@ -153,7 +153,9 @@ def _execute(
         cores = os.cpu_count() or 1
         if target.local_slots is None:  # a cluster: the cores of all its nodes
             cores = int(ray.cluster_resources().get("CPU", cores))
-        pool = WorkerPool(slots, pages_per_worker(limits, slots, cores), None, limits.memory_reserve_mb * MIB)
+        at_once = min(len(todo), limits.max_in_flight or len(todo))
+        pages = pages_per_worker(limits, slots, cores)
+        pool = WorkerPool(slots, pages, None, limits.memory_reserve_mb * MIB, at_once)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
         record = RegradeRecorder(store, manifest.run_name, manifest.suite.hash, plan.source.steps)
         scheduler = Scheduler(

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import ray
 from ray.actor import ActorHandle
 
@@ -18,15 +20,24 @@ class WorkerPool:
     """
 
     def __init__(
-        self, browser_slots: int, pages: int, synthetic: SyntheticEpisodes | None, memory_reserve_bytes: int = 0
+        self,
+        browser_slots: int,
+        pages: int,
+        synthetic: SyntheticEpisodes | None,
+        memory_reserve_bytes: int = 0,
+        at_once: int | None = None,
     ) -> None:
-        """``memory_reserve_bytes``: a worker declines new jobs while its node has less memory available."""
+        """``memory_reserve_bytes``: a worker declines new jobs while its node has less memory available.
+        ``at_once``: the most jobs the run will have in flight; no more workers start than hold them
+        (each would launch a browser and open editors that a one-job run never uses)."""
         if browser_slots < pages:
             raise RayUnavailableError(
                 f"a worker needs {pages} browser slot(s) (pages_per_worker) but the cluster offers {browser_slots}"
             )
         self.pages = pages
         count = browser_slots // pages
+        if at_once is not None:
+            count = min(count, max(1, math.ceil(at_once / pages)))
         actor_class = ray.remote(EpisodeWorker).options(
             resources={BROWSER_RESOURCE: pages},
             num_cpus=0,
