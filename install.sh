@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Installs everything scratchworld_dist needs on a Debian machine, idempotently:
 #   - Debian's chromium (Playwright's own browser download does not work here) and Node.js/npm,
-#   - a Python 3.11 virtualenv in .venv with the package and its dev tools,
-#   - the Scratch editor bundle from npm (scratch-gui/node_modules, pinned by package-lock.json).
+#   - a Python 3.11 virtualenv in .venv with the package and its dev tools (installed by uv: pip
+#     took 37 s here, uv 10 s),
+#   - the Scratch editor bundle from npm (scratch-gui/node_modules), the one package pinned by
+#     package-lock.json and checked against the lock's integrity; its ~740 dependencies are built
+#     into the bundle's dist already, so `npm ci` (1.1 GB, 24 s) would fetch them for nothing.
 # Safe to re-run: steps that are already done are skipped.
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -29,17 +32,31 @@ fi
 # Reinstall only when the project's metadata changed since the last install.
 stamp=.venv/.installed-$(sha256sum pyproject.toml | cut -c1-16)
 if [ ! -f "$stamp" ]; then
-  say "pip install -e .[dev]"
-  .venv/bin/python -m pip install -q --upgrade pip
-  .venv/bin/python -m pip install -q -e ".[dev]"
+  say "uv pip install -e .[dev]"
+  [ -x .venv/bin/uv ] || .venv/bin/python -m pip install -q uv
+  .venv/bin/uv pip install -q --python .venv/bin/python -e ".[dev]"
   rm -f .venv/.installed-* && touch "$stamp"
 fi
 
 bundle=scratch-gui/node_modules/@scratch/scratch-gui-standalone/dist/scratch-gui-standalone.js
 lock_stamp=scratch-gui/node_modules/.installed-$(sha256sum scratch-gui/package-lock.json | cut -c1-16)
 if [ ! -f "$bundle" ] || [ ! -f "$lock_stamp" ]; then
-  say "npm ci (the Scratch editor bundle)"
-  (cd scratch-gui && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+  package=@scratch/scratch-gui-standalone
+  locked() { node -e 'const p = require(process.argv[1]).packages["node_modules/" + process.argv[2]];
+    process.stdout.write(p[process.argv[3]])' "$PWD/scratch-gui/package-lock.json" "$package" "$1"; }
+  version=$(locked version) integrity=$(locked integrity)
+  say "npm pack $package@$version (the Scratch editor bundle)"
+  download=$(mktemp -d)
+  trap 'rm -rf "$download"' EXIT
+  npm pack "$package@$version" --pack-destination "$download" --json --loglevel=error > "$download/pack.json"
+  packed=$(node -e 'process.stdout.write(require(process.argv[1])[0].integrity)' "$download/pack.json")
+  if [ "$packed" != "$integrity" ]; then
+    echo "[install] $package@$version does not match scratch-gui/package-lock.json's integrity" >&2
+    exit 1
+  fi
+  target=scratch-gui/node_modules/$package
+  rm -rf scratch-gui/node_modules && mkdir -p "$target"
+  tar -xzf "$download"/*.tgz -C "$target" --strip-components=1
   touch "$lock_stamp"
 fi
 say "done: chromium $(/usr/bin/chromium --version 2>/dev/null | awk '{print $2}'), $(.venv/bin/python --version)"
