@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs everything scratchworld_dist needs on a Debian machine, idempotently:
 #   - Debian's chromium (Playwright's own browser download does not work here) and Node.js/npm,
-#   - a Python 3.11 virtualenv in .venv with the package and its dev tools (installed by uv: pip
-#     took 37 s here, uv 10 s),
+#   - a Python 3.11 virtualenv in .venv with the package and its dev tools, installed by uv (pip took
+#     37 s here). Bytecode is compiled at install, as pip does: with PYTHONDONTWRITEBYTECODE set (it is
+#     here) nothing else would write it, and every Ray worker and CLI process would compile its imports.
 #   - the Scratch editor bundle from npm (scratch-gui/node_modules), the one package pinned by
 #     package-lock.json and checked against the lock's integrity; its ~740 dependencies are built
 #     into the bundle's dist already, so `npm ci` (1.1 GB, 24 s) would fetch them for nothing.
@@ -34,7 +35,7 @@ stamp=.venv/.installed-$(sha256sum pyproject.toml | cut -c1-16)
 if [ ! -f "$stamp" ]; then
   say "uv pip install -e .[dev]"
   [ -x .venv/bin/uv ] || .venv/bin/python -m pip install -q uv
-  .venv/bin/uv pip install -q --python .venv/bin/python -e ".[dev]"
+  .venv/bin/uv pip install -q --compile-bytecode --python .venv/bin/python -e ".[dev]"
   rm -f .venv/.installed-* && touch "$stamp"
 fi
 
