@@ -130,13 +130,15 @@
    * Show the loaded project's sprite position in the palette's motion blocks, as a fresh page does.
    * The GUI writes it there on the VM's next targets update, which on the real clock may come after
    * an agent's first look; until then a recycled page would show where the last project's sprite was
-   * (a fresh page draws a new palette, from XML holding 0s, for its first project).
+   * (a fresh page draws a new palette, from XML holding 0s, for its first project). Not through the
+   * GUI's own handler (`onTargetsUpdate`): it queues the write behind the toolbox refresh that the
+   * load started, and the first screenshot still showed the last project's position.
    */
   function showTargetPosition(gui) {
     const component = gui.blocks();
     const target = component.props.vm.editingTarget;
-    const palette = component.workspace.getFlyout().getWorkspace();
     if (!target) return;
+    const palette = component.workspace.getFlyout().getWorkspace();
     for (const prefix of ['glide', 'move', 'set']) {
       for (const axis of ['x', 'y']) {
         const block = palette.getBlockById(prefix + axis); // the ids the GUI gives these fields' blocks
