@@ -101,8 +101,9 @@ async def validate_tasks(
     from workers.evaluation import Evaluator
 
     slots = asyncio.Semaphore(parallel)
-    # Editors are recycled after each evaluation; one spare starts up for a page that cannot be.
-    async with BrowserSession(browser) as session, EditorPool(session, spare=1) as pool:
+    # Editors are recycled after each evaluation. No spare is opened ahead: it would cost a whole
+    # editor's start-up for every command, to save its wait only when a page cannot be recycled.
+    async with BrowserSession(browser) as session, EditorPool(session, spare=0) as pool:
         evaluator = Evaluator(session, pool)
 
         async def run(task: Task, which: Which, project: bytes, spec: EvaluationSpec) -> EvalResult:

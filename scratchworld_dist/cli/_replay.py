@@ -28,12 +28,14 @@ async def _replay(
 ) -> tuple[list[ActionEnvelope], bytes, EvalResult]:
     # The browser stack loads with the command that needs it: ``report`` and ``status`` never do.
     from workers import composite
-    from workers.editor import BrowserSession
+    from workers.editor import BrowserSession, EditorPool
     from workers.evaluation import Evaluator
 
     envelopes: list[ActionEnvelope] = []
-    async with BrowserSession() as session:
-        async with session.editor() as editor:
+    # The replay's page is recycled for the evaluation, as a worker's agent pages are: one editor to open.
+    async with BrowserSession() as session, EditorPool(session, spare=0) as pool:
+        async with pool.editor() as editor:
+            editor.uses += 1  # an episode's use: the pool recycles the page (or closes it) when it comes back
             await editor.load_project(project)
             for number, action in enumerate(actions, start=1):
                 envelope = await composite.execute(editor, action.api, action.args)
@@ -48,7 +50,7 @@ async def _replay(
             if show_final:
                 console.print((await composite.observe(editor)).text, markup=False, highlight=False)
             final = await editor.save_project()
-        result = await Evaluator(session).evaluate(final, task_spec)  # type: ignore[arg-type]
+        result = await Evaluator(session, pool).evaluate(final, task_spec)  # type: ignore[arg-type]
     return envelopes, final, result
 
 

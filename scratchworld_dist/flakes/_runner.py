@@ -91,7 +91,8 @@ async def run_flakes(
 
     slots = asyncio.Semaphore(parallel)
     runs: list[FlakeRun] = []
-    async with BrowserSession(browser) as session, EditorPool(session, spare=1) as pool:
+    # No spare ahead (as in ``validate``): a page that cannot be recycled is replaced when needed.
+    async with BrowserSession(browser) as session, EditorPool(session, spare=0) as pool:
         evaluator = Evaluator(session, pool)
 
         async def run(task: Task, which: Which, project: bytes, spec: EvaluationSpec, variant: Variant) -> None:

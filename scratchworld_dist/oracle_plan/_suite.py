@@ -77,18 +77,25 @@ def plan_folder(out: Path, suite: Suite) -> Path:
 
 
 async def plan_suite(
-    suite: Suite, tasks: list[Task], out: Path, on_task: Callable[[TaskPlanRecord], None] | None = None
+    suite: Suite,
+    tasks: list[Task],
+    out: Path,
+    on_task: Callable[[TaskPlanRecord], None] | None = None,
+    editor: Editor | None = None,
 ) -> SuitePlans:
     """Plan, replay and write every task of ``tasks`` into ``out`` (a ``plan_folder``); ``out/plans.json``
-    is rewritten after each task."""
+    is rewritten after each task. Plans in ``editor`` when given (every task loads its own projects),
+    else in a browser of its own."""
+    if editor is None:
+        async with BrowserSession() as session, session.editor() as own:
+            return await plan_suite(suite, tasks, out, on_task, own)
     plans = SuitePlans(suite=suite.name, root=str(suite.root), tasks=[])
-    async with BrowserSession() as session, session.editor() as editor:
-        for task in tasks:
-            record = await _plan_task(editor, task, out)
-            plans = plans.model_copy(update={"tasks": [*plans.tasks, record]})
-            write_atomic(out / PLANS_FILE, plans.model_dump_json(indent=2).encode())
-            if on_task is not None:
-                on_task(record)
+    for task in tasks:
+        record = await _plan_task(editor, task, out)
+        plans = plans.model_copy(update={"tasks": [*plans.tasks, record]})
+        write_atomic(out / PLANS_FILE, plans.model_dump_json(indent=2).encode())
+        if on_task is not None:
+            on_task(record)
     return plans
 
 
