@@ -110,8 +110,8 @@ def test_the_capacity_command_prints_a_nodes_slots_from_its_measured_cost(
 @pytest.mark.slow
 async def test_a_waiting_editor_costs_less_cpu_on_the_virtual_clock() -> None:
     """Measured on real editors: a paused page does not step its VM; either takes a few hundred MB."""
-    virtual = await measure_editor_cost("virtual", editors=2)
-    real = await measure_editor_cost("real", editors=2)
+    virtual = await measure_editor_cost("virtual", editors=1)  # one each: a tenfold gap, whatever the noise
+    real = await measure_editor_cost("real", editors=1)
     assert real.cpu_cores > 0.1  # the VM steps at 30 frames per second
     assert virtual.cpu_cores < real.cpu_cores / 2
     for measured in (virtual, real):

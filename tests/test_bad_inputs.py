@@ -32,7 +32,7 @@ from scratchworld_dist.sweep import plan_jobs, read_task
 from tests import bad_inputs as bad
 from tests import bad_inputs_perception as bad_perception
 from tests import bad_inputs_runtime as live
-from tests.conftest import SUITE_DIR
+from tests.conftest import SUITE_DIR, pooled_editor
 from tests.loopback import LoopbackListener
 from tests.projects import counter_project, with_entry
 from tests.sweep_driver import SCRATCHWORLD
@@ -49,7 +49,7 @@ from workers.contract import (
     primitive_action,
 )
 from workers.contract._eval_result import MAX_MESSAGE
-from workers.editor import BrowserSession
+from workers.editor import BrowserSession, EditorPool
 from workers.episode import EpisodeRunner
 from workers.evaluation import Evaluator
 
@@ -235,8 +235,8 @@ async def test_a_hostile_but_valid_project_loads_and_is_judged(
     assert result.error is None and result.success, result.error
 
 
-async def test_a_sprite_name_cannot_forge_lines_of_the_observation(session: BrowserSession) -> None:
-    async with session.editor() as editor:
+async def test_a_sprite_name_cannot_forge_lines_of_the_observation(shared_pool: EditorPool) -> None:
+    async with pooled_editor(shared_pool) as editor:
         await editor.load_project(bad.rebuilt(live.renamed_sprite))
         text = (await composite.observe(editor)).text
     assert live.FORGED not in text and "\x1b" not in text  # the name is shown escaped, on the line it belongs to

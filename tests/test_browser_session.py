@@ -16,10 +16,10 @@ from scratchworld_dist import (
     RendererUnavailableError,
 )
 from scratchworld_dist.sb3 import Project, block, check_project, circle_costume
-from tests.conftest import copy_page_files
+from tests.conftest import copy_page_files, pooled_editor
 from tests.projects import counter_project
 from workers.contract import EvaluationSpec
-from workers.editor import BrowserConfig, BrowserSession, EditorAssets
+from workers.editor import BrowserConfig, BrowserSession, EditorAssets, EditorPool
 from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
@@ -113,8 +113,8 @@ async def test_cdn_requests_fail_at_once_and_do_not_break_the_editor(session: Br
         assert (await editor.status()).vm  # still answering
 
 
-async def test_load_and_save_round_trip(session: BrowserSession) -> None:
-    async with session.editor() as editor:
+async def test_load_and_save_round_trip(shared_pool: EditorPool) -> None:
+    async with pooled_editor(shared_pool) as editor:
         assert await editor.load_project(counter_project("Counter").to_sb3()) == ["Stage", "Counter"]
         saved = check_project(await editor.save_project())
         assert [t["name"] for t in saved["targets"]] == ["Stage", "Counter"]
@@ -147,8 +147,8 @@ async def test_strings_cannot_break_out_of_javascript(evaluator: Evaluator) -> N
     assert result.tests[0].meta == {"names": ["Stage", *HOSTILE]}
 
 
-async def test_bridge_rejects_unknown_functions_and_bad_arguments(session: BrowserSession) -> None:
-    async with session.editor() as editor:
+async def test_bridge_rejects_unknown_functions_and_bad_arguments(shared_pool: EditorPool) -> None:
+    async with pooled_editor(shared_pool) as editor:
         with pytest.raises(BridgeError) as caught:
             await editor.call("eval", {"code": "1"})
         assert caught.value.kind == "bad_request"

@@ -18,10 +18,10 @@ import pytest
 
 from scratchworld_dist import load_suite
 from scratchworld_dist.sweep import plan_jobs, read_task
-from tests.conftest import DATA, SUITE_DIR
+from tests.conftest import DATA, SUITE_DIR, pooled_editor
 from tests.projects import counter_project, timing_project
 from workers.contract import EvaluationClock, EvaluationSpec
-from workers.editor import BrowserSession
+from workers.editor import EditorPool
 from workers.evaluation import Evaluator, wall_limit_s
 from workers.evaluation._evaluator import KILL_GRACE_S
 
@@ -110,8 +110,8 @@ WAIT_A_SECOND = """module.exports = async () => {
 };"""
 
 
-async def test_the_clock_is_real_outside_an_evaluation(session: BrowserSession) -> None:
-    async with session.editor() as editor:
+async def test_the_clock_is_real_outside_an_evaluation(shared_pool: EditorPool) -> None:
+    async with pooled_editor(shared_pool) as editor:
         before = await editor.clock_status()
         assert before["mode"] == "real" and before["offsetMs"] == 0
         assert abs(before["dateNow"] - before["realDateNow"]) < 50  # type: ignore[operator]

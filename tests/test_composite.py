@@ -9,10 +9,10 @@ from typing import Any
 import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
-from tests.conftest import SUITE_DIR
+from tests.conftest import SUITE_DIR, pooled_editor
 from workers import composite
 from workers.contract import ActionEnvelope, EvaluationSpec
-from workers.editor import BrowserSession, Editor
+from workers.editor import Editor, EditorPool
 from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
@@ -38,8 +38,8 @@ BASE = base_project().to_sb3()
 
 
 @pytest.fixture(scope="module")
-async def editor(session: BrowserSession) -> AsyncIterator[Editor]:
-    async with session.editor() as page:
+async def editor(shared_pool: EditorPool) -> AsyncIterator[Editor]:
+    async with pooled_editor(shared_pool) as page:
         yield page
 
 

@@ -27,17 +27,17 @@ from scratchworld_dist.sb3 import Project, block, circle_costume, variable
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.suites._task import read_trajectory
 from scratchworld_dist.sweep import read_task
-from tests.conftest import SUITE_DIR
+from tests.conftest import SUITE_DIR, pooled_editor
 from workers import composite
-from workers.editor import BrowserSession, Editor
+from workers.editor import Editor, EditorPool
 from workers.evaluation import Evaluator
 
 MAX_LENGTH_RATIO = 1.5
 
 
 @pytest.fixture(scope="module")
-async def editor(session: BrowserSession) -> AsyncIterator[Editor]:
-    async with session.editor() as page:
+async def editor(shared_pool: EditorPool) -> AsyncIterator[Editor]:
+    async with pooled_editor(shared_pool) as page:
         yield page
 
 
@@ -62,25 +62,24 @@ async def replayed(editor: Editor, initial: bytes, plan: ProjectPlan) -> Project
 @pytest.mark.browser
 @pytest.mark.slow
 async def test_planned_trajectories_solve_our_suite_and_are_not_longer_than_the_hand_written(
-    tmp_path: Path, evaluator: Evaluator
+    tmp_path: Path, evaluator: Evaluator, editor: Editor
 ) -> None:
     suite = load_suite(SUITE_DIR)
-    plans = await plan_suite(suite, list(suite.tasks), tmp_path)
+    plans = await plan_suite(suite, list(suite.tasks), tmp_path, editor=editor)
     assert [r.task_id for r in plans.tasks] == [t.id for t in suite.tasks]
     on_disk = json.loads((tmp_path / "plans.json").read_text())
     assert [r["task_id"] for r in on_disk["tasks"]] == [t.id for t in suite.tasks]
-    async with evaluator.session.editor() as editor:
-        for record, task in zip(plans.tasks, suite.tasks, strict=True):
-            assert record.reached_golden and record.replayed and not record.lacks, record
-            planned = read_trajectory(tmp_path / f"{task.id}.json")
-            hand_written = task.trajectory() or []
-            assert len(planned) == record.actions
-            assert len(planned) <= MAX_LENGTH_RATIO * len(hand_written), (task.id, len(planned), len(hand_written))
-            await editor.load_project(task.initial_project.read_bytes())
-            for action in planned:
-                assert (await composite.execute(editor, action.api, action.args)).success
-            result = await evaluator.evaluate(await editor.save_project(), task.evaluation_spec())
-            assert result.success, (task.id, result.model_dump(include={"passed", "total", "error"}))
+    for record, task in zip(plans.tasks, suite.tasks, strict=True):
+        assert record.reached_golden and record.replayed and not record.lacks, record
+        planned = read_trajectory(tmp_path / f"{task.id}.json")
+        hand_written = task.trajectory() or []
+        assert len(planned) == record.actions
+        assert len(planned) <= MAX_LENGTH_RATIO * len(hand_written), (task.id, len(planned), len(hand_written))
+        await editor.load_project(task.initial_project.read_bytes())
+        for action in planned:
+            assert (await composite.execute(editor, action.api, action.args)).success
+        result = await evaluator.evaluate(await editor.save_project(), task.evaluation_spec())
+        assert result.success, (task.id, result.model_dump(include={"passed", "total", "error"}))
 
 
 def fixed_project() -> bytes:

@@ -8,8 +8,8 @@ from dataclasses import dataclass
 import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
-from tests.conftest import SUITE_DIR
-from workers.editor import BrowserSession, Editor
+from tests.conftest import SUITE_DIR, pooled_editor
+from workers.editor import Editor, EditorPool
 from workers.primitive import Gestures
 from workers.primitive._gestures import GestureError, key_name
 
@@ -32,8 +32,8 @@ class Spot:
 
 
 @pytest.fixture(scope="module")
-async def editor(session: BrowserSession) -> AsyncIterator[Editor]:
-    async with session.editor() as opened:
+async def editor(shared_pool: EditorPool) -> AsyncIterator[Editor]:
+    async with pooled_editor(shared_pool) as opened:
         await opened.load_project(QUIZ.read_bytes())
         await opened.set_stage_size("small")
         yield opened
@@ -174,13 +174,13 @@ def test_key_names() -> None:
         key_name("F99")
 
 
-async def test_a_drag_records_whether_it_snapped(session: BrowserSession) -> None:
+async def test_a_drag_records_whether_it_snapped(shared_pool: EditorPool) -> None:
     """Dropped on empty canvas a block stays alone; dropped under a stack it snaps, and the record says so."""
     project = Project()
     project.sprite("Cat", costume=circle_costume("dot", 10, "#36c")).script(
         block("event_whenflagclicked"), block("looks_say", MESSAGE="hi"), x=40, y=40
     ).script(block("motion_movesteps", STEPS=10), x=40, y=300)
-    async with session.editor() as editor:
+    async with pooled_editor(shared_pool) as editor:
         await editor.load_project(project.to_sb3())
         gestures = Gestures(editor.page, links=lambda: editor.call("primitiveLinks"))
 

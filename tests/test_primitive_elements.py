@@ -11,8 +11,8 @@ from typing import Any
 import pytest
 from pydantic import ValidationError
 
-from tests.conftest import REPO, SUITE_DIR
-from workers.editor import BrowserSession, Editor
+from tests.conftest import REPO, SUITE_DIR, pooled_editor
+from workers.editor import Editor, EditorPool
 from workers.node import OWN_FILES
 from workers.primitive._elements import (
     LEGEND,
@@ -37,9 +37,9 @@ HASHED_CLASS = re.compile(r"[a-z0-9-]+_[a-z0-9-]+_[A-Za-z0-9+-]{5}(?![A-Za-z0-9+
 
 
 @pytest.fixture(scope="module")
-async def editor(session: BrowserSession) -> AsyncIterator[Editor]:
+async def editor(shared_pool: EditorPool) -> AsyncIterator[Editor]:
     """One quiz editor for the module; tests run in file order and leave it usable."""
-    async with session.editor() as opened:
+    async with pooled_editor(shared_pool) as opened:
         await opened.load_project(QUIZ.read_bytes())
         await opened.set_stage_size("small")
         assert await settle(opened)
