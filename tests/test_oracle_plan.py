@@ -27,6 +27,7 @@ from scratchworld_dist.sb3 import Project, block, circle_costume, variable
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.suites._task import read_trajectory
 from scratchworld_dist.sweep import read_task
+from tests.cli_runner import invoke
 from tests.conftest import SUITE_DIR, pooled_editor
 from workers import composite
 from workers.editor import Editor, EditorPool
@@ -151,6 +152,18 @@ def test_plans_are_never_written_inside_the_suite(tmp_path: Path) -> None:
     assert result.exit_code != 0
     assert "is inside the suite" in str(result.exception)  # main() prints it as one line
     assert not (SUITE_DIR / "plans").exists()
+
+
+@pytest.mark.browser
+def test_the_command_plans_in_a_browser_of_its_own(tmp_path: Path) -> None:
+    """``scratchworld oracle-plan`` as a user runs it: a line per task, the trajectory and plans.json written."""
+    out = tmp_path / "plans"
+    done = invoke("oracle-plan", str(SUITE_DIR), "--out", str(out), "--tasks", "bouncing_ball_stuck")
+    assert done.returncode == 0, done.stdout + done.stderr
+    said = " ".join(done.stderr.split())
+    assert "bouncing_ball_stuck: 2 call(s)" in said and "all 1 task(s) planned and replayed to their golden" in said
+    assert len(read_trajectory(out / "bouncing_ball_stuck.json")) == 2
+    assert [r["task_id"] for r in json.loads((out / "plans.json").read_text())["tasks"]] == ["bouncing_ball_stuck"]
 
 
 def test_an_upstream_clone_is_planned_without_its_evaluation_scripts(upstream_clone: Path) -> None:
