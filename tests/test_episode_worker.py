@@ -30,7 +30,7 @@ from workers.contract import (
     SyntheticEpisodes,
     TaskPayload,
 )
-from workers.editor import BrowserSession, EditorPool
+from workers.editor import BrowserSession
 from workers.episode import EpisodeRunner, EpisodeWorker
 from workers.node import harness_fingerprint, thread_policies
 from workers.primitive import PRIMITIVE_APIS
@@ -285,14 +285,14 @@ def idle_threads(browser_pid: int) -> set[bool]:
 
 
 async def test_an_evaluation_gives_way_to_episodes_still_acting(
-    session: BrowserSession, shared_pool: EditorPool, contents: dict[str, TaskContent]
+    session: BrowserSession, contents: dict[str, TaskContent]
 ) -> None:
     """While another episode of the runner acts, a virtual-clock evaluation runs in a browser of the idle class,
     with the verdict it gets at full priority; with no other episode acting, it runs in the runner's own."""
     content = contents["bouncing_ball_stuck"]
     spec, payload = episode(content)
     assert payload.evaluation.clock == "virtual"
-    runner = EpisodeRunner(session, shared_pool)  # its own background browser; pages of the shared pool
+    runner = EpisodeRunner(session)
     go = asyncio.Event()
     agent = WaitingAgent(go)
     waiting = asyncio.ensure_future(runner.run(spec, payload, agent))
