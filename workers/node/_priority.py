@@ -18,12 +18,28 @@ from pathlib import Path
 
 import psutil
 
+MAX_PASSES = 5
+"""Walks over the tree at most: a pass that moves nothing proves every thread is in the class."""
+
 
 def idle_priority(root_pid: int) -> int:
     """Move ``root_pid`` and its descendants, every thread, to ``SCHED_IDLE``; the number of threads moved
-    (0 where the system has no such class: the browser then runs at normal priority)."""
+    (0 where the system has no such class: the browser then runs at normal priority).
+
+    A thread (or process) started during a pass by one not yet moved starts in the normal class, so the
+    tree is walked again until a pass moves nothing (seen: a browser a moment after its launch)."""
     if not hasattr(os, "SCHED_IDLE"):
         return 0
+    total = 0
+    for _ in range(MAX_PASSES):
+        moved = _move_once(root_pid)
+        total += moved
+        if moved == 0:
+            break
+    return total
+
+
+def _move_once(root_pid: int) -> int:
     try:
         root = psutil.Process(root_pid)
         processes = [root, *root.children(recursive=True)]
