@@ -100,6 +100,15 @@ async def pooled_editor(pool: EditorPool) -> AsyncIterator[Editor]:
         yield editor
 
 
+@contextlib.asynccontextmanager
+async def primitive_editor(pool: EditorPool, sb3: bytes) -> AsyncIterator[Editor]:
+    """A ``pooled_editor`` as primitive episodes get it: ``sb3`` loaded, the small stage."""
+    async with pooled_editor(pool) as editor:
+        await editor.load_project(sb3)
+        await editor.set_stage_size("small")
+        yield editor
+
+
 @pytest.fixture(scope="session")
 async def episode_runner(session: BrowserSession, shared_pool: EditorPool) -> AsyncIterator[EpisodeRunner]:
     """Episodes as workers run them: agent and evaluation pages from ``shared_pool``, recycled.

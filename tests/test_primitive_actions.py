@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
-from tests.conftest import SUITE_DIR, pooled_editor
+from tests.conftest import SUITE_DIR, pooled_editor, primitive_editor
 from workers.editor import Editor, EditorPool
 from workers.primitive import Gestures
 from workers.primitive._gestures import GestureError, key_name
@@ -33,9 +33,7 @@ class Spot:
 
 @pytest.fixture(scope="module")
 async def editor(shared_pool: EditorPool) -> AsyncIterator[Editor]:
-    async with pooled_editor(shared_pool) as opened:
-        await opened.load_project(QUIZ.read_bytes())
-        await opened.set_stage_size("small")
+    async with primitive_editor(shared_pool, QUIZ.read_bytes()) as opened:
         yield opened
 
 

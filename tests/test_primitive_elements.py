@@ -11,7 +11,7 @@ from typing import Any
 import pytest
 from pydantic import ValidationError
 
-from tests.conftest import REPO, SUITE_DIR, pooled_editor
+from tests.conftest import REPO, SUITE_DIR, primitive_editor
 from workers.editor import Editor, EditorPool
 from workers.node import OWN_FILES
 from workers.primitive._elements import (
@@ -39,9 +39,7 @@ HASHED_CLASS = re.compile(r"[a-z0-9-]+_[a-z0-9-]+_[A-Za-z0-9+-]{5}(?![A-Za-z0-9+
 @pytest.fixture(scope="module")
 async def editor(shared_pool: EditorPool) -> AsyncIterator[Editor]:
     """One quiz editor for the module; tests run in file order and leave it usable."""
-    async with pooled_editor(shared_pool) as opened:
-        await opened.load_project(QUIZ.read_bytes())
-        await opened.set_stage_size("small")
+    async with primitive_editor(shared_pool, QUIZ.read_bytes()) as opened:
         assert await settle(opened)
         yield opened
 

@@ -5,8 +5,7 @@ empty space), and its self-check stops a gesture gone astray."""
 from __future__ import annotations
 
 import time
-from collections.abc import AsyncIterator, Callable
-from contextlib import asynccontextmanager
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -14,7 +13,7 @@ import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
 from scratchworld_dist.suites import load_suite
-from tests.conftest import SUITE_DIR, pooled_editor
+from tests.conftest import SUITE_DIR, pooled_editor, primitive_editor
 from workers import composite
 from workers.agents._primitive_oracle import OracleDivergenceError, PrimitiveOracle
 from workers.contract import CompositeAction, Done, EvalResult, PrimitiveAction
@@ -51,15 +50,6 @@ def cat_project() -> Project:
     )
     cat.script(block("control_forever", SUBSTACK=[block("motion_changexby", DX=1)]))
     return project
-
-
-@asynccontextmanager
-async def primitive_editor(pool: EditorPool, sb3: bytes) -> AsyncIterator[Editor]:
-    """An editor as primitive episodes get it: the project loaded, the small stage."""
-    async with pooled_editor(pool) as editor:
-        await editor.load_project(sb3)
-        await editor.set_stage_size("small")
-        yield editor
 
 
 async def drive(editor: Editor, oracle: PrimitiveOracle, tamper: Tamper | None = None) -> Run:
