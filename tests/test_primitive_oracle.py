@@ -100,7 +100,7 @@ async def test_each_golden_trajectory_solves_its_task_in_both_modes(
     """The trajectory replayed through the composite API, then performed by the oracle as gestures in the
     same page (reloaded, as the oracle's own dry run leaves it): each saved project passes the task.
 
-    (Once two tests, here and in test_composite.py, each opening an editor for the same trajectory.)
+    (Once two tests, here and in the composite tests, each opening an editor for the same trajectory.)
     """
     task = load_suite(SUITE_DIR).task(task_id)
     initial = task.initial_project.read_bytes()
