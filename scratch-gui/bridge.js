@@ -437,31 +437,8 @@
     throw new BridgeFailure('editor_not_ready', 'the block workspace is not rendered yet');
   }
 
-  // Feature modules (modules.js registers them) are created in dependency order; each gets the
-  // bridge context and the modules it requires, and its `api` joins the one call table.
-  function createModules(specs, ctx) {
-    const byName = new Map();
-    for (const spec of specs) {
-      if (byName.has(spec.name)) throw new Error(`page module ${spec.name} registered twice`);
-      byName.set(spec.name, spec);
-    }
-    const created = new Map();
-    const creating = new Set();
-    function create(name, by) {
-      if (created.has(name)) return created.get(name);
-      const spec = byName.get(name);
-      if (!spec) throw new Error(`page module ${name} (required by ${by}) is not loaded: is it in index.html?`);
-      if (creating.has(name)) throw new Error(`page modules require each other in a cycle through ${name}`);
-      creating.add(name);
-      const instance = spec.create(ctx, ...spec.requires.map((required) => create(required, name))) || {};
-      created.set(name, instance);
-      return instance;
-    }
-    for (const name of byName.keys()) create(name, 'index.html');
-    return [...created.values()];
-  }
-
-  const moduleSpecs = window.__scratchworldModules || [];
+  // Feature modules (modules.js registers them), created in dependency order; their `api`s join the table.
+  const registry = window.__scratchworldModules;
   delete window.__scratchworldModules;
   delete window.scratchworldModule;
   const context = {
@@ -470,7 +447,7 @@
     pageTimeStands: () => clock.status().paused, // an episode's virtual clock, between two advances
     onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
   };
-  for (const instance of createModules(moduleSpecs, context)) {
+  for (const instance of registry ? registry.createAll(context) : []) {
     for (const [name, fn] of Object.entries(instance.api || {})) {
       if (Object.prototype.hasOwnProperty.call(api, name)) throw new Error(`bridge function ${name} registered twice`);
       api[name] = fn;
