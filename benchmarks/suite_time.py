@@ -1,0 +1,142 @@
+"""Where the test suite's time goes: its wall time and CPU, the cores left idle, and by module.
+
+    .venv/bin/python benchmarks/suite_time.py [--top 15] [-- PYTEST ARGS...]
+
+Runs pytest as CI does (the pyproject's two processes, the whole suite unless PYTEST ARGS say
+otherwise) with a probe plugin (``benchmarks/_suite_probe.py``) that notes when each test starts
+and ends in each process, while this script samples the machine's CPU once a second. It prints
+the run's wall time, the machine's CPU-seconds, how many cores were busy on average and how many
+core-seconds stayed idle, then per module: its wall time, the cores the machine used while it
+ran, and the idle core-seconds it accounts for (a share per module running then). The suite is
+CPU-bound on 2 cores: its time is its CPU over 2, plus what waiting modules leave idle.
+
+CPU is the machine's (``/proc/stat``), so run it on an otherwise quiet machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections import Counter, defaultdict
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+CORES = os.cpu_count() or 1
+
+
+def busy_jiffies() -> int:
+    """User, nice, system, irq and softirq time of every core, in clock ticks."""
+    fields = Path("/proc/stat").read_text().splitlines()[0].split()
+    return sum(int(fields[i]) for i in (1, 2, 3, 6, 7))
+
+
+class CpuSampler(threading.Thread):
+    """The machine's busy cores, once a second: ``(start, end, cores)`` per interval."""
+
+    def __init__(self) -> None:
+        super().__init__(daemon=True)
+        self.intervals: list[tuple[float, float, float]] = []
+        self.stop = threading.Event()
+        self.ticks = os.sysconf("SC_CLK_TCK")
+
+    def run(self) -> None:
+        last_t, last_busy = time.time(), busy_jiffies()
+        while not self.stop.wait(1.0):
+            now, busy = time.time(), busy_jiffies()
+            self.intervals.append((last_t, now, (busy - last_busy) / self.ticks / max(now - last_t, 1e-6)))
+            last_t, last_busy = now, busy
+
+
+def read_tests(folder: Path) -> dict[str, list[tuple[float, float, str]]]:
+    """Per test process: (start, end, node id) of each test, from the probe's files."""
+    found: dict[str, list[tuple[float, float, str]]] = {}
+    for path in sorted(folder.glob("*.tsv")):
+        started: dict[str, float] = {}
+        tests = []
+        for line in path.read_text().splitlines():
+            kind, at, node = line.split("\t", 2)
+            if kind == "S":
+                started[node] = float(at)
+            elif node in started:
+                tests.append((started.pop(node), float(at), node))
+        found[path.stem] = tests
+    return found
+
+
+def cores_between(intervals: list[tuple[float, float, float]], start: float, end: float) -> float:
+    """Mean busy cores of the machine from ``start`` to ``end``."""
+    used = sum(cores * (min(end, b) - max(start, a)) for a, b, cores in intervals if min(end, b) > max(start, a))
+    return used / max(end - start, 1e-6)
+
+
+def idle_by_module(
+    intervals: list[tuple[float, float, float]], processes: dict[str, list[tuple[float, float, str]]]
+) -> Counter[str]:
+    """Idle core-seconds of each interval, shared among the modules running during it."""
+    spans = [(s, e, node.split("::")[0]) for tests in processes.values() for s, e, node in tests]
+    idle: Counter[str] = Counter()
+    for a, b, cores in intervals:
+        running = [(module, min(b, e) - max(a, s)) for s, e, module in spans if min(b, e) > max(a, s)]
+        total = sum(part for _, part in running)
+        for module, part in running:
+            idle[module] += max(0.0, CORES - cores) * (b - a) * part / total
+    return idle
+
+
+def report(
+    intervals: list[tuple[float, float, float]], processes: dict[str, list[tuple[float, float, str]]], top: int
+) -> None:
+    wall = intervals[-1][1] - intervals[0][0] if intervals else 0.0
+    cpu = sum(cores * (b - a) for a, b, cores in intervals)
+    print(f"\nwall {wall:.0f} s, CPU {cpu:.0f} CPU-s, {cpu / max(wall, 1e-6):.2f} of {CORES} cores busy on average")
+    print(f"idle: {CORES * wall - cpu:.0f} core-s ({100 * (1 - cpu / max(CORES * wall, 1e-6)):.0f}%)")
+    for name, tests in sorted(processes.items()):
+        if tests:
+            print(f"process {name}: {len(tests)} tests, {tests[-1][1] - tests[0][0]:.0f} s from first to last")
+    modules: dict[str, list[float]] = defaultdict(lambda: [float("inf"), 0.0, 0.0])
+    for tests in processes.values():
+        for start, end, node in tests:
+            span = modules[node.split("::")[0]]
+            span[0], span[1], span[2] = min(span[0], start), max(span[1], end), span[2] + end - start
+    idle = idle_by_module(intervals, processes)
+    rows = sorted(modules.items(), key=lambda item: -item[1][2])[:top]
+    print(f"\n{'module':<44} {'wall s':>7} {'cores':>6} {'idle core-s':>12}")
+    for module, (start, end, spent) in rows:
+        print(f"{module:<44} {spent:7.0f} {cores_between(intervals, start, end):6.2f} {idle[module]:12.0f}")
+    print(f"\nidlest modules (idle core-s they account for), top {top}:")
+    for module, value in idle.most_common(top):
+        print(f"  {value:6.0f}  {module}")
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--top", type=int, default=15, help="modules listed per table")
+    parser.add_argument("pytest_args", nargs="*", help="after --: arguments for pytest (default: the whole suite)")
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory(prefix="suite-time-") as folder:
+        env = {
+            **os.environ,
+            "SUITE_PROBE_DIR": folder,
+            "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO / "benchmarks"), os.environ.get("PYTHONPATH")])),
+        }
+        sampler = CpuSampler()
+        sampler.start()
+        done = subprocess.run(
+            [sys.executable, "-m", "pytest", "-q", "-p", "_suite_probe", "-p", "no:cacheprovider", *args.pytest_args],
+            cwd=REPO,
+            env=env,
+            check=False,
+        )
+        sampler.stop.set()
+        sampler.join()
+        report(sampler.intervals, read_tests(Path(folder)), args.top)
+    return done.returncode
+
+
+if __name__ == "__main__":
+    sys.exit(main())
