@@ -26,18 +26,24 @@ CALIBRATION_WINDOW_S = 3.0
 
 
 async def measure_editor_cost(clock: ClockMode, harness: str = "", editors: int = CALIBRATION_EDITORS) -> EditorCost:
-    """Open ``editors`` editors in a fresh browser, let them wait as an agent's pages do, and measure."""
+    """Open ``editors`` editors in a fresh browser, let them wait as an agent's pages do, and measure.
+
+    Only that browser's processes are counted: the caller's other browsers (a worker's own, or Ray
+    workers' under it) may be busy meanwhile, and one lent page on the real clock costs about what
+    is measured here.
+    """
     async with BrowserSession(BrowserConfig()) as session:
         await session.responsive()  # the browser process is up: its own memory is the baseline
-        empty = browser_usage()
+        root = await session.browser_pid()
+        empty = browser_usage(root)
         pages = [await session.open_editor() for _ in range(editors)]
         for page in pages:
             if clock == "virtual":  # as after an episode's start: paused until the next action
                 await page.start_episode_clock(EpisodeClock(mode="virtual"))
                 await page.advance_clock(EpisodeClock().start_ms)
-        before, started = browser_usage(), time.monotonic()
+        before, started = browser_usage(root), time.monotonic()
         await asyncio.sleep(CALIBRATION_WINDOW_S)  # a measurement window: the pages' CPU over time
-        after = browser_usage()
+        after = browser_usage(root)
         cores = after.cpu_cores_since(before, time.monotonic() - started)
         return EditorCost(
             clock=clock,

@@ -47,14 +47,16 @@ def node_memory() -> NodeMemory:
 
 
 def browser_usage(root_pid: int | None = None) -> BrowserUsage:
-    """Sum over the Chromium processes descending from ``root_pid`` (this process by default)."""
+    """Sum over the Chromium processes from ``root_pid`` down (this process by default; a browser
+    process's pid gives that one browser, whatever else this process runs)."""
     try:
-        descendants = psutil.Process(root_pid).children(recursive=True)
+        root = psutil.Process(root_pid)
+        processes_down = [root, *root.children(recursive=True)]
     except psutil.Error:
         return BrowserUsage()
     processes = renderers = pss = 0
     cpu = 0.0
-    for process in descendants:
+    for process in processes_down:
         try:
             with process.oneshot():
                 if "chrom" not in process.name():
