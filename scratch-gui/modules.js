@@ -6,10 +6,10 @@
  *     return {api: {bridgeFunction: (args) => ...}, helper: ...};
  *   }});
  *
- * The bridge (bridge.js, loaded after every module) creates the modules in dependency order,
- * gives each the bridge context `ctx` (the VM accessor, the failure type, the real clock, ...)
- * and what the modules it requires returned, and joins every module's `api` into its one call
- * table. The rest of what `create` returns is what other modules see. Files load as plain
+ * The bridge (bridge.js, loaded after every module) has the registry create them (`createAll`):
+ * in dependency order, each given the bridge context `ctx` (the VM accessor, the failure type,
+ * the real clock, ...) and what the modules it requires returned; it then joins every module's
+ * `api` into its one call table. The rest of what `create` returns is what other modules see. Files load as plain
  * scripts, so this registry is the only global they touch, and the bridge removes it.
  */
 (function () {
