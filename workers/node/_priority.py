@@ -19,7 +19,8 @@ from pathlib import Path
 import psutil
 
 MAX_PASSES = 5
-"""Walks over the tree at most: a pass that moves nothing proves every thread is in the class."""
+"""Walks over the tree at most: a pass that moves nothing found every thread then alive in the class
+(Chromium may still move an audio thread to ``SCHED_RR`` later, see above)."""
 
 
 def idle_priority(root_pid: int) -> int:
