@@ -68,9 +68,14 @@ def read_tests(folder: Path) -> dict[str, list[tuple[float, float, str]]]:
     return found
 
 
+def overlap(a: float, b: float, start: float, end: float) -> float:
+    """Seconds that the spans ``a..b`` and ``start..end`` share."""
+    return max(0.0, min(b, end) - max(a, start))
+
+
 def cores_between(intervals: list[tuple[float, float, float]], start: float, end: float) -> float:
     """Mean busy cores of the machine from ``start`` to ``end``."""
-    used = sum(cores * (min(end, b) - max(start, a)) for a, b, cores in intervals if min(end, b) > max(start, a))
+    used = sum(cores * overlap(a, b, start, end) for a, b, cores in intervals)
     return used / max(end - start, 1e-6)
 
 
@@ -81,7 +86,7 @@ def idle_by_module(
     spans = [(s, e, node.split("::")[0]) for tests in processes.values() for s, e, node in tests]
     idle: Counter[str] = Counter()
     for a, b, cores in intervals:
-        running = [(module, min(b, e) - max(a, s)) for s, e, module in spans if min(b, e) > max(a, s)]
+        running = [(module, overlap(a, b, s, e)) for s, e, module in spans if overlap(a, b, s, e) > 0]
         total = sum(part for _, part in running)
         for module, part in running:
             idle[module] += max(0.0, CORES - cores) * (b - a) * part / total
