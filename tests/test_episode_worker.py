@@ -6,6 +6,7 @@ import asyncio
 import contextlib
 import os
 from collections.abc import AsyncIterator
+from pathlib import Path
 
 import psutil
 import pytest
@@ -277,11 +278,24 @@ SAME_VERDICT = {"timings", "console"}
 """What may differ between two evaluations of one project: how long they took, and the editor's own warnings."""
 
 
-def idle_threads(browser_pid: int) -> set[bool]:
-    """For every thread of a browser's processes but realtime ones (audio): whether it is in the idle class."""
+def threads_by_class(browser_pid: int) -> dict[bool, set[str]]:
+    """The threads of a browser's processes but realtime ones (audio), as "process/thread" names,
+    by whether they are in the idle class (the names say which thread, should one be in the wrong class)."""
     root = psutil.Process(browser_pid)
-    policies = {policy for process in [root, *root.children(recursive=True)] for policy in thread_policies(process.pid)}
-    return {policy == os.SCHED_IDLE for policy in policies - {os.SCHED_RR, os.SCHED_FIFO}}
+    classes: dict[bool, set[str]] = {}
+    for process in [root, *root.children(recursive=True)]:
+        with contextlib.suppress(psutil.Error):
+            for tid, policy in thread_policies(process.pid).items():
+                if policy not in {os.SCHED_RR, os.SCHED_FIFO}:
+                    classes.setdefault(policy == os.SCHED_IDLE, set()).add(f"{process.name()}/{thread_name(tid)}")
+    return classes
+
+
+def thread_name(tid: int) -> str:
+    try:
+        return Path(f"/proc/{tid}/comm").read_text().strip()
+    except OSError:
+        return str(tid)
 
 
 async def test_an_evaluation_gives_way_to_episodes_still_acting(
@@ -302,8 +316,9 @@ async def test_an_evaluation_gives_way_to_episodes_still_acting(
         background = runner.background
         assert background is not None and background.session is not session
         assert solved.outcome == "passed" and solved.evaluation is not None and solved.final_project is not None
-        assert idle_threads(await background.session.browser_pid()) == {True}  # its editors opened after launch
-        assert idle_threads(await session.browser_pid()) == {False}
+        background_threads = threads_by_class(await background.session.browser_pid())
+        assert background_threads.get(False, set()) == set() and background_threads[True]  # its editors too
+        assert set(threads_by_class(await session.browser_pid())) == {False}
         at_full_priority = await runner.evaluator.evaluate(solved.final_project, payload.evaluation)
         assert at_full_priority.model_dump(exclude=SAME_VERDICT) == solved.evaluation.model_dump(exclude=SAME_VERDICT)
         assert background.pool is not None

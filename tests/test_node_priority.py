@@ -30,7 +30,7 @@ time.sleep(600)
 
 
 def in_idle_class(pid: int) -> list[bool]:
-    return [policy == os.SCHED_IDLE for policy in thread_policies(pid)]
+    return [policy == os.SCHED_IDLE for policy in thread_policies(pid).values()]
 
 
 @pytest.fixture

@@ -150,8 +150,7 @@ class BrowserSession:
                 headless=True,
                 args=[*CHROMIUM_ARGS, *isolation_args(self._server.proxy), *self.config.extra_args],
             )
-            if self.config.idle_priority:
-                await asyncio.to_thread(idle_priority, await self.browser_pid())
+            await self.keep_idle()
         except PlaywrightError as exc:
             await self.close()
             raise EditorError(f"Chromium at {executable} failed to start: {exc.message}") from exc
@@ -159,6 +158,20 @@ class BrowserSession:
             await self.close()
             raise
         return self
+
+    async def keep_idle(self) -> int:
+        """With ``idle_priority``, move every thread of the browser (back) to the idle class; the number moved.
+
+        Run at launch and after each piece of work: threads a browser creates later start in the class,
+        but a full suite once left one of them in the normal class after an evaluation (not reproduced
+        alone), and a browser that gives way must not keep a thread that does not."""
+        if not self.config.idle_priority or not self.connected:
+            return 0
+        try:
+            pid = await self.browser_pid()
+        except PlaywrightError:  # it died meanwhile: nothing to move, and its next use reports the failure
+            return 0
+        return await asyncio.to_thread(idle_priority, pid)
 
     async def browser_pid(self) -> int:
         """The process id of Chromium's browser process (the root of all its processes)."""

@@ -210,6 +210,7 @@ class EpisodeRunner:
             async with self._background_turns:
                 background = await self._background_evaluator()
                 evaluation = await background.evaluate(final_project, task.evaluation, spec.project_limits)
+                await background.session.keep_idle()
         else:
             evaluation = await self.evaluator.evaluate(final_project, task.evaluation, spec.project_limits)
         timings.evaluation_s = time.perf_counter() - evaluation_start

@@ -56,12 +56,12 @@ def _move_once(root_pid: int) -> int:
     return moved
 
 
-def thread_policies(pid: int) -> list[int]:
-    """The scheduling policy (``os.SCHED_*``, Linux) of each thread of ``pid``."""
-    policies = []
+def thread_policies(pid: int) -> dict[int, int]:
+    """The scheduling policy (``os.SCHED_*``, Linux) of each thread of ``pid``, by thread id."""
+    policies = {}
     for tid in _threads(pid):
         with contextlib.suppress(OSError):
-            policies.append(os.sched_getscheduler(tid))
+            policies[tid] = os.sched_getscheduler(tid)
     return policies
 
 
