@@ -10,6 +10,13 @@ core-seconds stayed idle, then per module: its wall time, the cores the machine 
 ran, and the idle core-seconds it accounts for (a share per module running then). The suite is
 CPU-bound on 2 cores: its time is its CPU over 2, plus what waiting modules leave idle.
 
+Two more figures say what the CPU is spent on and how fast the machine is:
+- CPU-seconds by kind of process (Chromium renderers, Ray workers, the test processes...), from
+  every process's CPU times read twice a second (a process's last half second before it exits
+  is missed);
+- a reference workload before the suite: a browser launch and three editor openings, in
+  CPU-seconds per opening, so that runs on two machines (or one machine on two days) can be compared.
+
 CPU is the machine's (``/proc/stat``), so run it on an otherwise quiet machine.
 """
 
@@ -24,6 +31,8 @@ import threading
 import time
 from collections import Counter, defaultdict
 from pathlib import Path
+
+import psutil
 
 REPO = Path(__file__).resolve().parents[1]
 CORES = os.cpu_count() or 1
@@ -50,6 +59,84 @@ class CpuSampler(threading.Thread):
             now, busy = time.time(), busy_jiffies()
             self.intervals.append((last_t, now, (busy - last_busy) / self.ticks / max(now - last_t, 1e-6)))
             last_t, last_busy = now, busy
+
+
+class ProcessCpu(threading.Thread):
+    """CPU-seconds of every process that ran meanwhile, summed by kind (``kind_of``)."""
+
+    def __init__(self) -> None:
+        super().__init__(daemon=True)
+        self.stop = threading.Event()
+        self._start: dict[tuple[int, float], float] = {}
+        self._last: dict[tuple[int, float], tuple[str, float]] = {}
+
+    def run(self) -> None:
+        self._sample(first=True)
+        while not self.stop.wait(0.5):
+            self._sample(first=False)
+        self._sample(first=False)
+
+    def _sample(self, first: bool) -> None:
+        for process in psutil.process_iter(["pid", "name", "cmdline", "cpu_times", "create_time"]):
+            info = process.info
+            if info["cpu_times"] is None:
+                continue
+            key = (info["pid"], info["create_time"])
+            spent = info["cpu_times"].user + info["cpu_times"].system
+            if key not in self._last:
+                self._start[key] = spent if first else 0.0
+                self._last[key] = (kind_of(info["cmdline"] or [], info["name"] or ""), spent)
+            self._last[key] = (self._last[key][0], spent)
+
+    def by_kind(self) -> Counter[str]:
+        spent: Counter[str] = Counter()
+        for key, (kind, last) in self._last.items():
+            spent[kind] += last - self._start[key]
+        return spent
+
+
+def kind_of(cmdline: list[str], name: str) -> str:
+    """What a process is, for the CPU table: a Chromium process's type, a Ray process, a test process..."""
+    line = " ".join(cmdline)
+    if "chromium" in name or "/chromium" in line:
+        kind = next((arg.split("=", 1)[1] for arg in cmdline if arg.startswith("--type=")), "browser")
+        if "--top-chrome-webui" in cmdline:
+            kind += " (browser UI)"
+        if kind == "utility":
+            kind += " " + next((arg.split("=", 1)[1] for arg in cmdline if arg.startswith("--utility-sub-type=")), "")
+        return f"chromium {kind}"
+    if line.startswith("ray::"):  # a Ray worker, titled by what it runs ("ray::EpisodeWorker.run")
+        return line.split()[0].split(".")[0]
+    if "default_worker.py" in line:
+        return "ray::IDLE"  # a Ray worker before it took a title
+    if "gcs_server" in line or "raylet" in line or "site-packages/ray/" in line:
+        return "ray services"
+    if "playwright" in line and "node" in (name + line):
+        return "playwright driver (node)"
+    if "exec(eval(sys.stdin.readline()))" in line:
+        return "pytest processes"
+    if "scratchworld" in line:
+        return "scratchworld commands"
+    return "python, other" if "python" in name else "other"
+
+
+def reference_opening_cpu(openings: int = 3) -> float:
+    """Median CPU-seconds of the machine per editor opening (a warm browser, one editor at a time)."""
+    import asyncio
+
+    from workers.editor import BrowserSession
+
+    async def measure() -> list[float]:
+        spent = []
+        async with BrowserSession() as session:
+            for _ in range(openings):
+                before = busy_jiffies()
+                editor = await session.open_editor()
+                spent.append((busy_jiffies() - before) / os.sysconf("SC_CLK_TCK"))
+                await editor.close()
+        return spent
+
+    return sorted(asyncio.run(measure()))[openings // 2]
 
 
 def read_tests(folder: Path) -> dict[str, list[tuple[float, float, str]]]:
@@ -94,7 +181,10 @@ def idle_by_module(
 
 
 def report(
-    intervals: list[tuple[float, float, float]], processes: dict[str, list[tuple[float, float, str]]], top: int
+    intervals: list[tuple[float, float, float]],
+    processes: dict[str, list[tuple[float, float, str]]],
+    by_kind: Counter[str],
+    top: int,
 ) -> None:
     wall = intervals[-1][1] - intervals[0][0] if intervals else 0.0
     cpu = sum(cores * (b - a) for a, b, cores in intervals)
@@ -116,6 +206,9 @@ def report(
     print(f"\nidlest modules (idle core-s they account for), top {top}:")
     for module, value in idle.most_common(top):
         print(f"  {value:6.0f}  {module}")
+    print(f"\nCPU-s by kind of process (all processes: {sum(by_kind.values()):.0f}):")
+    for kind, value in by_kind.most_common(top):
+        print(f"  {value:7.0f}  {kind}")
 
 
 def main() -> int:
@@ -123,23 +216,26 @@ def main() -> int:
     parser.add_argument("--top", type=int, default=15, help="modules listed per table")
     parser.add_argument("pytest_args", nargs="*", help="after --: arguments for pytest (default: the whole suite)")
     args = parser.parse_args()
+    print(f"reference: an editor opening costs {reference_opening_cpu():.2f} CPU-s on this machine", flush=True)
     with tempfile.TemporaryDirectory(prefix="suite-time-") as folder:
         env = {
             **os.environ,
             "SUITE_PROBE_DIR": folder,
             "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO / "benchmarks"), os.environ.get("PYTHONPATH")])),
         }
-        sampler = CpuSampler()
+        sampler, kinds = CpuSampler(), ProcessCpu()
         sampler.start()
+        kinds.start()
         done = subprocess.run(
             [sys.executable, "-m", "pytest", "-q", "-p", "_suite_probe", "-p", "no:cacheprovider", *args.pytest_args],
             cwd=REPO,
             env=env,
             check=False,
         )
-        sampler.stop.set()
-        sampler.join()
-        report(sampler.intervals, read_tests(Path(folder)), args.top)
+        for thread in (sampler, kinds):
+            thread.stop.set()
+            thread.join()
+        report(sampler.intervals, read_tests(Path(folder)), kinds.by_kind(), args.top)
     return done.returncode
 
 
