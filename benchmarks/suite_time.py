@@ -23,6 +23,7 @@ CPU is the machine's (``/proc/stat``), so run it on an otherwise quiet machine.
 from __future__ import annotations
 
 import argparse
+import asyncio
 import os
 import subprocess
 import sys
@@ -33,6 +34,8 @@ from collections import Counter, defaultdict
 from pathlib import Path
 
 import psutil
+
+from workers.editor import BrowserSession
 
 REPO = Path(__file__).resolve().parents[1]
 CORES = os.cpu_count() or 1
@@ -61,6 +64,11 @@ class CpuSampler(threading.Thread):
             last_t, last_busy = now, busy
 
 
+KERNEL_THREADS = 2
+"""The pid of kthreadd, the parent of every kernel thread (kdamond, which monitors memory, once took
+a tenth of the machine's CPU through a suite)."""
+
+
 class ProcessCpu(threading.Thread):
     """CPU-seconds of every process that ran meanwhile, summed by kind (``kind_of``)."""
 
@@ -77,7 +85,7 @@ class ProcessCpu(threading.Thread):
         self._sample(first=False)
 
     def _sample(self, first: bool) -> None:
-        for process in psutil.process_iter(["pid", "name", "cmdline", "cpu_times", "create_time"]):
+        for process in psutil.process_iter(["pid", "ppid", "name", "cmdline", "cpu_times", "create_time"]):
             info = process.info
             if info["cpu_times"] is None:
                 continue
@@ -85,8 +93,11 @@ class ProcessCpu(threading.Thread):
             spent = info["cpu_times"].user + info["cpu_times"].system
             if key not in self._last:
                 self._start[key] = spent if first else 0.0
-                self._last[key] = (kind_of(info["cmdline"] or [], info["name"] or ""), spent)
-            self._last[key] = (self._last[key][0], spent)
+            # Read again each time: a process retitles itself after it starts (a Chromium renderer
+            # forked from the zygote, a Ray worker once it runs an actor).
+            name = info["name"] or ""
+            kernel = KERNEL_THREADS in (info["pid"], info["ppid"])
+            self._last[key] = (f"kernel {name}" if kernel else kind_of(info["cmdline"] or [], name), spent)
 
     def by_kind(self) -> Counter[str]:
         spent: Counter[str] = Counter()
@@ -122,9 +133,6 @@ def kind_of(cmdline: list[str], name: str) -> str:
 
 def reference_opening_cpu(openings: int = 3) -> float:
     """Median CPU-seconds of the machine per editor opening (a warm browser, one editor at a time)."""
-    import asyncio
-
-    from workers.editor import BrowserSession
 
     async def measure() -> list[float]:
         spent = []
