@@ -316,9 +316,16 @@ async def test_an_evaluation_gives_way_to_episodes_still_acting(
         background = runner.background
         assert background is not None and background.session is not session
         assert solved.outcome == "passed" and solved.evaluation is not None and solved.final_project is not None
-        background_threads = threads_by_class(await background.session.browser_pid())
-        assert background_threads.get(False, set()) == set() and background_threads[True]  # its editors too
+        background_pid = await background.session.browser_pid()
+        background_threads = threads_by_class(background_pid)
+        assert background_threads.get(False, set()) == set() and background_threads[True]
         assert set(threads_by_class(await session.browser_pid())) == {False}
+        # An editor opened later is born in the class (the runner moves threads back only after evaluations).
+        later = await background.session.open_editor()
+        try:
+            assert threads_by_class(background_pid).get(False, set()) == set()
+        finally:
+            await later.close()
         at_full_priority = await runner.evaluator.evaluate(solved.final_project, payload.evaluation)
         assert at_full_priority.model_dump(exclude=SAME_VERDICT) == solved.evaluation.model_dump(exclude=SAME_VERDICT)
         assert background.pool is not None
