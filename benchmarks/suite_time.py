@@ -91,13 +91,16 @@ class ProcessCpu(threading.Thread):
                 continue
             key = (info["pid"], info["create_time"])
             spent = info["cpu_times"].user + info["cpu_times"].system
+            name, cmdline = info["name"] or "", info["cmdline"] or []
             if key not in self._last:
                 self._start[key] = spent if first else 0.0
-            # Read again each time: a process retitles itself after it starts (a Chromium renderer
-            # forked from the zygote, a Ray worker once it runs an actor).
-            name = info["name"] or ""
-            kernel = KERNEL_THREADS in (info["pid"], info["ppid"])
-            self._last[key] = (f"kernel {name}" if kernel else kind_of(info["cmdline"] or [], name), spent)
+                kernel = KERNEL_THREADS in (info["pid"], info["ppid"])
+                self._last[key] = (f"kernel {name}" if kernel else kind_of(cmdline, name), spent)
+            elif cmdline:  # read again: a process retitles itself after it starts (a Chromium renderer
+                # forked from the zygote, a Ray worker once it runs an actor); an exiting one has none
+                self._last[key] = (kind_of(cmdline, name), spent)
+            else:
+                self._last[key] = (self._last[key][0], spent)
 
     def by_kind(self) -> Counter[str]:
         spent: Counter[str] = Counter()
