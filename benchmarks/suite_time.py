@@ -65,8 +65,8 @@ class CpuSampler(threading.Thread):
 
 
 KERNEL_THREADS = 2
-"""The pid of kthreadd, the parent of every kernel thread (kdamond, which monitors memory, once took
-a tenth of the machine's CPU through a suite)."""
+"""The pid of kthreadd, the parent of every kernel thread (kdamond, which monitors memory, took 32 CPU-s
+through one suite here: not the suite's, but the machine's)."""
 
 
 class ProcessCpu(threading.Thread):
