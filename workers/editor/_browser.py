@@ -163,7 +163,7 @@ class BrowserSession:
         """With ``idle_priority``, move every thread of the browser (back) to the idle class; the number moved.
 
         Run at launch and after each piece of work: threads a browser creates later start in the class,
-        but a full suite once left one of them in the normal class after an evaluation (not reproduced
+        but full suites twice left one of them in the normal class after an evaluation (not reproduced
         alone), and a browser that gives way must not keep a thread that does not."""
         if not self.config.idle_priority or not self.connected:
             return 0
