@@ -95,12 +95,13 @@ class ProcessCpu(threading.Thread):
             if key not in self._last:
                 self._start[key] = spent if first else 0.0
                 kernel = KERNEL_THREADS in (info["pid"], info["ppid"])
-                self._last[key] = (f"kernel {name}" if kernel else kind_of(cmdline, name), spent)
+                kind = f"kernel {name}" if kernel else kind_of(cmdline, name)
             elif cmdline:  # read again: a process retitles itself after it starts (a Chromium renderer
                 # forked from the zygote, a Ray worker once it runs an actor); an exiting one has none
-                self._last[key] = (kind_of(cmdline, name), spent)
+                kind = kind_of(cmdline, name)
             else:
-                self._last[key] = (self._last[key][0], spent)
+                kind = self._last[key][0]
+            self._last[key] = (kind, spent)
 
     def by_kind(self) -> Counter[str]:
         spent: Counter[str] = Counter()
@@ -113,11 +114,11 @@ def kind_of(cmdline: list[str], name: str) -> str:
     """What a process is, for the CPU table: a Chromium process's type, a Ray process, a test process..."""
     line = " ".join(cmdline)
     if "chromium" in name or "/chromium" in line:
-        kind = next((arg.split("=", 1)[1] for arg in cmdline if arg.startswith("--type=")), "browser")
+        kind = switch_value(cmdline, "--type", "browser")
         if "--top-chrome-webui" in cmdline:
             kind += " (browser UI)"
         if kind == "utility":
-            kind += " " + next((arg.split("=", 1)[1] for arg in cmdline if arg.startswith("--utility-sub-type=")), "")
+            kind += " " + switch_value(cmdline, "--utility-sub-type", "")
         return f"chromium {kind}"
     if line.startswith("ray::"):  # a Ray worker, titled by what it runs ("ray::EpisodeWorker.run")
         return line.split()[0].split(".")[0]
@@ -132,6 +133,11 @@ def kind_of(cmdline: list[str], name: str) -> str:
     if "scratchworld" in line:
         return "scratchworld commands"
     return "python, other" if "python" in name else "other"
+
+
+def switch_value(cmdline: list[str], switch: str, default: str) -> str:
+    """The value of a ``--switch=value`` argument, or ``default``."""
+    return next((arg.split("=", 1)[1] for arg in cmdline if arg.startswith(f"{switch}=")), default)
 
 
 def reference_opening_cpu(openings: int = 3) -> float:
