@@ -57,7 +57,9 @@ async def test_a_page_that_never_gets_ready_times_out_with_the_cause(tmp_path: P
     config = BrowserConfig(ready_timeout_s=2)
     async with BrowserSession(config, EditorAssets(tmp_path)) as session:
         started = time.monotonic()
-        with pytest.raises(EditorNotReadyError, match="still missing: VM, rendered workspace, default project"):
+        with pytest.raises(
+            EditorNotReadyError, match="not ready after 2 s; still missing: VM, rendered workspace, default project"
+        ):
             await session.open_editor()
         assert time.monotonic() - started < 15
 

@@ -191,6 +191,37 @@ async def test_a_crashed_page_takes_no_sibling_episode_with_it(
     assert browser.is_connected()
 
 
+@pytest.mark.slow
+async def test_a_browser_that_dies_while_its_episode_waits_on_the_model_ends_it_at_once(
+    worker: EpisodeWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The agent is inside its model call when the browser goes: the episode does not wait for the reply."""
+    monkeypatch.setenv("SCRATCHWORLD_TEST_LOST_KEY", "sk-lost")
+    done = reply('Analysis: finished.\n```json\n{"api": "done", "args": {}}\n```')
+    with OpenAIServer(default=done) as server:
+        server.hold()
+        model = ModelSpec(name="m", model="openai/m", api_base=server.url, api_key_env="SCRATCHWORLD_TEST_LOST_KEY")
+        retry = RetryPolicy(max_attempts=1, request_timeout_s=120, max_total_s=120)
+        (job,) = plan_jobs(
+            [model], ["composite"], "llm", [contents["sum_two_numbers"]], [0], 5, llm=LLMSettings(retry=retry)
+        )
+        running = asyncio.create_task(worker.run(job.episode(1, 300), contents["sum_two_numbers"].payload))
+        for _ in range(1200):
+            if server.count >= 1:
+                break
+            await asyncio.sleep(0.05)
+        else:
+            pytest.fail("the episode never asked the model")
+        assert worker._session is not None and worker._session._browser is not None
+        browser = worker._session._browser
+        await browser.close()  # as if Chromium crashed
+        result = await running  # the model has not answered, and does not until the end
+        server.release()
+    assert (result.outcome, result.error_class) == ("error", "editor_failure"), result.error_message
+    assert "the browser disconnected" in (result.error_message or "")
+    assert worker._session is None  # dropped; the next job starts a new browser
+
+
 async def test_a_job_planned_for_another_harness_is_refused(contents: dict[str, TaskContent]) -> None:
     worker = EpisodeWorker(worker_index=0, synthetic=SyntheticEpisodes())
     spec, payload = episode(contents["sum_two_numbers"])

@@ -14,9 +14,12 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import enum
+import logging
+from collections.abc import Awaitable
 from contextlib import AbstractAsyncContextManager
 from pathlib import Path
 from types import TracebackType
+from typing import TypeVar
 
 from playwright.async_api import Browser, BrowserContext, Playwright, async_playwright
 from playwright.async_api import Error as PlaywrightError
@@ -51,8 +54,19 @@ def isolation_args(proxy: str) -> tuple[str, ...]:
     return (f"--proxy-server={proxy}", "--proxy-bypass-list=<-loopback>")
 
 
+log = logging.getLogger(__name__)
+
+_T = TypeVar("_T")
+
 RESPONSIVE_TIMEOUT_S = 30.0
 """How long a healthy browser may take to open an empty context, even on a busy machine."""
+
+LOSS_GRACE_S = 5.0
+"""How long work in a browser that disconnected may take to fail on its own before it is cut
+(failing on its own, it keeps its error message and what it recorded; it takes well under a second)."""
+
+SHUTDOWN_TIMEOUT_S = 30.0
+"""Bound on each step of closing a session (the browser, then Playwright's driver)."""
 
 
 class BrowserConfig(BaseModel):
@@ -103,6 +117,13 @@ _orphans: set[asyncio.Future[None]] = set()
 """Closes in progress of contexts whose opener was cancelled (kept referenced until done)."""
 
 
+async def _bounded(step: Awaitable[None], doing: str) -> None:
+    try:
+        await asyncio.wait_for(step, SHUTDOWN_TIMEOUT_S)
+    except TimeoutError:
+        log.warning("%s took over %g s; left behind", doing, SHUTDOWN_TIMEOUT_S)
+
+
 class BrowserSession:
     """Owns Playwright, one Chromium and the editor server for as long as it is open."""
 
@@ -114,6 +135,8 @@ class BrowserSession:
         self._playwright: Playwright | None = None
         self._browser: Browser | None = None
         self._opening = asyncio.Semaphore(self.config.concurrent_opens)
+        self._lost = asyncio.Event()
+        """Set once the browser disconnected (it died, or the session closed)."""
 
     @property
     def editor_url(self) -> str:
@@ -150,6 +173,7 @@ class BrowserSession:
                 headless=True,
                 args=[*CHROMIUM_ARGS, *isolation_args(self._server.proxy), *self.config.extra_args],
             )
+            self._browser.on("disconnected", lambda _: self._lost.set())
             await self.keep_idle()
         except PlaywrightError as exc:
             await self.close()
@@ -172,6 +196,33 @@ class BrowserSession:
         except PlaywrightError:  # it died meanwhile: nothing to move, and its next use reports the failure
             return 0
         return await asyncio.to_thread(idle_priority, pid)
+
+    async def while_connected(self, work: Awaitable[_T], grace_s: float = LOSS_GRACE_S) -> _T:
+        """``work``'s result, unless the browser disconnects first: then ``work`` gets ``grace_s`` to end
+        on its own (pages that went away make it fail), after which it is cancelled and
+        ``EditorCrashedError`` raised.
+
+        Work waiting on something else (an agent on its model) would otherwise learn of the loss only
+        after that wait. And a full suite once saw an episode wait out its whole timeout after its browser
+        was closed under it (the call that never came back was not found).
+        """
+        task = asyncio.ensure_future(work)
+        lost = asyncio.ensure_future(self._lost.wait())
+        try:
+            await asyncio.wait({task, lost}, return_when=asyncio.FIRST_COMPLETED)
+            if not task.done():
+                await asyncio.wait({task}, timeout=grace_s)
+        except asyncio.CancelledError:  # our caller gave up (a timeout): so does the work, cleaning up first
+            task.cancel()
+            await asyncio.wait({task})
+            raise
+        finally:
+            lost.cancel()
+        if task.done():
+            return task.result()
+        task.cancel()
+        await asyncio.wait({task}, timeout=grace_s)  # its clean-up, unless it swallows the cancellation
+        raise EditorCrashedError(f"the browser disconnected, and the work in it did not end within {grace_s:g} s")
 
     async def browser_pid(self) -> int:
         """The process id of Chromium's browser process (the root of all its processes)."""
@@ -247,14 +298,17 @@ class BrowserSession:
         return opened(self.open_editor())
 
     async def close(self) -> None:
+        """Close the browser, Playwright's driver and the editor server; each step bounded, so a browser
+        that dies badly cannot hold its worker (a step past its bound is logged and left behind)."""
         self._state = _State.CLOSED
+        self._lost.set()
         browser, playwright, server = self._browser, self._playwright, self._server
         self._browser = self._playwright = self._server = None
         if browser is not None:
             with contextlib.suppress(PlaywrightError):  # already gone
-                await browser.close()
+                await _bounded(browser.close(), "closing Chromium")
         if playwright is not None:
-            await playwright.stop()
+            await _bounded(playwright.stop(), "stopping Playwright's driver")
         if server is not None:
             await asyncio.to_thread(server.stop)
 

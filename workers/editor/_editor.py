@@ -16,6 +16,7 @@ from typing import Any
 
 from playwright.async_api import BrowserContext, ConsoleMessage, Page
 from playwright.async_api import Error as PlaywrightError
+from playwright.async_api import TimeoutError as PlaywrightTimeoutError
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError
 from pydantic.alias_generators import to_camel
 
@@ -162,9 +163,9 @@ class Editor:
             remaining = max(deadline - time.monotonic(), 0.1)
             await self.page.wait_for_function(_SETTLED, timeout=remaining * 1000, polling=50)
         except PlaywrightError as exc:
-            if self._crashed or self.page.is_closed():
+            if self._crashed or self.page.is_closed() or not self._browser_connected():
                 raise EditorCrashedError(f"the editor page went away while opening: {exc.message}") from exc
-            raise EditorNotReadyError(await self._not_ready_reason(timeout_s, exc)) from exc
+            raise EditorNotReadyError(await self._not_ready_reason(timeout_s, time.monotonic() - started, exc)) from exc
         status = await self.status()
         if not status.renderer:
             raise RendererUnavailableError(
@@ -176,8 +177,15 @@ class Editor:
         await self.call("markClean")  # what recycling compares a used page with
         return status
 
-    async def _not_ready_reason(self, timeout_s: float, exc: PlaywrightError) -> str:
-        reason = f"the editor was not ready after {timeout_s:.0f} s"
+    def _browser_connected(self) -> bool:
+        browser = self.context.browser
+        return browser is None or browser.is_connected()
+
+    async def _not_ready_reason(self, timeout_s: float, elapsed_s: float, exc: PlaywrightError) -> str:
+        if isinstance(exc, PlaywrightTimeoutError):
+            reason = f"the editor was not ready after {timeout_s:.0f} s"
+        else:  # e.g. the navigation was aborted: a browser that is going away, before it says so
+            reason = f"the editor page failed to load after {elapsed_s:.1f} s"
         try:
             status = await self.status()
             reason += f"; still missing: {', '.join(status.missing()) or 'nothing'}"

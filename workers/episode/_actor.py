@@ -2,7 +2,8 @@
 
 Whatever happens inside an episode comes back as an ``EpisodeResult`` (an error outcome at
 worst); only the death of the process itself is left to Ray and the driver. The browser is
-started on first use and started again if it dies, so a restarted actor heals itself. An
+started on first use and started again if it dies, so a restarted actor heals itself. The jobs in
+a browser that dies end within seconds as editor failures, even those waiting on their model. An
 episode whose editor failed closes its browser only if that browser stopped answering: a page
 that crashed takes nobody else with it, and a late failure never closes a browser that was
 started after it.
@@ -193,7 +194,7 @@ class EpisodeWorker:
             await load_litellm()
         runner = await self._browser()
         try:
-            result = await runner.run(spec, task, agent)
+            result = await runner.session.while_connected(runner.run(spec, task, agent))
         except (EditorError, PlaywrightError) as exc:
             result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         if result.error_class == "editor_failure":
@@ -202,7 +203,10 @@ class EpisodeWorker:
 
     async def _regrade(self, spec: RegradeSpec, task: TaskPayload) -> EpisodeResult:
         runner = await self._browser()
-        result = await regrade(runner.evaluator, spec, task)
+        try:
+            result = await runner.session.while_connected(regrade(runner.evaluator, spec, task))
+        except EditorError as exc:
+            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         if result.error_class == "editor_failure":
             await self._drop_if_broken(runner.session)
         return result
@@ -214,7 +218,7 @@ class EpisodeWorker:
         if self._drags is None or self._drags.pool is not runner.pool:
             self._drags = DragRunner(runner.pool)
         try:
-            result = await self._drags.run(spec, task)
+            result = await runner.session.while_connected(self._drags.run(spec, task))
         except (EditorError, PlaywrightError) as exc:
             result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         if result.error_class == "editor_failure":
