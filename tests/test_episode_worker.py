@@ -13,7 +13,7 @@ import pytest
 from playwright.async_api import Error as PlaywrightError
 
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
+from scratchworld_dist.sweep import JobSpec, TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentBase, StepResult, build_agent
@@ -61,6 +61,27 @@ def episode(
 ) -> tuple[EpisodeSpec, TaskPayload]:
     (job,) = plan_jobs([None], [mode], agent, [content], [0], max_steps)
     return job.episode(1, timeout_s), content.payload
+
+
+DONE_REPLY = 'Analysis: finished.\n```json\n{"api": "done", "args": {}}\n```'
+
+
+def held_llm_job(server: OpenAIServer, content: TaskContent, monkeypatch: pytest.MonkeyPatch) -> JobSpec:
+    """An ``llm`` job against ``server``, whose replies are held until ``release``; a model call may wait 120 s."""
+    monkeypatch.setenv("SCRATCHWORLD_TEST_HELD_KEY", "sk-held")
+    server.hold()
+    model = ModelSpec(name="m", model="openai/m", api_base=server.url, api_key_env="SCRATCHWORLD_TEST_HELD_KEY")
+    retry = RetryPolicy(max_attempts=1, request_timeout_s=120, max_total_s=120)
+    (job,) = plan_jobs([model], ["composite"], "llm", [content], [0], 5, llm=LLMSettings(retry=retry))
+    return job
+
+
+async def until_asked(server: OpenAIServer, requests: int) -> None:
+    for _ in range(1200):
+        if server.count >= requests:
+            return
+        await asyncio.sleep(0.05)
+    pytest.fail(f"the episodes never made {requests} model requests")
 
 
 @pytest.mark.slow
@@ -153,23 +174,11 @@ async def test_a_crashed_page_takes_no_sibling_episode_with_it(
     worker: EpisodeWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Two episodes share the worker's browser; one page's renderer dies while both wait on the model."""
-    monkeypatch.setenv("SCRATCHWORLD_TEST_SIBLING_KEY", "sk-sibling")
-    done = reply('Analysis: finished.\n```json\n{"api": "done", "args": {}}\n```')
-    with OpenAIServer(default=done) as server:
-        server.hold()
-        model = ModelSpec(name="m", model="openai/m", api_base=server.url, api_key_env="SCRATCHWORLD_TEST_SIBLING_KEY")
-        retry = RetryPolicy(max_attempts=1, request_timeout_s=120, max_total_s=120)
-        (job,) = plan_jobs(
-            [model], ["composite"], "llm", [contents["sum_two_numbers"]], [0], 5, llm=LLMSettings(retry=retry)
-        )
+    with OpenAIServer(default=reply(DONE_REPLY)) as server:
+        job = held_llm_job(server, contents["sum_two_numbers"], monkeypatch)
         payload = contents["sum_two_numbers"].payload
         runs = [asyncio.create_task(worker.run(job.episode(attempt, 300), payload)) for attempt in (1, 2)]
-        for _ in range(1200):  # both agents are waiting for their first reply, each with its own page
-            if server.count >= 2:
-                break
-            await asyncio.sleep(0.05)
-        else:
-            pytest.fail("the two episodes never asked the model")
+        await until_asked(server, 2)  # both agents are waiting for their first reply, each with its own page
         assert worker._session is not None and worker._session._browser is not None
         browser = worker._session._browser
         first, _ = browser.contexts
@@ -192,26 +201,14 @@ async def test_a_crashed_page_takes_no_sibling_episode_with_it(
 
 
 @pytest.mark.slow
-async def test_a_browser_that_dies_while_its_episode_waits_on_the_model_ends_it_at_once(
+async def test_a_browser_that_dies_while_its_episode_waits_on_the_model_ends_it_within_seconds(
     worker: EpisodeWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The agent is inside its model call when the browser goes: the episode does not wait for the reply."""
-    monkeypatch.setenv("SCRATCHWORLD_TEST_LOST_KEY", "sk-lost")
-    done = reply('Analysis: finished.\n```json\n{"api": "done", "args": {}}\n```')
-    with OpenAIServer(default=done) as server:
-        server.hold()
-        model = ModelSpec(name="m", model="openai/m", api_base=server.url, api_key_env="SCRATCHWORLD_TEST_LOST_KEY")
-        retry = RetryPolicy(max_attempts=1, request_timeout_s=120, max_total_s=120)
-        (job,) = plan_jobs(
-            [model], ["composite"], "llm", [contents["sum_two_numbers"]], [0], 5, llm=LLMSettings(retry=retry)
-        )
+    with OpenAIServer(default=reply(DONE_REPLY)) as server:
+        job = held_llm_job(server, contents["sum_two_numbers"], monkeypatch)
         running = asyncio.create_task(worker.run(job.episode(1, 300), contents["sum_two_numbers"].payload))
-        for _ in range(1200):
-            if server.count >= 1:
-                break
-            await asyncio.sleep(0.05)
-        else:
-            pytest.fail("the episode never asked the model")
+        await until_asked(server, 1)
         assert worker._session is not None and worker._session._browser is not None
         browser = worker._session._browser
         await browser.close()  # as if Chromium crashed
