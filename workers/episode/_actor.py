@@ -24,6 +24,7 @@ import os
 import socket
 import time
 import traceback
+from collections.abc import Awaitable
 
 import ray
 from playwright.async_api import Error as PlaywrightError
@@ -193,23 +194,11 @@ class EpisodeWorker:
         if spec.model is not None:  # once per worker, before the episode: its first step would wait for the import
             await load_litellm()
         runner = await self._browser()
-        try:
-            result = await runner.session.while_connected(runner.run(spec, task, agent))
-        except (EditorError, PlaywrightError) as exc:
-            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
-        if result.error_class == "editor_failure":
-            await self._drop_if_broken(runner.session)
-        return result
+        return await self._in_browser(spec, runner.session, runner.run(spec, task, agent))
 
     async def _regrade(self, spec: RegradeSpec, task: TaskPayload) -> EpisodeResult:
         runner = await self._browser()
-        try:
-            result = await runner.session.while_connected(regrade(runner.evaluator, spec, task))
-        except EditorError as exc:
-            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
-        if result.error_class == "editor_failure":
-            await self._drop_if_broken(runner.session)
-        return result
+        return await self._in_browser(spec, runner.session, regrade(runner.evaluator, spec, task))
 
     async def _run_drag(self, spec: DragSpec, task: DragPayload) -> EpisodeResult:
         if spec.model is not None:
@@ -217,12 +206,19 @@ class EpisodeWorker:
         runner = await self._browser()
         if self._drags is None or self._drags.pool is not runner.pool:
             self._drags = DragRunner(runner.pool)
+        return await self._in_browser(spec, runner.session, self._drags.run(spec, task))
+
+    async def _in_browser(
+        self, spec: WorkerJob, session: BrowserSession, work: Awaitable[EpisodeResult]
+    ) -> EpisodeResult:
+        """``work``'s result, cut short if ``session``'s browser dies; after an editor failure the browser is
+        closed if it no longer answers."""
         try:
-            result = await runner.session.while_connected(self._drags.run(spec, task))
+            result = await session.while_connected(work)
         except (EditorError, PlaywrightError) as exc:
             result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         if result.error_class == "editor_failure":
-            await self._drop_if_broken(runner.session)
+            await self._drop_if_broken(session)
         return result
 
     async def _browser(self) -> EpisodeRunner:
