@@ -163,7 +163,7 @@ class Editor:
             remaining = max(deadline - time.monotonic(), 0.1)
             await self.page.wait_for_function(_SETTLED, timeout=remaining * 1000, polling=50)
         except PlaywrightError as exc:
-            if self._crashed or self.page.is_closed() or not self._browser_connected():
+            if self._crashed or self.page.is_closed():
                 raise EditorCrashedError(f"the editor page went away while opening: {exc.message}") from exc
             raise EditorNotReadyError(await self._not_ready_reason(timeout_s, time.monotonic() - started, exc)) from exc
         status = await self.status()
@@ -176,10 +176,6 @@ class Editor:
         self.ready_s = time.monotonic() - started
         await self.call("markClean")  # what recycling compares a used page with
         return status
-
-    def _browser_connected(self) -> bool:
-        browser = self.context.browser
-        return browser is None or browser.is_connected()
 
     async def _not_ready_reason(self, timeout_s: float, elapsed_s: float, exc: PlaywrightError) -> str:
         if isinstance(exc, PlaywrightTimeoutError):
