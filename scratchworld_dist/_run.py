@@ -237,7 +237,7 @@ def _execute(
             with live_progress(scheduler.stats, len(todo), console):
                 _run_waves(scheduler, todo, memory, console)
         finally:
-            pool.close()
+            pool.close(keep=scheduler.settled)
             del limiters
     stats = scheduler.stats
     budget_stop = None

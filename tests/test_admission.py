@@ -11,6 +11,7 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
+import psutil
 import pytest
 import ray
 
@@ -182,6 +183,43 @@ def test_a_run_starts_no_more_workers_than_it_can_keep_busy(shared_ray: int) -> 
         finally:
             pool.close()
     assert sizes == {(1, 1): 1, (1, 2): 2, (1, 7): 2, (1, None): 2, (2, 1): 1, (2, 3): 1}
+
+
+@pytest.mark.ray
+def test_a_kept_pool_serves_the_next_sweep_of_its_kind_and_no_other(shared_ray: int) -> None:
+    """Workers left by ``close(keep=True)`` are the next pool's when it is built alike (fewer wanted: the
+    rest are killed); a pool of another kind kills them first, so they never hold its browser slots."""
+
+    def pids(pool: WorkerPool) -> list[int]:
+        return [info.pid for info in ray.get([handle.info.remote() for handle in pool.handles], timeout=60)]
+
+    def exits(pid: int) -> bool:
+        try:
+            return psutil.wait_procs([psutil.Process(pid)], timeout=60)[1] == []
+        except psutil.NoSuchProcess:
+            return True
+
+    first = WorkerPool(2, 1, SyntheticEpisodes())
+    started = pids(first)
+    first.close(keep=True)
+    again = WorkerPool(2, 1, SyntheticEpisodes())
+    assert (again.reused, pids(again)) == (2, started)
+    again.close(keep=True)
+    fewer = WorkerPool(2, 1, SyntheticEpisodes(), at_once=1)
+    assert (fewer.reused, pids(fewer)) == (1, started[:1])
+    assert exits(started[1])  # the one not wanted is killed
+    fewer.close(keep=True)
+    other = WorkerPool(2, 2, SyntheticEpisodes())  # two pages per worker: both slots, no kept worker left
+    try:
+        assert other.reused == 0 and pids(other)[0] not in started
+        assert exits(started[0])
+    finally:
+        other.close()
+    last = WorkerPool(2, 2, SyntheticEpisodes())
+    try:
+        assert last.reused == 0  # closed without keep: nothing kept
+    finally:
+        last.close()
 
 
 def read_task_payload(job: JobSpec) -> object:

@@ -171,6 +171,6 @@ def _execute(
             with live_progress(scheduler.stats, len(todo), console):
                 scheduler.run(todo)
         finally:
-            pool.close()
+            pool.close(keep=scheduler.settled)
     stats = scheduler.stats
     return stats.submitted, stats.outcomes, stats.retried

@@ -1,8 +1,9 @@
-"""The pool of worker actors, sized by the cluster's browser slots."""
+"""The pool of worker actors, sized by the cluster's browser slots, kept warm between a process's sweeps."""
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import ray
 from ray.actor import ActorHandle
@@ -12,11 +13,29 @@ from workers.contract import SyntheticEpisodes
 from workers.episode import EpisodeWorker
 
 
+@dataclass
+class _KeptWorkers:
+    key: tuple[str, int, str, int]
+    """The Ray node this process is attached to, then what the workers were built with."""
+    handles: list[ActorHandle]
+
+
+_kept: _KeptWorkers | None = None
+"""The last sweep's workers, idle, their browsers and editors open, for this process's next sweep."""
+
+
 class WorkerPool:
     """One actor per browser; each reserves ``pages`` browser slots and runs that many episodes.
 
     Actors restart without limit when their process dies (their constructor re-runs and the
     browser is relaunched on first use); calls are never retried by Ray, the driver decides.
+
+    A pool closed with ``keep`` leaves its workers running for the next pool this process makes on
+    the same Ray with the same pages, synthetic episodes and memory reserve: that sweep starts on
+    warm browsers and recycled editors (checked clean, as between a sweep's own episodes) instead
+    of new processes. Any other pool kills them first, so kept workers never hold browser slots it
+    needs. Only a driver that runs several sweeps in one process gains (a notebook, the test suite);
+    ``scratchworld run`` exits after its sweep, and its workers with it.
     """
 
     def __init__(
@@ -38,6 +57,17 @@ class WorkerPool:
         count = browser_slots // pages
         if at_once is not None:
             count = min(count, max(1, math.ceil(at_once / pages)))
+        self._key = (
+            ray.get_runtime_context().get_node_id(),
+            pages,
+            synthetic.model_dump_json() if synthetic is not None else "",
+            memory_reserve_bytes,
+        )
+        kept = _take_kept(self._key)
+        for handle in kept[count:]:
+            ray.kill(handle, no_restart=True)
+        self.reused = min(len(kept), count)
+        """Workers taken over from this process's previous sweep."""
         actor_class = ray.remote(EpisodeWorker).options(
             resources={BROWSER_RESOURCE: pages},
             num_cpus=0,
@@ -45,8 +75,8 @@ class WorkerPool:
             max_task_retries=0,
             max_concurrency=pages + 4,
         )
-        self.handles: list[ActorHandle] = [
-            actor_class.remote(index, synthetic, memory_reserve_bytes) for index in range(count)
+        self.handles: list[ActorHandle] = kept[:count] + [
+            actor_class.remote(index, synthetic, memory_reserve_bytes) for index in range(self.reused, count)
         ]
 
     def __len__(self) -> int:
@@ -56,6 +86,31 @@ class WorkerPool:
         """Kill a worker that stopped answering; Ray starts it again and its calls fail over."""
         ray.kill(self.handles[index], no_restart=False)
 
-    def close(self) -> None:
-        for handle in self.handles:
+    def close(self, keep: bool = False) -> None:
+        """Kill the workers, or with ``keep`` leave them for this process's next sweep (only when no
+        job of this sweep still runs on them)."""
+        global _kept
+        if keep:
+            _kill_kept()
+            _kept = _KeptWorkers(self._key, self.handles)
+        else:
+            for handle in self.handles:
+                ray.kill(handle, no_restart=True)
+
+
+def _take_kept(key: tuple[str, int, str, int]) -> list[ActorHandle]:
+    """The kept workers if they were built like ``key`` asks; kept workers of another kind are killed."""
+    global _kept
+    if _kept is not None and _kept.key == key:
+        handles, _kept = _kept.handles, None
+        return handles
+    _kill_kept()
+    return []
+
+
+def _kill_kept() -> None:
+    global _kept
+    kept, _kept = _kept, None
+    if kept is not None and kept.key[0] == ray.get_runtime_context().get_node_id():
+        for handle in kept.handles:  # (those of a Ray since shut down went with it)
             ray.kill(handle, no_restart=True)

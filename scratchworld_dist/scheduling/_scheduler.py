@@ -195,6 +195,11 @@ class Scheduler(Generic[J]):
                     queue.append((flight.job, result.attempt + 1))
         self.stats.not_started += len({job.job_id for job, _ in queue})
 
+    @property
+    def settled(self) -> bool:
+        """No job is running on any worker (a run that ended normally; see ``WorkerPool.close``)."""
+        return not self._flights
+
     def _warm(self, jobs: int) -> None:
         """Have every idle worker open the editors for its share of ``jobs`` before it gets one."""
         editors = min(self.pool.pages, math.ceil(min(jobs, self.capacity) / len(self.pool)))
