@@ -34,12 +34,20 @@ def spec(source: str, clock: EvaluationClock, timeout_s: float = 20, name: str =
     return EvaluationSpec(script_name=name, script_source=source, timeout_s=timeout_s, clock=clock)
 
 
+REAL_TRIES = 3
+"""Real-clock runs of the reference before a missed window counts: its windows hold on a quiet machine,
+but a busy one delays real timers (an answer given 30 ms after its question was seen after 590 ms in
+one CI run, against a window of 30-300 ms). The virtual run, the one under test, gets one try."""
+
+
 async def test_timing_sensitive_blocks_behave_alike_under_both_clocks(evaluator: Evaluator) -> None:
     source = (DATA / "clock_behaviours.js").read_text()
     project = timing_project()
-    results = {
-        clock: await evaluator.evaluate(project, spec(source, clock, name="clock_behaviours.js")) for clock in CLOCKS
-    }
+    results = {"virtual": await evaluator.evaluate(project, spec(source, "virtual", name="clock_behaviours.js"))}
+    for _ in range(REAL_TRIES):
+        results["real"] = await evaluator.evaluate(project, spec(source, "real", name="clock_behaviours.js"))
+        if results["real"].success:
+            break
     for clock, result in results.items():
         assert result.error is None, (clock, result.error)
         assert [t.name for t in result.tests if not t.passed] == [], (clock, [t for t in result.tests if not t.passed])
