@@ -232,7 +232,7 @@ def _execute(
             spent_usd=store.cost_usd() if config.limits.budget_usd is not None else 0.0,
             open_editors=any(job.needs_browser for job, _ in todo),
         )
-        console.print(f"{len(pool)} worker(s) x {pool.pages} page(s) on {slots} browser slot(s)")
+        console.print(pool.describe(slots))
         try:
             with live_progress(scheduler.stats, len(todo), console):
                 _run_waves(scheduler, todo, memory, console)

@@ -204,6 +204,7 @@ def test_a_kept_pool_serves_the_next_sweep_of_its_kind_and_no_other(shared_ray: 
     first.close(keep=True)
     again = WorkerPool(2, 1, SyntheticEpisodes())
     assert (again.reused, pids(again)) == (2, started)
+    assert again.describe(2).endswith("on 2 browser slot(s), 2 kept warm from this process's last sweep")
     again.close(keep=True)
     fewer = WorkerPool(2, 1, SyntheticEpisodes(), at_once=1)
     assert (fewer.reused, pids(fewer)) == (1, started[:1])

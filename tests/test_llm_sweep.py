@@ -208,6 +208,7 @@ def test_a_rerun_with_the_model_cache_replays_every_reply_at_no_cost(tmp_path: P
     second = sweep(tmp_path, "cached-again", modes=["composite"], **fields)
     code, log = run_here(second, "--model-cache", str(tmp_path / "model-cache"))
     assert code == 0, log
+    assert "1 kept warm from this process's last sweep" in " ".join(log.split())  # the first run's, browser open
     (replayed,) = RunStore(tmp_path / "cached-again").job_rows()
     assert server.count == 2  # no request reached the server
     assert replayed.job_id == made.job_id  # the cache is not part of a job's identity

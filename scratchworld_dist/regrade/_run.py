@@ -166,7 +166,7 @@ def _execute(
             on_result=record,
             max_in_flight=limits.max_in_flight,
         )
-        console.print(f"{len(pool)} worker(s) x {pool.pages} page(s) on {slots} browser slot(s)")
+        console.print(pool.describe(slots))
         try:
             with live_progress(scheduler.stats, len(todo), console):
                 scheduler.run(todo)

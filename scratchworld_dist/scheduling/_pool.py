@@ -82,6 +82,11 @@ class WorkerPool:
     def __len__(self) -> int:
         return len(self.handles)
 
+    def describe(self, browser_slots: int) -> str:
+        """The line a run prints about its workers."""
+        kept = f", {self.reused} kept warm from this process's last sweep" if self.reused else ""
+        return f"{len(self)} worker(s) x {self.pages} page(s) on {browser_slots} browser slot(s){kept}"
+
     def restart(self, index: int) -> None:
         """Kill a worker that stopped answering; Ray starts it again and its calls fail over."""
         ray.kill(self.handles[index], no_restart=False)
