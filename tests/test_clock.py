@@ -20,7 +20,7 @@ from scratchworld_dist import load_suite
 from scratchworld_dist.sweep import plan_jobs, read_task
 from tests.conftest import DATA, SUITE_DIR, pooled_editor
 from tests.projects import counter_project, timing_project
-from workers.contract import EvaluationClock, EvaluationSpec
+from workers.contract import EvalResult, EvaluationClock, EvaluationSpec
 from workers.editor import EditorPool
 from workers.evaluation import Evaluator, wall_limit_s
 from workers.evaluation._evaluator import KILL_GRACE_S
@@ -35,9 +35,13 @@ def spec(source: str, clock: EvaluationClock, timeout_s: float = 20, name: str =
 
 
 REAL_TRIES = 3
-"""Real-clock runs of the reference before a missed window counts: its windows hold on a quiet machine,
-but a busy one delays real timers (an answer given 30 ms after its question was seen after 590 ms in
-one CI run, against a window of 30-300 ms). The virtual run, the one under test, gets one try."""
+"""Real-clock runs of a reference before a miss counts: its times hold on a quiet machine, but a busy one
+delays real timers and frames (an answer given 30 ms after its question was seen after 590 ms in one CI
+run, against a window of 30-300 ms). The virtual run, the one under test, gets one try."""
+
+
+TOOK_TOLERANCE_MS = 150
+"""How far apart the two clocks may see the pong game end (a few frames)."""
 
 
 async def test_timing_sensitive_blocks_behave_alike_under_both_clocks(evaluator: Evaluator) -> None:
@@ -156,6 +160,13 @@ def test_the_clock_is_part_of_a_jobs_identity_and_suites_pick_their_default(upst
     assert ids["virtual"] != ids["real"]
 
 
+def took_ms(result: EvalResult) -> float | None:
+    """The pong probe's time from the green flag to the game's end, when it got that far."""
+    meta = result.tests[1].meta if len(result.tests) > 1 else None
+    took = meta.get("took") if isinstance(meta, dict) else None
+    return float(took) if isinstance(took, int | float) else None
+
+
 @pytest.mark.upstream
 async def test_an_upstream_game_runs_frame_for_frame_alike_under_both_clocks(
     evaluator: Evaluator, upstream_dir: Path
@@ -163,7 +174,12 @@ async def test_an_upstream_game_runs_frame_for_frame_alike_under_both_clocks(
     """Upstream's pong golden (forever loops, touching a colour, sounds, stop all) with a probe of ours."""
     project = (upstream_dir / "scratch-gui" / "static" / "pong_starter_golden.sb3").read_bytes()
     source = (DATA / "pong_probe.js").read_text()
-    results = {clock: await evaluator.evaluate(project, spec(source, clock, name="pong_probe.js")) for clock in CLOCKS}
+    results = {"virtual": await evaluator.evaluate(project, spec(source, "virtual", name="pong_probe.js"))}
+    for _ in range(REAL_TRIES):  # the reference, again if load delayed its frames (1081 ms against 925 in one CI run)
+        results["real"] = await evaluator.evaluate(project, spec(source, "real", name="pong_probe.js"))
+        virtual_took, real_took = took_ms(results["virtual"]), took_ms(results["real"])
+        if virtual_took is None or real_took is None or abs(real_took - virtual_took) <= TOOK_TOLERANCE_MS:
+            break
     metas = {}
     for clock, result in results.items():
         assert result.error is None and result.success, (clock, result)
@@ -171,4 +187,4 @@ async def test_an_upstream_game_runs_frame_for_frame_alike_under_both_clocks(
     virtual, real = metas["virtual"], metas["real"]
     assert isinstance(virtual, dict) and isinstance(real, dict)
     assert (virtual["frames"], virtual["x"], virtual["y"]) == (real["frames"], real["x"], real["y"])
-    assert virtual["took"] == pytest.approx(real["took"], abs=150)
+    assert virtual["took"] == pytest.approx(real["took"], abs=TOOK_TOLERANCE_MS)
