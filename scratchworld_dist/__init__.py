@@ -1,5 +1,12 @@
 """scratchworld_dist: the driver side of the ScratchWorld batch evaluator."""
 
+import os
+
+# Keep a local Ray on the loopback interface. Ray reads this once, when it is imported, and the package's
+# modules import Ray in any order, so it is set here, before any of them (1 opts out).
+os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
+
+
 from scratchworld_dist._errors import (
     BridgeError,
     ChromiumNotFoundError,

@@ -10,7 +10,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +20,7 @@ from rich.console import Console
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan, plan_run
+from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
 from scratchworld_dist.results import (
     SCHEMA_VERSION,
@@ -28,7 +28,6 @@ from scratchworld_dist.results import (
     RunStore,
     Session,
     record_of,
-    shared_image_path,
     write_manifest,
 )
 from scratchworld_dist.results._manifest import continued, git_commit, now, package_versions
@@ -42,7 +41,6 @@ from scratchworld_dist.scheduling import (
 )
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.sweep import JobSpec, SweepConfig
-from scratchworld_dist.sweep._perception_plan import PerceptionContent
 from workers.contract import (
     MIB,
     EpisodeResult,
@@ -90,16 +88,12 @@ class AttemptRecorder:
         if result.steps:
             lines = "".join(step.model_dump_json() + "\n" for step in result.steps)
             artifact_dir = self.store.write_artifact(job.job_id, result.attempt, "trajectory.jsonl", lines.encode())
-        annotated = None
-        if result.drag is not None and result.drag.annotated_sha256 is not None:
-            annotated = f"{artifact_dir or ''}/images/{result.drag.annotated_sha256}.png".lstrip("/")
         record = record_of(
             job,
             result,
             run_name=self.run_name,
             suite_hash=self.suite_hash,
             artifact_dir=artifact_dir,
-            annotated=annotated,
         )
         self.store.commit(record)
 
@@ -220,7 +214,7 @@ def _execute(
         at_once = min(len(todo), config.limits.max_in_flight or len(todo))
         pool = WorkerPool(slots, pages, config.synthetic, config.limits.memory_reserve_mb * MIB, at_once)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
-        _store_shared_images(store, [c for c in plan.contents if c.task.id in needed])
+        job_kind(config.benchmark).store_shared(store, [c for c in plan.contents if c.task.id in needed])
         scheduler = Scheduler(
             pool,
             payloads,
@@ -305,14 +299,6 @@ def _with_snapshots(
         if job.memory is not None and job.memory.store in snapshots
     ]
     return ready, failed
-
-
-def _store_shared_images(store: RunStore, contents: Sequence[object]) -> None:
-    """Perception screenshots, stored once in the run directory for all the jobs that show them."""
-    for content in contents:
-        if isinstance(content, PerceptionContent):
-            png = content.payload.screenshot_png
-            store.write_shared_image(shared_image_path(hashlib.sha256(png).hexdigest()), png)
 
 
 def _open_model_cache(folder: Path) -> None:

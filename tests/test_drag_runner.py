@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from scratchworld_dist.drag import load_drag_suite
-from scratchworld_dist.sweep._drag_plan import plan_drag_jobs, read_drag_task
+from scratchworld_dist.kinds.drag import plan_drag_jobs, read_drag_task
 from tests.conftest import REPO
 from tests.openai_server import OpenAIServer, reply, status
 from workers.contract import AgentRef, DragPayload, DragRegions, DragSpec, LLMSettings, ModelSpec, RetryPolicy

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist import SuiteError
-from scratchworld_dist._run_plan import default_episode_clock
+from scratchworld_dist.kinds.tasks import default_episode_clock
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, TaskContent, job_id, plan_jobs, read_task
 from scratchworld_dist.sweep import suite_hash as hash_of_suite

@@ -9,6 +9,7 @@ from pathlib import Path
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import RunDirError
+from scratchworld_dist.kinds import kind_of_run
 from scratchworld_dist.results import (
     JobRow,
     RunManifest,
@@ -51,10 +52,9 @@ def read_source(path: Path) -> SourceRun:
     manifest = require_manifest(path)
     store = RunStore(path)
     rows = manifest.current_rows(store.job_rows())
-    if manifest.config.get("benchmark") == "drag" or any(r.setting is not None for r in rows):
-        raise RunDirError(f"{path}: a drag benchmark run stores drags, not projects: nothing to regrade")
-    if manifest.config.get("benchmark") == "perception":
-        raise RunDirError(f"{path}: a perception benchmark run stores answers, not projects: nothing to regrade")
+    refusal = kind_of_run(path).regrade_refusal
+    if refusal is not None:
+        raise RunDirError(f"{path}: {refusal}")
     if not rows:
         raise RunDirError(f"{path}: no job results of its suite and harness to regrade")
     jobs, without = [], []

@@ -123,12 +123,12 @@ def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
             for row in effective_rows(jobs):
                 _gathered(results, models[row.job_id]).episodes.append(row)
         elif group.benchmark == "drag":
-            drag_runs, _ = drag.join_runs(jobs, group.drags)
+            drag_runs, _ = drag.join_runs(jobs, group.tables["drags"])  # type: ignore[arg-type]
             for run in drag_runs:
                 _gathered(results, models[run.job.job_id]).drags.append(run)
                 settings.add(run.job.setting or "")
         else:
-            perception_runs, _ = perception.join_runs(jobs, group.answers)
+            perception_runs, _ = perception.join_runs(jobs, group.tables["perception"])  # type: ignore[arg-type]
             for answered in perception_runs:
                 _gathered(results, models[answered.job.job_id]).answers.append(answered)
                 kinds.add(answered.kind)

@@ -17,6 +17,7 @@ from typing import Literal
 
 from pydantic import BaseModel
 
+from scratchworld_dist.kinds import DEFAULT_KIND
 from scratchworld_dist.reports._metrics import mean_pass_at_k
 from scratchworld_dist.reports._summary import DETERMINATE, ReportRow, ordered_categories, summarize
 from scratchworld_dist.results import JobRow, effective_rows
@@ -83,8 +84,9 @@ class PlotData(BaseModel):
 
 
 def plot_data(attempts: Sequence[JobRow]) -> list[PlotData]:
-    """Every plot the attempt rows of an episode run can show; ``[]`` for drag runs (they have Table 2)."""
-    if not attempts or any(r.setting is not None for r in attempts):
+    """Every plot the attempt rows of an episode run can show; ``[]`` for runs of another kind (a drag run has
+    Table 2)."""
+    if not attempts or any(r.benchmark != DEFAULT_KIND for r in attempts):
         return []
     effective = list(effective_rows(list(attempts)))
     groups: dict[tuple[str, str, str], list[JobRow]] = defaultdict(list)

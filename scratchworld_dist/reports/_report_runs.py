@@ -10,18 +10,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from scratchworld_dist.reports._build import build_report, report_of
+from scratchworld_dist.kinds import job_kind
+from scratchworld_dist.reports._build import report_of
 from scratchworld_dist.reports._diagnosis import diagnosis_table
 from scratchworld_dist.reports._diagnosis_report import DiagnosisReport, render_diagnosis_report
-from scratchworld_dist.reports._drag_table import build_drag_report, drag_table_of, render_drag
+from scratchworld_dist.reports._drag_table import drag_table_of
 from scratchworld_dist.reports._perception_table import (
-    build_perception_report,
     perception_table_of,
-    render_perception,
 )
 from scratchworld_dist.reports._plots import report_plots
-from scratchworld_dist.reports._render import ReportFormat, render
-from scratchworld_dist.reports._run_groups import Benchmark, load_groups, paths_by_benchmark
+from scratchworld_dist.reports._render import ReportFormat
+from scratchworld_dist.reports._run_groups import load_groups, paths_by_benchmark
 
 
 def report_runs(run_dirs: list[Path], fmt: ReportFormat, *, force: bool = False) -> tuple[str, list[str]]:
@@ -30,27 +29,19 @@ def report_runs(run_dirs: list[Path], fmt: ReportFormat, *, force: bool = False)
     if len(paths) > 1:
         return _diagnosis(paths, fmt, force=force)
     benchmark, members = next(iter(paths.items()))
-    if benchmark == "drag":
-        drag = build_drag_report(members, force=force)
-        return render_drag(drag, fmt), drag.warnings
-    if benchmark == "perception":
-        table = build_perception_report(members, force=force)
-        return render_perception(table, fmt), table.warnings
-    report = build_report(members, force=force)
-    plots = report_plots(members, force=force) if fmt == "html" else []  # drawing is slow: only for a page
-    return render(report, fmt, plots), report.warnings
+    return job_kind(benchmark).report(members, fmt, force=force)
 
 
-def _diagnosis(paths: dict[Benchmark, list[Path]], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
+def _diagnosis(paths: dict[str, list[Path]], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
     groups = {group.benchmark: group for group in load_groups(paths, force=force)}
     episodes, drag, perception = groups.get("tasks"), groups.get("drag"), groups.get("perception")
     report = DiagnosisReport(
         diagnosis=diagnosis_table(list(groups.values())),
         episodes=None if episodes is None else report_of(episodes.runs, episodes.warnings),
-        drag=None if drag is None else drag_table_of(drag.runs, drag.warnings, drag.drags),
+        drag=None if drag is None else drag_table_of(drag.runs, drag.warnings, drag.tables["drags"]),  # type: ignore[arg-type]
         perception=None
         if perception is None
-        else perception_table_of(perception.runs, perception.warnings, perception.answers),
+        else perception_table_of(perception.runs, perception.warnings, perception.tables["perception"]),  # type: ignore[arg-type]
     )
     plots = report_plots(episodes.paths, force=force) if fmt == "html" and episodes is not None else []
     return render_diagnosis_report(report, fmt, plots), report.warnings

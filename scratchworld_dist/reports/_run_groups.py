@@ -9,72 +9,58 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Literal
+
+from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.reports._drag_table import is_drag_run, read_drag_rows
-from scratchworld_dist.reports._perception_table import is_perception_run, read_perception_rows
-from scratchworld_dist.reports._runs import LoadedRun, load_runs
-from scratchworld_dist.results import DragRow, PerceptionRow
-
-Benchmark = Literal["tasks", "drag", "perception"]
-BENCHMARKS: tuple[Benchmark, ...] = ("tasks", "drag", "perception")
-"""As a sweep config names them (``benchmark:``), in the order reports show them."""
+from scratchworld_dist.kinds import job_kind, kind_names, kind_of_run
+from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows
+from scratchworld_dist.results import TABLES
 
 
 @dataclass(frozen=True)
 class RunGroup:
     """The runs of one benchmark, loaded and checked for merging."""
 
-    benchmark: Benchmark
+    benchmark: str
     runs: list[LoadedRun]
     warnings: list[str]
     """Those of a forced merge."""
 
-    drags: list[DragRow] = field(default_factory=list)
-    """A drag group's ``drags`` rows (read once, for the diagnosis and the drag report)."""
-
-    answers: list[PerceptionRow] = field(default_factory=list)
-    """A perception group's ``perception`` rows (read once, for the diagnosis and the perception report)."""
+    tables: dict[str, list[BaseModel]] = field(default_factory=dict)
+    """The rows of the kind's own tables (``drags``, ``perception``...) over all its runs, read once."""
 
     @property
     def paths(self) -> list[Path]:
         return [run.path for run in self.runs]
 
 
-def run_benchmark(run_dir: Path) -> Benchmark:
-    """The benchmark a run directory holds.
-
-    Drag runs are told by their rows, as before manifests named the benchmark (a run whose manifest says
-    drag but whose jobs are episodes is reported as episodes); perception runs by their rows or manifest,
-    so a run whose every call failed is still one.
-    """
-    if is_drag_run(run_dir):
-        return "drag"
-    if is_perception_run(run_dir):
-        return "perception"
-    return "tasks"
+def run_benchmark(run_dir: Path) -> str:
+    """The benchmark a run directory holds (see ``kinds.kind_of_run``)."""
+    return kind_of_run(run_dir).name
 
 
-def paths_by_benchmark(run_dirs: Sequence[Path]) -> dict[Benchmark, list[Path]]:
-    """Each distinct run directory once (named twice is one run), under its benchmark, in ``BENCHMARKS`` order."""
+def paths_by_benchmark(run_dirs: Sequence[Path]) -> dict[str, list[Path]]:
+    """Each distinct run directory once (named twice is one run), under its benchmark, in the kinds' order."""
     if not run_dirs:
         raise RunDirError("no run directory given")
     unique: dict[Path, Path] = {}
     for path in run_dirs:
         unique.setdefault(path.resolve(), path)
-    found: dict[Benchmark, list[Path]] = {}
+    found: dict[str, list[Path]] = {}
     for path in unique.values():
         found.setdefault(run_benchmark(path), []).append(path)
-    return {benchmark: found[benchmark] for benchmark in BENCHMARKS if benchmark in found}
+    return {benchmark: found[benchmark] for benchmark in kind_names() if benchmark in found}
 
 
-def load_groups(paths: dict[Benchmark, list[Path]], *, force: bool) -> list[RunGroup]:
+def load_groups(paths: dict[str, list[Path]], *, force: bool) -> list[RunGroup]:
     """Each benchmark's runs loaded and checked for merging (``RunDirError`` as ``load_runs`` raises it)."""
     groups = []
     for benchmark, members in paths.items():
         runs, warnings = load_runs(members, force=force)
-        drags = [d for run in runs for d in read_drag_rows(run.path)] if benchmark == "drag" else []
-        answers = [a for run in runs for a in read_perception_rows(run.path)] if benchmark == "perception" else []
-        groups.append(RunGroup(benchmark=benchmark, runs=runs, warnings=warnings, drags=drags, answers=answers))
+        tables: dict[str, list[BaseModel]] = {
+            table: [row for run in runs for row in read_rows(run.path, table, TABLES[table], f"a {table} row")]
+            for table in job_kind(benchmark).tables
+        }
+        groups.append(RunGroup(benchmark=benchmark, runs=runs, warnings=warnings, tables=tables))
     return groups

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 from pydantic import BaseModel, Field, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
+from scratchworld_dist.results._schema import CONTINUABLE_SCHEMAS
 from workers.contract import HarnessFingerprint, NodeSummary, describe_differences
 
 if TYPE_CHECKING:  # the rows module imports the sweep's plan, which needs none of this
@@ -192,8 +193,8 @@ def continued(
     """``fresh``, carrying the sessions of the manifest ``run_dir`` already holds.
 
     A directory holding results of another ``kind`` (``also``, then the config hash named ``config_label``,
-    the suite's content, the result schema or the harness differ) is refused, naming what differs,
-    unless ``force``: its rows are then kept and reported as stale.
+    the suite's content, the result schema beyond ``CONTINUABLE_SCHEMAS`` or the harness differ) is refused,
+    naming what differs, unless ``force``: its rows are then kept and reported as stale.
     """
     old = read_manifest(run_dir)
     if old is None:
@@ -202,8 +203,9 @@ def continued(
         *also,
         (config_label, old.config_hash, fresh.config_hash),
         ("suite content", old.suite.hash, fresh.suite.hash),
-        ("result schema", old.schema_version, fresh.schema_version),
     ]
+    if not {old.schema_version, fresh.schema_version} <= CONTINUABLE_SCHEMAS:
+        checks.append(("result schema", old.schema_version, fresh.schema_version))
     changes = [f"{what} {before} -> {after}" for what, before, after in checks if before != after]
     if fresh.harness is not None:
         changes += harness_changes(old.harness, fresh.harness)

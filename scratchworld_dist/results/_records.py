@@ -11,6 +11,7 @@ from datetime import UTC, datetime
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import MIB, EpisodeResult, EvalResult
 
@@ -105,6 +106,10 @@ class JobRow(BaseModel):
 
     regraded_from: str | None = None
     """A regrade's source job id (its agent-side columns are that job's); null otherwise (and in older runs)."""
+
+    benchmark: str | None = None
+    """The job's kind (``tasks``, ``drag``, ``perception`` or a plugin's), as the sweep config's ``benchmark:``.
+    Null only in shards written before schema 4: ``RunStore.job_rows`` fills in the run's kind."""
 
 
 class StepRow(BaseModel):
@@ -270,9 +275,9 @@ def record_of(
     run_name: str,
     suite_hash: str,
     artifact_dir: str | None,
-    annotated: str | None = None,
 ) -> JobRecord:
-    """Flatten a worker's result into rows; the job's identity comes from the plan, not the worker."""
+    """Flatten a worker's result into rows; the job's identity comes from the plan, not the worker, and the
+    rows of its kind's own tables from its kind."""
     evaluation = result.evaluation
     worker, load = result.worker, result.load
     cached = job.model_cache is not None
@@ -326,6 +331,7 @@ def record_of(
         browser_pss_mb=load.browser_pss_bytes / MIB if load else None,
         node_available_mb=load.node_available_bytes / MIB if load else None,
         setting=job.setting,
+        benchmark=job.benchmark,
     )
     steps = [
         StepRow(
@@ -349,9 +355,7 @@ def record_of(
         for step in result.steps
     ]
     tests = test_rows(job.job_id, result.attempt, job.task_id, evaluation)
-    drags = [] if result.drag is None else [_drag_row(job, result, annotated)]
-    perception = [] if result.perception is None else [_perception_row(job, result)]
-    return JobRecord(job=row, steps=steps, tests=tests, drags=drags, perception=perception)
+    return JobRecord(job=row, steps=steps, tests=tests, **job_kind(job.benchmark).own_rows(job, result, artifact_dir))
 
 
 def test_rows(job_id: str, attempt: int, task_id: str, evaluation: EvalResult | None) -> list[TestRow]:
@@ -369,72 +373,6 @@ def test_rows(job_id: str, attempt: int, task_id: str, evaluation: EvalResult | 
         )
         for index, test in enumerate(evaluation.tests if evaluation is not None else [])
     ]
-
-
-def _drag_row(job: JobSpec, result: EpisodeResult, annotated: str | None) -> DragRow:
-    drag, task = result.drag, job.drag
-    if drag is None or task is None:
-        raise ValueError(f"job {job.job_id} is not a drag job")
-    start, end, regions, marked = drag.start, drag.end, drag.regions, drag.gt_start
-    return DragRow(
-        job_id=job.job_id,
-        attempt=result.attempt,
-        task_id=job.task_id,
-        drag_type=task.type,
-        connection=task.connection,
-        source=task.source,
-        setting=drag.setting,
-        model=job.model_name,
-        agent=job.agent_label,
-        seed=job.seed,
-        parse=drag.parse,
-        start_x=start[0] if start else None,
-        start_y=start[1] if start else None,
-        end_x=end[0] if end else None,
-        end_y=end[1] if end else None,
-        start_in_region=drag.start_in_region,
-        start_error_px=drag.start_error_px,
-        end_in_region=drag.end_in_region,
-        end_error_px=drag.end_error_px,
-        connected=drag.connected,
-        observed=drag.observed,
-        fixed_start_x=regions.fixed_start[0],
-        fixed_start_y=regions.fixed_start[1],
-        gt_start_x=marked[0] if marked else None,
-        gt_start_y=marked[1] if marked else None,
-        start_area=regions.start.area,
-        end_area=regions.end.area,
-        regions_json=regions.model_dump_json(exclude={"computed_s"}),
-        reply=next((step.reply for step in result.steps if step.reply is not None), None),
-        annotated=annotated,
-    )
-
-
-def _perception_row(job: JobSpec, result: EpisodeResult) -> PerceptionRow:
-    attempt, item = result.perception, job.perception
-    if attempt is None or item is None:
-        raise ValueError(f"job {job.job_id} is not a perception job")
-    score = attempt.score
-    return PerceptionRow(
-        job_id=job.job_id,
-        attempt=result.attempt,
-        item_id=job.task_id,
-        question=item.question,
-        kind=item.kind,
-        tag=item.tag,
-        answer_format=item.answer_format,
-        value_kind=item.value_kind,
-        model=job.model_name,
-        agent=job.agent_label,
-        seed=job.seed,
-        expected=attempt.expected,
-        reply=attempt.reply,
-        extracted=score.extracted,
-        parse=score.parse,
-        strict_correct=score.strict,
-        normalized_correct=score.normalized,
-        screenshot=shared_image_path(attempt.screenshot_sha256),
-    )
 
 
 def shared_image_path(sha256: str) -> str:

@@ -11,8 +11,12 @@ from pydantic import BaseModel
 
 from scratchworld_dist.results._records import DragRow, JobRow, PerceptionRow, StepRow, TestRow
 
-SCHEMA_VERSION = 3
-"""Bumped on any incompatible change to a table; stored in every shard's metadata."""
+SCHEMA_VERSION = 4
+"""Bumped on any change to a table; stored in every shard's metadata. 4: ``jobs.benchmark``."""
+
+CONTINUABLE_SCHEMAS = frozenset({3, 4})
+"""Schemas whose run directories this code reads and adds to: each later one only adds nullable columns,
+which the older shards read as null (see ``RunStore.job_rows``)."""
 
 _ARROW_TYPES: dict[Any, pa.DataType] = {
     str: pa.string(),

@@ -30,6 +30,7 @@ from pydantic import ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist._files import link_atomic, write_atomic
+from scratchworld_dist.kinds import kind_of_run
 from scratchworld_dist.results._records import JobRecord, JobRow
 from scratchworld_dist.results._schema import SCHEMAS
 
@@ -288,7 +289,11 @@ class RunStore:
         return pa.concat_tables(parts)
 
     def job_rows(self) -> list[JobRow]:
+        """Every attempt's job row; rows of shards older than schema 4 get the run's kind as ``benchmark``."""
         rows = self.read_table("jobs").to_pylist()
+        if any(row["benchmark"] is None for row in rows):
+            kind = kind_of_run(self.run_dir).name
+            rows = [row if row["benchmark"] is not None else {**row, "benchmark": kind} for row in rows]
         try:
             return [JobRow.model_validate(row) for row in rows]
         except ValidationError as exc:

@@ -1,10 +1,5 @@
 """Scheduling on Ray: the runtime, admission, the worker pool, the driver loop and its progress line."""
 
-import os
-
-# Keep a local Ray on the loopback interface (set before Ray is imported; 1 opts out).
-os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
-
 from scratchworld_dist.scheduling._admission import admitted_slots, derive_local, pages_per_worker
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.scheduling._progress import live_progress

@@ -38,6 +38,10 @@ class RayUnavailableError(ScratchWorldError):
     """Ray could not be started or joined, or offers no browser slots."""
 
 
+LOOPBACK = "127.0.0.1"
+"""The address a private local Ray listens on and registers its node under."""
+
+
 def _token_available() -> bool:
     path = os.environ.get("RAY_AUTH_TOKEN_PATH")
     return bool(os.environ.get("RAY_AUTH_TOKEN")) or Path(path or Path.home() / ".ray" / "auth_token").is_file()
@@ -138,6 +142,7 @@ def ray_runtime(address: str | None, browser_slots: int | None, connect_timeout_
                     log_to_driver=False,
                     object_store_memory=LOCAL_OBJECT_STORE_BYTES,
                     configure_logging=False,
+                    _node_ip_address=LOOPBACK,  # the private Ray serves this machine only
                 )
             else:
                 check_joinable(address, connect_timeout_s)

@@ -26,8 +26,8 @@ from pydantic import (
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
+from scratchworld_dist.kinds import DEFAULT_KIND, job_kind
 from scratchworld_dist.sweep._benchmarks import DragSweep, PerceptionSweep
-from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import (
     AgentRef,
     AgentUnavailableError,
@@ -47,10 +47,7 @@ from workers.contract import (
     RateLimits,
     SyntheticEpisodes,
 )
-from workers.drag import checked_drag_agent, needs_model
 from workers.llm import uncacheable
-from workers.perception import checked_perception_agent
-from workers.perception import needs_model as perception_needs_model
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
@@ -208,9 +205,10 @@ class SweepConfig(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
-    benchmark: Literal["tasks", "drag", "perception"] = "tasks"
-    """``tasks``: episodes on a task suite; ``drag``: the single-step drag benchmark on a drag suite;
-    ``perception``: the visual perception QA benchmark on a perception suite."""
+    benchmark: str = DEFAULT_KIND
+    """The job kind (``scratchworld_dist.kinds``): ``tasks``, episodes on a task suite; ``drag``, the single-step
+    drag benchmark on a drag suite; ``perception``, the visual perception QA benchmark on a perception suite;
+    or a plugin's."""
 
     suite: Path
     tasks: TaskSelection = Field(default_factory=TaskSelection)
@@ -302,62 +300,31 @@ class SweepConfig(BaseModel):
                 raise ValueError(f"max_steps has no limit for mode {', '.join(missing)}")
         return self
 
+    @field_validator("benchmark")
+    @classmethod
+    def _installed_kind(cls, benchmark: str) -> str:
+        job_kind(benchmark)  # UnknownKindError is a ValueError naming the installed kinds
+        return benchmark
+
     @field_validator("agent")
     @classmethod
     def _agent_available(cls, agent: AgentRef, info: ValidationInfo) -> AgentRef:
-        if info.data.get("benchmark") == "perception":
-            try:
-                checked_perception_agent(agent)
-            except AgentUnavailableError as exc:
-                raise ValueError(str(exc)) from None
-            return agent
-        if info.data.get("benchmark") == "drag":
-            try:
-                checked_drag_agent(agent)
-            except AgentUnavailableError as exc:
-                raise ValueError(str(exc)) from None
-            return agent
+        if "benchmark" not in info.data:
+            return agent  # the benchmark is invalid itself: that error is reported instead
         try:
-            found = agent_class(agent.name)
-            agent_params(found, agent)
+            job_kind(info.data["benchmark"]).check_agent(agent)
         except AgentUnavailableError as exc:
             raise ValueError(str(exc)) from None
-        if getattr(found, "privileged", False) and agent_code(found) is not None:
-            raise ValueError(
-                f"agent {agent.name} declares privileged = True, which would show it the solution: "
-                "only the harness's own oracles may be privileged"
-            )
         return agent
 
     @model_validator(mode="after")
     def _agent_fits_sweep(self) -> SweepConfig:
-        if self.benchmark != "tasks":
-            if self.memory is not None or self.synthetic is not None:
-                raise ValueError(f"memory and synthetic are for task suites, not the {self.benchmark} benchmark")
-            return self
-        agent = agent_class(self.agent.name)
-        supported = getattr(agent, "modes", ("composite", "primitive"))
-        unsupported = [mode for mode in self.modes if mode not in supported]
-        if unsupported:
-            raise ValueError(f"agent {self.agent.name!r} cannot act in {', '.join(unsupported)} mode")
-        learns = getattr(agent, "learns", False)
-        if self.memory is not None and not learns:
-            raise ValueError(f"memory is for agents that learn across jobs; {self.agent.name!r} does not")
-        if learns and self.memory is None:
-            raise ValueError(
-                f"agent {self.agent.name!r} learns across jobs: give a memory section (kind: online or offline)"
-            )
+        job_kind(self.benchmark).check_sweep(self)
         return self
 
     @model_validator(mode="after")
     def _models_fit_agent(self) -> SweepConfig:
-        if self.benchmark == "drag":
-            needs = any(needs_model(agent) for agent in self.drag_agents())
-        elif self.benchmark == "perception":
-            needs = any(perception_needs_model(agent) for agent in self.perception_agents())
-        else:
-            needs = getattr(agent_class(self.agent.name), "needs_model", False)
-        if needs and not self.models:
+        if job_kind(self.benchmark).needs_model(self) and not self.models:
             raise ValueError("an agent that needs a model needs at least one entry under models")
         settings = [m.spec().identity() for m in self.models]
         if any(settings.count(s) > 1 for s in settings):
@@ -375,11 +342,9 @@ class SweepConfig(BaseModel):
     ) -> ModelCacheSettings | None:
         """A model sampled without a seed may not be cached: one sample would stand in for all (asking LiteLLM
         which models take a seed imports it, a few seconds, only for a sweep that caches)."""
-        if cache is None or "models" not in info.data or "agent" not in info.data:
-            return cache  # the models or the agent are invalid themselves: that error is reported instead
-        agent: AgentRef = info.data["agent"]
-        episodes = info.data.get("benchmark", "tasks") == "tasks"
-        helpers = extra_models(agent_params(agent_class(agent.name), agent)) if episodes else []
+        if cache is None or "models" not in info.data or "agent" not in info.data or "benchmark" not in info.data:
+            return cache  # the models, the agent or the benchmark are invalid themselves: that error is reported
+        helpers = job_kind(info.data["benchmark"]).helper_models(info.data["agent"])
         for spec in [*(m.spec() for m in info.data["models"]), *helpers]:
             reason = uncacheable(spec)
             if reason is not None:

@@ -19,6 +19,7 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import ProjectFormatError, SuiteError
 from scratchworld_dist._files import FileTooLargeError, read_file
+from scratchworld_dist.kinds import DEFAULT_KIND, job_kind
 from scratchworld_dist.memory import store_name, task_waves
 from scratchworld_dist.suites import Task
 from scratchworld_dist.suites._task import read_trajectory
@@ -28,10 +29,8 @@ from workers.contract import (
     AnswerFormat,
     ConnectionKind,
     DragSetting,
-    DragSpec,
     DragType,
     EpisodeClock,
-    EpisodeSpec,
     EvaluationClock,
     EvaluationProfile,
     EvaluationRender,
@@ -45,11 +44,11 @@ from workers.contract import (
     ModelSpec,
     ObservationSettings,
     PerceptionKind,
-    PerceptionSpec,
     ProjectLimits,
     SyntheticEpisodes,
     TaskPayload,
     ValueKind,
+    WorkerJob,
     check_project,
 )
 from workers.node import harness_fingerprint
@@ -81,12 +80,14 @@ class PerceptionItemInfo(BaseModel):
 
 
 class JobSpec(BaseModel):
-    """One cell of the matrix, as planned by the driver: an episode, a drag job when ``setting`` is set, or a
-    perception job when ``perception`` is."""
+    """One cell of the matrix, as planned by the driver: a job of the kind ``benchmark`` names."""
 
     model_config = ConfigDict(frozen=True)
 
     job_id: str
+    benchmark: str = DEFAULT_KIND
+    """The job's kind (``scratchworld_dist.kinds``): what builds its worker job and its own rows."""
+
     model: ModelSpec | None
     mode: Mode
     agent: AgentRef
@@ -138,8 +139,8 @@ class JobSpec(BaseModel):
 
     @property
     def needs_browser(self) -> bool:
-        """Whether the job's worker opens an editor: every job but a perception one (a static screenshot)."""
-        return self.perception is None
+        """Whether the job's worker opens an editor (a perception job reads a static screenshot)."""
+        return job_kind(self.benchmark).needs_browser
 
     @property
     def agent_label(self) -> str:
@@ -155,57 +156,9 @@ class JobSpec(BaseModel):
             return NO_MODEL
         return "+".join([self.model.name, *(extra.name for extra in self.extra_models)])
 
-    def episode(self, attempt: int, timeout_s: float) -> EpisodeSpec | DragSpec | PerceptionSpec:
-        """What the worker is sent for ``attempt``: a drag or perception job's spec, or an episode's."""
-        if self.perception is not None:
-            return PerceptionSpec(
-                job_id=self.job_id,
-                attempt=attempt,
-                task_id=self.task_id,
-                agent=self.agent,
-                model=self.model,
-                seed=self.seed,
-                timeout_s=timeout_s,
-                llm=self.llm,
-                harness=self.harness,
-                model_cache=self.model_cache,
-            )
-        if self.setting is not None:
-            return DragSpec(
-                job_id=self.job_id,
-                attempt=attempt,
-                task_id=self.task_id,
-                setting=self.setting,
-                agent=self.agent,
-                agent_code=self.agent_code,
-                model=self.model,
-                seed=self.seed,
-                timeout_s=timeout_s,
-                element_list=self.element_list,
-                observation=self.observation,
-                llm=self.llm,
-                harness=self.harness,
-                model_cache=self.model_cache,
-            )
-        return EpisodeSpec(
-            job_id=self.job_id,
-            attempt=attempt,
-            task_id=self.task_id,
-            mode=self.mode,
-            agent=self.agent,
-            agent_code=self.agent_code,
-            model=self.model,
-            seed=self.seed,
-            max_steps=self.max_steps,
-            observation=self.observation,
-            llm=self.llm,
-            timeout_s=timeout_s,
-            project_limits=self.project_limits,
-            harness=self.harness,
-            memory=self.memory_snapshot,
-            episode_clock=self.episode_clock,
-            model_cache=self.model_cache,
-        )
+    def episode(self, attempt: int, timeout_s: float) -> WorkerJob:
+        """What the worker is sent for ``attempt``, as the job's kind builds it."""
+        return job_kind(self.benchmark).worker_job(self, attempt, timeout_s)
 
 
 class TaskContent(BaseModel):

@@ -6,7 +6,6 @@ stands at each refresh, and the static export is the same pages built once.
 
 from __future__ import annotations
 
-import html
 import json
 from collections import Counter
 from typing import Literal
@@ -14,6 +13,7 @@ from typing import Literal
 from pydantic import BaseModel, JsonValue
 
 from scratchworld_dist._errors import RunDirError
+from scratchworld_dist.kinds import kind_of_run
 from scratchworld_dist.results import JobRow, PerceptionRow
 from scratchworld_dist.viewer._listing import project_listing
 from scratchworld_dist.viewer._runs import Attempt, ViewedRun
@@ -158,14 +158,6 @@ def run_card(index: int, run: ViewedRun, rows: list[JobRow] | None = None) -> Ru
 
 
 def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
-    from scratchworld_dist.reports import build_report, render_html_body
-    from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag_markdown
-    from scratchworld_dist.reports._perception_table import (
-        build_perception_report,
-        is_perception_run,
-        perception_blocks,
-    )
-    from scratchworld_dist.reports._render import blocks_html
 
     manifest = run.manifest()
     if manifest is None:
@@ -174,18 +166,7 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
     warnings: list[str] = []
     report_html = "<p>No job has finished yet.</p>"
     if effective:
-        if is_drag_run(run.path):
-            drag = build_drag_report([run.path])
-            warnings = drag.warnings
-            report_html = f"<pre>{html.escape(render_drag_markdown(drag))}</pre>"
-        elif is_perception_run(run.path):
-            perception = build_perception_report([run.path])
-            warnings = perception.warnings
-            report_html = blocks_html(perception_blocks(perception))
-        else:
-            report = build_report([run.path])
-            warnings = report.warnings
-            report_html = render_html_body(report)
+        report_html, warnings = kind_of_run(run.path).report_html(run.path)
     errors = Counter(r.error_class or "unknown" for r in effective if r.outcome == "error")
     config = manifest.config
     clock = config.get("episode_clock")

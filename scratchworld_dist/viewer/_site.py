@@ -159,7 +159,7 @@ class ViewerSite:
             for a in range(len(self.runs)):
                 found += [(f"compare/{a}-{b}.html", f"{names[a]} vs {names[b]}") for b in range(a + 1, len(self.runs))]
         for k, run in enumerate(self.runs):
-            if len({r.mode for r in run.effective_rows() if r.setting is None}) == 2:
+            if len({r.mode for r in run.effective_rows()}) == 2:  # only episodes act in two modes
                 found.append((f"compare/{k}-gap.html", f"{names[k]}: composite vs primitive (reasoning-acting gap)"))
         return found
 

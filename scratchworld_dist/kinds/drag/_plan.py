@@ -123,6 +123,7 @@ def plan_drag_jobs(
                     )
                     yield JobSpec(
                         job_id=name,
+                        benchmark="drag",
                         model=model,
                         mode=DRAG_MODE,
                         agent=agent,

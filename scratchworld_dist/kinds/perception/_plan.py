@@ -127,6 +127,7 @@ def plan_perception_jobs(
             for content in contents:
                 item = content.task
                 yield JobSpec(
+                    benchmark="perception",
                     job_id=perception_job_id(model, agent, content, seed, llm=protocol, harness=harness),
                     model=model,
                     mode=PERCEPTION_MODE,

@@ -1,0 +1,88 @@
+"""What a job kind is to the driver: one benchmark's config checks, planning, jobs, rows and report.
+
+The core (sweep config, planning, the run loop, results, reports, regrades, the viewer) never asks which
+benchmark it holds: it looks the kind up by name (``job_kind``) and calls it. The name is the sweep
+config's ``benchmark:`` value and the ``benchmark`` column of every job row.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Protocol
+
+from pydantic import BaseModel
+
+from workers.contract import AgentRef, EpisodeResult, HarnessFingerprint, ModelSpec, WorkerJob
+
+if TYPE_CHECKING:
+    from scratchworld_dist._run_plan import RunPlan
+    from scratchworld_dist.reports._render import ReportFormat
+    from scratchworld_dist.results import RunStore
+    from scratchworld_dist.sweep import JobSpec, SweepConfig
+
+Notice = Callable[[str], None]
+"""Where planning says what it left out (a missing optional suite, an unusable task)."""
+
+
+class JobKind(Protocol):
+    """One benchmark, as the driver runs and reports it."""
+
+    name: str
+    """The config's ``benchmark:`` value, the rows' ``benchmark`` column and the entry point's name."""
+
+    title: str
+    """How messages name the kind (``task episodes``, ``single-step drag``...)."""
+
+    needs_browser: bool
+    """Whether its jobs open an editor (admission and warm editors count only those that do)."""
+
+    tables: tuple[str, ...]
+    """Result tables of its own besides ``jobs``, ``steps`` and ``tests`` (each a ``JobRecord`` field)."""
+
+    regrade_refusal: str | None
+    """Why its runs cannot be regraded (None: they store projects a regrade evaluates again)."""
+
+    def check_agent(self, agent: AgentRef) -> None:
+        """Raise ``AgentUnavailableError`` naming the problem unless ``agent`` acts in this kind as given."""
+        ...
+
+    def check_sweep(self, config: SweepConfig) -> None:
+        """Raise ``ValueError`` naming the problem unless the sweep's other fields fit this kind."""
+        ...
+
+    def needs_model(self, config: SweepConfig) -> bool:
+        """Whether any agent of the sweep calls a model (the sweep then needs one)."""
+        ...
+
+    def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
+        """Models ``agent`` calls besides the sweep's ``models`` (a grounding model...), as its params name them."""
+        ...
+
+    def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
+        """The sweep's items read once and its job matrix, under ``harness``."""
+        ...
+
+    def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
+        """What a worker is sent for one attempt of ``job``."""
+        ...
+
+    def own_rows(self, job: JobSpec, result: EpisodeResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
+        """The rows of this kind's own ``tables`` for one attempt (``artifact_dir``: where its files went)."""
+        ...
+
+    def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:
+        """Store once per run what many of its jobs' rows refer to (a perception item's screenshot)."""
+        ...
+
+    def holds(self, run_dir: Path) -> bool:
+        """Whether a run directory written before rows named their benchmark holds this kind's jobs."""
+        ...
+
+    def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
+        """This kind's own report over its runs, and its warnings (``RunDirError`` when they cannot be merged)."""
+        ...
+
+    def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
+        """The body of one run's page in the viewer (HTML, escaped), and its warnings."""
+        ...

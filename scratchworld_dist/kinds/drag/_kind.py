@@ -1,0 +1,147 @@
+"""The single-step drag benchmark (``benchmark: drag``): an agent is shown the editor once and answers with
+one drag, judged by where it pressed and released against the exact regions of the expected connection."""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from pydantic import BaseModel
+
+from scratchworld_dist._errors import ConfigError
+from scratchworld_dist._run_plan import RunPlan
+from scratchworld_dist.drag import DragTask, load_drag_suite
+from scratchworld_dist.kinds._protocol import Notice
+from scratchworld_dist.kinds.drag._plan import plan_drag_jobs, read_drag_task
+from scratchworld_dist.kinds.drag._rows import drag_row
+from scratchworld_dist.results import RunStore, SuiteInfo
+from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
+from scratchworld_dist.sweep._selection import present_suites, wanted_ids
+from workers.contract import AgentRef, DragSpec, EpisodeResult, HarnessFingerprint, ModelSpec, WorkerJob
+from workers.drag import checked_drag_agent, needs_model
+
+if TYPE_CHECKING:
+    from scratchworld_dist.reports import ReportFormat
+
+
+class DragKind:
+    """Model x setting x task x seed: one drag each, in a fresh editor framed on the task's view."""
+
+    name = "drag"
+    title = "single-step drag"
+    needs_browser = True
+    tables: tuple[str, ...] = ("drags",)
+    regrade_refusal: str | None = "a drag benchmark run stores drags, not projects: nothing to regrade"
+
+    def check_agent(self, agent: AgentRef) -> None:
+        checked_drag_agent(agent)
+
+    def check_sweep(self, config: SweepConfig) -> None:
+        refuse_episode_sections(config, self.title)
+
+    def needs_model(self, config: SweepConfig) -> bool:
+        return any(needs_model(agent) for agent in config.drag_agents())
+
+    def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
+        return []
+
+    def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
+        """The suite's tasks (and those of each optional suite that is present) with a view, selected by
+        ``tasks.ids`` and ``drag.types``; a task without a view is left out, named."""
+        suites = present_suites(
+            config.suite, config.drag.optional_suites, load_drag_suite, notice, benchmark="drag", item="task"
+        )
+        tasks: list[DragTask] = []
+        for suite in suites:
+            for task in suite.tasks:
+                if task.view is None:
+                    notice(f"drag: {suite.name} {task.id} has no usable view and is left out")
+                    continue
+                tasks.append(task)
+        wanted = wanted_ids([task.id for task in tasks], config.tasks.ids, benchmark="drag", item="task")
+        types = config.drag.types
+        tasks = [t for t in tasks if (not wanted or t.id in wanted) and (not types or t.type in types)]
+        if not tasks:
+            raise ConfigError(f"the selection matches no drag task of {', '.join(s.name for s in suites)}")
+        contents = [read_drag_task(task, config.project_limits) for task in tasks]
+        info = SuiteInfo(
+            name=" + ".join(s.name for s in suites),
+            kind=suites[0].kind,
+            root=str(suites[0].root),
+            hash=suite_hash(contents),
+            tasks=len(tasks),
+        )
+        jobs = plan_drag_jobs(
+            config.model_specs(),
+            config.drag.settings,
+            config.drag_agents(),
+            contents,
+            config.seeds,
+            element_list=config.drag.element_list,
+            observation=config.primitive,
+            llm=config.llm,
+            project_limits=config.project_limits,
+            harness=harness.digest,
+            model_cache=config.model_cache,
+        )
+        return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=list(jobs))
+
+    def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
+        if job.setting is None:
+            raise ValueError(f"job {job.job_id} is not a drag job")
+        return DragSpec(
+            job_id=job.job_id,
+            attempt=attempt,
+            task_id=job.task_id,
+            setting=job.setting,
+            agent=job.agent,
+            agent_code=job.agent_code,
+            model=job.model,
+            seed=job.seed,
+            timeout_s=timeout_s,
+            element_list=job.element_list,
+            observation=job.observation,
+            llm=job.llm,
+            harness=job.harness,
+            model_cache=job.model_cache,
+        )
+
+    def own_rows(self, job: JobSpec, result: EpisodeResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
+        if result.drag is None:
+            return {"drags": []}
+        annotated = None
+        if result.drag.annotated_sha256 is not None:
+            annotated = f"{artifact_dir or ''}/images/{result.drag.annotated_sha256}.png".lstrip("/")
+        return {"drags": [drag_row(job, result, annotated)]}
+
+    def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:
+        return None
+
+    def holds(self, run_dir: Path) -> bool:
+        from scratchworld_dist.reports._drag_table import is_drag_run
+
+        return is_drag_run(run_dir)
+
+    def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
+        from scratchworld_dist.reports._drag_table import build_drag_report, render_drag
+
+        drag = build_drag_report(list(run_dirs), force=force)
+        return render_drag(drag, fmt), drag.warnings
+
+    def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
+        from scratchworld_dist.reports._drag_table import build_drag_report, render_drag_markdown
+
+        drag = build_drag_report([run_dir])
+        return f"<pre>{html.escape(render_drag_markdown(drag))}</pre>", drag.warnings
+
+
+def refuse_episode_sections(config: SweepConfig, title: str) -> None:
+    """A benchmark of single answers has no memory across jobs and no synthetic stand-in episodes."""
+    if config.memory is not None or config.synthetic is not None:
+        raise ValueError(f"memory and synthetic are for task suites, not the {title} benchmark")
+
+
+DRAG = DragKind()
+"""The registered kind (entry point ``drag``)."""

@@ -1,0 +1,18 @@
+"""The perception QA kind (``benchmark: perception``): planning, rows and report of one answer per job."""
+
+from scratchworld_dist.kinds.perception._kind import PERCEPTION, PerceptionJobKind
+from scratchworld_dist.kinds.perception._plan import (
+    PerceptionContent,
+    plan_perception_jobs,
+    read_perception_item,
+    select_perception_items,
+)
+
+__all__ = [
+    "PERCEPTION",
+    "PerceptionContent",
+    "PerceptionJobKind",
+    "plan_perception_jobs",
+    "read_perception_item",
+    "select_perception_items",
+]

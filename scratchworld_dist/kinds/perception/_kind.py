@@ -1,0 +1,115 @@
+"""The visual perception QA benchmark (``benchmark: perception``): an agent answers one question about a
+static screenshot of the editor, scored strictly (upstream's exact match) and normalized (ours)."""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from pydantic import BaseModel
+
+from scratchworld_dist._run_plan import RunPlan
+from scratchworld_dist.kinds._protocol import Notice
+from scratchworld_dist.kinds.drag import refuse_episode_sections
+from scratchworld_dist.kinds.perception._plan import PerceptionContent, plan_perception_jobs, select_perception_items
+from scratchworld_dist.kinds.perception._rows import perception_row
+from scratchworld_dist.results import RunStore, SuiteInfo, shared_image_path
+from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
+from workers.contract import AgentRef, EpisodeResult, HarnessFingerprint, ModelSpec, PerceptionSpec, WorkerJob
+from workers.perception import checked_perception_agent, needs_model
+
+if TYPE_CHECKING:
+    from scratchworld_dist.reports import ReportFormat
+
+
+class PerceptionJobKind:
+    """Agent x model x item x seed: one answer each, about a screenshot; no browser."""
+
+    name = "perception"
+    title = "perception"
+    needs_browser = False
+    tables: tuple[str, ...] = ("perception",)
+    regrade_refusal: str | None = "a perception benchmark run stores answers, not projects: nothing to regrade"
+
+    def check_agent(self, agent: AgentRef) -> None:
+        checked_perception_agent(agent)
+
+    def check_sweep(self, config: SweepConfig) -> None:
+        refuse_episode_sections(config, self.title)
+
+    def needs_model(self, config: SweepConfig) -> bool:
+        return any(needs_model(agent) for agent in config.perception_agents())
+
+    def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
+        return []
+
+    def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
+        """The items of the suite (and of each optional suite that is present), selected by ``tasks.ids`` and
+        ``perception.kinds``."""
+        perception = config.perception
+        selection = select_perception_items(
+            config.suite, perception.optional_suites, config.tasks.ids, perception.kinds, notice
+        )
+        contents = selection.contents
+        info = SuiteInfo(
+            name=selection.name, kind=selection.kind, root=str(selection.root), hash=suite_hash(contents),
+            tasks=len(contents),
+        )  # fmt: skip
+        jobs = plan_perception_jobs(
+            config.model_specs(),
+            config.perception_agents(),
+            contents,
+            config.seeds,
+            llm=config.llm,
+            harness=harness.digest,
+            model_cache=config.model_cache,
+        )
+        return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=list(jobs))
+
+    def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
+        return PerceptionSpec(
+            job_id=job.job_id,
+            attempt=attempt,
+            task_id=job.task_id,
+            agent=job.agent,
+            model=job.model,
+            seed=job.seed,
+            timeout_s=timeout_s,
+            llm=job.llm,
+            harness=job.harness,
+            model_cache=job.model_cache,
+        )
+
+    def own_rows(self, job: JobSpec, result: EpisodeResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
+        return {"perception": [] if result.perception is None else [perception_row(job, result)]}
+
+    def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:
+        """Each item's screenshot, stored once in the run directory for all the jobs that show it."""
+        for content in contents:
+            if isinstance(content, PerceptionContent):
+                png = content.payload.screenshot_png
+                store.write_shared_image(shared_image_path(hashlib.sha256(png).hexdigest()), png)
+
+    def holds(self, run_dir: Path) -> bool:
+        from scratchworld_dist.reports._perception_table import is_perception_run
+
+        return is_perception_run(run_dir)
+
+    def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
+        from scratchworld_dist.reports._perception_table import build_perception_report, render_perception
+
+        table = build_perception_report(list(run_dirs), force=force)
+        return render_perception(table, fmt), table.warnings
+
+    def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
+        from scratchworld_dist.reports._perception_table import build_perception_report, perception_blocks
+        from scratchworld_dist.reports._render import blocks_html
+
+        perception = build_perception_report([run_dir])
+        return blocks_html(perception_blocks(perception)), perception.warnings
+
+
+PERCEPTION = PerceptionJobKind()
+"""The registered kind (entry point ``perception``)."""

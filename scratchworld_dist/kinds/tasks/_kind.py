@@ -1,0 +1,187 @@
+"""Task episodes (``benchmark: tasks``): an agent works on a task of a suite for up to ``max_steps`` steps,
+then the task's tests judge the project it leaves; the kind ``regrade`` evaluates again."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from pydantic import BaseModel
+
+from scratchworld_dist._errors import ConfigError
+from scratchworld_dist._run_plan import RunPlan
+from scratchworld_dist.kinds._protocol import Notice
+from scratchworld_dist.memory import JobItems, offline_source, source_digest
+from scratchworld_dist.results import RunStore, SuiteInfo
+from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, plan_jobs, read_task, suite_hash
+from workers.agent_api import agent_class, agent_code, agent_params, extra_models
+from workers.contract import (
+    AgentRef,
+    AgentUnavailableError,
+    EpisodeClock,
+    EpisodeResult,
+    EpisodeSpec,
+    HarnessFingerprint,
+    Mode,
+    ModelSpec,
+    WorkerJob,
+)
+
+if TYPE_CHECKING:
+    from scratchworld_dist.reports import ReportFormat
+
+
+class TasksKind:
+    """Multi-step episodes on a task suite (ours or an upstream clone), in composite or primitive mode."""
+
+    name = "tasks"
+    title = "task episodes"
+    needs_browser = True
+    tables: tuple[str, ...] = ()
+    regrade_refusal: str | None = None
+
+    def check_agent(self, agent: AgentRef) -> None:
+        found = agent_class(agent.name)
+        agent_params(found, agent)
+        if getattr(found, "privileged", False) and agent_code(found) is not None:
+            raise AgentUnavailableError(
+                f"agent {agent.name} declares privileged = True, which would show it the solution: "
+                "only the harness's own oracles may be privileged"
+            )
+
+    def check_sweep(self, config: SweepConfig) -> None:
+        agent = agent_class(config.agent.name)
+        supported = getattr(agent, "modes", ("composite", "primitive"))
+        unsupported = [mode for mode in config.modes if mode not in supported]
+        if unsupported:
+            raise ValueError(f"agent {config.agent.name!r} cannot act in {', '.join(unsupported)} mode")
+        learns = getattr(agent, "learns", False)
+        if config.memory is not None and not learns:
+            raise ValueError(f"memory is for agents that learn across jobs; {config.agent.name!r} does not")
+        if learns and config.memory is None:
+            raise ValueError(
+                f"agent {config.agent.name!r} learns across jobs: give a memory section (kind: online or offline)"
+            )
+
+    def needs_model(self, config: SweepConfig) -> bool:
+        return bool(getattr(agent_class(config.agent.name), "needs_model", False))
+
+    def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
+        return extra_models(agent_params(agent_class(agent.name), agent))
+
+    def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
+        suite = load_suite(config.suite, task_list=config.tasks.task_list)
+        tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
+        if not tasks:
+            raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
+        contents = [
+            read_task(
+                task,
+                config.profile,
+                config.clock,
+                config.project_limits,
+                config.render,
+                config.oracle_trajectories,
+                config.timing,
+            )
+            for task in tasks
+        ]
+        unknown = sorted(set(config.synthetic.tasks or []) - {t.id for t in tasks}) if config.synthetic else []
+        if unknown:
+            raise ConfigError(f"synthetic.tasks names task(s) not in the selection: {', '.join(unknown)}")
+        info = SuiteInfo(
+            name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
+        )
+        found = agent_class(config.agent.name)
+        sources = offline_sources(config) if config.memory is not None else {}
+        jobs = list(
+            plan_jobs(
+                config.model_specs(),
+                config.modes,
+                config.agent,
+                contents,
+                config.seeds,
+                config.max_steps,
+                config.primitive,
+                config.llm,
+                config.project_limits,
+                harness.digest,
+                config.synthetic,
+                agent_code(found),
+                extra_models(agent_params(found, config.agent)),
+                config.memory,
+                {stream: source_digest(entries) for stream, entries in sources.items()},
+                config.episode_clock or default_episode_clock(suite.kind),
+                config.model_cache,
+            )
+        )
+        return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs, memory_sources=sources)
+
+    def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
+        return EpisodeSpec(
+            job_id=job.job_id,
+            attempt=attempt,
+            task_id=job.task_id,
+            mode=job.mode,
+            agent=job.agent,
+            agent_code=job.agent_code,
+            model=job.model,
+            seed=job.seed,
+            max_steps=job.max_steps,
+            observation=job.observation,
+            llm=job.llm,
+            timeout_s=timeout_s,
+            project_limits=job.project_limits,
+            harness=job.harness,
+            memory=job.memory_snapshot,
+            episode_clock=job.episode_clock,
+            model_cache=job.model_cache,
+        )
+
+    def own_rows(self, job: JobSpec, result: EpisodeResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
+        return {}
+
+    def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:
+        return None
+
+    def holds(self, run_dir: Path) -> bool:
+        return True  # the default kind: an older run no other kind claims holds episodes
+
+    def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
+        # Reports import the plotting and statistics stacks: only a report asks for them.
+        from scratchworld_dist.reports._build import build_report
+        from scratchworld_dist.reports._plots import report_plots
+        from scratchworld_dist.reports._render import render
+
+        members = list(run_dirs)
+        report = build_report(members, force=force)
+        plots = report_plots(members, force=force) if fmt == "html" else []  # drawing is slow: only for a page
+        return render(report, fmt, plots), report.warnings
+
+    def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
+        from scratchworld_dist.reports import build_report, render_html_body
+
+        report = build_report([run_dir])
+        return render_html_body(report), report.warnings
+
+
+def default_episode_clock(suite_kind: str) -> EpisodeClock:
+    """Virtual for our suites; real for upstream clones until the two are compared on them."""
+    return EpisodeClock(mode="real" if suite_kind == "upstream" else "virtual")
+
+
+def offline_sources(config: SweepConfig) -> dict[tuple[str, Mode], list[JobItems]]:
+    """Offline memory's items per (model name, mode), read from the previous run (empty for online memory)."""
+    memory = config.memory
+    if memory is None or memory.from_run is None:
+        return {}
+    if not memory.from_run.is_dir():
+        raise ConfigError(f"memory.from_run: {memory.from_run} is not a run directory")
+    names = [spec.name if spec is not None else NO_MODEL for spec in config.model_specs()]
+    return {(name, mode): offline_source(memory.from_run, name, mode) for name in names for mode in config.modes}
+
+
+TASKS = TasksKind()
+"""The registered kind (entry point ``tasks``)."""
