@@ -23,6 +23,7 @@ from scratchworld_dist.sweep._perception_plan import (
 from scratchworld_dist.sweep._selection import present_suites, wanted_ids
 from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import EpisodeClock, HarnessFingerprint, Mode
+from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
 
@@ -40,7 +41,7 @@ class RunPlan(BaseModel):
 
 def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None) -> RunPlan:
     """The sweep's jobs under ``harness`` (default: this machine's code, editor and browser)."""
-    harness = harness or harness_fingerprint()
+    harness = kind_fingerprint(harness or harness_fingerprint(), config.benchmark)  # the core + this kind's code
     if config.benchmark == "drag":
         return plan_drag_run(config, harness)
     if config.benchmark == "perception":
