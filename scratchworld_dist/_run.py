@@ -157,7 +157,9 @@ def _run_plan(plan: RunPlan, nodes: list[NodeReport], force: bool, console: Cons
         todo = store.undecided(plan.jobs)
         local_slots = None
         if config.ray.address is None:  # admission on this machine, measured only when there is work
-            local_slots = admitted_slots(config.limits, [job for job, _ in todo], plan.harness.digest, console.print)
+            local_slots = admitted_slots(
+                config.limits, [job for job, _ in todo], nodes[0].harness.digest, console.print
+            )
             nodes = [nodes[0].model_copy(update={"browser_slots": local_slots})]
         session = Session.begin(len(todo), [node.summary() for node in nodes])
         manifest.sessions.append(session)

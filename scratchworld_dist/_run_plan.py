@@ -14,6 +14,7 @@ from scratchworld_dist.memory import JobItems
 from scratchworld_dist.results import SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig
 from workers.contract import HarnessFingerprint, Mode
+from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
 
@@ -37,4 +38,5 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None, not
     if notice is None:
         console = Console(stderr=True, soft_wrap=True)
         notice = lambda message: console.print(message, markup=False)  # noqa: E731
-    return job_kind(config.benchmark).plan(config, harness or harness_fingerprint(), notice)
+    harness = kind_fingerprint(harness or harness_fingerprint(), config.benchmark)  # the core + this kind's code
+    return job_kind(config.benchmark).plan(config, harness, notice)

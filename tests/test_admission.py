@@ -23,6 +23,7 @@ from tests.conftest import REPO, pooled_editor
 from workers.contract import MIB, AgentRef, EpisodeClock, EpisodeResult, ModelSpec, SyntheticEpisodes
 from workers.editor import EditorPool, cached_editor_cost, measure_editor_cost
 from workers.editor._cost import cost_cache_path
+from workers.kinds import kind_fingerprint
 from workers.node import EditorCost, NodeMemory, derive_slots, harness_fingerprint, node_memory
 
 GIB = 1024 * MIB
@@ -146,7 +147,7 @@ def test_workers_take_no_job_while_the_node_is_short_of_memory(
     reserve = node_memory().available_bytes - GIB
     assert memory_hog.stdout is not None and memory_hog.stdout.readline().strip() == "held"
     assert node_memory().available_bytes < reserve
-    planned = jobs(None, harness=harness_fingerprint().digest)
+    planned = jobs(None, harness=kind_fingerprint(harness_fingerprint(), "tasks").digest)  # what workers check
     pool = WorkerPool(2, 1, SyntheticEpisodes(duration_s=0.1), memory_reserve_bytes=reserve)
     payloads = {job.task_id: ray.put(read_task_payload(job)) for job in planned}
     finished: list[EpisodeResult] = []

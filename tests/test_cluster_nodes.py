@@ -29,6 +29,7 @@ from scratchworld_dist.scheduling._nodes import NodeMismatchError, agreed_harnes
 from tests.conftest import REPO, copy_page_files
 from tests.sweep_driver import SCRATCHWORLD
 from workers.contract import NodeReport
+from workers.kinds import kind_fingerprint
 from workers.node import OWN_FILES, harness_fingerprint
 from workers.node._fingerprint import EDITOR_LOCK_FILES
 
@@ -146,7 +147,8 @@ def test_a_node_from_another_checkout_runs_jobs_and_a_differing_one_is_refused(
     assert node.harness_dir == str(same) and node.browser_slots == 2
     assert {row.worker_node for row in rows} == {node.node_id}
     assert {row.harness_fingerprint for row in rows} == {manifest.harness.digest}
-    assert manifest.harness == harness_fingerprint()  # the driver's code, the node's (here identical) browser
+    # The driver's code, the node's (here identical) browser, planned under the episodes' kind.
+    assert manifest.harness == kind_fingerprint(harness_fingerprint(), "tasks")
 
     other = checkout_copy(tmp_path / "clone-c")
     evaluation = other / "workers" / "evaluation" / "_evaluator.py"

@@ -11,10 +11,11 @@ from pathlib import Path
 import psutil
 import pytest
 from playwright.async_api import Error as PlaywrightError
+from pydantic import BaseModel
 
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, TaskContent, plan_jobs, read_task
-from tests.conftest import SUITE_DIR
+from tests.conftest import REPO, SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentBase, StepResult, build_agent
 from workers.contract import (
@@ -27,12 +28,15 @@ from workers.contract import (
     Mode,
     ModelSpec,
     Observation,
+    PerceptionPayload,
+    PerceptionSpec,
     RetryPolicy,
     SyntheticEpisodes,
     TaskPayload,
 )
 from workers.editor import BrowserSession
 from workers.episode import EpisodeRunner, EpisodeWorker
+from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint, thread_policies
 from workers.primitive import PRIMITIVE_APIS
 
@@ -227,7 +231,56 @@ async def test_a_job_planned_for_another_harness_is_refused(contents: dict[str, 
     result = await worker.run(foreign, payload)
     assert (result.outcome, result.error_class) == ("error", "harness_mismatch")
     assert "0123456789abcdef" in (result.error_message or "")
-    assert harness_fingerprint().digest in (result.error_message or "")
+    assert kind_fingerprint(harness_fingerprint(), "tasks").digest in (result.error_message or "")
+    # Planned under the full fingerprint, or another kind's: refused as well (the digests differ by kind).
+    for other in (harness_fingerprint(), kind_fingerprint(harness_fingerprint(), "drag")):
+        result = await worker.run(spec.model_copy(update={"harness": other.digest}), payload)
+        assert (result.error_class, result.attempt) == ("harness_mismatch", spec.attempt), other.digest
+
+
+async def test_each_kind_is_checked_against_its_own_fingerprint(contents: dict[str, TaskContent]) -> None:
+    """A perception job planned under the perception kind's digest is run (no browser); the tasks digest is refused."""
+    worker = EpisodeWorker(worker_index=0)
+    screenshot = next((REPO / "perception-items" / "screenshots").glob("*.png")).read_bytes()
+    item = PerceptionPayload(
+        item_id="vp_1",
+        kind="existence",
+        tag="existence_yes",
+        question="Is a say block visible?",
+        answer_format="yes_no",
+        answer="YES",
+        screenshot_png=screenshot,
+    )
+    spec = PerceptionSpec(
+        job_id="p",
+        attempt=1,
+        task_id="vp_1",
+        agent=AgentRef(name="oracle"),
+        model=None,
+        seed=0,
+        timeout_s=30,
+        harness=kind_fingerprint(harness_fingerprint(), "perception").digest,
+    )
+    result = await worker.run(spec, item)
+    assert (result.outcome, result.error_class) == ("passed", None), result.error_message
+    refused = await worker.run(spec.model_copy(update={"harness": worker.kind_harness("tasks")}), item)
+    assert refused.error_class == "harness_mismatch"
+    assert worker.kind_harness("perception") in (refused.error_message or "")
+    assert worker._session is None  # neither started a browser
+
+
+async def test_a_job_no_kind_runs_is_an_internal_error() -> None:
+    class UnknownSpec(BaseModel):
+        job_id: str = "u"
+        attempt: int = 1
+        task_id: str = "u"
+        timeout_s: float = 5
+        harness: str | None = None
+
+    result = await EpisodeWorker(worker_index=0).run(UnknownSpec(), UnknownSpec())  # type: ignore[arg-type]
+    assert (result.outcome, result.error_class) == ("error", "internal_error")
+    assert "no job kind runs UnknownSpec" in (result.error_message or "")
+    assert "drag, perception, tasks" in (result.error_message or "")
 
 
 async def test_an_unavailable_agent_is_an_agent_error(worker: EpisodeWorker, contents: dict[str, TaskContent]) -> None:

@@ -31,6 +31,12 @@ def loaded_after(statement: str) -> set[str]:
         ("import scratchworld_dist", ()),
         ("import workers.contract", ()),
         ("import workers.node; workers.node.harness_fingerprint()", ()),
+        # The job kinds and their fingerprints: the driver plans with them; the runners are imported per job.
+        (
+            "from workers.kinds import kind_fingerprint; from workers.node import harness_fingerprint\n"
+            "kind_fingerprint(harness_fingerprint(), 'drag')",
+            (),
+        ),
         # Reports and status read Parquet (pyarrow, which brings numpy), but start no browser.
         ("from scratchworld_dist.cli import main", ("pyarrow", "numpy")),
         ("import scratchworld_dist.reports, scratchworld_dist.results", ("pyarrow", "numpy")),

@@ -26,6 +26,7 @@ from workers.contract import (
     RetryPolicy,
     SyntheticEpisodes,
 )
+from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
 GPT = ModelSpec(name="gpt", model="openai/gpt-4o", temperature=0.0, api_key_env="OPENAI_API_KEY")
@@ -171,13 +172,15 @@ def test_each_identity_field_changes_the_id(field: str, value: object) -> None:
 
 def test_the_harness_fingerprint_and_project_limits_are_part_of_the_id() -> None:
     base = job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30)
-    assert base == job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, harness=harness_fingerprint().digest)
+    episodes = kind_fingerprint(harness_fingerprint(), "tasks").digest  # the core and the episodes' own code
+    assert base == job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, harness=episodes)
+    assert base != job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, harness=harness_fingerprint().digest)
     assert job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, harness="0" * 16) != base
     smaller = ProjectLimits(max_entry_mb=1)
     assert job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, project_limits=smaller) != base
     (job,) = plan_jobs([None], ["composite"], "oracle", contents(SUITE_DIR)[:1], [0], 5, project_limits=smaller)
     assert job.episode(1, 60).project_limits == smaller
-    assert job.episode(1, 60).harness == harness_fingerprint().digest
+    assert job.episode(1, 60).harness == episodes
 
 
 # --- task content changes ----------------------------------------------------------------------

@@ -25,6 +25,7 @@ from scratchworld_dist.results._manifest import now
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, pages_per_worker, ray_runtime
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from workers.contract import MIB, EvaluationClock, EvaluationProfile, EvaluationRender, NodeReport
+from workers.kinds import kind_fingerprint
 from workers.node import describe_node, harness_fingerprint
 
 
@@ -74,11 +75,11 @@ def run_regrade(
     source = read_source(source_dir)
     if address is None:  # a private local Ray: this machine is the only node
         local = describe_node()
-        plan = plan_regrade(source, local.harness, suite, profile, clock, render)
+        plan = plan_regrade(source, kind_fingerprint(local.harness, "tasks"), suite, profile, clock, render)
         return _run_plan(plan, out, [local], None, connect_timeout_s, force, console)
     with ray_runtime(address, None, connect_timeout_s):
         nodes = inspect_nodes()
-        harness = agreed_harness(nodes, harness_fingerprint())
+        harness = kind_fingerprint(agreed_harness(nodes, harness_fingerprint()), "tasks")  # regrades: tasks
         plan = plan_regrade(source, harness, suite, profile, clock, render)
         return _run_plan(plan, out, nodes, address, connect_timeout_s, force, console)
 

@@ -51,6 +51,7 @@ from workers.contract import (
     WorkerJob,
     check_project,
 )
+from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
 NO_MODEL = "-"
@@ -286,7 +287,7 @@ def job_id(
         "seed": seed,
         "max_steps": max_steps,
         "project_limits": (project_limits or ProjectLimits()).model_dump(mode="json"),
-        "harness": harness or harness_fingerprint().digest,
+        "harness": harness or kind_fingerprint(harness_fingerprint(), "tasks").digest,
     }
     if observation is not None:  # only primitive jobs have one, so composite ids stay as they were
         identity["observation"] = observation.model_dump(mode="json")
@@ -327,7 +328,7 @@ def plan_jobs(
     is handed to every job (it does not change their ids)."""
     limits = project_limits or ProjectLimits()
     clock = episode_clock or EpisodeClock()
-    harness = harness or harness_fingerprint().digest
+    harness = harness or kind_fingerprint(harness_fingerprint(), "tasks").digest
     waves = task_waves([content.task.id for content in tasks], memory) if memory is not None else {}
     for model in models:
         for mode in modes:

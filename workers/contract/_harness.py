@@ -43,6 +43,12 @@ class HarnessFingerprint(BaseModel):
     def with_environment(self, environment: dict[str, str]) -> HarnessFingerprint:
         return fingerprint({**self.code.parts, **environment})
 
+    def without(self, prefixes: tuple[str, ...]) -> HarnessFingerprint:
+        """The fingerprint over the parts whose names start with none of ``prefixes`` (another kind's code)."""
+        if not any(name.startswith(prefixes) for name in self.parts):
+            return self
+        return fingerprint({k: v for k, v in self.parts.items() if not k.startswith(prefixes)})
+
 
 def fingerprint(parts: dict[str, str]) -> HarnessFingerprint:
     canonical = json.dumps(parts, sort_keys=True, separators=(",", ":")).encode()

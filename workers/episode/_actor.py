@@ -8,13 +8,13 @@ episode whose editor failed closes its browser only if that browser stopped answ
 that crashed takes nobody else with it, and a late failure never closes a browser that was
 started after it.
 
-A worker refuses jobs planned for another harness (the driver's fingerprint differs from the
-code this process runs), so no node produces verdicts under ids that name other code. It declines
+A job is run by its kind (``workers.kinds``, found by its spec class): episodes and regrades,
+drag jobs, perception jobs, or a plugin's. A worker refuses jobs planned for another harness (the
+driver's fingerprint of the job's kind differs from the code this process runs), so no node
+produces verdicts under ids that name other code. It declines
 (``Refusal``, not an attempt) to start a job while its node has less memory available than the
 sweep's reserve: the driver sends it elsewhere or later, and Chromium is not pushed into the OOM
-killer. Each result carries the worker's load: its editors, their memory and the node's. A regrade
-(``RegradeSpec``) evaluates a stored project in the same recycled evaluation editors, no agent; a
-perception job (``PerceptionSpec``) asks about a static screenshot and starts no browser.
+killer. Each result carries the worker's load: its editors, their memory and the node's.
 """
 
 from __future__ import annotations
@@ -28,33 +28,24 @@ from collections.abc import Awaitable
 
 import ray
 from playwright.async_api import Error as PlaywrightError
+from pydantic import BaseModel
 
-from workers.agent_api import agent_code, build_agent
 from workers.contract import (
     MIB,
-    AgentUnavailableError,
-    DragPayload,
-    DragSpec,
     EditorError,
     EpisodeResult,
-    PerceptionPayload,
-    PerceptionSpec,
     Refusal,
-    RegradeSpec,
     SyntheticEpisodes,
-    TaskPayload,
     WorkerInfo,
     WorkerJob,
     WorkerLoad,
 )
-from workers.drag._runner import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
-from workers.episode._regrade import regrade
 from workers.episode._runner import EpisodeRunner
-from workers.episode._synthetic import run_synthetic
-from workers.llm import close_litellm_clients, load_litellm
+from workers.kinds import WorkerKind, kind_fingerprint, kind_of, worker_kinds
+from workers.llm import close_litellm_clients
+from workers.llm import load_litellm as import_litellm
 from workers.node import browser_usage, harness_fingerprint, node_memory
-from workers.perception._runner import run_perception
 
 MEMORY_POLL_S = 0.5
 """How often a worker short of memory looks again."""
@@ -76,11 +67,14 @@ class EpisodeWorker:
             pid=os.getpid(),
             worker_index=worker_index,
         )
-        self.harness = harness_fingerprint().digest
-        """The harness this process runs (its code, editor and browser): jobs planned for another are refused."""
+        self.full_harness = harness_fingerprint()
+        """The harness this process runs (its code, editor and browser): a job planned for another
+        fingerprint of its kind is refused."""
+        self._kinds: dict[str, WorkerKind] | None = None
+        self._kind_harness: dict[str, str] = {}
+        self.kind_state: dict[str, object] = {}
         self._session: BrowserSession | None = None
         self._runner: EpisodeRunner | None = None
-        self._drags: DragRunner | None = None
         self._starting = asyncio.Lock()
 
     async def info(self) -> WorkerInfo:
@@ -114,7 +108,7 @@ class EpisodeWorker:
         """
         if self.synthetic is None and editors > 0:
             try:
-                runner = await self._browser()
+                runner = await self.browser()
                 await runner.pool.fill(editors)
             except (EditorError, PlaywrightError):
                 pass  # the first episode opens its own editor, or reports why it cannot
@@ -122,7 +116,7 @@ class EpisodeWorker:
     async def run(
         self,
         spec: WorkerJob,
-        task: TaskPayload | DragPayload | PerceptionPayload,
+        task: BaseModel,
     ) -> EpisodeResult | Refusal:
         # The node's free memory alone decides (one read of /proc/meminfo); the browsers' PSS, which
         # means reading every process's smaps, only when the driver is told why the job was declined.
@@ -149,66 +143,34 @@ class EpisodeWorker:
             update.update(started_at=started, finished_at=time.time(), timings=timings)
         return result.model_copy(update=update)
 
-    async def _run(
-        self,
-        spec: WorkerJob,
-        task: TaskPayload | DragPayload | PerceptionPayload,
-    ) -> EpisodeResult:
-        if spec.harness is not None and spec.harness != self.harness:
+    async def _run(self, spec: WorkerJob, task: BaseModel) -> EpisodeResult:
+        if self._kinds is None:
+            self._kinds = worker_kinds()
+        kind = kind_of(spec, self._kinds)
+        if kind is None:
+            known = ", ".join(sorted(self._kinds))
+            message = f"no job kind runs {type(spec).__name__} on this worker (registered kinds: {known})"
+            return EpisodeResult.errored(spec, "internal_error", message)
+        harness = self.kind_harness(kind.name)
+        if spec.harness is not None and spec.harness != harness:
             message = (
-                f"{self.info_.hostname} (node {self.info_.node_id[:12]}) runs harness {self.harness}, "
+                f"{self.info_.hostname} (node {self.info_.node_id[:12]}) runs harness {harness}, "
                 f"the job was planned for {spec.harness}: update this node's checkout"
             )
             return EpisodeResult.errored(spec, "harness_mismatch", message)
-        if isinstance(spec, PerceptionSpec) or isinstance(task, PerceptionPayload):
-            if not (isinstance(spec, PerceptionSpec) and isinstance(task, PerceptionPayload)):
-                return EpisodeResult.errored(spec, "internal_error", "a perception job needs its spec and its item")
-            if spec.model is not None:
-                await load_litellm()
-            return await run_perception(spec, task)
-        if isinstance(spec, RegradeSpec):
-            if not isinstance(task, TaskPayload):
-                return EpisodeResult.errored(spec, "internal_error", "a regrade needs an episode task's payload")
-            return await self._regrade(spec, task)
-        if isinstance(spec, DragSpec) or isinstance(task, DragPayload):
-            if not (isinstance(spec, DragSpec) and isinstance(task, DragPayload)):
-                return EpisodeResult.errored(spec, "internal_error", "a drag job needs a drag spec and a drag payload")
-            return await self._run_drag(spec, task)
-        if self.synthetic is not None and self.synthetic.covers(task.task_id):
-            return await run_synthetic(spec, task, self.synthetic)
-        try:
-            agent = build_agent(spec.agent)
-        except AgentUnavailableError as exc:
-            return EpisodeResult.errored(spec, "agent_error", str(exc))
-        if getattr(agent, "needs_model", False) and spec.model is None:
-            return EpisodeResult.errored(
-                spec, "agent_error", f"agent {spec.agent.name} needs a model; the job has none"
-            )
-        code = agent_code(type(agent))
-        if code != spec.agent_code:
-            message = (
-                f"{self.info_.hostname} (node {self.info_.node_id[:12]}) has agent {spec.agent.name} "
-                f"with code {code}, the job was planned for {spec.agent_code}: install the same version here"
-            )
-            return EpisodeResult.errored(spec, "harness_mismatch", message)
-        if spec.model is not None:  # once per worker, before the episode: its first step would wait for the import
-            await load_litellm()
-        runner = await self._browser()
-        return await self._in_browser(spec, runner.session, runner.run(spec, task, agent))
+        return await kind.run(self, spec, task)
 
-    async def _regrade(self, spec: RegradeSpec, task: TaskPayload) -> EpisodeResult:
-        runner = await self._browser()
-        return await self._in_browser(spec, runner.session, regrade(runner.evaluator, spec, task))
+    def kind_harness(self, kind: str) -> str:
+        """The digest ``kind``'s jobs must be planned under here: this process's harness minus other kinds' code."""
+        if kind not in self._kind_harness:
+            self._kind_harness[kind] = kind_fingerprint(self.full_harness, kind, self._kinds).digest
+        return self._kind_harness[kind]
 
-    async def _run_drag(self, spec: DragSpec, task: DragPayload) -> EpisodeResult:
-        if spec.model is not None:
-            await load_litellm()
-        runner = await self._browser()
-        if self._drags is None or self._drags.pool is not runner.pool:
-            self._drags = DragRunner(runner.pool)
-        return await self._in_browser(spec, runner.session, self._drags.run(spec, task))
+    async def load_litellm(self) -> None:
+        """LiteLLM imported once per process, before a job's first model call would wait for it."""
+        await import_litellm()
 
-    async def _in_browser(
+    async def in_browser(
         self, spec: WorkerJob, session: BrowserSession, work: Awaitable[EpisodeResult]
     ) -> EpisodeResult:
         """``work``'s result, cut short if ``session``'s browser dies; after an editor failure the browser is
@@ -221,7 +183,8 @@ class EpisodeWorker:
             await self._drop_if_broken(session)
         return result
 
-    async def _browser(self) -> EpisodeRunner:
+    async def browser(self) -> EpisodeRunner:
+        """This worker's browser and editor pool (with the episodes' evaluators), started again if it died."""
         async with self._starting:
             if self._runner is None or not self._runner.session.connected:
                 await self._drop_browser()

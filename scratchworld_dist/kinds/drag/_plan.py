@@ -26,6 +26,7 @@ from workers.contract import (
     ProjectLimits,
 )
 from workers.drag import needs_model
+from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
 DRAG_MODE = "primitive"
@@ -96,7 +97,7 @@ def plan_drag_jobs(
     """The matrix in a stable order: agent, model, setting, seed, then suite order of tasks. A scripted agent
     (one that needs no model) runs once, without a model, whatever ``models`` holds."""
     limits = project_limits or ProjectLimits()
-    harness = harness or harness_fingerprint().digest
+    harness = harness or kind_fingerprint(harness_fingerprint(), "drag").digest
     shown = (observation or ObservationSettings()) if element_list else None
     cells = [
         (who, model)

@@ -19,6 +19,7 @@ from scratchworld_dist.perception import PerceptionItem, PerceptionSuite, load_p
 from scratchworld_dist.sweep._plan import JobSpec, PerceptionItemInfo, identity_id
 from scratchworld_dist.sweep._selection import present_suites, wanted_ids
 from workers.contract import AgentRef, LLMSettings, ModelCacheSettings, ModelSpec, PerceptionKind, PerceptionPayload
+from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 from workers.perception import needs_model
 
@@ -119,7 +120,7 @@ def plan_perception_jobs(
 ) -> Iterator[JobSpec]:
     """The matrix in a stable order: agent, model, seed, then suite order of items. A scripted agent (one
     that needs no model) runs once, without a model, whatever ``models`` holds."""
-    harness = harness or harness_fingerprint().digest
+    harness = harness or kind_fingerprint(harness_fingerprint(), "perception").digest
     cells = [(who, model) for who in agents for model in (models if needs_model(who) else [None])]
     for agent, model in cells:
         protocol = (llm or LLMSettings()) if model is not None else None
