@@ -9,9 +9,10 @@ from typing import Any
 import pytest
 
 from scratchworld_dist._errors import RunDirError
+from scratchworld_dist.kinds.tasks._diagnosis import sr_gap
 from scratchworld_dist.reports import DiagnosisReport, report_runs
-from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable, sr_gap
-from scratchworld_dist.reports._diagnosis_report import MISSING
+from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable
+from scratchworld_dist.reports._diagnosis_cells import MISSING
 from scratchworld_dist.reports._model_identity import ModelResolver
 from scratchworld_dist.reports._run_groups import run_benchmark
 from scratchworld_dist.results import RunManifest, SuiteInfo

@@ -17,7 +17,9 @@ from workers.contract import AgentRef, EpisodeResult, HarnessFingerprint, ModelS
 
 if TYPE_CHECKING:
     from scratchworld_dist._run_plan import RunPlan
+    from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable
     from scratchworld_dist.reports._render import ReportFormat
+    from scratchworld_dist.reports._run_groups import RunGroup
     from scratchworld_dist.results import RunStore
     from scratchworld_dist.sweep import JobSpec, SweepConfig
 
@@ -85,4 +87,45 @@ class JobKind(Protocol):
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         """The body of one run's page in the viewer (HTML, escaped), and its warnings."""
+        ...
+
+    def diagnosis(self) -> DiagnosisPart | None:
+        """Its columns of the diagnosis table and its section of the report over several kinds (None: none)."""
+        ...
+
+
+class DiagnosisPart(Protocol):
+    """What a kind adds to the report over runs of several kinds: cells per model, and its own section."""
+
+    section_field: str
+    """The field of ``DiagnosisReport`` that holds its section (a plugin's: an extra field of that name)."""
+
+    runs_label: str
+    """How the table's header names its runs (``Episode runs``)."""
+
+    definitions: str
+    """What its cells mean, for the table's definitions."""
+
+    def units(self, group: RunGroup) -> list[tuple[str, Any]]:
+        """What its cells are computed from, each with the job id that says whose model it is."""
+        ...
+
+    def cells(self, units: Sequence[Any]) -> dict[str, Any]:
+        """One model's cells (fields of ``DiagnosisRow``) from its units."""
+        ...
+
+    def axes(self, units: Sequence[Any]) -> dict[str, list[str]]:
+        """Fields of ``DiagnosisTable`` its columns depend on (the drag settings seen), over every model's units."""
+        ...
+
+    def header(self, table: DiagnosisTable) -> list[str]: ...
+
+    def row(self, row: DiagnosisRow, table: DiagnosisTable) -> list[str]: ...
+
+    def section(self, group: RunGroup) -> BaseModel:
+        """Its own report over the group's runs (already loaded and checked for merging)."""
+        ...
+
+    def render_section(self, section: Any, fmt: ReportFormat, group: RunGroup) -> str:
+        """That report as Markdown (``md``) or an HTML fragment (``html``)."""
         ...

@@ -13,7 +13,7 @@ from pydantic import BaseModel
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
 from scratchworld_dist.drag import DragTask, load_drag_suite
-from scratchworld_dist.kinds._protocol import Notice
+from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
 from scratchworld_dist.kinds.drag._plan import plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag._rows import drag_row
 from scratchworld_dist.results import RunStore, SuiteInfo
@@ -129,6 +129,12 @@ class DragKind:
 
         drag = build_drag_report(list(run_dirs), force=force)
         return render_drag(drag, fmt), drag.warnings
+
+    def diagnosis(self) -> DiagnosisPart | None:
+        # Reports import the statistics stack: only a report asks for them.
+        from scratchworld_dist.kinds.drag._diagnosis import DIAGNOSIS
+
+        return DIAGNOSIS
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         from scratchworld_dist.reports._drag_table import build_drag_report, render_drag_markdown

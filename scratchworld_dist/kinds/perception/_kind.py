@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 from pydantic import BaseModel
 
 from scratchworld_dist._run_plan import RunPlan
-from scratchworld_dist.kinds._protocol import Notice
+from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
 from scratchworld_dist.kinds.drag import refuse_episode_sections
 from scratchworld_dist.kinds.perception._plan import PerceptionContent, plan_perception_jobs, select_perception_items
 from scratchworld_dist.kinds.perception._rows import perception_row
@@ -102,6 +102,12 @@ class PerceptionJobKind:
 
         table = build_perception_report(list(run_dirs), force=force)
         return render_perception(table, fmt), table.warnings
+
+    def diagnosis(self) -> DiagnosisPart | None:
+        # Reports import the statistics stack: only a report asks for them.
+        from scratchworld_dist.kinds.perception._diagnosis import DIAGNOSIS
+
+        return DIAGNOSIS
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         from scratchworld_dist.reports._perception_table import build_perception_report, perception_blocks

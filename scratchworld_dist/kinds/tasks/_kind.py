@@ -11,7 +11,7 @@ from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
-from scratchworld_dist.kinds._protocol import Notice
+from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.suites import load_suite
@@ -159,6 +159,12 @@ class TasksKind:
         report = build_report(members, force=force)
         plots = report_plots(members, force=force) if fmt == "html" else []  # drawing is slow: only for a page
         return render(report, fmt, plots), report.warnings
+
+    def diagnosis(self) -> DiagnosisPart | None:
+        # Reports import the statistics stack: only a report asks for them.
+        from scratchworld_dist.kinds.tasks._diagnosis import DIAGNOSIS
+
+        return DIAGNOSIS
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         from scratchworld_dist.reports import build_report, render_html_body

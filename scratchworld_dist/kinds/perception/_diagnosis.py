@@ -1,0 +1,74 @@
+"""The perception columns of the diagnosis table: can the model read the workspace (accuracy per item kind,
+both scorings)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from pydantic import BaseModel
+
+from scratchworld_dist.reports import _perception_metrics as perception
+from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable, PerceptionRate
+from scratchworld_dist.reports._diagnosis_cells import MISSING, pct
+from scratchworld_dist.reports._perception_table import perception_blocks, perception_table_of
+from scratchworld_dist.reports._render import ReportFormat, blocks_html, blocks_markdown
+from scratchworld_dist.reports._run_groups import RunGroup
+from workers.contract import PERCEPTION_KINDS
+
+
+class PerceptionDiagnosis:
+    """Each model's scored answers, per item kind."""
+
+    section_field = "perception"
+    runs_label = "Perception runs"
+    definitions = (
+        "Perception = accuracy per item kind and overall as normalized / strict (our reading of the answer / "
+        "upstream's exact match), over the scored runs."
+    )
+
+    def units(self, group: RunGroup) -> list[tuple[str, Any]]:
+        jobs = [row for run in group.runs for row in run.rows]
+        runs, _ = perception.join_runs(jobs, group.tables["perception"])  # type: ignore[arg-type]
+        return [(answered.job.job_id, answered) for answered in runs]
+
+    def cells(self, units: Sequence[Any]) -> dict[str, Any]:
+        return {"perception": perception_rates(units)}
+
+    def axes(self, units: Sequence[Any]) -> dict[str, list[str]]:
+        order = {k: i for i, k in enumerate(PERCEPTION_KINDS)}
+        kinds = {answered.kind for answered in units}
+        return {"perception_kinds": sorted(kinds, key=lambda k: (order.get(k, len(order)), k))}
+
+    def header(self, table: DiagnosisTable) -> list[str]:
+        header = [f"perception {kind} (norm. / strict)" for kind in table.perception_kinds]
+        return [*header, "perception overall (norm. / strict)"]
+
+    def row(self, row: DiagnosisRow, table: DiagnosisTable) -> list[str]:
+        return [_cell(row.perception.get(kind)) for kind in [*table.perception_kinds, perception.ALL]]
+
+    def section(self, group: RunGroup) -> BaseModel:
+        return perception_table_of(group.runs, group.warnings, group.tables["perception"])  # type: ignore[arg-type]
+
+    def render_section(self, section: Any, fmt: ReportFormat, group: RunGroup) -> str:
+        blocks = perception_blocks(section)
+        return blocks_markdown(blocks) if fmt == "md" else blocks_html(blocks)
+
+
+def perception_rates(runs: Sequence[perception.PerceptionRun]) -> dict[str, PerceptionRate]:
+    """Both accuracies per item kind and over ``ALL``, for the groups with scored runs."""
+    groups = {kind: [r for r in runs if r.kind == kind] for kind in sorted({r.kind for r in runs})}
+    rates = {}
+    for group, members in (groups | {perception.ALL: list(runs)}).items():
+        cell = perception.perception_cell(group, None, members)
+        normalized, strict = cell.normalized.rate, cell.strict.rate
+        if normalized is not None and strict is not None:
+            rates[group] = PerceptionRate(normalized=normalized, strict=strict, n=cell.scored)
+    return rates
+
+
+def _cell(rate: PerceptionRate | None) -> str:
+    return MISSING if rate is None else f"{pct(rate.normalized)} / {pct(rate.strict)} (n={rate.n})"
+
+
+DIAGNOSIS = PerceptionDiagnosis()
