@@ -27,7 +27,7 @@ from pydantic import (
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
 from scratchworld_dist.sweep._benchmarks import DragSweep, PerceptionSweep
-from workers.agent_api import agent_class, agent_code, agent_params, extra_models
+from workers.agent_api import agent_class, agent_params, checked_agent, extra_models
 from workers.contract import (
     AgentRef,
     AgentUnavailableError,
@@ -47,10 +47,7 @@ from workers.contract import (
     RateLimits,
     SyntheticEpisodes,
 )
-from workers.drag import checked_drag_agent, needs_model
 from workers.llm import uncacheable
-from workers.perception import checked_perception_agent
-from workers.perception import needs_model as perception_needs_model
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
@@ -305,28 +302,10 @@ class SweepConfig(BaseModel):
     @field_validator("agent")
     @classmethod
     def _agent_available(cls, agent: AgentRef, info: ValidationInfo) -> AgentRef:
-        if info.data.get("benchmark") == "perception":
-            try:
-                checked_perception_agent(agent)
-            except AgentUnavailableError as exc:
-                raise ValueError(str(exc)) from None
-            return agent
-        if info.data.get("benchmark") == "drag":
-            try:
-                checked_drag_agent(agent)
-            except AgentUnavailableError as exc:
-                raise ValueError(str(exc)) from None
-            return agent
         try:
-            found = agent_class(agent.name)
-            agent_params(found, agent)
+            checked_agent(agent, info.data.get("benchmark", "tasks"))
         except AgentUnavailableError as exc:
             raise ValueError(str(exc)) from None
-        if getattr(found, "privileged", False) and agent_code(found) is not None:
-            raise ValueError(
-                f"agent {agent.name} declares privileged = True, which would show it the solution: "
-                "only the harness's own oracles may be privileged"
-            )
         return agent
 
     @model_validator(mode="after")
@@ -351,12 +330,8 @@ class SweepConfig(BaseModel):
 
     @model_validator(mode="after")
     def _models_fit_agent(self) -> SweepConfig:
-        if self.benchmark == "drag":
-            needs = any(needs_model(agent) for agent in self.drag_agents())
-        elif self.benchmark == "perception":
-            needs = any(perception_needs_model(agent) for agent in self.perception_agents())
-        else:
-            needs = getattr(agent_class(self.agent.name), "needs_model", False)
+        agents = {"drag": self.drag.agents, "perception": self.perception.agents}.get(self.benchmark) or [self.agent]
+        needs = any(getattr(agent_class(agent.name, self.benchmark), "needs_model", False) for agent in agents)
         if needs and not self.models:
             raise ValueError("an agent that needs a model needs at least one entry under models")
         settings = [m.spec().identity() for m in self.models]

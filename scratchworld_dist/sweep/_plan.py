@@ -163,6 +163,7 @@ class JobSpec(BaseModel):
                 attempt=attempt,
                 task_id=self.task_id,
                 agent=self.agent,
+                agent_code=self.agent_code,
                 model=self.model,
                 seed=self.seed,
                 timeout_s=timeout_s,
@@ -294,6 +295,12 @@ def suite_hash(contents: Iterable[HashedContent]) -> str:
     for task_hash in sorted(content.task_hash for content in contents):
         digest.update(task_hash.encode())
     return digest.hexdigest()[:16]
+
+
+def agent_identity(agent: AgentRef, code: str | None) -> dict[str, object]:
+    """An agent as a single-step job's id names it: its name and params, and a plugin's code digest (None for
+    the harness's own agents, whose ids stay as they were: the harness fingerprint covers their code)."""
+    return agent.identity() if code is None else {**agent.identity(), "code": code}
 
 
 def identity_id(identity: Mapping[str, object]) -> str:
