@@ -106,9 +106,11 @@ async def test_jitter_keeps_a_given_start_and_is_reproducible() -> None:
 @pytest.mark.parametrize(
     ("ref", "message"),
     [
-        (AgentRef(name="noop"), "the drag benchmark's agents are oracle, jitter, llm"),
+        (AgentRef(name="noop"), r"not registered for the drag benchmark \(registered: jitter, llm, oracle\)"),
         (AgentRef(name="jitter", params={"sigma_px": -1}), "sigma_px"),
-        (AgentRef(name="oracle", params={"x": 1}), "takes no params"),
+        (AgentRef(name="oracle", params={"x": 1}), r"agent oracle takes no params \(given: x\)"),
+        (AgentRef(name="always_yes"), "'always_yes' is an agent of perception"),
+        (AgentRef(name="workers.perception._agents:AlwaysYesAgent"), "serves perception, not drag"),
     ],
 )
 def test_unknown_agents_and_bad_params_are_named(ref: AgentRef, message: str) -> None:

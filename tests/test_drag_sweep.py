@@ -45,7 +45,11 @@ def two_tasks() -> list[str]:
 @pytest.mark.parametrize(
     ("fields", "message"),
     [
-        ({"agent": "noop"}, "the drag benchmark's agents are oracle, jitter, llm"),
+        (
+            {"agent": "noop"},
+            r"agent 'noop' is not registered for the drag benchmark \(registered: jitter, llm, oracle\); "
+            "'noop' is an agent of tasks",
+        ),
         ({"drag": {"settings": ["baseline", "baseline"]}}, "settings must be distinct"),
         ({"drag": {"settings": ["zoomed"]}}, "drag.settings.0"),
         ({"drag": {"agents": ["oracle", {"name": "jitter", "params": {"sigma_px": 0}}]}}, "sigma_px"),

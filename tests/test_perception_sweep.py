@@ -54,7 +54,11 @@ LLM = {"api_base_env": "SCRATCHWORLD_LLM_BASE_URL", "api_key_env": "SCRATCHWORLD
 @pytest.mark.parametrize(
     ("fields", "message"),
     [
-        ({"agent": "noop"}, "the perception benchmark's agents are oracle, always_yes, llm"),
+        (
+            {"agent": "noop"},
+            r"agent 'noop' is not registered for the perception benchmark \(registered: always_yes, llm, oracle\)",
+        ),
+        ({"agent": "jitter"}, "'jitter' is an agent of drag"),
         ({"perception": {"agents": ["oracle", {"name": "always_yes", "params": {"x": 1}}]}}, "takes no params"),
         ({"perception": {"agents": ["llm"]}}, "needs at least one entry under models"),
         ({"perception": {"kinds": ["colour"]}}, "perception.kinds.0"),

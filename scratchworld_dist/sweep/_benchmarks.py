@@ -2,22 +2,19 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from workers.agent_api import checked_agent
 from workers.contract import AgentRef, AgentUnavailableError, DragSetting, DragType, PerceptionKind
-from workers.drag import checked_drag_agent
-from workers.perception import checked_perception_agent
 
 
-def checked_agents(agents: list[AgentRef], check: Callable[[AgentRef], Any], benchmark: str) -> list[AgentRef]:
-    """``agents`` when each passes ``check`` (the benchmark's own) and their labels are distinct."""
+def checked_agents(agents: list[AgentRef], benchmark: str) -> list[AgentRef]:
+    """``agents`` when each is an agent of ``benchmark`` with valid params and their labels are distinct."""
     for agent in agents:
         try:
-            check(agent)
+            checked_agent(agent, benchmark)
         except AgentUnavailableError as exc:
             raise ValueError(str(exc)) from None
     labels = [agent.display for agent in agents]
@@ -55,7 +52,7 @@ class DragSweep(BaseModel):
     @field_validator("agents")
     @classmethod
     def _known_agents(cls, agents: list[AgentRef]) -> list[AgentRef]:
-        return checked_agents(agents, checked_drag_agent, "drag")
+        return checked_agents(agents, "drag")
 
 
 class PerceptionSweep(BaseModel):
@@ -76,4 +73,4 @@ class PerceptionSweep(BaseModel):
     @field_validator("agents")
     @classmethod
     def _known_agents(cls, agents: list[AgentRef]) -> list[AgentRef]:
-        return checked_agents(agents, checked_perception_agent, "perception")
+        return checked_agents(agents, "perception")

@@ -250,6 +250,12 @@ def suite_hash(contents: Iterable[HashedContent]) -> str:
     return digest.hexdigest()[:16]
 
 
+def agent_identity(agent: AgentRef, code: str | None) -> dict[str, object]:
+    """An agent as a single-step job's id names it: its name and params, and a plugin's code digest (None for
+    the harness's own agents, whose ids stay as they were: the harness fingerprint covers their code)."""
+    return agent.identity() if code is None else {**agent.identity(), "code": code}
+
+
 def identity_id(identity: Mapping[str, object]) -> str:
     """A job's name: the SHA-256 of its identity as canonical JSON, 24 hex digits (every job kind names its jobs so)."""
     canonical = json.dumps(identity, sort_keys=True, separators=(",", ":"))

@@ -91,6 +91,9 @@ class Agent(Protocol):
 class AgentBase:
     """Defaults for the protocol: no parameters, observes, no model, not privileged; keeps the context."""
 
+    kinds: ClassVar[tuple[str, ...]] = ("tasks",)
+    """The benchmarks it serves: episodes (an agent without the attribute serves them too)."""
+
     Params: ClassVar[type[BaseModel]] = NoParams
     observes: ClassVar[bool] = True
     needs_model: ClassVar[bool] = False

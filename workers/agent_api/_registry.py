@@ -1,9 +1,17 @@
-"""Finding an agent by name and building it with validated parameters.
+"""Finding an agent by benchmark kind and name, and building it with validated parameters.
 
-A name is either an entry point of the ``scratchworld.agents`` group (how the built-in agents
-are registered, and how an installed plugin package registers its own) or ``package.module:Class``.
-The driver resolves the agent and validates its parameters while loading the sweep config, so
-an agent that fails to import or rejects its parameters stops the run before anything starts.
+Each benchmark kind has its own entry-point group: ``scratchworld.agents`` (episodes, ``tasks``: the
+group plugins have always used, kept as it was), ``scratchworld.drag_agents`` and
+``scratchworld.perception_agents``. One group per kind, rather than one group with kind-qualified
+names (``drag.oracle``), because the same short names (``oracle``, ``llm``) stand for different
+classes in each benchmark and configs keep writing them as they are (``agent: oracle`` under
+``benchmark: drag``); the group a config's benchmark names is the only place its names are looked up,
+so no name can reach an agent of another benchmark. A class also says which kinds it serves
+(``kinds``; episode agents without the attribute serve ``tasks``), so an agent named by
+``package.module:Class`` or registered in the wrong group is refused with what it serves.
+
+The driver resolves each agent and validates its parameters while loading the sweep config, so an
+agent that fails to import or rejects its parameters stops the run before anything starts.
 """
 
 from __future__ import annotations
@@ -11,26 +19,49 @@ from __future__ import annotations
 import hashlib
 import importlib
 import inspect
+import socket
 from importlib.metadata import PackageNotFoundError, entry_points, packages_distributions, version
 from pathlib import Path
+from typing import Any, Literal
 
 from pydantic import BaseModel, ValidationError
 
-from workers.agent_api._agent import Agent, NoParams
+from workers.agent_api._agent import NoParams
 from workers.contract import AgentRef, AgentUnavailableError, ModelSpec
 
+AgentKind = Literal["tasks", "drag", "perception"]
+
 ENTRY_POINT_GROUP = "scratchworld.agents"
+"""The episode agents' group (``tasks``)."""
 
-_REQUIRED = ("start", "act", "finish")
+AGENT_GROUPS: dict[str, str] = {
+    "tasks": ENTRY_POINT_GROUP,
+    "drag": "scratchworld.drag_agents",
+    "perception": "scratchworld.perception_agents",
+}
+
+_REQUIRED = {"tasks": ("start", "act", "finish"), "drag": ("answer",), "perception": ("answer",)}
+_PROTOCOL = {
+    "tasks": "workers.agent_api.Agent",
+    "drag": "workers.agent_api.DragAgentBase",
+    "perception": "workers.agent_api.PerceptionAgentBase",
+}
 
 
-def registered_agents() -> list[str]:
-    """The names registered under ``scratchworld.agents`` in this environment."""
-    return sorted({point.name for point in entry_points(group=ENTRY_POINT_GROUP)})
+def agent_kinds(cls: type) -> tuple[str, ...]:
+    """The benchmark kinds ``cls`` serves (``tasks`` for an episode agent that does not say)."""
+    return tuple(getattr(cls, "kinds", ("tasks",)))
 
 
-def agent_class(name: str) -> type[Agent]:
-    """The class ``name`` stands for; raises ``AgentUnavailableError`` saying why it cannot be had."""
+def registered_agents(kind: str = "tasks") -> list[str]:
+    """The names registered for ``kind`` in this environment."""
+    return sorted({point.name for point in entry_points(group=_group(kind))})
+
+
+def agent_class(name: str, kind: str = "tasks") -> type[Any]:
+    """The class ``name`` stands for in benchmark ``kind``; raises ``AgentUnavailableError`` saying why it
+    cannot be had (not registered for that kind, not importable, or serving other kinds)."""
+    group = _group(kind)
     if ":" in name:
         module_name, _, attribute = name.partition(":")
         where = name
@@ -41,31 +72,68 @@ def agent_class(name: str) -> type[Agent]:
         except Exception as exc:  # a plugin's import may fail in any way: say how, in one line
             raise AgentUnavailableError(f"agent {name} cannot be imported: {_one_line(exc)}") from exc
     else:
-        points = [point for point in entry_points(group=ENTRY_POINT_GROUP) if point.name == name]
+        points = [point for point in entry_points(group=group) if point.name == name]
         if not points:
-            known = ", ".join(registered_agents()) or "none"
-            raise AgentUnavailableError(
-                f"agent {name!r} is not registered (registered: {known}); name an installed plugin's "
-                "entry point or package.module:Class (built-in names missing: run ./install.sh again)"
-            )
+            raise AgentUnavailableError(_unregistered(name, kind))
         where = f"{name} ({points[0].value})"
         try:
             found = points[0].load()
         except Exception as exc:
             raise AgentUnavailableError(f"agent {where} cannot be imported: {_one_line(exc)}") from exc
     if not isinstance(found, type):
-        raise AgentUnavailableError(f"agent {where} is not a class: see workers.agent_api.Agent")
-    missing = [method for method in _REQUIRED if not callable(getattr(found, method, None))]
+        raise AgentUnavailableError(f"agent {where} is not a class: see {_PROTOCOL[kind]}")
+    serves = agent_kinds(found)
+    if kind not in serves:
+        raise AgentUnavailableError(f"agent {where} serves {', '.join(serves) or 'no benchmark'}, not {kind}")
+    missing = [method for method in _REQUIRED[kind] if not callable(getattr(found, method, None))]
     if missing:
-        raise AgentUnavailableError(f"agent {where} lacks {', '.join(missing)}: see workers.agent_api.Agent")
+        raise AgentUnavailableError(f"agent {where} lacks {', '.join(missing)}: see {_PROTOCOL[kind]}")
     return found
 
 
-def agent_params(cls: type[Agent], ref: AgentRef) -> BaseModel:
+def _group(kind: str) -> str:
+    if kind not in AGENT_GROUPS:
+        raise AgentUnavailableError(f"no agents serve {kind!r}: the benchmarks are {', '.join(AGENT_GROUPS)}")
+    return AGENT_GROUPS[kind]
+
+
+def _unregistered(name: str, kind: str) -> str:
+    """Why ``name`` is no agent of ``kind``: the names that are, and the kinds it is registered for instead."""
+    known = ", ".join(registered_agents(kind)) or "none"
+    elsewhere = [other for other in AGENT_GROUPS if other != kind and name in registered_agents(other)]
+    serves = f"; {name!r} is an agent of {' and '.join(elsewhere)}" if elsewhere else ""
+    benchmark = "" if kind == "tasks" else f" for the {kind} benchmark"
+    return (
+        f"agent {name!r} is not registered{benchmark} (registered: {known}){serves}; name an installed "
+        "plugin's entry point or package.module:Class (built-in names missing: run ./install.sh again)"
+    )
+
+
+def checked_agent(ref: AgentRef, kind: str = "tasks") -> type[Any]:
+    """The class of ``ref`` for ``kind`` once its params validate and it claims no privilege it may not have:
+    what the driver checks of every agent a config names."""
+    found = agent_class(ref.name, kind)
+    agent_params(found, ref)
+    if getattr(found, "privileged", False) and agent_code(found) is not None:
+        raise AgentUnavailableError(
+            f"agent {ref.name} declares privileged = True, which would show it the solution: "
+            "only the harness's own oracles may be privileged"
+        )
+    return found
+
+
+def is_privileged(cls: type) -> bool:
+    """Whether ``cls`` may see the answer: it says so and is the harness's own (a plugin never is)."""
+    return bool(getattr(cls, "privileged", False)) and agent_code(cls) is None
+
+
+def agent_params(cls: type[Any], ref: AgentRef) -> BaseModel:
     """``ref.params`` validated by the agent's own ``Params`` model; a parameter it has no field for is refused."""
     model: type[BaseModel] = getattr(cls, "Params", NoParams)
     known = {name for name, field in model.model_fields.items() for name in (name, field.alias) if name}
     unknown = sorted(set(ref.params) - known)
+    if unknown and not known:
+        raise AgentUnavailableError(f"agent {ref.name} takes no params (given: {', '.join(unknown)})")
     if unknown:  # even for a Params model that would ignore them: they would name jobs without changing them
         accepted = ", ".join(sorted(model.model_fields)) or "none"
         raise AgentUnavailableError(
@@ -95,7 +163,7 @@ _HARNESS_DIR = Path(__file__).resolve().parents[1]
 """``workers/``: agents defined here are covered by the harness fingerprint."""
 
 
-def agent_code(cls: type[Agent]) -> str | None:
+def agent_code(cls: type) -> str | None:
     """A digest of a plugin agent's code (its module's source and its distribution's version), part of
     its jobs' identity; None for agents of the harness itself, which the harness fingerprint covers."""
     source = inspect.getsourcefile(cls)
@@ -116,9 +184,21 @@ def agent_code(cls: type[Agent]) -> str | None:
     return digest.hexdigest()[:16]
 
 
-def build_agent(ref: AgentRef) -> Agent:
-    """A new agent for one episode."""
-    cls = agent_class(ref.name)
+def code_mismatch(ref: AgentRef, planned: str | None, cls: type) -> str | None:
+    """Why a worker must refuse a job whose agent code differs from the one the driver planned it with (None:
+    the same). A plugin's code is part of its jobs' identity, so another version must not answer for it."""
+    code = agent_code(cls)
+    if code == planned:
+        return None
+    return (
+        f"{socket.gethostname()} has agent {ref.name} with code {code}, the job was planned for {planned}: "
+        "install the same version here"
+    )
+
+
+def build_agent(ref: AgentRef, kind: str = "tasks") -> Any:
+    """A new agent of ``kind`` for one job (an ``Agent`` for an episode), built with its validated params."""
+    cls = agent_class(ref.name, kind)
     try:
         return cls(agent_params(cls, ref))  # type: ignore[call-arg]
     except AgentUnavailableError:

@@ -206,6 +206,9 @@ class PerceptionSpec(BaseModel):
     """The item's id."""
 
     agent: AgentRef
+    agent_code: str | None = None
+    """Digest of a plugin agent's code as the driver found it; a worker with other code refuses the job."""
+
     model: ModelSpec | None
     seed: int
     timeout_s: float = Field(gt=0)

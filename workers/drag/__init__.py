@@ -1,10 +1,6 @@
 """The single-step drag benchmark inside a worker: set up the view, compute the exact regions, ask, drag, verify.
 
-Only the agents' names and parameters are exported here (``checked_drag_agent``, ``needs_model``): the driver
-validates configs with them without loading the browser stack. The agents (``workers.drag._agents``) and the
-runner (``workers.drag._runner``) are imported where they run.
+Nothing is exported here: the driver finds the drag agents through the registry
+(``workers.agent_api.agent_class(name, "drag")``, entry points of ``scratchworld.drag_agents``); the agents
+(``workers.drag._agents``) and the runner (``workers.drag._runner``) are imported where they run.
 """
-
-from workers.drag._refs import DRAG_AGENTS, JitterParams, checked_drag_agent, needs_model
-
-__all__ = ["DRAG_AGENTS", "JitterParams", "checked_drag_agent", "needs_model"]

@@ -15,51 +15,17 @@ from __future__ import annotations
 
 import hashlib
 import random
-from dataclasses import dataclass, field
-from typing import Protocol
+from typing import ClassVar
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, Field
 
+from workers.agent_api import DragAgentBase, DragAnswer, DragQuestion, ModelSource, build_agent
 from workers.agents._coordinates import SCREEN, coordinate_system, model_space
-from workers.agents._model_calls import EpisodeModels
-from workers.contract import AgentRef, AgentUnavailableError, DragParse, DragRegions, DragSetting, ModelSpec, Point
+from workers.contract import AgentRef, AgentUnavailableError, ModelSpec, Point
 from workers.drag._prompts import drag_messages
-from workers.drag._refs import JitterParams, checked_drag_agent
 from workers.drag._reply import parse_drag_reply
 
-
-@dataclass(frozen=True)
-class DragQuestion:
-    """What the agent is shown (``regions`` only reaches the scripted agents, which are the harness's own)."""
-
-    task_id: str
-    instruction: str
-    setting: DragSetting
-    screenshot_png: bytes
-    seed: int
-    gt_start: Point | None
-    """The marked start under ``gt_start`` (page px)."""
-
-    element_text: str | None = None
-    element_centres: dict[int, tuple[float, float]] = field(default_factory=dict)
-    regions: DragRegions | None = None
-
-
-class DragAnswer(BaseModel):
-    """One drag in page px, or why there is none."""
-
-    model_config = ConfigDict(frozen=True)
-
-    parse: DragParse
-    start: tuple[float, float] | None = None
-    end: tuple[float, float] | None = None
-    detail: str = ""
-
-
-class DragAgent(Protocol):
-    needs_model: bool
-
-    async def answer(self, question: DragQuestion, model: ModelSpec | None, models: EpisodeModels) -> DragAnswer: ...
+__all__ = ["DragAnswer", "DragQuestion", "JitterDragAgent", "LLMDragAgent", "OracleDragAgent", "drag_agent"]
 
 
 def _aim(question: DragQuestion) -> tuple[Point, Point]:
@@ -69,25 +35,34 @@ def _aim(question: DragQuestion) -> tuple[Point, Point]:
     return regions.fixed_start, regions.end.deepest()
 
 
-class OracleDragAgent:
+class OracleDragAgent(DragAgentBase):
     """Presses at the fixed start and releases at the end region's deepest pixel."""
 
-    needs_model = False
+    privileged = True
 
-    async def answer(self, question: DragQuestion, model: ModelSpec | None, models: EpisodeModels) -> DragAnswer:
+    async def answer(self, question: DragQuestion, model: ModelSpec | None, models: ModelSource) -> DragAnswer:
         start, end = _aim(question)
         return DragAnswer(parse="ok", start=(float(start[0]), float(start[1])), end=(float(end[0]), float(end[1])))
 
 
-class JitterDragAgent:
+class JitterParams(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    sigma_px: float = Field(default=8.0, gt=0, le=200)
+    """Standard deviation of the noise on each coordinate of each point, in page px."""
+
+
+class JitterDragAgent(DragAgentBase):
     """The oracle's points plus independent Gaussian noise, seeded by task and seed."""
 
-    needs_model = False
+    Params: ClassVar[type[BaseModel]] = JitterParams
+    privileged = True
 
-    def __init__(self, params: JitterParams) -> None:
-        self.sigma = params.sigma_px
+    def __init__(self, params: BaseModel | None = None) -> None:
+        super().__init__(params)
+        self.sigma = float(self.params.sigma_px)  # type: ignore[attr-defined]
 
-    async def answer(self, question: DragQuestion, model: ModelSpec | None, models: EpisodeModels) -> DragAnswer:
+    async def answer(self, question: DragQuestion, model: ModelSpec | None, models: ModelSource) -> DragAnswer:
         start, end = _aim(question)
         digest = hashlib.sha256(f"{question.task_id}:{question.seed}".encode()).digest()
         rng = random.Random(int.from_bytes(digest[:8], "big"))
@@ -101,12 +76,12 @@ class JitterDragAgent:
         return DragAnswer(parse="ok", start=_rounded(noisy_start), end=_rounded(noisy_end))
 
 
-class LLMDragAgent:
+class LLMDragAgent(DragAgentBase):
     """One call to the job's model; its reply parsed leniently and mapped from its coordinates to page px."""
 
     needs_model = True
 
-    async def answer(self, question: DragQuestion, model: ModelSpec | None, models: EpisodeModels) -> DragAnswer:
+    async def answer(self, question: DragQuestion, model: ModelSpec | None, models: ModelSource) -> DragAnswer:
         if model is None:
             raise AgentUnavailableError("the llm drag agent needs a model")
         system = coordinate_system(model)
@@ -145,9 +120,8 @@ def _rounded(point: tuple[float, float]) -> tuple[float, float]:
     return round(point[0], 1), round(point[1], 1)
 
 
-def drag_agent(ref: AgentRef) -> DragAgent:
-    """The drag agent a job names, its parameters validated (``AgentUnavailableError`` names the problem)."""
-    params = checked_drag_agent(ref)
-    if params is not None:
-        return JitterDragAgent(params)
-    return OracleDragAgent() if ref.name == "oracle" else LLMDragAgent()
+def drag_agent(ref: AgentRef) -> DragAgentBase:
+    """The drag agent a job names, found in the drag agents' registry and built with its validated params
+    (``AgentUnavailableError`` names the problem)."""
+    agent: DragAgentBase = build_agent(ref, "drag")
+    return agent

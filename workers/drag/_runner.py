@@ -13,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import time
 
+from workers.agent_api import code_mismatch, is_privileged
 from workers.agents._model_calls import EpisodeModels
 from workers.contract import (
     AgentUnavailableError,
@@ -55,6 +56,9 @@ class DragRunner:
             agent = drag_agent(spec.agent)
         except AgentUnavailableError as exc:
             return _finish(EpisodeResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
+        mismatch = code_mismatch(spec.agent, spec.agent_code, type(agent))
+        if mismatch is not None:
+            return _finish(EpisodeResult.errored(spec, "harness_mismatch", mismatch), started, clock, timings)
         cache = ModelCache(spec.model_cache.dir) if spec.model_cache is not None else None
         models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed, cache=cache)
         step = StepRecord(index=0, action="drag", ok=False)
@@ -71,7 +75,7 @@ class DragRunner:
                     which = "grabs the source" if regions.start.empty else "makes the connection"
                     message = f"drag task {payload.task_id}: no pixel of its view {which} in this editor"
                     return _finish(EpisodeResult.errored(spec, "task_invalid", message), started, clock, timings)
-                question = await _question(editor, spec, payload, regions)
+                question = await _question(editor, spec, payload, regions, is_privileged(type(agent)))
                 timings.setup_s = time.perf_counter() - clock
                 answer = await agent.answer(question, spec.model, models)
                 timings.agent_s = time.perf_counter() - clock - timings.setup_s
@@ -127,8 +131,11 @@ class DragRunner:
         return regions, regions.computed_s
 
 
-async def _question(editor: Editor, spec: DragSpec, payload: DragPayload, regions: DragRegions) -> DragQuestion:
-    """The observation: the settled page's screenshot (marked under ``gt_start``) and, if asked, its element list."""
+async def _question(
+    editor: Editor, spec: DragSpec, payload: DragPayload, regions: DragRegions, privileged: bool
+) -> DragQuestion:
+    """The observation: the settled page's screenshot (marked under ``gt_start``) and, if asked, its element list;
+    the regions for a privileged agent (the harness's scripted ones)."""
     element_text, centres = None, {}
     if spec.element_list:
         settings = spec.observation or ObservationSettings()
@@ -150,7 +157,7 @@ async def _question(editor: Editor, spec: DragSpec, payload: DragPayload, region
         gt_start=gt_start,
         element_text=element_text,
         element_centres=centres,
-        regions=regions if spec.agent.name in ("oracle", "jitter") else None,
+        regions=regions if privileged else None,
     )
 
 

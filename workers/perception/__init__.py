@@ -1,19 +1,12 @@
 """The visual perception QA benchmark inside a worker: one question about one screenshot, answered and scored.
 
-Only the agents' names, the scoring and the prompt are exported here (the driver validates configs and the
-reports' comparisons score canned replies with them); the runner (``workers.perception._runner``) is
-imported where jobs run.
+The scoring and the prompt are exported here (the reports' comparisons score canned replies with them); the
+agents are found through the registry (``workers.agent_api.agent_class(name, "perception")``, entry points
+of ``scratchworld.perception_agents``), and the runner (``workers.perception._runner``) is imported where
+jobs run.
 """
 
 from workers.perception._prompts import perception_messages
-from workers.perception._refs import PERCEPTION_AGENTS, checked_perception_agent, needs_model
 from workers.perception._scoring import score_reply, strict_correct
 
-__all__ = [
-    "PERCEPTION_AGENTS",
-    "checked_perception_agent",
-    "needs_model",
-    "perception_messages",
-    "score_reply",
-    "strict_correct",
-]
+__all__ = ["perception_messages", "score_reply", "strict_correct"]

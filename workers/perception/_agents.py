@@ -5,59 +5,37 @@
   the floor a model must clear to show it perceives anything.
 - ``llm`` asks the job's model once, with the screenshot, and answers with its raw reply.
 
-The label reaches only the scripted agents (``PerceptionQuestion.label``); the model's prompt is built
+The label reaches only privileged agents (``PerceptionQuestion.label``: the oracle); the model's prompt is built
 from the question, the answer's form and the screenshot alone.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Protocol
-
-from workers.agents._model_calls import EpisodeModels
-from workers.contract import YES, AgentRef, AgentUnavailableError, AnswerFormat, ModelSpec, ValueKind
+from workers.agent_api import ModelSource, PerceptionAgentBase, PerceptionQuestion, build_agent
+from workers.contract import YES, AgentRef, AgentUnavailableError, ModelSpec
 from workers.perception._prompts import perception_messages
-from workers.perception._refs import checked_perception_agent
+
+__all__ = ["AlwaysYesAgent", "LLMPerceptionAgent", "OraclePerceptionAgent", "PerceptionQuestion", "perception_agent"]
 
 
-@dataclass(frozen=True)
-class PerceptionQuestion:
-    """What an agent is asked (``label`` only reaches the scripted agents, which are the harness's own)."""
+class OraclePerceptionAgent(PerceptionAgentBase):
+    privileged = True
 
-    item_id: str
-    question: str
-    answer_format: AnswerFormat
-    value_kind: ValueKind | None
-    screenshot_png: bytes
-    label: str | None = None
-
-
-class PerceptionAgent(Protocol):
-    needs_model: bool
-
-    async def answer(self, question: PerceptionQuestion, model: ModelSpec | None, models: EpisodeModels) -> str: ...
-
-
-class OraclePerceptionAgent:
-    needs_model = False
-
-    async def answer(self, question: PerceptionQuestion, model: ModelSpec | None, models: EpisodeModels) -> str:
+    async def answer(self, question: PerceptionQuestion, model: ModelSpec | None, models: ModelSource) -> str:
         if question.label is None:
             raise AgentUnavailableError("the perception oracle needs the item's label")
         return question.label
 
 
-class AlwaysYesAgent:
-    needs_model = False
-
-    async def answer(self, question: PerceptionQuestion, model: ModelSpec | None, models: EpisodeModels) -> str:
+class AlwaysYesAgent(PerceptionAgentBase):
+    async def answer(self, question: PerceptionQuestion, model: ModelSpec | None, models: ModelSource) -> str:
         return YES
 
 
-class LLMPerceptionAgent:
+class LLMPerceptionAgent(PerceptionAgentBase):
     needs_model = True
 
-    async def answer(self, question: PerceptionQuestion, model: ModelSpec | None, models: EpisodeModels) -> str:
+    async def answer(self, question: PerceptionQuestion, model: ModelSpec | None, models: ModelSource) -> str:
         if model is None:
             raise AgentUnavailableError("the llm perception agent needs a model")
         messages = perception_messages(
@@ -67,12 +45,8 @@ class LLMPerceptionAgent:
         return reply.text
 
 
-def perception_agent(ref: AgentRef) -> PerceptionAgent:
-    """The perception agent a job names (``AgentUnavailableError`` names the problem)."""
-    checked_perception_agent(ref)
-    agents: dict[str, PerceptionAgent] = {
-        "oracle": OraclePerceptionAgent(),
-        "always_yes": AlwaysYesAgent(),
-        "llm": LLMPerceptionAgent(),
-    }
-    return agents[ref.name]
+def perception_agent(ref: AgentRef) -> PerceptionAgentBase:
+    """The perception agent a job names, found in the perception agents' registry and built with its validated
+    params (``AgentUnavailableError`` names the problem)."""
+    agent: PerceptionAgentBase = build_agent(ref, "perception")
+    return agent

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import time
 
+from workers.agent_api import code_mismatch, is_privileged
 from workers.agents._model_calls import EpisodeModels
 from workers.contract import (
     AgentUnavailableError,
@@ -40,6 +41,9 @@ async def run_perception(spec: PerceptionSpec, payload: PerceptionPayload) -> Ep
         agent = perception_agent(spec.agent)
     except AgentUnavailableError as exc:
         return _finish(EpisodeResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
+    mismatch = code_mismatch(spec.agent, spec.agent_code, type(agent))
+    if mismatch is not None:
+        return _finish(EpisodeResult.errored(spec, "harness_mismatch", mismatch), started, clock, timings)
     cache = ModelCache(spec.model_cache.dir) if spec.model_cache is not None else None
     models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed, cache=cache)
     question = PerceptionQuestion(
@@ -48,7 +52,7 @@ async def run_perception(spec: PerceptionSpec, payload: PerceptionPayload) -> Ep
         answer_format=payload.answer_format,
         value_kind=payload.value_kind,
         screenshot_png=payload.screenshot_png,
-        label=None if agent.needs_model else payload.answer,
+        label=payload.answer if is_privileged(type(agent)) else None,
     )
     try:
         reply = await agent.answer(question, spec.model, models)

@@ -19,8 +19,8 @@ from scratchworld_dist.kinds.drag._rows import drag_row
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
 from scratchworld_dist.sweep._selection import present_suites, wanted_ids
+from workers.agent_api import agent_class, checked_agent
 from workers.contract import AgentRef, DragSpec, EpisodeResult, HarnessFingerprint, ModelSpec, WorkerJob
-from workers.drag import checked_drag_agent, needs_model
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
@@ -36,13 +36,13 @@ class DragKind:
     regrade_refusal: str | None = "a drag benchmark run stores drags, not projects: nothing to regrade"
 
     def check_agent(self, agent: AgentRef) -> None:
-        checked_drag_agent(agent)
+        checked_agent(agent, self.name)
 
     def check_sweep(self, config: SweepConfig) -> None:
         refuse_episode_sections(config, self.title)
 
     def needs_model(self, config: SweepConfig) -> bool:
-        return any(needs_model(agent) for agent in config.drag_agents())
+        return any(agent_class(agent.name, self.name).needs_model for agent in config.drag_agents())
 
     def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
         return []

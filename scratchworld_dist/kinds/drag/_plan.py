@@ -3,7 +3,7 @@
 A drag job's id hashes the model and its parameters, the setting, the agent, the task's content
 (project bytes, source, connection, view), the seed, the element list and its observation
 settings, the conversation protocol and the harness fingerprint (the editor's geometry decides
-the regions), so resume never reuses a drag made under other conditions.
+the regions), and a plugin agent's code, so resume never reuses a drag made under other conditions.
 """
 
 from __future__ import annotations
@@ -14,7 +14,8 @@ from collections.abc import Iterator
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.drag import DragTask
-from scratchworld_dist.sweep._plan import DragTaskInfo, JobSpec, identity_id, read_project
+from scratchworld_dist.sweep._plan import DragTaskInfo, JobSpec, agent_identity, identity_id, read_project
+from workers.agent_api import agent_class, agent_code
 from workers.contract import (
     AgentRef,
     DragPayload,
@@ -25,7 +26,6 @@ from workers.contract import (
     ObservationSettings,
     ProjectLimits,
 )
-from workers.drag import needs_model
 from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
@@ -63,12 +63,13 @@ def drag_job_id(
     llm: LLMSettings | None,
     project_limits: ProjectLimits,
     harness: str,
+    code: str | None = None,
 ) -> str:
     identity: dict[str, object] = {
         "benchmark": "drag",
         "model": None if model is None else model.identity(),
         "setting": setting,
-        "agent": agent.identity(),
+        "agent": agent_identity(agent, code),
         "task": [content.task.id, content.task_hash],
         "seed": seed,
         "element_list": element_list,
@@ -99,12 +100,10 @@ def plan_drag_jobs(
     limits = project_limits or ProjectLimits()
     harness = harness or kind_fingerprint(harness_fingerprint(), "drag").digest
     shown = (observation or ObservationSettings()) if element_list else None
-    cells = [
-        (who, model)
-        for who in ([agents] if isinstance(agents, AgentRef) else agents)
-        for model in (models if needs_model(who) else [None])
-    ]
-    for agent, model in cells:
+    found = [(who, agent_class(who.name, "drag")) for who in ([agents] if isinstance(agents, AgentRef) else agents)]
+    cells = [(who, cls, model) for who, cls in found for model in (models if cls.needs_model else [None])]
+    for agent, cls, model in cells:
+        code = agent_code(cls)
         protocol = (llm or LLMSettings()) if model is not None else None
         for setting in settings:
             for seed in seeds:
@@ -121,6 +120,7 @@ def plan_drag_jobs(
                         llm=protocol,
                         project_limits=limits,
                         harness=harness,
+                        code=code,
                     )
                     yield JobSpec(
                         job_id=name,
@@ -128,6 +128,7 @@ def plan_drag_jobs(
                         model=model,
                         mode=DRAG_MODE,
                         agent=agent,
+                        agent_code=code,
                         task_id=task.id,
                         category=task.type,
                         task_hash=content.task_hash,

@@ -17,8 +17,8 @@ from scratchworld_dist.kinds.perception._plan import PerceptionContent, plan_per
 from scratchworld_dist.kinds.perception._rows import perception_row
 from scratchworld_dist.results import RunStore, SuiteInfo, shared_image_path
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
+from workers.agent_api import agent_class, checked_agent
 from workers.contract import AgentRef, EpisodeResult, HarnessFingerprint, ModelSpec, PerceptionSpec, WorkerJob
-from workers.perception import checked_perception_agent, needs_model
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
@@ -34,13 +34,13 @@ class PerceptionJobKind:
     regrade_refusal: str | None = "a perception benchmark run stores answers, not projects: nothing to regrade"
 
     def check_agent(self, agent: AgentRef) -> None:
-        checked_perception_agent(agent)
+        checked_agent(agent, self.name)
 
     def check_sweep(self, config: SweepConfig) -> None:
         refuse_episode_sections(config, self.title)
 
     def needs_model(self, config: SweepConfig) -> bool:
-        return any(needs_model(agent) for agent in config.perception_agents())
+        return any(agent_class(agent.name, self.name).needs_model for agent in config.perception_agents())
 
     def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
         return []

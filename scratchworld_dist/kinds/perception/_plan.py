@@ -1,9 +1,9 @@
 """Planning the perception benchmark: the job matrix agent x model x item x seed, named by what decides each job.
 
 A perception job's id hashes the model and its parameters, the agent, the item's content (its question,
-answer, form and the screenshot's bytes), the seed, the conversation protocol and the harness fingerprint
-(the prompt and the scoring are worker code), so resume never reuses an answer given under other
-conditions.
+answer, form and the screenshot's bytes), the seed, the conversation protocol, the harness fingerprint
+(the prompt and the scoring are worker code) and a plugin agent's code, so resume never reuses an answer
+given under other conditions.
 """
 
 from __future__ import annotations
@@ -16,12 +16,12 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.perception import PerceptionItem, PerceptionSuite, load_perception_suite, read_screenshot
-from scratchworld_dist.sweep._plan import JobSpec, PerceptionItemInfo, identity_id
+from scratchworld_dist.sweep._plan import JobSpec, PerceptionItemInfo, agent_identity, identity_id
 from scratchworld_dist.sweep._selection import present_suites, wanted_ids
+from workers.agent_api import agent_class, agent_code
 from workers.contract import AgentRef, LLMSettings, ModelCacheSettings, ModelSpec, PerceptionKind, PerceptionPayload
 from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
-from workers.perception import needs_model
 
 PERCEPTION_MODE = "primitive"
 """The mode column of perception jobs: a screenshot is what primitive mode observes, read here in isolation."""
@@ -95,11 +95,12 @@ def perception_job_id(
     *,
     llm: LLMSettings | None,
     harness: str,
+    code: str | None = None,
 ) -> str:
     identity: dict[str, object] = {
         "benchmark": "perception",
         "model": None if model is None else model.identity(),
-        "agent": agent.identity(),
+        "agent": agent_identity(agent, code),
         "task": [content.task.id, content.task_hash],
         "seed": seed,
         "llm": None if llm is None else llm.identity(),
@@ -121,18 +122,21 @@ def plan_perception_jobs(
     """The matrix in a stable order: agent, model, seed, then suite order of items. A scripted agent (one
     that needs no model) runs once, without a model, whatever ``models`` holds."""
     harness = harness or kind_fingerprint(harness_fingerprint(), "perception").digest
-    cells = [(who, model) for who in agents for model in (models if needs_model(who) else [None])]
-    for agent, model in cells:
+    found = [(who, agent_class(who.name, "perception")) for who in agents]
+    cells = [(who, cls, model) for who, cls in found for model in (models if cls.needs_model else [None])]
+    for agent, cls, model in cells:
+        code = agent_code(cls)
         protocol = (llm or LLMSettings()) if model is not None else None
         for seed in seeds:
             for content in contents:
                 item = content.task
                 yield JobSpec(
                     benchmark="perception",
-                    job_id=perception_job_id(model, agent, content, seed, llm=protocol, harness=harness),
+                    job_id=perception_job_id(model, agent, content, seed, llm=protocol, harness=harness, code=code),
                     model=model,
                     mode=PERCEPTION_MODE,
                     agent=agent,
+                    agent_code=code,
                     task_id=item.id,
                     category=item.kind,
                     task_hash=content.task_hash,

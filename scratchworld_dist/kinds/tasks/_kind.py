@@ -16,10 +16,9 @@ from scratchworld_dist.memory import JobItems, offline_source, source_digest
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, plan_jobs, read_task, suite_hash
-from workers.agent_api import agent_class, agent_code, agent_params, extra_models
+from workers.agent_api import agent_class, agent_code, agent_params, checked_agent, extra_models
 from workers.contract import (
     AgentRef,
-    AgentUnavailableError,
     EpisodeClock,
     EpisodeResult,
     EpisodeSpec,
@@ -43,13 +42,7 @@ class TasksKind:
     regrade_refusal: str | None = None
 
     def check_agent(self, agent: AgentRef) -> None:
-        found = agent_class(agent.name)
-        agent_params(found, agent)
-        if getattr(found, "privileged", False) and agent_code(found) is not None:
-            raise AgentUnavailableError(
-                f"agent {agent.name} declares privileged = True, which would show it the solution: "
-                "only the harness's own oracles may be privileged"
-            )
+        checked_agent(agent, self.name)
 
     def check_sweep(self, config: SweepConfig) -> None:
         agent = agent_class(config.agent.name)
