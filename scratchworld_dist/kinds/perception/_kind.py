@@ -74,6 +74,7 @@ class PerceptionJobKind:
             attempt=attempt,
             task_id=job.task_id,
             agent=job.agent,
+            agent_code=job.agent_code,
             model=job.model,
             seed=job.seed,
             timeout_s=timeout_s,
