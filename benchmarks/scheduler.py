@@ -26,10 +26,11 @@ import ray
 from ray.cluster_utils import Cluster
 
 from scratchworld_dist._run import AttemptRecorder
+from scratchworld_dist.kinds.tasks import plan_jobs, read_task
 from scratchworld_dist.results import RunStore, record_of
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, ray_runtime
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import JobSpec, plan_jobs, read_task
+from scratchworld_dist.sweep import JobSpec
 from workers.contract import EpisodeResult, ModelSpec, SyntheticEpisodes
 
 REPO = Path(__file__).resolve().parents[1]

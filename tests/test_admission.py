@@ -15,9 +15,10 @@ import psutil
 import pytest
 import ray
 
+from scratchworld_dist.kinds.tasks import plan_jobs, read_task
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, admitted_slots, pages_per_worker
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import JobSpec, Limits, plan_jobs, read_task
+from scratchworld_dist.sweep import JobSpec, Limits
 from tests.cli_runner import invoke
 from tests.conftest import REPO, pooled_editor
 from workers.contract import MIB, AgentRef, EpisodeClock, EpisodeResult, ModelSpec, SyntheticEpisodes

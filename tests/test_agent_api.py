@@ -7,8 +7,8 @@ from typing import Any
 
 import pytest
 
+from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentBase, EpisodeEnd, StepResult, TaskContext

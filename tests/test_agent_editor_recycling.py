@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from playwright.async_api import Page
 
+from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from workers.agent_api import AgentBase, StepResult, TaskContext, build_agent
 from workers.contract import (

@@ -20,9 +20,10 @@ import pytest
 import yaml
 
 from scratchworld_dist._errors import ConfigError
+from scratchworld_dist.kinds.tasks import plan_jobs
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import load_sweep_config, plan_jobs
+from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import REPO
 from tests.openai_server import Behaviour, OpenAIServer, reply, status
 from tests.sweep_driver import Driver, run
@@ -167,7 +168,7 @@ class Snooper(AgentBase):
 
 
 def read_quiz() -> Any:
-    from scratchworld_dist.sweep import read_task
+    from scratchworld_dist.kinds.tasks import read_task
 
     return read_task(load_suite(REPO / "tasks").task(TASK))
 

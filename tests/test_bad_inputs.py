@@ -27,8 +27,8 @@ import pytest
 import yaml
 
 from scratchworld_dist.cli._main import main
+from scratchworld_dist.kinds.tasks import plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import plan_jobs, read_task
 from tests import bad_inputs as bad
 from tests import bad_inputs_perception as bad_perception
 from tests import bad_inputs_runtime as live

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist import load_suite
-from scratchworld_dist.sweep import plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import plan_jobs, read_task
 from tests.conftest import DATA, SUITE_DIR, pooled_editor
 from tests.projects import counter_project, timing_project
 from workers.contract import EvalResult, EvaluationClock, EvaluationSpec

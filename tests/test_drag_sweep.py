@@ -76,7 +76,7 @@ def test_the_matrix_is_agents_models_settings_tasks_seeds_with_stable_ids(tmp_pa
     plan = plan_run(load_sweep_config(write(tmp_path, **fields)))
     assert len(plan.jobs) == 2 * 2 * 2 * 2  # agents x settings x tasks x seeds (scripted agents: no model column)
     assert len({job.job_id for job in plan.jobs}) == len(plan.jobs)
-    assert {job.setting for job in plan.jobs} == {"baseline", "knowledge"}
+    assert {job.body.setting for job in plan.jobs} == {"baseline", "knowledge"}
     again = plan_run(load_sweep_config(write(tmp_path, **fields)))
     assert [job.job_id for job in again.jobs] == [job.job_id for job in plan.jobs]
     noisier = dict(fields, drag={**fields["drag"], "agents": ["oracle", {"name": "jitter", "params": {"sigma_px": 5}}]})

@@ -13,8 +13,9 @@ import pytest
 from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel
 
+from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import JobSpec, TaskContent, plan_jobs, read_task
+from scratchworld_dist.sweep import JobSpec
 from tests.conftest import REPO, SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentBase, StepResult, build_agent

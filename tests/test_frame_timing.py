@@ -18,8 +18,8 @@ from pydantic import ValidationError
 from scratchworld_dist import load_suite
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.flakes import FlakeSettings, plan_variants
+from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.sb3 import Project, block, rect_costume
-from scratchworld_dist.sweep import read_task
 from workers.contract import EvalResult, EvaluationSpec, FrameLateness, calibrated_frame_lateness
 from workers.editor import BrowserSession, EditorPool
 from workers.evaluation import Evaluator

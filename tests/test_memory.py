@@ -14,9 +14,10 @@ import pytest
 import yaml
 
 from scratchworld_dist._errors import ConfigError
+from scratchworld_dist.kinds.tasks import plan_jobs, read_task
 from scratchworld_dist.memory import JobItems, MemoryFolder, MemoryKeeper, StoreInfo, store_name, task_waves
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import load_sweep_config, plan_jobs, read_task
+from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentRef

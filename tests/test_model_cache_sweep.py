@@ -14,10 +14,11 @@ import pytest
 import yaml
 
 from scratchworld_dist._errors import ConfigError
+from scratchworld_dist.kinds.tasks import EpisodeBody, plan_jobs, read_task
 from scratchworld_dist.reports import build_report, render_html, render_markdown
 from scratchworld_dist.results import SCHEMAS, RunStore, record_of
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import JobSpec, load_sweep_config, plan_jobs, read_task
+from scratchworld_dist.sweep import JobSpec, load_sweep_config
 from tests.conftest import SUITE_DIR
 from tests.test_reports import job, make_run
 from workers.contract import AgentRef, EpisodeResult, ModelCacheSettings, ModelSpec, StepRecord
@@ -148,14 +149,13 @@ def planned(cache: ModelCacheSettings | None) -> JobSpec:
     return JobSpec(
         job_id="j1",
         model=model,
-        mode="composite",
         agent=AgentRef(name="llm"),
         task_id="t1",
         category="create",
         task_hash="0" * 16,
         seed=0,
-        max_steps=10,
         harness="h",
+        body=EpisodeBody(mode="composite", max_steps=10),
         model_cache=cache,
     )
 

@@ -14,6 +14,7 @@ from click.testing import CliRunner
 
 from scratchworld_dist._errors import SuiteError
 from scratchworld_dist.cli._main import cli
+from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.oracle_plan import (
     ProjectPlan,
     ProjectState,
@@ -26,7 +27,6 @@ from scratchworld_dist.oracle_plan import (
 from scratchworld_dist.sb3 import Project, block, circle_costume, variable
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.suites._task import read_trajectory
-from scratchworld_dist.sweep import read_task
 from tests.cli_runner import invoke
 from tests.conftest import SUITE_DIR, pooled_editor
 from workers import composite

@@ -80,7 +80,7 @@ def test_the_matrix_is_agents_models_items_seeds_with_ids_that_follow_the_conten
     plan = plan_run(load_sweep_config(write(tmp_path, suite, **fields)))
     scripted, llm = 2 * 8 * 2, 2 * 8 * 2  # scripted agents once, without a model; llm once per model
     assert len(plan.jobs) == scripted + llm and len({job.job_id for job in plan.jobs}) == len(plan.jobs)
-    assert {(job.category, job.perception.kind if job.perception else None) for job in plan.jobs} == {
+    assert {(job.category, job.body.item.kind) for job in plan.jobs} == {  # type: ignore[attr-defined]
         ("connection", "connection"),
         ("existence", "existence"),
         ("field", "field"),

@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist import SuiteError
-from scratchworld_dist.kinds.tasks import default_episode_clock
+from scratchworld_dist.kinds.tasks import TaskContent, default_episode_clock, job_id, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import NO_MODEL, JobSpec, TaskContent, job_id, plan_jobs, read_task
+from scratchworld_dist.sweep import NO_MODEL, JobSpec
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
 from tests.conftest import SUITE_DIR
 from tests.projects import with_entry
@@ -38,7 +38,7 @@ def contents(root: Path) -> list[TaskContent]:
 
 
 def ids_by_task(jobs: list[JobSpec]) -> dict[tuple[str, str, str, int], str]:
-    return {(job.model_name, job.mode, job.task_id, job.seed): job.job_id for job in jobs}
+    return {(job.model_name, job.body.mode, job.task_id, job.seed): job.job_id for job in jobs}
 
 
 def plan(tasks: list[TaskContent], models: list[ModelSpec | None] | None = None) -> list[JobSpec]:
@@ -81,7 +81,7 @@ def test_read_task_carries_every_file(ours: list[TaskContent]) -> None:
 def test_matrix_size_and_order(ours: list[TaskContent]) -> None:
     jobs = plan(ours)
     assert len(jobs) == 2 * 2 * 3 * len(ours) == 144
-    cells = [(j.model_name, j.mode, j.seed, j.task_id) for j in jobs]
+    cells = [(j.model_name, j.body.mode, j.seed, j.task_id) for j in jobs]
     task_ids = [c.task.id for c in ours]
     expected = [
         (model, mode, seed, task)
@@ -97,11 +97,11 @@ def test_job_fields_come_from_the_plan(ours: list[TaskContent]) -> None:
     content = ours[3]
     (job,) = plan_jobs([CLAUDE], ["primitive"], "llm", [content], seeds=[4], max_steps=12)
     assert job.model == CLAUDE and job.model_name == "claude"
-    assert (job.mode, job.agent.name, job.seed, job.max_steps) == ("primitive", "llm", 4, 12)
+    assert (job.body.mode, job.agent.name, job.seed, job.body.max_steps) == ("primitive", "llm", 4, 12)
     assert (job.task_id, job.category, job.task_hash) == (content.task.id, content.task.category, content.task_hash)
-    assert job.observation == ObservationSettings()
+    assert job.body.observation == ObservationSettings()
     assert job.llm == LLMSettings()
-    identity = (content.task_hash, content.task.id, 4, 12, job.observation, job.llm)
+    identity = (content.task_hash, content.task.id, 4, 12, job.body.observation, job.llm)
     assert job.job_id == job_id(CLAUDE, "primitive", "llm", *identity)
     episode = job.episode(attempt=1, timeout_s=60)
     assert (episode.observation, episode.llm) == (ObservationSettings(), LLMSettings())
@@ -126,8 +126,8 @@ def test_step_limits_per_mode(ours: list[TaskContent]) -> None:
     jobs = list(
         plan_jobs([None], ["composite", "primitive"], "oracle", ours[:1], [0], {"composite": 9, "primitive": 90})
     )
-    assert [(j.mode, j.max_steps) for j in jobs] == [("composite", 9), ("primitive", 90)]
-    assert jobs[0].observation is None
+    assert [(j.body.mode, j.body.max_steps) for j in jobs] == [("composite", 9), ("primitive", 90)]
+    assert jobs[0].body.observation is None
 
 
 def test_observation_settings_change_primitive_ids_only(ours: list[TaskContent]) -> None:
@@ -287,8 +287,8 @@ def test_episode_carries_the_job(ours: list[TaskContent]) -> None:
     assert episode.job_id == job.job_id
     assert episode.attempt == 3
     assert episode.timeout_s == 120.0
-    assert (episode.task_id, episode.mode, episode.agent) == (job.task_id, job.mode, job.agent)
-    assert (episode.model, episode.seed, episode.max_steps) == (job.model, job.seed, job.max_steps)
+    assert (episode.task_id, episode.mode, episode.agent) == (job.task_id, job.body.mode, job.agent)
+    assert (episode.model, episode.seed, episode.max_steps) == (job.model, job.seed, job.body.max_steps)
 
 
 def test_the_demo_config_plans_our_whole_suite_for_the_oracle() -> None:
@@ -300,7 +300,7 @@ def test_the_demo_config_plans_our_whole_suite_for_the_oracle() -> None:
     assert (config.agent.name, config.modes, config.seeds) == ("oracle", ["composite", "primitive"], [0])
     assert config.suite == SUITE_DIR
     for mode in config.modes:
-        tasks = sorted(job.task_id for job in planned.jobs if job.mode == mode)
+        tasks = sorted(job.task_id for job in planned.jobs if job.body.mode == mode)
         assert tasks == sorted(task.id for task in load_suite(SUITE_DIR).tasks)
     assert all(content.payload.golden_project for content in planned.contents)  # the oracle needs every golden
 

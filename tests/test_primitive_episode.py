@@ -8,8 +8,8 @@ import cv2
 import numpy as np
 import pytest
 
+from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import TaskContent, plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from workers.agent_api import AgentBase, StepResult
 from workers.contract import (

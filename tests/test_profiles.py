@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
+from scratchworld_dist.kinds.tasks import plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import plan_jobs, read_task
 from tests.conftest import SUITE_DIR
 from tests.projects import counter_project
 from workers.contract import EvaluationSpec

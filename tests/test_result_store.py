@@ -19,6 +19,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from scratchworld_dist._errors import RunDirError
+from scratchworld_dist.kinds.tasks import EpisodeBody
 from scratchworld_dist.results import (
     SCHEMA_VERSION,
     SCHEMAS,
@@ -49,14 +50,13 @@ def spec(n: int) -> JobSpec:
     return JobSpec(
         job_id=f"job{n:03d}",
         model=MODEL,
-        mode="composite",
         agent="llm",
         task_id=f"task_{n}",
         category="create",
         task_hash=f"{n:016x}",
         seed=n % 3,
-        max_steps=10,
         harness="f1ngerpr1nt00000",
+        body=EpisodeBody(mode="composite", max_steps=10),
     )
 
 

@@ -92,7 +92,7 @@ def _report_matches(run_dir: Path, rows: list[JobRow], plan: RunPlan) -> Check:
     effective = list(effective_rows(rows))
     planned: dict[tuple[str, str, str], set[str]] = defaultdict(set)
     for job in plan.jobs:
-        planned[(job.agent.display, job.model_name, job.mode)].add(job.job_id)
+        planned[(job.agent.display, job.model_name, job.body.mode)].add(job.job_id)
     mismatches: list[str] = []
     figures: list[str] = []
     for row in report.rows:

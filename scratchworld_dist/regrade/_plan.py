@@ -13,10 +13,11 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import TaskNotFoundError
 from scratchworld_dist._files import FileTooLargeError, read_file
+from scratchworld_dist.kinds.tasks import TaskContent, read_task
 from scratchworld_dist.regrade._source import FINAL_PROJECT, SourceJob, SourceRun
 from scratchworld_dist.results import SuiteInfo
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import Limits, TaskContent, identity_id, read_task, suite_hash
+from scratchworld_dist.sweep import Limits, identity_id, suite_hash
 from workers.contract import (
     MIB,
     EvaluationClock,

@@ -287,14 +287,12 @@ def record_of(
         attempt=result.attempt,
         model=job.model_name,
         litellm_model=job.model.model if job.model is not None else None,
-        mode=job.mode,
         agent=job.agent_label,
         task_id=job.task_id,
         category=job.category,
         task_hash=job.task_hash,
         suite_hash=suite_hash,
         seed=job.seed,
-        max_steps=job.max_steps,
         harness_fingerprint=job.harness,
         outcome=result.outcome,
         error_class=result.error_class,
@@ -330,8 +328,8 @@ def record_of(
         editors_held=load.editors if load else None,
         browser_pss_mb=load.browser_pss_bytes / MIB if load else None,
         node_available_mb=load.node_available_bytes / MIB if load else None,
-        setting=job.setting,
         benchmark=job.benchmark,
+        **job.body.columns(),
     )
     steps = [
         StepRow(

@@ -28,7 +28,7 @@ def waiting_clock(jobs: Sequence[JobSpec]) -> ClockMode | None:
     waiting = [job for job in jobs if job.model is not None]
     if not waiting:
         return None
-    return "real" if any(job.episode_clock.mode == "real" for job in waiting) else "virtual"
+    return "real" if any(job.body.page_clock == "real" for job in waiting) else "virtual"
 
 
 def admitted_slots(limits: Limits, jobs: Sequence[JobSpec], harness: str, say: Callable[[str], None]) -> int:

@@ -1,4 +1,4 @@
-"""Sweeps: the config file and the job matrix it plans."""
+"""Sweeps: the config file, and the job header and naming every kind's planning shares."""
 
 from scratchworld_dist.sweep._config import (
     Limits,
@@ -10,30 +10,26 @@ from scratchworld_dist.sweep._config import (
 )
 from scratchworld_dist.sweep._plan import (
     NO_MODEL,
+    JobBody,
     JobSpec,
-    TaskContent,
+    agent_identity,
     identity_id,
-    job_id,
-    plan_jobs,
     read_project,
-    read_task,
     suite_hash,
 )
 
 __all__ = [
     "NO_MODEL",
+    "JobBody",
     "JobSpec",
     "Limits",
     "ModelConfig",
     "RayConfig",
     "SweepConfig",
-    "TaskContent",
     "TaskSelection",
+    "agent_identity",
     "identity_id",
-    "job_id",
     "load_sweep_config",
-    "plan_jobs",
     "read_project",
-    "read_task",
     "suite_hash",
 ]

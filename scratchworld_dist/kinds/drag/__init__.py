@@ -1,12 +1,21 @@
 """The single-step drag kind (``benchmark: drag``): planning, rows and report of one drag per job."""
 
 from scratchworld_dist.kinds.drag._kind import DRAG, DragKind, refuse_episode_sections
-from scratchworld_dist.kinds.drag._plan import DragContent, drag_job_id, plan_drag_jobs, read_drag_task
+from scratchworld_dist.kinds.drag._plan import (
+    DragBody,
+    DragContent,
+    DragTaskInfo,
+    drag_job_id,
+    plan_drag_jobs,
+    read_drag_task,
+)
 
 __all__ = [
     "DRAG",
+    "DragBody",
     "DragContent",
     "DragKind",
+    "DragTaskInfo",
     "drag_job_id",
     "plan_drag_jobs",
     "read_drag_task",

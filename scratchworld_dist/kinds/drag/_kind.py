@@ -14,7 +14,7 @@ from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
 from scratchworld_dist.drag import DragTask, load_drag_suite
 from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
-from scratchworld_dist.kinds.drag._plan import plan_drag_jobs, read_drag_task
+from scratchworld_dist.kinds.drag._plan import DragBody, plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag._rows import drag_row
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
@@ -89,20 +89,21 @@ class DragKind:
         return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=list(jobs))
 
     def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
-        if job.setting is None:
+        body = job.body
+        if not isinstance(body, DragBody):
             raise ValueError(f"job {job.job_id} is not a drag job")
         return DragSpec(
             job_id=job.job_id,
             attempt=attempt,
             task_id=job.task_id,
-            setting=job.setting,
+            setting=body.setting,
             agent=job.agent,
             agent_code=job.agent_code,
             model=job.model,
             seed=job.seed,
             timeout_s=timeout_s,
-            element_list=job.element_list,
-            observation=job.observation,
+            element_list=body.element_list,
+            observation=body.observation,
             llm=job.llm,
             harness=job.harness,
             model_cache=job.model_cache,

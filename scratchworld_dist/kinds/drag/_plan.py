@@ -10,16 +10,19 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Iterator
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.drag import DragTask
-from scratchworld_dist.sweep._plan import DragTaskInfo, JobSpec, agent_identity, identity_id, read_project
+from scratchworld_dist.sweep import JobBody, JobSpec, agent_identity, identity_id, read_project
 from workers.agent_api import agent_class, agent_code
 from workers.contract import (
     AgentRef,
+    ConnectionKind,
     DragPayload,
     DragSetting,
+    DragType,
     LLMSettings,
     ModelCacheSettings,
     ModelSpec,
@@ -31,6 +34,33 @@ from workers.node import harness_fingerprint
 
 DRAG_MODE = "primitive"
 """The mode column of drag jobs: a drag is a primitive-mode gesture, diagnosed in isolation."""
+
+
+class DragTaskInfo(BaseModel):
+    """What reports group a drag job by (its task's type, connection kind and source)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    type: DragType
+    connection: ConnectionKind
+    source: Literal["canvas", "flyout"]
+
+
+class DragBody(JobBody):
+    """A drag job's own settings: the setting it is asked under, its task as reports group it, whether the
+    element list is shown and how it is made, what project it may load."""
+
+    kind: Literal["drag"] = "drag"
+    setting: DragSetting
+    task: DragTaskInfo
+    element_list: bool = False
+    observation: ObservationSettings | None = None
+    """How the element list is made (None without one)."""
+
+    project_limits: ProjectLimits = ProjectLimits()
+
+    def columns(self) -> dict[str, Any]:
+        return {"mode": DRAG_MODE, "max_steps": 1, "setting": self.setting}
 
 
 class DragContent(BaseModel):
@@ -122,24 +152,24 @@ def plan_drag_jobs(
                         harness=harness,
                         code=code,
                     )
+                    info = DragTaskInfo(type=task.type, connection=task.connection.kind, source=task.source.kind)
                     yield JobSpec(
                         job_id=name,
-                        benchmark="drag",
                         model=model,
-                        mode=DRAG_MODE,
                         agent=agent,
                         agent_code=code,
                         task_id=task.id,
                         category=task.type,
                         task_hash=content.task_hash,
                         seed=seed,
-                        max_steps=1,
-                        observation=shown,
                         llm=protocol,
-                        project_limits=limits,
                         harness=harness,
                         model_cache=model_cache,
-                        setting=setting,
-                        drag=DragTaskInfo(type=task.type, connection=task.connection.kind, source=task.source.kind),
-                        element_list=element_list,
+                        body=DragBody(
+                            setting=setting,
+                            task=info,
+                            element_list=element_list,
+                            observation=shown,
+                            project_limits=limits,
+                        ),
                     )

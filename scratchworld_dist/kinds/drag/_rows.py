@@ -2,23 +2,24 @@
 
 from __future__ import annotations
 
+from scratchworld_dist.kinds.drag._plan import DragBody
 from scratchworld_dist.results import DragRow
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import EpisodeResult
 
 
 def drag_row(job: JobSpec, result: EpisodeResult, annotated: str | None) -> DragRow:
-    drag, task = result.drag, job.drag
-    if drag is None or task is None:
+    drag, body = result.drag, job.body
+    if drag is None or not isinstance(body, DragBody):
         raise ValueError(f"job {job.job_id} is not a drag job")
     start, end, regions, marked = drag.start, drag.end, drag.regions, drag.gt_start
     return DragRow(
         job_id=job.job_id,
         attempt=result.attempt,
         task_id=job.task_id,
-        drag_type=task.type,
-        connection=task.connection,
-        source=task.source,
+        drag_type=body.task.type,
+        connection=body.task.connection,
+        source=body.task.source,
         setting=drag.setting,
         model=job.model_name,
         agent=job.agent_label,

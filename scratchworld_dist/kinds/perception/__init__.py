@@ -2,7 +2,9 @@
 
 from scratchworld_dist.kinds.perception._kind import PERCEPTION, PerceptionJobKind
 from scratchworld_dist.kinds.perception._plan import (
+    PerceptionBody,
     PerceptionContent,
+    PerceptionItemInfo,
     plan_perception_jobs,
     read_perception_item,
     select_perception_items,
@@ -10,7 +12,9 @@ from scratchworld_dist.kinds.perception._plan import (
 
 __all__ = [
     "PERCEPTION",
+    "PerceptionBody",
     "PerceptionContent",
+    "PerceptionItemInfo",
     "PerceptionJobKind",
     "plan_perception_jobs",
     "read_perception_item",

@@ -11,20 +11,52 @@ from __future__ import annotations
 import hashlib
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.perception import PerceptionItem, PerceptionSuite, load_perception_suite, read_screenshot
-from scratchworld_dist.sweep._plan import JobSpec, PerceptionItemInfo, agent_identity, identity_id
+from scratchworld_dist.sweep import JobBody, JobSpec, agent_identity, identity_id
 from scratchworld_dist.sweep._selection import present_suites, wanted_ids
 from workers.agent_api import agent_class, agent_code
-from workers.contract import AgentRef, LLMSettings, ModelCacheSettings, ModelSpec, PerceptionKind, PerceptionPayload
+from workers.contract import (
+    AgentRef,
+    AnswerFormat,
+    LLMSettings,
+    ModelCacheSettings,
+    ModelSpec,
+    PerceptionKind,
+    PerceptionPayload,
+    ValueKind,
+)
 from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
 PERCEPTION_MODE = "primitive"
 """The mode column of perception jobs: a screenshot is what primitive mode observes, read here in isolation."""
+
+
+class PerceptionItemInfo(BaseModel):
+    """What reports group a perception job by (its item's kind, tag and form of answer), and its question."""
+
+    model_config = ConfigDict(frozen=True)
+
+    question: str
+    kind: PerceptionKind
+    tag: str
+    answer_format: AnswerFormat
+    value_kind: ValueKind | None = None
+
+
+class PerceptionBody(JobBody):
+    """A perception job's own part: the item it asks about, as reports group it."""
+
+    kind: Literal["perception"] = "perception"
+    item: PerceptionItemInfo
+
+    def columns(self) -> dict[str, Any]:
+        return {"mode": PERCEPTION_MODE, "max_steps": 1}
 
 
 class PerceptionContent(BaseModel):
@@ -131,25 +163,24 @@ def plan_perception_jobs(
             for content in contents:
                 item = content.task
                 yield JobSpec(
-                    benchmark="perception",
                     job_id=perception_job_id(model, agent, content, seed, llm=protocol, harness=harness, code=code),
                     model=model,
-                    mode=PERCEPTION_MODE,
                     agent=agent,
                     agent_code=code,
                     task_id=item.id,
                     category=item.kind,
                     task_hash=content.task_hash,
                     seed=seed,
-                    max_steps=1,
                     llm=protocol,
                     harness=harness,
                     model_cache=model_cache,
-                    perception=PerceptionItemInfo(
-                        question=item.question,
-                        kind=item.kind,
-                        tag=item.tag,
-                        answer_format=item.answer_format,
-                        value_kind=item.value_kind,
+                    body=PerceptionBody(
+                        item=PerceptionItemInfo(
+                            question=item.question,
+                            kind=item.kind,
+                            tag=item.tag,
+                            answer_format=item.answer_format,
+                            value_kind=item.value_kind,
+                        )
                     ),
                 )

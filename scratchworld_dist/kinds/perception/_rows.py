@@ -2,25 +2,26 @@
 
 from __future__ import annotations
 
+from scratchworld_dist.kinds.perception._plan import PerceptionBody
 from scratchworld_dist.results import PerceptionRow, shared_image_path
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import EpisodeResult
 
 
 def perception_row(job: JobSpec, result: EpisodeResult) -> PerceptionRow:
-    attempt, item = result.perception, job.perception
-    if attempt is None or item is None:
+    attempt, body = result.perception, job.body
+    if attempt is None or not isinstance(body, PerceptionBody):
         raise ValueError(f"job {job.job_id} is not a perception job")
     score = attempt.score
     return PerceptionRow(
         job_id=job.job_id,
         attempt=result.attempt,
         item_id=job.task_id,
-        question=item.question,
-        kind=item.kind,
-        tag=item.tag,
-        answer_format=item.answer_format,
-        value_kind=item.value_kind,
+        question=body.item.question,
+        kind=body.item.kind,
+        tag=body.item.tag,
+        answer_format=body.item.answer_format,
+        value_kind=body.item.value_kind,
         model=job.model_name,
         agent=job.agent_label,
         seed=job.seed,

@@ -1,5 +1,16 @@
-"""The task-episodes kind (``benchmark: tasks``), the default."""
+"""The task-episodes kind (``benchmark: tasks``), the default: planning episodes on a task suite."""
 
 from scratchworld_dist.kinds.tasks._kind import TASKS, TasksKind, default_episode_clock, offline_sources
+from scratchworld_dist.kinds.tasks._plan import EpisodeBody, TaskContent, job_id, plan_jobs, read_task
 
-__all__ = ["TASKS", "TasksKind", "default_episode_clock", "offline_sources"]
+__all__ = [
+    "TASKS",
+    "EpisodeBody",
+    "TaskContent",
+    "TasksKind",
+    "default_episode_clock",
+    "job_id",
+    "offline_sources",
+    "plan_jobs",
+    "read_task",
+]

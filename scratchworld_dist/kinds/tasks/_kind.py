@@ -12,10 +12,11 @@ from pydantic import BaseModel
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
 from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
+from scratchworld_dist.kinds.tasks._plan import EpisodeBody, plan_jobs, read_task
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, plan_jobs, read_task, suite_hash
+from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, suite_hash
 from workers.agent_api import agent_class, agent_code, agent_params, checked_agent, extra_models
 from workers.contract import (
     AgentRef,
@@ -113,23 +114,26 @@ class TasksKind:
         return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs, memory_sources=sources)
 
     def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
+        body = job.body
+        if not isinstance(body, EpisodeBody):
+            raise ValueError(f"job {job.job_id} is not an episode")
         return EpisodeSpec(
             job_id=job.job_id,
             attempt=attempt,
             task_id=job.task_id,
-            mode=job.mode,
+            mode=body.mode,
             agent=job.agent,
             agent_code=job.agent_code,
             model=job.model,
             seed=job.seed,
-            max_steps=job.max_steps,
-            observation=job.observation,
+            max_steps=body.max_steps,
+            observation=body.observation,
             llm=job.llm,
             timeout_s=timeout_s,
-            project_limits=job.project_limits,
+            project_limits=body.project_limits,
             harness=job.harness,
             memory=job.memory_snapshot,
-            episode_clock=job.episode_clock,
+            episode_clock=body.episode_clock,
             model_cache=job.model_cache,
         )
 
