@@ -26,7 +26,7 @@ import ray
 from ray.cluster_utils import Cluster
 
 from scratchworld_dist._run import AttemptRecorder
-from scratchworld_dist.kinds.tasks import plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.results import RunStore, record_of
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, ray_runtime
 from scratchworld_dist.suites import load_suite
@@ -39,13 +39,28 @@ CONTENTS = [read_task(task) for task in load_suite(REPO / "tasks").tasks]
 
 def jobs(count: int) -> list[JobSpec]:
     seeds = list(range(-(-count // len(CONTENTS))))
-    return list(plan_jobs([None], ["composite"], "oracle", CONTENTS, seeds, 5))[:count]
+    return list(
+        plan_jobs(
+            EpisodeMatrix(models=[None], modes=["composite"], agent="oracle", tasks=CONTENTS, seeds=seeds, max_steps=5)
+        )
+    )[:count]
 
 
 def planning() -> None:
     models: list[ModelSpec | None] = [ModelSpec(name=f"m{i}", model=f"openai/m{i}") for i in range(4)]
     started = time.perf_counter()
-    planned = list(plan_jobs(models, ["composite", "primitive"], "llm", CONTENTS, list(range(1042)), 50))
+    planned = list(
+        plan_jobs(
+            EpisodeMatrix(
+                models=models,
+                modes=["composite", "primitive"],
+                agent="llm",
+                tasks=CONTENTS,
+                seeds=list(range(1042)),
+                max_steps=50,
+            )
+        )
+    )
     plan_s = time.perf_counter() - started
     with tempfile.TemporaryDirectory() as tmp:
         store = RunStore(Path(tmp))

@@ -15,7 +15,7 @@ import psutil
 import pytest
 import ray
 
-from scratchworld_dist.kinds.tasks import plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, admitted_slots, pages_per_worker
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, Limits
@@ -57,7 +57,18 @@ def jobs(model: ModelSpec | None, clock: str = "virtual", harness: str = "h") ->
     episode_clock = EpisodeClock(mode=clock)  # type: ignore[arg-type]
     agent = AgentRef(name="llm" if model else "oracle")
     return list(
-        plan_jobs([model], ["composite"], agent, contents, [0], 5, harness=harness, episode_clock=episode_clock)
+        plan_jobs(
+            EpisodeMatrix(
+                models=[model],
+                modes=["composite"],
+                agent=agent,
+                tasks=contents,
+                seeds=[0],
+                max_steps=5,
+                harness=harness,
+                episode_clock=episode_clock,
+            )
+        )
     )
 
 

@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
@@ -24,7 +24,9 @@ def content() -> TaskContent:
 
 
 def spec(content: TaskContent) -> EpisodeSpec:
-    (job,) = plan_jobs([None], ["composite"], "noop", [content], [0], 10)
+    (job,) = plan_jobs(
+        EpisodeMatrix(models=[None], modes=["composite"], agent="noop", tasks=[content], seeds=[0], max_steps=10)
+    )
     return job.episode(1, 120)
 
 
@@ -130,7 +132,9 @@ async def test_calls_in_start_and_finish_are_booked_too(
     model = ModelSpec(
         name="m", model="openai/gpt-4o-mini", api_base=model_server.url, api_key_env="SCRATCHWORLD_TEST_JUDGE_KEY"
     )
-    (job,) = plan_jobs([model], ["composite"], "llm", [content], [0], 10)
+    (job,) = plan_jobs(
+        EpisodeMatrix(models=[model], modes=["composite"], agent="llm", tasks=[content], seeds=[0], max_steps=10)
+    )
     result = await episode_runner.run(job.episode(1, 120), content.payload, Judge(crash))
     assert model_server.count == 2  # the plan, and the self-evaluation however the episode ended
     assert result.llm_calls == 2 and result.input_tokens == 100 and result.cost_usd > 0

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from playwright.async_api import Page
 
-from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
 from workers.agent_api import AgentBase, StepResult, TaskContext, build_agent
@@ -40,7 +40,17 @@ def content() -> TaskContent:
 
 
 def episode(content: TaskContent, mode: Mode) -> EpisodeSpec:
-    (job,) = plan_jobs([None], [mode], "noop", [content], [0], 5, NO_OCR if mode == "primitive" else None)
+    (job,) = plan_jobs(
+        EpisodeMatrix(
+            models=[None],
+            modes=[mode],
+            agent="noop",
+            tasks=[content],
+            seeds=[0],
+            max_steps=5,
+            observation=NO_OCR if mode == "primitive" else None,
+        )
+    )
     return job.episode(1, 120).model_copy(update={"episode_clock": EpisodeClock(mode="virtual")})
 
 
@@ -172,7 +182,17 @@ async def test_the_oracles_episodes_in_both_modes_share_one_editor(session: Brow
             ("star_shower", "primitive"),  # reloads its project while page time stands: no bump can be awaited
         ):
             content = read_task(suite.task(task))
-            (job,) = plan_jobs([None], [mode], "oracle", [content], [0], 300, NO_OCR if mode == "primitive" else None)
+            (job,) = plan_jobs(
+                EpisodeMatrix(
+                    models=[None],
+                    modes=[mode],
+                    agent="oracle",
+                    tasks=[content],
+                    seeds=[0],
+                    max_steps=300,
+                    observation=NO_OCR if mode == "primitive" else None,
+                )
+            )
             spec = job.episode(1, 300).model_copy(update={"episode_clock": EpisodeClock(mode="virtual")})
             result = await runner.run(spec, content.payload, build_agent(AgentRef(name="oracle")))
             assert result.outcome == "passed", (task, mode, result.error_message)

@@ -20,7 +20,7 @@ import pytest
 import yaml
 
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist.kinds.tasks import plan_jobs
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import load_sweep_config
@@ -146,7 +146,11 @@ def test_params_and_code_change_the_job_identity(tmp_path: Path, plugin: Path) -
         ("code", {}, "b"),
     ]:
         ref = {"name": "json_agent", "params": params, "label": label}
-        (job,) = plan_jobs([None], ["composite"], ref, [content], [0], 10, agent_code=code)  # type: ignore[arg-type]
+        (job,) = plan_jobs(
+            EpisodeMatrix(
+                models=[None], modes=["composite"], agent=ref, tasks=[content], seeds=[0], max_steps=10, agent_code=code
+            )
+        )  # type: ignore[arg-type]
         jobs[label] = job.job_id
     assert jobs["base"] == jobs["relabelled"]  # a label only names it in reports
     assert len({jobs["base"], jobs["params"], jobs["code"]}) == 3

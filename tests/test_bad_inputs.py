@@ -27,7 +27,7 @@ import pytest
 import yaml
 
 from scratchworld_dist.cli._main import main
-from scratchworld_dist.kinds.tasks import plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests import bad_inputs as bad
 from tests import bad_inputs_perception as bad_perception
@@ -432,7 +432,17 @@ async def episodes(episode_runner: EpisodeRunner) -> dict[str, EpisodeResult]:
     for mode in ("composite", "primitive"):
         requests = [request for _, m, request, _, _ in live.ACTIONS if m == mode]
         observation = ObservationSettings(ocr="none") if mode == "primitive" else None
-        (job,) = plan_jobs([None], [mode], "noop", [content], [0], 50, observation)  # type: ignore[list-item]
+        (job,) = plan_jobs(
+            EpisodeMatrix(
+                models=[None],
+                modes=[mode],
+                agent="noop",
+                tasks=[content],
+                seeds=[0],
+                max_steps=50,
+                observation=observation,
+            )
+        )  # type: ignore[list-item]
         agent = Scripted(requests, mode, observes=mode == "primitive")
         results[mode] = await episode_runner.run(job.episode(1, 600), content.payload, agent)  # type: ignore[arg-type]
     return results

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist import load_suite
-from scratchworld_dist.kinds.tasks import plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from tests.conftest import DATA, SUITE_DIR, pooled_editor
 from tests.projects import counter_project, timing_project
 from workers.contract import EvalResult, EvaluationClock, EvaluationSpec
@@ -166,7 +166,20 @@ def test_the_clock_is_part_of_a_jobs_identity_and_suites_pick_their_default(upst
     assert task.evaluation_spec(clock="real").clock == "real"
     assert load_suite(upstream_clone).tasks[0].evaluation_spec().clock == "real"
     ids = {
-        clock: next(iter(plan_jobs([None], ["composite"], "oracle", [read_task(task, clock=clock)], [0], 50))).job_id
+        clock: next(
+            iter(
+                plan_jobs(
+                    EpisodeMatrix(
+                        models=[None],
+                        modes=["composite"],
+                        agent="oracle",
+                        tasks=[read_task(task, clock=clock)],
+                        seeds=[0],
+                        max_steps=50,
+                    )
+                )
+            )
+        ).job_id
         for clock in CLOCKS
     }
     assert ids["virtual"] != ids["real"]

@@ -14,7 +14,7 @@ from typing import Any
 
 import pytest
 
-from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
 from tests.openai_server import Behaviour, OpenAIServer
@@ -81,7 +81,17 @@ async def screenshots_seen(
     with OpenAIServer(responder=click_the_script_then_wait(delay_s)) as server:
         model = ModelSpec(name="m", model="openai/gpt-4o-mini", api_base=server.url, api_key_env=KEY_ENV)
         settings = {"retry": FAST}
-        (job,) = plan_jobs([model], ["primitive"], "llm", [content], [3], 6, ObservationSettings(ocr="none"))
+        (job,) = plan_jobs(
+            EpisodeMatrix(
+                models=[model],
+                modes=["primitive"],
+                agent="llm",
+                tasks=[content],
+                seeds=[3],
+                max_steps=6,
+                observation=ObservationSettings(ocr="none"),
+            )
+        )
         spec = job.episode(1, 300)
         spec = spec.model_copy(update={"episode_clock": clock, "llm": spec.llm.model_copy(update=settings)})  # type: ignore[union-attr]
         result = await runner.run(spec, content.payload, LLMAgent())

@@ -13,7 +13,7 @@ import pytest
 from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel
 
-from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec
 from tests.conftest import REPO, SUITE_DIR
@@ -64,7 +64,9 @@ def episode(
     mode: Mode = "composite",
     max_steps: int = 60,
 ) -> tuple[EpisodeSpec, TaskPayload]:
-    (job,) = plan_jobs([None], [mode], agent, [content], [0], max_steps)
+    (job,) = plan_jobs(
+        EpisodeMatrix(models=[None], modes=[mode], agent=agent, tasks=[content], seeds=[0], max_steps=max_steps)
+    )
     return job.episode(1, timeout_s), content.payload
 
 
@@ -77,7 +79,17 @@ def held_llm_job(server: OpenAIServer, content: TaskContent, monkeypatch: pytest
     server.hold()
     model = ModelSpec(name="m", model="openai/m", api_base=server.url, api_key_env="SCRATCHWORLD_TEST_HELD_KEY")
     retry = RetryPolicy(max_attempts=1, request_timeout_s=120, max_total_s=120)
-    (job,) = plan_jobs([model], ["composite"], "llm", [content], [0], 5, llm=LLMSettings(retry=retry))
+    (job,) = plan_jobs(
+        EpisodeMatrix(
+            models=[model],
+            modes=["composite"],
+            agent="llm",
+            tasks=[content],
+            seeds=[0],
+            max_steps=5,
+            llm=LLMSettings(retry=retry),
+        )
+    )
     return job
 
 

@@ -8,7 +8,7 @@ from typing import Any
 
 import pytest
 
-from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply, status
@@ -65,7 +65,18 @@ def episode(
     spec = ModelSpec(name="m", model=model, api_base=server.url, api_key_env=KEY_ENV)
     settings = (llm or LLMSettings()).model_copy(update={"retry": FAST})
     observation = ObservationSettings(ocr="none") if mode == "primitive" else None
-    (job,) = plan_jobs([spec], [mode], "llm", [content], [7], max_steps, observation, settings)
+    (job,) = plan_jobs(
+        EpisodeMatrix(
+            models=[spec],
+            modes=[mode],
+            agent="llm",
+            tasks=[content],
+            seeds=[7],
+            max_steps=max_steps,
+            observation=observation,
+            llm=settings,
+        )
+    )
     return job.episode(1, 300)
 
 

@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist.kinds.tasks import plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.memory import JobItems, MemoryFolder, MemoryKeeper, StoreInfo, store_name, task_waves
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import load_sweep_config
@@ -64,7 +64,11 @@ def test_the_memory_settings_and_the_wave_are_part_of_a_jobs_identity() -> None:
     model = ModelSpec(name="m", model="openai/gpt-4o-mini")
 
     def ids(memory: MemorySettings | None) -> list[str]:
-        jobs = plan_jobs([model], ["composite"], "awm", contents, [0], 10, memory=memory)
+        jobs = plan_jobs(
+            EpisodeMatrix(
+                models=[model], modes=["composite"], agent="awm", tasks=contents, seeds=[0], max_steps=10, memory=memory
+            )
+        )
         return [job.job_id for job in jobs]
 
     base = ids(MemorySettings(wave_size=1))
@@ -77,7 +81,17 @@ def test_the_memory_settings_and_the_wave_are_part_of_a_jobs_identity() -> None:
         None,
     ):
         assert not set(ids(other)) & set(base), other
-    (job, *_) = plan_jobs([model], ["composite"], "awm", contents, [5], 10, memory=MemorySettings(wave_size=1))
+    (job, *_) = plan_jobs(
+        EpisodeMatrix(
+            models=[model],
+            modes=["composite"],
+            agent="awm",
+            tasks=contents,
+            seeds=[5],
+            max_steps=10,
+            memory=MemorySettings(wave_size=1),
+        )
+    )
     assert job.memory is not None and job.memory.store == store_name("m", "composite", 5)
 
 
@@ -202,7 +216,17 @@ def test_memory_fed_by_the_verdict_is_labelled_an_ablation() -> None:
     model = ModelSpec(name="m", model="openai/gpt-4o-mini")
     labels = {
         learn_from: next(
-            plan_jobs([model], ["composite"], "awm", [content], [0], 10, memory=MemorySettings(learn_from=learn_from))
+            plan_jobs(
+                EpisodeMatrix(
+                    models=[model],
+                    modes=["composite"],
+                    agent="awm",
+                    tasks=[content],
+                    seeds=[0],
+                    max_steps=10,
+                    memory=MemorySettings(learn_from=learn_from),
+                )
+            )
         ).agent_label
         for learn_from in ("self_judgement", "verdict_ablation")
     }

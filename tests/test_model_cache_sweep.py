@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist.kinds.tasks import EpisodeBody, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeBody, EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.reports import build_report, render_html, render_markdown
 from scratchworld_dist.results import SCHEMAS, RunStore, record_of
 from scratchworld_dist.suites import load_suite
@@ -112,9 +112,32 @@ def test_the_cache_changes_no_job_id_and_reaches_every_episode() -> None:
     contents = [read_task(task) for task in suite.tasks[:2]]
     model = ModelSpec(name="m", model="openai/gpt-4o", temperature=0)
     cache = ModelCacheSettings(dir=Path("/shared/cache"))
-    plain = list(plan_jobs([model], ["composite"], AgentRef(name="llm"), contents, [0, 1], 10, harness="h"))
+    plain = list(
+        plan_jobs(
+            EpisodeMatrix(
+                models=[model],
+                modes=["composite"],
+                agent=AgentRef(name="llm"),
+                tasks=contents,
+                seeds=[0, 1],
+                max_steps=10,
+                harness="h",
+            )
+        )
+    )
     cached = list(
-        plan_jobs([model], ["composite"], AgentRef(name="llm"), contents, [0, 1], 10, harness="h", model_cache=cache)
+        plan_jobs(
+            EpisodeMatrix(
+                models=[model],
+                modes=["composite"],
+                agent=AgentRef(name="llm"),
+                tasks=contents,
+                seeds=[0, 1],
+                max_steps=10,
+                harness="h",
+                model_cache=cache,
+            )
+        )
     )
     assert [j.job_id for j in plain] == [j.job_id for j in cached]
     assert {j.episode(1, 60).model_cache for j in cached} == {cache}

@@ -16,7 +16,7 @@ from typing import Any
 
 import pytest
 
-from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
@@ -78,7 +78,15 @@ def content() -> TaskContent:
 async def gestures(episode_runner: EpisodeRunner, content: TaskContent) -> list[Gesture]:
     """The privileged oracle's primitive solution, as the episode recorded it."""
     (job,) = plan_jobs(
-        [None], ["primitive"], AgentRef(name="oracle"), [content], [7], 40, ObservationSettings(ocr="none")
+        EpisodeMatrix(
+            models=[None],
+            modes=["primitive"],
+            agent=AgentRef(name="oracle"),
+            tasks=[content],
+            seeds=[7],
+            max_steps=40,
+            observation=ObservationSettings(ocr="none"),
+        )
     )
     result = await episode_runner.run(job.episode(1, 300), content.payload, OracleAgent())
     assert result.outcome == "passed", result.evaluation
@@ -131,12 +139,18 @@ async def run_agent(
     )
     ref = AgentRef(name="planner_grounder", params={"grounder": grounder_spec.model_dump(mode="json")})
     settings = LLMSettings(retry=FAST)
-    (job,) = plan_jobs(
-        *([planner_spec], ["primitive"], ref, [content], [7], 40),
-        ObservationSettings(ocr="none"),
-        settings,
+    matrix = EpisodeMatrix(
+        models=[planner_spec],
+        modes=["primitive"],
+        agent=ref,
+        tasks=[content],
+        seeds=[7],
+        max_steps=40,
+        observation=ObservationSettings(ocr="none"),
+        llm=settings,
         extra_models=[grounder_spec],
     )
+    (job,) = plan_jobs(matrix)
     assert job.model_name == "planner+ui-tars"
     return await episode_runner.run(job.episode(1, 300), content.payload, build_agent(ref))
 

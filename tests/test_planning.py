@@ -9,7 +9,14 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist import SuiteError
-from scratchworld_dist.kinds.tasks import TaskContent, default_episode_clock, job_id, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import (
+    EpisodeMatrix,
+    TaskContent,
+    default_episode_clock,
+    job_id,
+    plan_jobs,
+    read_task,
+)
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import NO_MODEL, JobSpec
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
@@ -43,7 +50,16 @@ def ids_by_task(jobs: list[JobSpec]) -> dict[tuple[str, str, str, int], str]:
 
 def plan(tasks: list[TaskContent], models: list[ModelSpec | None] | None = None) -> list[JobSpec]:
     return list(
-        plan_jobs(models or [GPT, CLAUDE], ["composite", "primitive"], "llm", tasks, seeds=[0, 1, 2], max_steps=30)
+        plan_jobs(
+            EpisodeMatrix(
+                models=models or [GPT, CLAUDE],
+                modes=["composite", "primitive"],
+                agent="llm",
+                tasks=tasks,
+                seeds=[0, 1, 2],
+                max_steps=30,
+            )
+        )
     )
 
 
@@ -95,7 +111,9 @@ def test_matrix_size_and_order(ours: list[TaskContent]) -> None:
 
 def test_job_fields_come_from_the_plan(ours: list[TaskContent]) -> None:
     content = ours[3]
-    (job,) = plan_jobs([CLAUDE], ["primitive"], "llm", [content], seeds=[4], max_steps=12)
+    (job,) = plan_jobs(
+        EpisodeMatrix(models=[CLAUDE], modes=["primitive"], agent="llm", tasks=[content], seeds=[4], max_steps=12)
+    )
     assert job.model == CLAUDE and job.model_name == "claude"
     assert (job.body.mode, job.agent.name, job.seed, job.body.max_steps) == ("primitive", "llm", 4, 12)
     assert (job.task_id, job.category, job.task_hash) == (content.task.id, content.task.category, content.task_hash)
@@ -109,7 +127,11 @@ def test_job_fields_come_from_the_plan(ours: list[TaskContent]) -> None:
 
 def test_llm_job_identity_covers_what_the_model_sees_not_how_calls_are_paced(ours: list[TaskContent]) -> None:
     def only_id(model: ModelSpec, llm: LLMSettings) -> str:
-        (job,) = plan_jobs([model], ["composite"], "llm", ours[:1], seeds=[0], max_steps=5, llm=llm)
+        (job,) = plan_jobs(
+            EpisodeMatrix(
+                models=[model], modes=["composite"], agent="llm", tasks=ours[:1], seeds=[0], max_steps=5, llm=llm
+            )
+        )
         return job.job_id
 
     base = only_id(CLAUDE, LLMSettings())
@@ -118,13 +140,32 @@ def test_llm_job_identity_covers_what_the_model_sees_not_how_calls_are_paced(our
     assert only_id(CLAUDE, LLMSettings(show_action_result=False)) != base
     assert only_id(CLAUDE, LLMSettings(history_messages=5)) != base
     assert only_id(CLAUDE.model_copy(update={"coordinates": "normalized_1000"}), LLMSettings()) != base
-    (scripted,) = plan_jobs([None], ["composite"], "oracle", ours[:1], seeds=[0], max_steps=5, llm=LLMSettings())
+    (scripted,) = plan_jobs(
+        EpisodeMatrix(
+            models=[None],
+            modes=["composite"],
+            agent="oracle",
+            tasks=ours[:1],
+            seeds=[0],
+            max_steps=5,
+            llm=LLMSettings(),
+        )
+    )
     assert scripted.llm is None
 
 
 def test_step_limits_per_mode(ours: list[TaskContent]) -> None:
     jobs = list(
-        plan_jobs([None], ["composite", "primitive"], "oracle", ours[:1], [0], {"composite": 9, "primitive": 90})
+        plan_jobs(
+            EpisodeMatrix(
+                models=[None],
+                modes=["composite", "primitive"],
+                agent="oracle",
+                tasks=ours[:1],
+                seeds=[0],
+                max_steps={"composite": 9, "primitive": 90},
+            )
+        )
     )
     assert [(j.body.mode, j.body.max_steps) for j in jobs] == [("composite", 9), ("primitive", 90)]
     assert jobs[0].body.observation is None
@@ -132,7 +173,20 @@ def test_step_limits_per_mode(ours: list[TaskContent]) -> None:
 
 def test_observation_settings_change_primitive_ids_only(ours: list[TaskContent]) -> None:
     def ids(settings: ObservationSettings) -> list[str]:
-        return [j.job_id for j in plan_jobs([None], ["composite", "primitive"], "oracle", ours[:1], [0], 5, settings)]
+        return [
+            j.job_id
+            for j in plan_jobs(
+                EpisodeMatrix(
+                    models=[None],
+                    modes=["composite", "primitive"],
+                    agent="oracle",
+                    tasks=ours[:1],
+                    seeds=[0],
+                    max_steps=5,
+                    observation=settings,
+                )
+            )
+        ]
 
     default, screen = ids(ObservationSettings()), ids(ObservationSettings(ocr_scope="screen"))
     assert default[0] == screen[0]
@@ -152,10 +206,14 @@ def test_ids_are_unique_across_the_matrix(ours: list[TaskContent]) -> None:
 
 
 def test_scripted_agents_use_no_model(ours: list[TaskContent]) -> None:
-    jobs = list(plan_jobs([None], ["composite"], "oracle", ours, seeds=[0], max_steps=5))
+    jobs = list(
+        plan_jobs(EpisodeMatrix(models=[None], modes=["composite"], agent="oracle", tasks=ours, seeds=[0], max_steps=5))
+    )
     assert len(jobs) == len(ours)
     assert {j.model_name for j in jobs} == {NO_MODEL}
-    noop = list(plan_jobs([None], ["composite"], "noop", ours, seeds=[0], max_steps=5))
+    noop = list(
+        plan_jobs(EpisodeMatrix(models=[None], modes=["composite"], agent="noop", tasks=ours, seeds=[0], max_steps=5))
+    )
     assert {j.job_id for j in jobs}.isdisjoint(j.job_id for j in noop)
 
 
@@ -178,7 +236,17 @@ def test_the_harness_fingerprint_and_project_limits_are_part_of_the_id() -> None
     assert job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, harness="0" * 16) != base
     smaller = ProjectLimits(max_entry_mb=1)
     assert job_id(None, "composite", "oracle", "a" * 16, "t", 0, 30, project_limits=smaller) != base
-    (job,) = plan_jobs([None], ["composite"], "oracle", contents(SUITE_DIR)[:1], [0], 5, project_limits=smaller)
+    (job,) = plan_jobs(
+        EpisodeMatrix(
+            models=[None],
+            modes=["composite"],
+            agent="oracle",
+            tasks=contents(SUITE_DIR)[:1],
+            seeds=[0],
+            max_steps=5,
+            project_limits=smaller,
+        )
+    )
     assert job.episode(1, 60).project_limits == smaller
     assert job.episode(1, 60).harness == episodes
 
@@ -317,10 +385,20 @@ def test_a_task_project_over_the_limits_fails_the_plan_naming_its_file(suite_cop
 
 
 def test_a_synthetic_stand_in_never_shares_an_id_with_the_real_job(ours: list[TaskContent]) -> None:
-    real = {job.task_id: job.job_id for job in plan_jobs([None], ["composite"], "oracle", ours, [0], 5)}
+    real = {
+        job.task_id: job.job_id
+        for job in plan_jobs(
+            EpisodeMatrix(models=[None], modes=["composite"], agent="oracle", tasks=ours, seeds=[0], max_steps=5)
+        )
+    }
     mixed = SyntheticEpisodes(tasks=["sum_two_numbers"])
     planned = {
-        job.task_id: job.job_id for job in plan_jobs([None], ["composite"], "oracle", ours, [0], 5, synthetic=mixed)
+        job.task_id: job.job_id
+        for job in plan_jobs(
+            EpisodeMatrix(
+                models=[None], modes=["composite"], agent="oracle", tasks=ours, seeds=[0], max_steps=5, synthetic=mixed
+            )
+        )
     }
     assert planned["sum_two_numbers"] != real["sum_two_numbers"]
     assert {k: v for k, v in planned.items() if k != "sum_two_numbers"} == {
@@ -330,7 +408,20 @@ def test_a_synthetic_stand_in_never_shares_an_id_with_the_real_job(ours: list[Ta
 
 def test_a_virtual_episode_clock_and_each_of_its_durations_change_the_job_id(ours: list[TaskContent]) -> None:
     def ids(clock: EpisodeClock | None) -> list[str]:
-        return [job.job_id for job in plan_jobs([None], ["primitive"], "oracle", ours[:2], [0], 9, episode_clock=clock)]
+        return [
+            job.job_id
+            for job in plan_jobs(
+                EpisodeMatrix(
+                    models=[None],
+                    modes=["primitive"],
+                    agent="oracle",
+                    tasks=ours[:2],
+                    seeds=[0],
+                    max_steps=9,
+                    episode_clock=clock,
+                )
+            )
+        ]
 
     real = ids(None)
     assert ids(EpisodeClock(mode="real", settle_ms=900)) == real  # real-clock ids stay as they were
@@ -338,7 +429,17 @@ def test_a_virtual_episode_clock_and_each_of_its_durations_change_the_job_id(our
     assert set(virtual).isdisjoint(real)
     for change in ({"settle_ms": 400}, {"think_ms": 5000}, {"start_ms": 2000}):
         assert set(ids(EpisodeClock(mode="virtual", **change))).isdisjoint(virtual)
-    (job, *_) = plan_jobs([None], ["composite"], "oracle", ours[:1], [0], 9, episode_clock=EpisodeClock(mode="virtual"))
+    (job, *_) = plan_jobs(
+        EpisodeMatrix(
+            models=[None],
+            modes=["composite"],
+            agent="oracle",
+            tasks=ours[:1],
+            seeds=[0],
+            max_steps=9,
+            episode_clock=EpisodeClock(mode="virtual"),
+        )
+    )
     assert job.episode(1, 60).episode_clock.mode == "virtual"  # the worker gets the clock it was planned with
 
 

@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 import pytest
 
-from scratchworld_dist.kinds.tasks import TaskContent, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
 from workers.agent_api import AgentBase, StepResult
@@ -35,7 +35,11 @@ def content() -> TaskContent:
 
 
 def episode(content: TaskContent, mode: Mode, observation: ObservationSettings | None = None) -> EpisodeSpec:
-    (job,) = plan_jobs([None], [mode], "noop", [content], [0], 10, observation)
+    (job,) = plan_jobs(
+        EpisodeMatrix(
+            models=[None], modes=[mode], agent="noop", tasks=[content], seeds=[0], max_steps=10, observation=observation
+        )
+    )
     return job.episode(1, 120)
 
 

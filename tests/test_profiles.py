@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from scratchworld_dist.kinds.tasks import plan_jobs, read_task
+from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
 from tests.projects import counter_project
@@ -55,8 +55,37 @@ def test_suites_pick_their_default_profile(upstream_clone) -> None:
 def test_the_profile_is_part_of_a_jobs_identity() -> None:
     task = load_suite(SUITE_DIR).tasks[0]
     ids = {
-        profile: next(iter(plan_jobs([None], ["composite"], "oracle", [read_task(task, profile)], [0], 50))).job_id
+        profile: next(
+            iter(
+                plan_jobs(
+                    EpisodeMatrix(
+                        models=[None],
+                        modes=["composite"],
+                        agent="oracle",
+                        tasks=[read_task(task, profile)],
+                        seeds=[0],
+                        max_steps=50,
+                    )
+                )
+            )
+        ).job_id
         for profile in ("native", "upstream")
     }
     assert ids["native"] != ids["upstream"]
-    assert next(iter(plan_jobs([None], ["composite"], "oracle", [read_task(task)], [0], 50))).job_id == ids["native"]
+    assert (
+        next(
+            iter(
+                plan_jobs(
+                    EpisodeMatrix(
+                        models=[None],
+                        modes=["composite"],
+                        agent="oracle",
+                        tasks=[read_task(task)],
+                        seeds=[0],
+                        max_steps=50,
+                    )
+                )
+            )
+        ).job_id
+        == ids["native"]
+    )

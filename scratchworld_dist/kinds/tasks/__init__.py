@@ -1,11 +1,12 @@
 """The task-episodes kind (``benchmark: tasks``), the default: planning episodes on a task suite."""
 
 from scratchworld_dist.kinds.tasks._kind import TASKS, TasksKind, default_episode_clock, offline_sources
-from scratchworld_dist.kinds.tasks._plan import EpisodeBody, TaskContent, job_id, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, TaskContent, job_id, plan_jobs, read_task
 
 __all__ = [
     "TASKS",
     "EpisodeBody",
+    "EpisodeMatrix",
     "TaskContent",
     "TasksKind",
     "default_episode_clock",

@@ -12,7 +12,7 @@ from pydantic import BaseModel
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
 from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
-from scratchworld_dist.kinds.tasks._plan import EpisodeBody, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.suites import load_suite
@@ -90,27 +90,26 @@ class TasksKind:
         )
         found = agent_class(config.agent.name)
         sources = offline_sources(config) if config.memory is not None else {}
-        jobs = list(
-            plan_jobs(
-                config.model_specs(),
-                config.modes,
-                config.agent,
-                contents,
-                config.seeds,
-                config.max_steps,
-                config.primitive,
-                config.llm,
-                config.project_limits,
-                harness.digest,
-                config.synthetic,
-                agent_code(found),
-                extra_models(agent_params(found, config.agent)),
-                config.memory,
-                {stream: source_digest(entries) for stream, entries in sources.items()},
-                config.episode_clock or default_episode_clock(suite.kind),
-                config.model_cache,
-            )
+        matrix = EpisodeMatrix(
+            models=config.model_specs(),
+            modes=config.modes,
+            agent=config.agent,
+            tasks=contents,
+            seeds=config.seeds,
+            max_steps=config.max_steps,
+            observation=config.primitive,
+            llm=config.llm,
+            project_limits=config.project_limits,
+            harness=harness.digest,
+            synthetic=config.synthetic,
+            agent_code=agent_code(found),
+            extra_models=extra_models(agent_params(found, config.agent)),
+            memory=config.memory,
+            memory_sources={stream: source_digest(entries) for stream, entries in sources.items()},
+            episode_clock=config.episode_clock or default_episode_clock(suite.kind),
+            model_cache=config.model_cache,
         )
+        jobs = list(plan_jobs(matrix))
         return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs, memory_sources=sources)
 
     def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:

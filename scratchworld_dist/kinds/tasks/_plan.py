@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, Literal
 
@@ -165,67 +165,88 @@ def job_id(
     return identity_id(identity)
 
 
-def plan_jobs(
-    models: list[ModelSpec | None],
-    modes: list[Mode],
-    agent: AgentRef,
-    tasks: list[TaskContent],
-    seeds: list[int],
-    max_steps: int | Mapping[Mode, int],
-    observation: ObservationSettings | None = None,
-    llm: LLMSettings | None = None,
-    project_limits: ProjectLimits | None = None,
-    harness: str | None = None,
-    synthetic: SyntheticEpisodes | None = None,
-    agent_code: str | None = None,
-    extra_models: list[ModelSpec] | None = None,
-    memory: MemorySettings | None = None,
-    memory_sources: Mapping[tuple[str, Mode], str] | None = None,
-    episode_clock: EpisodeClock | None = None,
-    model_cache: ModelCacheSettings | None = None,
-) -> Iterator[JobSpec]:
+class EpisodeMatrix(BaseModel):
+    """What an episode sweep plans: the matrix model x mode x seed x task, and what every job of it shares."""
+
+    model_config = ConfigDict(frozen=True)
+
+    models: list[ModelSpec | None]
+    """None: a scripted agent's one model-less column."""
+
+    modes: list[Mode]
+    agent: AgentRef
+    tasks: list[TaskContent]
+    seeds: list[int]
+    max_steps: int | dict[Mode, int]
+    """One step limit, or one per mode."""
+
+    observation: ObservationSettings | None = None
+    """How primitive observations are made (default: the defaults)."""
+
+    llm: LLMSettings | None = None
+    project_limits: ProjectLimits | None = None
+    harness: str | None = None
+    """The harness digest jobs are planned under (default: this checkout's, for this kind)."""
+
+    synthetic: SyntheticEpisodes | None = None
+    agent_code: str | None = None
+    extra_models: list[ModelSpec] = []
+    memory: MemorySettings | None = None
+    memory_sources: dict[tuple[str, Mode], str] = {}
+    """Offline memory's source digest per (model name, mode)."""
+
+    episode_clock: EpisodeClock | None = None
+    model_cache: ModelCacheSettings | None = None
+    """Handed to every job (it does not change their ids)."""
+
+
+def plan_jobs(matrix: EpisodeMatrix) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks.
 
-    With ``memory``, each (model, mode, seed) is a stream whose tasks fall into waves;
-    ``memory_sources`` gives offline memory's source digest per (model name, mode); ``model_cache``
-    is handed to every job (it does not change their ids)."""
-    limits = project_limits or ProjectLimits()
-    clock = episode_clock or EpisodeClock()
-    harness = harness or kind_fingerprint(harness_fingerprint(), "tasks").digest
-    waves = task_waves([content.task.id for content in tasks], memory) if memory is not None else {}
-    for model in models:
-        for mode in modes:
-            steps = max_steps if isinstance(max_steps, int) else max_steps[mode]
-            settings = (observation or ObservationSettings()) if mode == "primitive" else None
-            protocol = (llm or LLMSettings()) if model is not None else None
-            for seed in seeds:
-                for content in tasks:
+    With ``memory``, each (model, mode, seed) is a stream whose tasks fall into waves."""
+    limits = matrix.project_limits or ProjectLimits()
+    clock = matrix.episode_clock or EpisodeClock()
+    harness = matrix.harness or kind_fingerprint(harness_fingerprint(), "tasks").digest
+    waves = (
+        task_waves([content.task.id for content in matrix.tasks], matrix.memory) if matrix.memory is not None else {}
+    )
+    for model in matrix.models:
+        for mode in matrix.modes:
+            steps = matrix.max_steps if isinstance(matrix.max_steps, int) else matrix.max_steps[mode]
+            settings = (matrix.observation or ObservationSettings()) if mode == "primitive" else None
+            protocol = (matrix.llm or LLMSettings()) if model is not None else None
+            for seed in matrix.seeds:
+                for content in matrix.tasks:
                     task = content.task
-                    stand_in = synthetic if synthetic is not None and synthetic.covers(task.id) else None
+                    stand_in = (
+                        matrix.synthetic if matrix.synthetic is not None and matrix.synthetic.covers(task.id) else None
+                    )
                     placement = None
-                    if memory is not None:
+                    if matrix.memory is not None:
                         label = model.name if model is not None else NO_MODEL
-                        source = (memory_sources or {}).get((label, mode))
+                        source = matrix.memory_sources.get((label, mode))
                         store = store_name(label, mode, seed)
-                        placement = MemoryPlacement(store=store, wave=waves[task.id], settings=memory, source=source)
+                        placement = MemoryPlacement(
+                            store=store, wave=waves[task.id], settings=matrix.memory, source=source
+                        )
                     name = job_id(
-                        *(model, mode, agent, content.task_hash, task.id, seed, steps, settings, protocol),
-                        *(limits, harness, stand_in, agent_code, placement, clock),
+                        *(model, mode, matrix.agent, content.task_hash, task.id, seed, steps, settings, protocol),
+                        *(limits, harness, stand_in, matrix.agent_code, placement, clock),
                     )
                     yield JobSpec(
                         job_id=name,
                         model=model,
-                        agent=agent,
-                        agent_code=agent_code,
+                        agent=matrix.agent,
+                        agent_code=matrix.agent_code,
                         task_id=task.id,
                         category=task.category,
                         task_hash=content.task_hash,
                         seed=seed,
                         llm=protocol,
                         harness=harness,
-                        extra_models=list(extra_models or []),
+                        extra_models=list(matrix.extra_models),
                         memory=placement,
-                        model_cache=model_cache,
+                        model_cache=matrix.model_cache,
                         body=EpisodeBody(
                             mode=mode,
                             max_steps=steps,
