@@ -31,7 +31,7 @@ from scratchworld_dist.results import RunStore, record_of
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, ray_runtime
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import EpisodeResult, ModelSpec, SyntheticEpisodes
+from workers.contract import JobResult, ModelSpec, SyntheticEpisodes
 
 REPO = Path(__file__).resolve().parents[1]
 CONTENTS = [read_task(task) for task in load_suite(REPO / "tasks").tasks]
@@ -67,7 +67,7 @@ def planning() -> None:
         store.open_for_writing()
         now = time.time()
         for job in planned:
-            result = EpisodeResult(
+            result = JobResult(
                 job_id=job.job_id, attempt=1, outcome="passed", stop_reason="done", started_at=now, finished_at=now
             )
             store.commit(record_of(job, result, run_name="b", suite_hash="s", artifact_dir=None))

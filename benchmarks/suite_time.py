@@ -120,7 +120,7 @@ def kind_of(cmdline: list[str], name: str) -> str:
         if kind == "utility":
             kind += " " + switch_value(cmdline, "--utility-sub-type", "")
         return f"chromium {kind}"
-    if line.startswith("ray::"):  # a Ray worker, titled by what it runs ("ray::EpisodeWorker.run")
+    if line.startswith("ray::"):  # a Ray worker, titled by what it runs ("ray::JobWorker.run")
         return line.split()[0].split(".")[0]
     if "default_worker.py" in line:
         return "ray::IDLE"  # a Ray worker before it took a title

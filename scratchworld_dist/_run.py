@@ -43,7 +43,7 @@ from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.sweep import JobSpec, SweepConfig
 from workers.contract import (
     MIB,
-    EpisodeResult,
+    JobResult,
     ModelSpec,
     NodeReport,
 )
@@ -75,7 +75,7 @@ class AttemptRecorder:
         self.suite_hash = suite_hash
         self.memory = memory
 
-    def __call__(self, job: JobSpec, result: EpisodeResult) -> None:
+    def __call__(self, job: JobSpec, result: JobResult) -> None:
         if self.memory is not None and job.memory is not None:
             info = StoreInfo(model=job.model_name, mode=job.mode, seed=job.seed)
             entry = JobItems(job_id=job.job_id, wave=job.memory.wave, outcome=result.outcome, items=result.memory_items)

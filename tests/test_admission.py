@@ -21,7 +21,7 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, Limits
 from tests.cli_runner import invoke
 from tests.conftest import REPO, pooled_editor
-from workers.contract import MIB, AgentRef, EpisodeClock, EpisodeResult, ModelSpec, SyntheticEpisodes
+from workers.contract import MIB, AgentRef, EpisodeClock, JobResult, ModelSpec, SyntheticEpisodes
 from workers.editor import EditorPool, cached_editor_cost, measure_editor_cost
 from workers.editor._cost import cost_cache_path
 from workers.kinds import kind_fingerprint
@@ -162,7 +162,7 @@ def test_workers_take_no_job_while_the_node_is_short_of_memory(
     planned = jobs(None, harness=kind_fingerprint(harness_fingerprint(), "tasks").digest)  # what workers check
     pool = WorkerPool(2, 1, SyntheticEpisodes(duration_s=0.1), memory_reserve_bytes=reserve)
     payloads = {job.task_id: ray.put(read_task_payload(job)) for job in planned}
-    finished: list[EpisodeResult] = []
+    finished: list[JobResult] = []
     scheduler = Scheduler(pool, payloads, timeout_s=120, retries=0, on_result=lambda _, r: finished.append(r))
     driver = threading.Thread(target=scheduler.run, args=([(job, 1) for job in planned],))
     try:

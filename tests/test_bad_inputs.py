@@ -41,8 +41,8 @@ from workers.agent_api import AgentBase
 from workers.contract import (
     Action,
     Done,
-    EpisodeResult,
     EvaluationSpec,
+    JobResult,
     ObservationSettings,
     StepRecord,
     composite_action,
@@ -425,7 +425,7 @@ class Scripted(AgentBase):
 
 
 @pytest.fixture(scope="module")
-async def episodes(episode_runner: EpisodeRunner) -> dict[str, EpisodeResult]:
+async def episodes(episode_runner: EpisodeRunner) -> dict[str, JobResult]:
     """One real episode per mode, on sum_two_numbers, made of the catalog's actions."""
     content = read_task(load_suite(SUITE_DIR).task(bad.TASK))
     results = {}
@@ -452,7 +452,7 @@ async def episodes(episode_runner: EpisodeRunner) -> dict[str, EpisodeResult]:
     ("mode", "request_", "code", "fragment"), [a[1:] for a in live.ACTIONS], ids=[a[0] for a in live.ACTIONS]
 )
 def test_a_bad_action_costs_a_step_with_a_one_line_error(
-    episodes: dict[str, EpisodeResult], mode: str, request_: dict[str, object], code: str, fragment: str
+    episodes: dict[str, JobResult], mode: str, request_: dict[str, object], code: str, fragment: str
 ) -> None:
     result = episodes[mode]
     assert result.outcome == "failed" and result.error_class is None, result.error_message  # judged, not crashed

@@ -18,6 +18,7 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec
 from tests.conftest import REPO, SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
+from workers.actor import JobWorker
 from workers.agent_api import AgentBase, StepResult, build_agent
 from workers.contract import (
     Action,
@@ -36,7 +37,7 @@ from workers.contract import (
     TaskPayload,
 )
 from workers.editor import BrowserSession
-from workers.episode import EpisodeRunner, EpisodeWorker
+from workers.episode import EpisodeRunner
 from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint, thread_policies
 from workers.primitive import PRIMITIVE_APIS
@@ -51,8 +52,8 @@ def contents() -> dict[str, TaskContent]:
 
 
 @pytest.fixture
-async def worker() -> AsyncIterator[EpisodeWorker]:
-    worker = EpisodeWorker(worker_index=3)
+async def worker() -> AsyncIterator[JobWorker]:
+    worker = JobWorker(worker_index=3)
     yield worker
     await worker.close()
 
@@ -103,7 +104,7 @@ async def until_asked(server: OpenAIServer, requests: int) -> None:
 
 @pytest.mark.slow
 async def test_oracle_replays_its_trajectory_and_noop_fails_side_by_side(
-    worker: EpisodeWorker, contents: dict[str, TaskContent]
+    worker: JobWorker, contents: dict[str, TaskContent]
 ) -> None:
 
     content = contents["bouncing_ball_stuck"]
@@ -142,7 +143,7 @@ async def test_oracle_replays_its_trajectory_and_noop_fails_side_by_side(
 
 
 async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
-    worker: EpisodeWorker, contents: dict[str, TaskContent]
+    worker: JobWorker, contents: dict[str, TaskContent]
 ) -> None:
     # The browser is up first and the oracle acts by gestures (seconds of them), so the cut lands in the
     # episode on any machine (a slow one once spent the 1.5 s launching the browser).
@@ -165,7 +166,7 @@ async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
 
 @pytest.mark.slow
 async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
-    worker: EpisodeWorker, contents: dict[str, TaskContent]
+    worker: JobWorker, contents: dict[str, TaskContent]
 ) -> None:
     running = asyncio.create_task(worker.run(*episode(contents["sum_two_numbers"])))
     for _ in range(600):
@@ -188,7 +189,7 @@ async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
 
 @pytest.mark.slow
 async def test_a_crashed_page_takes_no_sibling_episode_with_it(
-    worker: EpisodeWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
+    worker: JobWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Two episodes share the worker's browser; one page's renderer dies while both wait on the model."""
     with OpenAIServer(default=reply(DONE_REPLY)) as server:
@@ -219,7 +220,7 @@ async def test_a_crashed_page_takes_no_sibling_episode_with_it(
 
 @pytest.mark.slow
 async def test_a_browser_that_dies_while_its_episode_waits_on_the_model_ends_it_within_seconds(
-    worker: EpisodeWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
+    worker: JobWorker, contents: dict[str, TaskContent], litellm_clients: None, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The agent is inside its model call when the browser goes: the episode does not wait for the reply."""
     with OpenAIServer(default=reply(DONE_REPLY)) as server:
@@ -237,7 +238,7 @@ async def test_a_browser_that_dies_while_its_episode_waits_on_the_model_ends_it_
 
 
 async def test_a_job_planned_for_another_harness_is_refused(contents: dict[str, TaskContent]) -> None:
-    worker = EpisodeWorker(worker_index=0, synthetic=SyntheticEpisodes())
+    worker = JobWorker(worker_index=0, synthetic=SyntheticEpisodes())
     spec, payload = episode(contents["sum_two_numbers"])
     assert (await worker.run(spec, payload)).outcome == "passed"
     foreign = spec.model_copy(update={"harness": "0123456789abcdef"})
@@ -253,7 +254,7 @@ async def test_a_job_planned_for_another_harness_is_refused(contents: dict[str, 
 
 async def test_each_kind_is_checked_against_its_own_fingerprint(contents: dict[str, TaskContent]) -> None:
     """A perception job planned under the perception kind's digest is run (no browser); the tasks digest is refused."""
-    worker = EpisodeWorker(worker_index=0)
+    worker = JobWorker(worker_index=0)
     screenshot = next((REPO / "perception-items" / "screenshots").glob("*.png")).read_bytes()
     item = PerceptionPayload(
         item_id="vp_1",
@@ -290,13 +291,13 @@ async def test_a_job_no_kind_runs_is_an_internal_error() -> None:
         timeout_s: float = 5
         harness: str | None = None
 
-    result = await EpisodeWorker(worker_index=0).run(UnknownSpec(), UnknownSpec())  # type: ignore[arg-type]
+    result = await JobWorker(worker_index=0).run(UnknownSpec(), UnknownSpec())  # type: ignore[arg-type]
     assert (result.outcome, result.error_class) == ("error", "internal_error")
     assert "no job kind runs UnknownSpec" in (result.error_message or "")
     assert "drag, perception, tasks" in (result.error_message or "")
 
 
-async def test_an_unavailable_agent_is_an_agent_error(worker: EpisodeWorker, contents: dict[str, TaskContent]) -> None:
+async def test_an_unavailable_agent_is_an_agent_error(worker: JobWorker, contents: dict[str, TaskContent]) -> None:
     result = await worker.run(*episode(contents["sum_two_numbers"], agent="llm"))
     assert (result.outcome, result.error_class) == ("error", "agent_error")
     assert "llm" in (result.error_message or "")

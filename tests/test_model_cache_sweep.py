@@ -21,7 +21,7 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, load_sweep_config
 from tests.conftest import SUITE_DIR
 from tests.test_reports import job, make_run
-from workers.contract import AgentRef, EpisodeResult, ModelCacheSettings, ModelSpec, StepRecord
+from workers.contract import AgentRef, JobResult, ModelCacheSettings, ModelSpec, StepRecord
 
 UNSEEDED = "anthropic/claude-3-5-sonnet-20240620"
 """LiteLLM sends Anthropic models no seed."""
@@ -183,12 +183,12 @@ def planned(cache: ModelCacheSettings | None) -> JobSpec:
     )
 
 
-def result() -> EpisodeResult:
+def result() -> JobResult:
     steps = [
         StepRecord(index=0, action="add_block", ok=True, llm_calls=2, llm_cache_hits=2, input_tokens=10),
         StepRecord(index=1, action="done", ok=True, llm_calls=1, llm_cache_hits=0, cost_usd=0.01),
     ]
-    return EpisodeResult(job_id="j1", attempt=1, outcome="failed", stop_reason="done", steps=steps)
+    return JobResult(job_id="j1", attempt=1, outcome="failed", stop_reason="done", steps=steps)
 
 
 def test_rows_record_the_hits_and_null_without_a_cache(tmp_path: Path) -> None:

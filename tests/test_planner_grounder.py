@@ -22,7 +22,7 @@ from tests.conftest import SUITE_DIR
 from tests.openai_server import OpenAIServer, reply
 from workers.agent_api import build_agent
 from workers.agents import OracleAgent
-from workers.contract import AgentRef, EpisodeResult, LLMSettings, ModelSpec, ObservationSettings, RetryPolicy
+from workers.contract import AgentRef, JobResult, LLMSettings, ModelSpec, ObservationSettings, RetryPolicy
 from workers.episode import EpisodeRunner
 
 pytestmark = [pytest.mark.usefixtures("litellm_clients"), pytest.mark.browser]
@@ -132,7 +132,7 @@ def point(x: float, y: float) -> str:
 
 async def run_agent(
     episode_runner: EpisodeRunner, content: TaskContent, planner: OpenAIServer, grounder: OpenAIServer
-) -> EpisodeResult:
+) -> JobResult:
     planner_spec = ModelSpec(name="planner", model="openai/gpt-4o-mini", api_base=planner.url, api_key_env=PLANNER_ENV)
     grounder_spec = ModelSpec(
         name="ui-tars", model="openai/ui-tars-1.5-7b", api_base=grounder.url, api_key_env=GROUNDER_ENV

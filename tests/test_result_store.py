@@ -33,9 +33,9 @@ from scratchworld_dist.results import _store as store_module
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import (
     AgentRef,
-    EpisodeResult,
     EpisodeTimings,
     EvalResult,
+    JobResult,
     ModelSpec,
     StepRecord,
     TestVerdict,
@@ -60,7 +60,7 @@ def spec(n: int) -> JobSpec:
     )
 
 
-def episode(job: JobSpec, attempt: int, outcome: str) -> EpisodeResult:
+def episode(job: JobSpec, attempt: int, outcome: str) -> JobResult:
     """A worker's result: two steps, and two tests unless the attempt ended in an error."""
     errored = outcome == "error"
     load = StepRecord(
@@ -86,7 +86,7 @@ def episode(job: JobSpec, attempt: int, outcome: str) -> EpisodeResult:
         output_tokens=5,
         cost_usd=0.02,
     )
-    result = EpisodeResult(
+    result = JobResult(
         job_id=job.job_id,
         attempt=attempt,
         outcome="passed",
@@ -200,7 +200,7 @@ def test_record_of_an_error_has_no_verdict() -> None:
 
 def test_record_of_keeps_the_evaluation_error_kind() -> None:
     job = spec(2)
-    result = EpisodeResult(
+    result = JobResult(
         job_id=job.job_id,
         attempt=1,
         outcome="failed",

@@ -19,8 +19,8 @@ from scratchworld_dist._errors import RunDirError
 from scratchworld_dist._run import _checked_manifest, plan_run
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import REPO
+from workers.actor import JobWorker
 from workers.contract import HarnessFingerprint, fingerprint
-from workers.episode import EpisodeWorker
 from workers.kinds import KindRegistryError, claimed_parts, kind_fingerprint, kind_named, kind_of, worker_kinds
 from workers.node import code_parts, harness_fingerprint
 
@@ -190,7 +190,7 @@ def test_no_kind_claims_code_the_core_or_another_kind_imports() -> None:
 
 PLUGIN = """
 from pydantic import BaseModel
-from workers.contract import EpisodeResult
+from workers.contract import JobResult
 
 
 class MutationSpec(BaseModel):
@@ -213,7 +213,7 @@ class MutationKind:
     needs_browser = False
 
     async def run(self, host, spec, payload):
-        return EpisodeResult(job_id=spec.job_id, attempt=spec.attempt, outcome="passed", stop_reason="done")
+        return JobResult(job_id=spec.job_id, attempt=spec.attempt, outcome="passed", stop_reason="done")
 
 
 KIND = MutationKind()
@@ -240,7 +240,7 @@ async def test_a_plugin_registers_a_fourth_kind_that_the_worker_runs(plugin: Pat
     assert set(kinds) == {*KINDS, "mutation"}
     from mutation_kind import MutationPayload, MutationSpec  # type: ignore[import-not-found]
 
-    worker = EpisodeWorker(worker_index=0)
+    worker = JobWorker(worker_index=0)
     spec = MutationSpec(job_id="m1", task_id="t", harness=kind_fingerprint(harness_fingerprint(), "mutation").digest)
     result = await worker.run(spec, MutationPayload(task_id="t"))
     assert (result.job_id, result.outcome) == ("m1", "passed"), result.error_message

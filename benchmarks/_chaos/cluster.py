@@ -180,8 +180,8 @@ class LocalCluster:
         return found
 
     def worker_actors(self) -> list[Proc]:
-        """The ``EpisodeWorker`` actor processes."""
-        return [p for p in self.processes() if p.cmdline.startswith("ray::EpisodeWorker")]
+        """The ``JobWorker`` actor processes."""
+        return [p for p in self.processes() if p.cmdline.startswith("ray::JobWorker")]
 
     def chromium(self, kind: str) -> list[Proc]:
         """Chromium processes of the workers: ``browser`` (no ``--type``) or ``renderer`` (of a page)."""

@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.drag._task import DragTask
-from workers.contract import AgentRef, DragPayload, DragRegions, DragSpec, EpisodeResult
+from workers.contract import AgentRef, DragPayload, DragRegions, DragSpec, JobResult
 from workers.drag._runner import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
 
@@ -38,7 +38,7 @@ class DragTaskCheck(BaseModel):
     seconds: float
 
 
-async def oracle_drag(runner: DragRunner, payload: DragPayload) -> EpisodeResult:
+async def oracle_drag(runner: DragRunner, payload: DragPayload) -> JobResult:
     """The oracle's one drag on a task: regions computed in the runner's editor, then a real drag at their centres."""
     spec = DragSpec(
         job_id=f"oracle-{payload.task_id}",
@@ -53,7 +53,7 @@ async def oracle_drag(runner: DragRunner, payload: DragPayload) -> EpisodeResult
     return await runner.run(spec, payload)
 
 
-def check_of(task: DragTask, result: EpisodeResult) -> DragTaskCheck:
+def check_of(task: DragTask, result: JobResult) -> DragTaskCheck:
     drag = result.drag
     detail = result.error_message or (drag.observed if drag is not None else result.stop_reason)
     return DragTaskCheck(

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from pydantic import BaseModel
 
-from workers.contract import AgentRef, EpisodeResult, HarnessFingerprint, ModelSpec, WorkerJob
+from workers.contract import AgentRef, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
 
 if TYPE_CHECKING:
     from scratchworld_dist._run_plan import RunPlan
@@ -69,7 +69,7 @@ class JobKind(Protocol):
         """What a worker is sent for one attempt of ``job``."""
         ...
 
-    def own_rows(self, job: JobSpec, result: EpisodeResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
+    def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
         """The rows of this kind's own ``tables`` for one attempt (``artifact_dir``: where its files went)."""
         ...
 

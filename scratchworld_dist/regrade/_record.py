@@ -13,7 +13,7 @@ from datetime import UTC, datetime
 from scratchworld_dist.regrade._plan import RegradeJob
 from scratchworld_dist.results import JobRecord, JobRow, RunStore, StepRow
 from scratchworld_dist.results._records import test_rows
-from workers.contract import MIB, EpisodeResult
+from workers.contract import MIB, JobResult
 
 
 class RegradeRecorder:
@@ -25,7 +25,7 @@ class RegradeRecorder:
         self.suite_hash = suite_hash
         self.steps = steps
 
-    def __call__(self, job: RegradeJob, result: EpisodeResult) -> None:
+    def __call__(self, job: RegradeJob, result: JobResult) -> None:
         artifact_dir = None
         folder = job.source.artifacts
         for path in sorted(folder.rglob("*")):
@@ -46,7 +46,7 @@ class RegradeRecorder:
 
 
 def regraded_row(
-    job: RegradeJob, result: EpisodeResult, run_name: str, suite_hash: str, artifact_dir: str | None
+    job: RegradeJob, result: JobResult, run_name: str, suite_hash: str, artifact_dir: str | None
 ) -> JobRow:
     """The source's row with the regrade's identity, verdict, timing and worker."""
     source, evaluation = job.source.row, result.evaluation

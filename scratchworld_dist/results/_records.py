@@ -13,7 +13,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import MIB, EpisodeResult, EvalResult
+from workers.contract import MIB, EvalResult, JobResult
 
 
 class JobRow(BaseModel):
@@ -270,7 +270,7 @@ def _time(unix: float) -> datetime:
 
 def record_of(
     job: JobSpec,
-    result: EpisodeResult,
+    result: JobResult,
     *,
     run_name: str,
     suite_hash: str,

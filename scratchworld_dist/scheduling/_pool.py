@@ -9,8 +9,8 @@ import ray
 from ray.actor import ActorHandle
 
 from scratchworld_dist.scheduling._ray_runtime import BROWSER_RESOURCE, RayUnavailableError
+from workers.actor import JobWorker
 from workers.contract import SyntheticEpisodes
-from workers.episode import EpisodeWorker
 
 
 @dataclass
@@ -68,7 +68,7 @@ class WorkerPool:
             ray.kill(handle, no_restart=True)
         self.reused = min(len(kept), count)
         """Workers taken over from this process's previous sweep."""
-        actor_class = ray.remote(EpisodeWorker).options(
+        actor_class = ray.remote(JobWorker).options(
             resources={BROWSER_RESOURCE: pages},
             num_cpus=0,
             max_restarts=-1,

@@ -35,8 +35,8 @@ from ray.exceptions import GetTimeoutError, RayActorError, RayError
 from scratchworld_dist.scheduling._pool import WorkerPool
 from workers.contract import (
     PERMANENT_ERRORS,
-    EpisodeResult,
     ErrorClass,
+    JobResult,
     Refusal,
     WorkerJob,
     WorkerLoad,
@@ -132,7 +132,7 @@ class Scheduler(Generic[J]):
         *,
         timeout_s: float,
         retries: int,
-        on_result: Callable[[J, EpisodeResult], None],
+        on_result: Callable[[J, JobResult], None],
         max_in_flight: int | None = None,
         budget_usd: float | None = None,
         spent_usd: float = 0.0,
@@ -277,13 +277,13 @@ class Scheduler(Generic[J]):
         self.stats.submitted += 1
         self.stats.in_flight = len(self._flights)
 
-    def _collect(self) -> list[tuple[_Flight[J], EpisodeResult | Refusal | None]]:
+    def _collect(self) -> list[tuple[_Flight[J], JobResult | Refusal | None]]:
         """Finished attempts (``None`` for a job to re-send as the same attempt), and declined jobs."""
         refs = list(self._flights)
         ready, _ = ray.wait(refs, num_returns=1, timeout=WAIT_SLICE_S)
         if ready:
             ready, _ = ray.wait(refs, num_returns=len(refs), timeout=0)
-        finished: list[tuple[_Flight[J], EpisodeResult | Refusal | None]] = []
+        finished: list[tuple[_Flight[J], JobResult | Refusal | None]] = []
         for ref in ready:
             flight = self._flights.pop(ref)
             self._load[flight.worker] -= 1
@@ -292,7 +292,7 @@ class Scheduler(Generic[J]):
         self.stats.in_flight = len(self._flights)
         return finished
 
-    def _result(self, ref: ray.ObjectRef, flight: _Flight[J]) -> EpisodeResult | Refusal | None:
+    def _result(self, ref: ray.ObjectRef, flight: _Flight[J]) -> JobResult | Refusal | None:
         try:
             return ray.get(ref, timeout=60)
         except RayActorError as exc:
@@ -303,10 +303,10 @@ class Scheduler(Generic[J]):
         except (RayError, GetTimeoutError) as exc:
             return self._lost(flight, "internal_error", f"{type(exc).__name__}: {_first_line(exc)}")
 
-    def _overdue(self) -> list[tuple[_Flight[J], EpisodeResult | None]]:
+    def _overdue(self) -> list[tuple[_Flight[J], JobResult | None]]:
         now = time.monotonic()
         overdue = [(ref, f) for ref, f in self._flights.items() if f.deadline < now and not f.collateral]
-        finished: list[tuple[_Flight[J], EpisodeResult | None]] = []
+        finished: list[tuple[_Flight[J], JobResult | None]] = []
         for ref, flight in overdue:
             self._flights.pop(ref)
             self._load[flight.worker] -= 1
@@ -320,14 +320,14 @@ class Scheduler(Generic[J]):
             finished.append((flight, self._lost(flight, "episode_timeout", message)))
         return finished
 
-    def _lost(self, flight: _Flight[J], error_class: ErrorClass, message: str) -> EpisodeResult:
+    def _lost(self, flight: _Flight[J], error_class: ErrorClass, message: str) -> JobResult:
         """The result of an attempt whose worker never answered, stamped with the times the driver saw."""
-        result = EpisodeResult.errored(flight.job.episode(flight.attempt, self.timeout_s), error_class, message)
+        result = JobResult.errored(flight.job.episode(flight.attempt, self.timeout_s), error_class, message)
         now = time.time()
         timings = result.timings.model_copy(update={"total_s": now - flight.sent_at})
         return result.model_copy(update={"started_at": flight.sent_at, "finished_at": now, "timings": timings})
 
-    def _record(self, job: J, result: EpisodeResult, *, final: bool) -> None:
+    def _record(self, job: J, result: JobResult, *, final: bool) -> None:
         self.stats.attempts += 1
         if final:
             self.stats.outcomes[result.outcome] += 1

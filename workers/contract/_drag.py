@@ -2,7 +2,7 @@
 a worker is given, the exact feasible regions it computes, and what one attempt did.
 
 A drag job (``DragSpec``, next to ``EpisodeSpec``) is one observation, one model call and one real
-drag, so it returns an ordinary ``EpisodeResult`` (one step, one test: "the expected connection
+drag, so it returns an ordinary ``JobResult`` (one step, one test: "the expected connection
 was made") carrying a ``DragAttempt`` with the predicted points and their distances to the regions.
 """
 
@@ -281,4 +281,4 @@ class DragAttempt(BaseModel):
     """Time the worker spent computing the regions (0 when they came from its cache)."""
 
     annotated_sha256: str | None = None
-    """The annotated screenshot (regions and drag drawn on), among ``EpisodeResult.images``."""
+    """The annotated screenshot (regions and drag drawn on), among ``JobResult.images``."""

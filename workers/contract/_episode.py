@@ -271,7 +271,7 @@ class StepRecord(BaseModel):
     cost_usd: float = 0.0
     prompt: list[JsonValue] = Field(default_factory=list)
     """Messages this step added to the model's conversation (the system prompt on the first step);
-    images appear as ``{"type": "image_ref", "sha256": ...}`` into ``EpisodeResult.images``."""
+    images appear as ``{"type": "image_ref", "sha256": ...}`` into ``JobResult.images``."""
 
     reply: str | None = None
     """The model's raw reply."""
@@ -327,7 +327,7 @@ class EpisodeTimings(BaseModel):
     total_s: float = 0.0
 
 
-class EpisodeResult(BaseModel):
+class JobResult(BaseModel):
     """What a worker returns for one job; the driver turns it into result rows."""
 
     job_id: str
@@ -391,7 +391,7 @@ class EpisodeResult(BaseModel):
         message: str,
         *,
         steps: list[StepRecord] | None = None,
-    ) -> EpisodeResult:
+    ) -> JobResult:
         """A result with no verdict, for the driver to retry or record."""
         return cls(
             job_id=spec.job_id,

@@ -1,7 +1,7 @@
 """The visual perception QA benchmark as driver and worker share it: an item, and what one answer to it was.
 
 A perception job (``PerceptionSpec``, next to ``EpisodeSpec``) is one model call about one static
-screenshot: no editor, no action. It returns an ordinary ``EpisodeResult`` (one step, the answer;
+screenshot: no editor, no action. It returns an ordinary ``JobResult`` (one step, the answer;
 one test, "the answer is right" under the normalized scoring) carrying a ``PerceptionAttempt``
 with the reply read both ways: ``strict`` as upstream scores it, ``normalized`` as we do.
 """

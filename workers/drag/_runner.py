@@ -1,6 +1,6 @@
 """One drag job: a recycled editor in the task's view, one observation, one answer, one real drag.
 
-The result is an ordinary ``EpisodeResult``: one step (the drag, with the model call booked on
+The result is an ordinary ``JobResult``: one step (the drag, with the model call booked on
 it), one test (the expected connection, verified from the VM's blocks), and a ``DragAttempt``
 with the points and their distances to the exact regions. Regions are computed once per task
 and worker (the view, and so every pixel, is the same for each of the task's jobs); a task
@@ -23,9 +23,9 @@ from workers.contract import (
     DragRegions,
     DragSpec,
     EditorError,
-    EpisodeResult,
     EpisodeTimings,
     EvalResult,
+    JobResult,
     LLMSettings,
     ModelCallError,
     ObservationSettings,
@@ -49,16 +49,16 @@ class DragRunner:
         self.pool = pool
         self._regions: dict[str, DragRegions] = {}
 
-    async def run(self, spec: DragSpec, payload: DragPayload) -> EpisodeResult:
+    async def run(self, spec: DragSpec, payload: DragPayload) -> JobResult:
         started, clock = time.time(), time.perf_counter()
         timings = EpisodeTimings()
         try:
             agent = drag_agent(spec.agent)
         except AgentUnavailableError as exc:
-            return _finish(EpisodeResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
+            return _finish(JobResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
         mismatch = code_mismatch(spec.agent, spec.agent_code, type(agent))
         if mismatch is not None:
-            return _finish(EpisodeResult.errored(spec, "harness_mismatch", mismatch), started, clock, timings)
+            return _finish(JobResult.errored(spec, "harness_mismatch", mismatch), started, clock, timings)
         cache = ModelCache(spec.model_cache.dir) if spec.model_cache is not None else None
         models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed, cache=cache)
         step = StepRecord(index=0, action="drag", ok=False)
@@ -69,12 +69,12 @@ class DragRunner:
                     await page.set_up(editor, payload)
                 except ProjectFormatError as exc:
                     message = f"the task's initial project cannot be loaded: {exc}"
-                    return _finish(EpisodeResult.errored(spec, "task_invalid", message), started, clock, timings)
+                    return _finish(JobResult.errored(spec, "task_invalid", message), started, clock, timings)
                 regions, computed_s = await self._regions_of(editor, payload)
                 if regions.start.empty or regions.end.empty:
                     which = "grabs the source" if regions.start.empty else "makes the connection"
                     message = f"drag task {payload.task_id}: no pixel of its view {which} in this editor"
-                    return _finish(EpisodeResult.errored(spec, "task_invalid", message), started, clock, timings)
+                    return _finish(JobResult.errored(spec, "task_invalid", message), started, clock, timings)
                 question = await _question(editor, spec, payload, regions, is_privileged(type(agent)))
                 timings.setup_s = time.perf_counter() - clock
                 answer = await agent.answer(question, spec.model, models)
@@ -88,10 +88,10 @@ class DragRunner:
                 timings.evaluation_s = time.perf_counter() - clock - timings.setup_s - timings.agent_s
         except ModelCallError as exc:
             step = models.drain().booked_on(step.model_copy(update={"error_code": exc.error_class}))
-            result = EpisodeResult.errored(spec, exc.error_class, str(exc), steps=[step])
+            result = JobResult.errored(spec, exc.error_class, str(exc), steps=[step])
             return _finish(result.model_copy(update={"images": models.images}), started, clock, timings)
         except (EditorError, BridgeError) as exc:
-            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=[step])
+            result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=[step])
             return _finish(result, started, clock, timings)
         attempt = _attempt(spec, answer, regions, question, connected, observed, computed_s)
         annotated = annotate(question.screenshot_png, regions, answer.start, answer.end)
@@ -104,7 +104,7 @@ class DragRunner:
         evaluation = EvalResult(
             success=connected, passed=int(connected), total=1, psr=float(connected), tests=[verdict]
         )
-        result = EpisodeResult(
+        result = JobResult(
             job_id=spec.job_id,
             attempt=spec.attempt,
             outcome="passed" if connected else "failed",
@@ -208,6 +208,6 @@ def _attempt(
     )
 
 
-def _finish(result: EpisodeResult, started: float, clock: float, timings: EpisodeTimings) -> EpisodeResult:
+def _finish(result: JobResult, started: float, clock: float, timings: EpisodeTimings) -> JobResult:
     timings.total_s = time.perf_counter() - clock
     return result.model_copy(update={"timings": timings, "started_at": started, "finished_at": time.time()})

@@ -8,20 +8,20 @@ from __future__ import annotations
 
 import time
 
-from workers.contract import EpisodeResult, EpisodeTimings, RegradeSpec, TaskPayload, outcome_of
+from workers.contract import EpisodeTimings, JobResult, RegradeSpec, TaskPayload, outcome_of
 from workers.evaluation import Evaluator
 
 REGRADED = "regraded"
 """Stop reason of a regrade's result (the driver keeps the source's in the row)."""
 
 
-async def regrade(evaluator: Evaluator, spec: RegradeSpec, task: TaskPayload) -> EpisodeResult:
+async def regrade(evaluator: Evaluator, spec: RegradeSpec, task: TaskPayload) -> JobResult:
     """The verdict on ``spec.project`` under ``task.evaluation``, as an episode result without steps."""
     started, clock = time.time(), time.perf_counter()
     evaluation = await evaluator.evaluate(spec.project, task.evaluation, spec.project_limits)
     elapsed = time.perf_counter() - clock
     outcome, error_class = outcome_of(evaluation)
-    return EpisodeResult(
+    return JobResult(
         job_id=spec.job_id,
         attempt=spec.attempt,
         outcome=outcome,

@@ -36,11 +36,11 @@ from workers.contract import (
     Done,
     EditorError,
     EpisodeClock,
-    EpisodeResult,
     EpisodeSpec,
     EpisodeTimings,
     Failed,
     InvalidReply,
+    JobResult,
     LLMSettings,
     LoadProject,
     ModelCallError,
@@ -146,7 +146,7 @@ class EpisodeRunner:
         pass_time = pace.pass_time if pace.virtual else None
         return PrimitiveEnvironment(editor, PrimitiveObserver(settings, self._ocr[settings]), pass_time)
 
-    async def run(self, spec: EpisodeSpec, task: TaskPayload, agent: Agent) -> EpisodeResult:
+    async def run(self, spec: EpisodeSpec, task: TaskPayload, agent: Agent) -> JobResult:
         started, clock = time.time(), time.perf_counter()
         timings = EpisodeTimings()
         steps: list[StepRecord] = []
@@ -163,7 +163,7 @@ class EpisodeRunner:
                     await editor.load_project(task.initial_project, spec.project_limits)
                 except ProjectFormatError as exc:
                     message = f"the task's initial project cannot be loaded: {exc}"
-                    return _finish(EpisodeResult.errored(spec, "task_invalid", message), started, clock, timings)
+                    return _finish(JobResult.errored(spec, "task_invalid", message), started, clock, timings)
                 pace = _Pace(editor, spec.episode_clock)
                 environment = await self._environment(spec, editor, pace)
                 await pace.start()
@@ -196,14 +196,14 @@ class EpisodeRunner:
                 timings.agent_s = time.perf_counter() - clock - timings.setup_s
                 final_project = await editor.save_project()
         except (EditorError, BridgeError) as exc:
-            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=steps)
+            result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=steps)
             return _finish(result, started, clock, timings)
         except AgentCrashedError as exc:
             steps.append(_crash_step(len(steps), exc))
-            result = EpisodeResult.errored(spec, "agent_error", str(exc), steps=steps)
+            result = JobResult.errored(spec, "agent_error", str(exc), steps=steps)
             return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
         except ModelCallError as exc:  # the model cannot be reached or refuses: no verdict about it
-            result = EpisodeResult.errored(spec, exc.error_class, str(exc), steps=steps)
+            result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
             return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
         evaluation_start = time.perf_counter()
         if self._acting and task.evaluation.clock == "virtual":
@@ -215,7 +215,7 @@ class EpisodeRunner:
             evaluation = await self.evaluator.evaluate(final_project, task.evaluation, spec.project_limits)
         timings.evaluation_s = time.perf_counter() - evaluation_start
         outcome, error_class = outcome_of(evaluation)
-        result = EpisodeResult(
+        result = JobResult(
             job_id=spec.job_id,
             attempt=spec.attempt,
             outcome=outcome,
@@ -427,7 +427,7 @@ def _describe(action: Action) -> tuple[str, dict[str, JsonValue]]:
     return action.name, action.model_dump(exclude={"name"})
 
 
-def _with_agent_outputs(result: EpisodeResult, models: EpisodeModels, memory: AgentMemory) -> EpisodeResult:
+def _with_agent_outputs(result: JobResult, models: EpisodeModels, memory: AgentMemory) -> JobResult:
     """The result with the images the prompts showed and what the agent proposed to learn from."""
     return result.model_copy(update={"images": dict(models.images), "memory_items": list(memory.items)})
 
@@ -458,6 +458,6 @@ def _crash_step(index: int, exc: AgentCrashedError) -> StepRecord:
     return StepRecord(index=index, action="agent_error", ok=False, error_code="agent_error", error_message=exc.trace)
 
 
-def _finish(result: EpisodeResult, started: float, clock: float, timings: EpisodeTimings) -> EpisodeResult:
+def _finish(result: JobResult, started: float, clock: float, timings: EpisodeTimings) -> JobResult:
     timings.total_s = time.perf_counter() - clock
     return result.model_copy(update={"timings": timings, "started_at": started, "finished_at": time.time()})

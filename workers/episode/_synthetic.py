@@ -12,10 +12,10 @@ import asyncio
 import time
 
 from workers.contract import (
-    EpisodeResult,
     EpisodeSpec,
     EpisodeTimings,
     EvalResult,
+    JobResult,
     StepRecord,
     SyntheticEpisodes,
     TaskPayload,
@@ -23,7 +23,7 @@ from workers.contract import (
 )
 
 
-async def run_synthetic(spec: EpisodeSpec, task: TaskPayload, behaviour: SyntheticEpisodes) -> EpisodeResult:
+async def run_synthetic(spec: EpisodeSpec, task: TaskPayload, behaviour: SyntheticEpisodes) -> JobResult:
     started, clock = time.time(), time.perf_counter()
     if behaviour.duration_s:
         await asyncio.sleep(behaviour.duration_s)
@@ -32,7 +32,7 @@ async def run_synthetic(spec: EpisodeSpec, task: TaskPayload, behaviour: Synthet
     passed = sum(t.passed for t in tests)
     evaluation = EvalResult(success=not fails, passed=passed, total=len(tests), psr=passed / len(tests), tests=tests)
     elapsed = time.perf_counter() - clock
-    return EpisodeResult(
+    return JobResult(
         job_id=spec.job_id,
         attempt=spec.attempt,
         outcome="failed" if fails else "passed",

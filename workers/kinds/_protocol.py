@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Protocol
 
 from pydantic import BaseModel
 
-from workers.contract import EpisodeResult, SyntheticEpisodes, WorkerInfo, WorkerJob
+from workers.contract import JobResult, SyntheticEpisodes, WorkerInfo, WorkerJob
 
 if TYPE_CHECKING:
     from workers.editor import BrowserSession
@@ -20,7 +20,7 @@ if TYPE_CHECKING:
 
 
 class WorkerHost(Protocol):
-    """The worker a kind's runner runs in (``EpisodeWorker``): its browser, pools, settings and identity."""
+    """The worker a kind's runner runs in (``JobWorker``): its browser, pools, settings and identity."""
 
     info_: WorkerInfo
     """Who this worker is (messages name its host and node)."""
@@ -35,9 +35,7 @@ class WorkerHost(Protocol):
         """This worker's browser and its pool of recycled editors, started (again, if it died) on first use."""
         ...
 
-    async def in_browser(
-        self, spec: WorkerJob, session: BrowserSession, work: Awaitable[EpisodeResult]
-    ) -> EpisodeResult:
+    async def in_browser(self, spec: WorkerJob, session: BrowserSession, work: Awaitable[JobResult]) -> JobResult:
         """``work``'s result, cut short as an editor failure if ``session``'s browser dies."""
         ...
 
@@ -77,6 +75,6 @@ class WorkerKind(Protocol):
         """Whether its jobs open an editor (a perception job only asks a model about a stored screenshot)."""
         ...
 
-    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> EpisodeResult:
+    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
         """One attempt of one job, whose harness the host has checked; an error outcome at worst."""
         ...

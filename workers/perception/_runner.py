@@ -1,6 +1,6 @@
 """One perception job: one answer to one item, scored both ways. No editor: the screenshot is static.
 
-The result is an ordinary ``EpisodeResult``: one step (the answer, with the model call booked on it),
+The result is an ordinary ``JobResult``: one step (the answer, with the model call booked on it),
 one test ("the answer is right", by the normalized scoring, which decides ``passed``/``failed``), and a
 ``PerceptionAttempt`` with the reply and both scores. A model call that fails for good is an error with
 its class, never a wrong answer: it has no verdict and reports count it under coverage. The item's
@@ -16,9 +16,9 @@ from workers.agent_api import code_mismatch, is_privileged
 from workers.agents._model_calls import EpisodeModels
 from workers.contract import (
     AgentUnavailableError,
-    EpisodeResult,
     EpisodeTimings,
     EvalResult,
+    JobResult,
     LLMSettings,
     ModelCallError,
     PerceptionAttempt,
@@ -32,7 +32,7 @@ from workers.perception._agents import PerceptionQuestion, perception_agent
 from workers.perception._scoring import score_reply
 
 
-async def run_perception(spec: PerceptionSpec, payload: PerceptionPayload) -> EpisodeResult:
+async def run_perception(spec: PerceptionSpec, payload: PerceptionPayload) -> JobResult:
     """Ask ``spec``'s agent ``payload``'s question and score the answer (never raises for a model failure)."""
     started, clock = time.time(), time.perf_counter()
     timings = EpisodeTimings()
@@ -40,10 +40,10 @@ async def run_perception(spec: PerceptionSpec, payload: PerceptionPayload) -> Ep
     try:
         agent = perception_agent(spec.agent)
     except AgentUnavailableError as exc:
-        return _finish(EpisodeResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
+        return _finish(JobResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
     mismatch = code_mismatch(spec.agent, spec.agent_code, type(agent))
     if mismatch is not None:
-        return _finish(EpisodeResult.errored(spec, "harness_mismatch", mismatch), started, clock, timings)
+        return _finish(JobResult.errored(spec, "harness_mismatch", mismatch), started, clock, timings)
     cache = ModelCache(spec.model_cache.dir) if spec.model_cache is not None else None
     models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed, cache=cache)
     question = PerceptionQuestion(
@@ -58,10 +58,10 @@ async def run_perception(spec: PerceptionSpec, payload: PerceptionPayload) -> Ep
         reply = await agent.answer(question, spec.model, models)
     except ModelCallError as exc:
         step = models.drain().booked_on(StepRecord(index=0, action="answer", ok=False, error_code=exc.error_class))
-        result = EpisodeResult.errored(spec, exc.error_class, str(exc), steps=[step])
+        result = JobResult.errored(spec, exc.error_class, str(exc), steps=[step])
         return _finish(_shared_image_dropped(result, models, screenshot), started, clock, timings)
     except AgentUnavailableError as exc:
-        return _finish(EpisodeResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
+        return _finish(JobResult.errored(spec, "agent_error", str(exc)), started, clock, timings)
     timings.agent_s = time.perf_counter() - clock
     score = score_reply(reply, payload.answer, payload.answer_format, payload.value_kind)
     step = StepRecord(
@@ -84,7 +84,7 @@ async def run_perception(spec: PerceptionSpec, payload: PerceptionPayload) -> Ep
     evaluation = EvalResult(
         success=score.normalized, passed=int(score.normalized), total=1, psr=float(score.normalized), tests=[verdict]
     )
-    result = EpisodeResult(
+    result = JobResult(
         job_id=spec.job_id,
         attempt=spec.attempt,
         outcome="passed" if score.normalized else "failed",
@@ -96,12 +96,12 @@ async def run_perception(spec: PerceptionSpec, payload: PerceptionPayload) -> Ep
     return _finish(_shared_image_dropped(result, models, screenshot), started, clock, timings)
 
 
-def _shared_image_dropped(result: EpisodeResult, models: EpisodeModels, screenshot: str) -> EpisodeResult:
+def _shared_image_dropped(result: JobResult, models: EpisodeModels, screenshot: str) -> JobResult:
     """The result with the prompts' images but the item's screenshot, which the run keeps once for all jobs."""
     images = {digest: data for digest, data in models.images.items() if digest != screenshot}
     return result.model_copy(update={"images": images})
 
 
-def _finish(result: EpisodeResult, started: float, clock: float, timings: EpisodeTimings) -> EpisodeResult:
+def _finish(result: JobResult, started: float, clock: float, timings: EpisodeTimings) -> JobResult:
     timings.total_s = time.perf_counter() - clock
     return result.model_copy(update={"timings": timings, "started_at": started, "finished_at": time.time()})

@@ -20,7 +20,7 @@ from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
 from scratchworld_dist.sweep._selection import present_suites, wanted_ids
 from workers.agent_api import agent_class, checked_agent
-from workers.contract import AgentRef, DragSpec, EpisodeResult, HarnessFingerprint, ModelSpec, WorkerJob
+from workers.contract import AgentRef, DragSpec, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
@@ -109,7 +109,7 @@ class DragKind:
             model_cache=job.model_cache,
         )
 
-    def own_rows(self, job: JobSpec, result: EpisodeResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
+    def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
         if result.drag is None:
             return {"drags": []}
         annotated = None

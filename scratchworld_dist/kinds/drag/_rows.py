@@ -5,10 +5,10 @@ from __future__ import annotations
 from scratchworld_dist.kinds.drag._plan import DragBody
 from scratchworld_dist.results import DragRow
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import EpisodeResult
+from workers.contract import JobResult
 
 
-def drag_row(job: JobSpec, result: EpisodeResult, annotated: str | None) -> DragRow:
+def drag_row(job: JobSpec, result: JobResult, annotated: str | None) -> DragRow:
     drag, body = result.drag, job.body
     if drag is None or not isinstance(body, DragBody):
         raise ValueError(f"job {job.job_id} is not a drag job")

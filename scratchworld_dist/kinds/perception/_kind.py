@@ -18,7 +18,7 @@ from scratchworld_dist.kinds.perception._rows import perception_row
 from scratchworld_dist.results import RunStore, SuiteInfo, shared_image_path
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
 from workers.agent_api import agent_class, checked_agent
-from workers.contract import AgentRef, EpisodeResult, HarnessFingerprint, ModelSpec, PerceptionSpec, WorkerJob
+from workers.contract import AgentRef, HarnessFingerprint, JobResult, ModelSpec, PerceptionSpec, WorkerJob
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
@@ -83,7 +83,7 @@ class PerceptionJobKind:
             model_cache=job.model_cache,
         )
 
-    def own_rows(self, job: JobSpec, result: EpisodeResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
+    def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
         return {"perception": [] if result.perception is None else [perception_row(job, result)]}
 
     def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:

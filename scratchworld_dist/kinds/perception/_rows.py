@@ -5,10 +5,10 @@ from __future__ import annotations
 from scratchworld_dist.kinds.perception._plan import PerceptionBody
 from scratchworld_dist.results import PerceptionRow, shared_image_path
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import EpisodeResult
+from workers.contract import JobResult
 
 
-def perception_row(job: JobSpec, result: EpisodeResult) -> PerceptionRow:
+def perception_row(job: JobSpec, result: JobResult) -> PerceptionRow:
     attempt, body = result.perception, job.body
     if attempt is None or not isinstance(body, PerceptionBody):
         raise ValueError(f"job {job.job_id} is not a perception job")

@@ -21,9 +21,9 @@ from workers.agent_api import agent_class, agent_code, agent_params, checked_age
 from workers.contract import (
     AgentRef,
     EpisodeClock,
-    EpisodeResult,
     EpisodeSpec,
     HarnessFingerprint,
+    JobResult,
     Mode,
     ModelSpec,
     WorkerJob,
@@ -136,7 +136,7 @@ class TasksKind:
             model_cache=job.model_cache,
         )
 
-    def own_rows(self, job: JobSpec, result: EpisodeResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
+    def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
         return {}
 
     def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:

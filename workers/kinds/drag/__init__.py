@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pydantic import BaseModel
 
-from workers.contract import DragPayload, DragSpec, EpisodeResult, WorkerJob
+from workers.contract import DragPayload, DragSpec, JobResult, WorkerJob
 from workers.kinds._protocol import WorkerHost
 
 
@@ -20,7 +20,7 @@ class DragKind:
 
     needs_browser = True
 
-    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> EpisodeResult:
+    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
         from workers.kinds.drag._run import run_drag
 
         return await run_drag(host, spec, payload)

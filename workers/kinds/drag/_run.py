@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from pydantic import BaseModel
 
-from workers.contract import DragPayload, DragSpec, EpisodeResult, WorkerJob
+from workers.contract import DragPayload, DragSpec, JobResult, WorkerJob
 from workers.drag._runner import DragRunner
 from workers.kinds._protocol import WorkerHost
 
 
-async def run_drag(host: WorkerHost, spec: WorkerJob, task: BaseModel) -> EpisodeResult:
+async def run_drag(host: WorkerHost, spec: WorkerJob, task: BaseModel) -> JobResult:
     if not (isinstance(spec, DragSpec) and isinstance(task, DragPayload)):
-        return EpisodeResult.errored(spec, "internal_error", "a drag job needs a drag spec and a drag payload")
+        return JobResult.errored(spec, "internal_error", "a drag job needs a drag spec and a drag payload")
     if spec.model is not None:
         await host.load_litellm()
     runner = await host.browser()

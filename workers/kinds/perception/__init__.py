@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pydantic import BaseModel
 
-from workers.contract import EpisodeResult, PerceptionPayload, PerceptionSpec, WorkerJob
+from workers.contract import JobResult, PerceptionPayload, PerceptionSpec, WorkerJob
 from workers.kinds._protocol import WorkerHost
 
 
@@ -19,7 +19,7 @@ class PerceptionKind:
 
     needs_browser = False
 
-    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> EpisodeResult:
+    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
         from workers.kinds.perception._run import run_item
 
         return await run_item(host, spec, payload)

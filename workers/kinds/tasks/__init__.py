@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pydantic import BaseModel
 
-from workers.contract import EpisodeResult, EpisodeSpec, RegradeSpec, TaskPayload, WorkerJob
+from workers.contract import EpisodeSpec, JobResult, RegradeSpec, TaskPayload, WorkerJob
 from workers.kinds._protocol import WorkerHost
 
 
@@ -21,7 +21,7 @@ class TasksKind:
 
     needs_browser = True
 
-    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> EpisodeResult:
+    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
         from workers.kinds.tasks._run import run_task
 
         return await run_task(host, spec, payload)

@@ -5,28 +5,28 @@ from __future__ import annotations
 from pydantic import BaseModel
 
 from workers.agent_api import agent_code, build_agent
-from workers.contract import AgentUnavailableError, EpisodeResult, EpisodeSpec, RegradeSpec, TaskPayload, WorkerJob
+from workers.contract import AgentUnavailableError, EpisodeSpec, JobResult, RegradeSpec, TaskPayload, WorkerJob
 from workers.episode._regrade import regrade
 from workers.episode._synthetic import run_synthetic
 from workers.kinds._protocol import WorkerHost
 
 
-async def run_task(host: WorkerHost, spec: WorkerJob, task: BaseModel) -> EpisodeResult:
+async def run_task(host: WorkerHost, spec: WorkerJob, task: BaseModel) -> JobResult:
     if isinstance(spec, RegradeSpec):
         if not isinstance(task, TaskPayload):
-            return EpisodeResult.errored(spec, "internal_error", "a regrade needs an episode task's payload")
+            return JobResult.errored(spec, "internal_error", "a regrade needs an episode task's payload")
         runner = await host.browser()
         return await host.in_browser(spec, runner.session, regrade(runner.evaluator, spec, task))
     if not (isinstance(spec, EpisodeSpec) and isinstance(task, TaskPayload)):
-        return EpisodeResult.errored(spec, "internal_error", "an episode needs an episode spec and a task payload")
+        return JobResult.errored(spec, "internal_error", "an episode needs an episode spec and a task payload")
     if host.synthetic is not None and host.synthetic.covers(task.task_id):
         return await run_synthetic(spec, task, host.synthetic)
     try:
         agent = build_agent(spec.agent)
     except AgentUnavailableError as exc:
-        return EpisodeResult.errored(spec, "agent_error", str(exc))
+        return JobResult.errored(spec, "agent_error", str(exc))
     if getattr(agent, "needs_model", False) and spec.model is None:
-        return EpisodeResult.errored(spec, "agent_error", f"agent {spec.agent.name} needs a model; the job has none")
+        return JobResult.errored(spec, "agent_error", f"agent {spec.agent.name} needs a model; the job has none")
     code = agent_code(type(agent))
     if code != spec.agent_code:
         info = host.info_
@@ -34,7 +34,7 @@ async def run_task(host: WorkerHost, spec: WorkerJob, task: BaseModel) -> Episod
             f"{info.hostname} (node {info.node_id[:12]}) has agent {spec.agent.name} "
             f"with code {code}, the job was planned for {spec.agent_code}: install the same version here"
         )
-        return EpisodeResult.errored(spec, "harness_mismatch", message)
+        return JobResult.errored(spec, "harness_mismatch", message)
     if spec.model is not None:  # once per worker, before the episode: its first step would wait for the import
         await host.load_litellm()
     runner = await host.browser()

@@ -1,6 +1,6 @@
-"""The Ray actor behind every worker: one browser, several concurrent episodes, one page each.
+"""The Ray actor behind every worker: one browser, several concurrent jobs of any kind, one page each.
 
-Whatever happens inside an episode comes back as an ``EpisodeResult`` (an error outcome at
+Whatever happens inside a job comes back as a ``JobResult`` (an error outcome at
 worst); only the death of the process itself is left to Ray and the driver. The browser is
 started on first use and started again if it dies, so a restarted actor heals itself. The jobs in
 a browser that dies end within seconds as editor failures, even those waiting on their model. An
@@ -33,7 +33,7 @@ from pydantic import BaseModel
 from workers.contract import (
     MIB,
     EditorError,
-    EpisodeResult,
+    JobResult,
     Refusal,
     SyntheticEpisodes,
     WorkerInfo,
@@ -51,7 +51,7 @@ MEMORY_POLL_S = 0.5
 """How often a worker short of memory looks again."""
 
 
-class EpisodeWorker:
+class JobWorker:
     """Runs episodes for the driver; construct through ``ray.remote`` (see ``WorkerPool``)."""
 
     def __init__(
@@ -117,7 +117,7 @@ class EpisodeWorker:
         self,
         spec: WorkerJob,
         task: BaseModel,
-    ) -> EpisodeResult | Refusal:
+    ) -> JobResult | Refusal:
         # The node's free memory alone decides (one read of /proc/meminfo); the browsers' PSS, which
         # means reading every process's smaps, only when the driver is told why the job was declined.
         if self.memory_reserve_bytes and node_memory().available_bytes < self.memory_reserve_bytes:
@@ -131,33 +131,33 @@ class EpisodeWorker:
         try:
             result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
         except TimeoutError:
-            result = EpisodeResult.errored(spec, "episode_timeout", f"episode exceeded {spec.timeout_s:g} s")
+            result = JobResult.errored(spec, "episode_timeout", f"episode exceeded {spec.timeout_s:g} s")
         except (EditorError, PlaywrightError) as exc:  # the browser could not be started
-            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
+            result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         except Exception as exc:  # the worker must answer, whatever broke: the driver records it
             detail = "".join(traceback.format_exception_only(exc)).strip()
-            result = EpisodeResult.errored(spec, "internal_error", detail)
+            result = JobResult.errored(spec, "internal_error", detail)
         update: dict[str, object] = {"worker": self.info_, "load": await self.load()}
         if not result.started_at:  # an episode cut short never stamped itself
             timings = result.timings.model_copy(update={"total_s": time.perf_counter() - clock})
             update.update(started_at=started, finished_at=time.time(), timings=timings)
         return result.model_copy(update=update)
 
-    async def _run(self, spec: WorkerJob, task: BaseModel) -> EpisodeResult:
+    async def _run(self, spec: WorkerJob, task: BaseModel) -> JobResult:
         if self._kinds is None:
             self._kinds = worker_kinds()
         kind = kind_of(spec, self._kinds)
         if kind is None:
             known = ", ".join(sorted(self._kinds))
             message = f"no job kind runs {type(spec).__name__} on this worker (registered kinds: {known})"
-            return EpisodeResult.errored(spec, "internal_error", message)
+            return JobResult.errored(spec, "internal_error", message)
         harness = self.kind_harness(kind.name)
         if spec.harness is not None and spec.harness != harness:
             message = (
                 f"{self.info_.hostname} (node {self.info_.node_id[:12]}) runs harness {harness}, "
                 f"the job was planned for {spec.harness}: update this node's checkout"
             )
-            return EpisodeResult.errored(spec, "harness_mismatch", message)
+            return JobResult.errored(spec, "harness_mismatch", message)
         return await kind.run(self, spec, task)
 
     def kind_harness(self, kind: str) -> str:
@@ -170,15 +170,13 @@ class EpisodeWorker:
         """LiteLLM imported once per process, before a job's first model call would wait for it."""
         await import_litellm()
 
-    async def in_browser(
-        self, spec: WorkerJob, session: BrowserSession, work: Awaitable[EpisodeResult]
-    ) -> EpisodeResult:
+    async def in_browser(self, spec: WorkerJob, session: BrowserSession, work: Awaitable[JobResult]) -> JobResult:
         """``work``'s result, cut short if ``session``'s browser dies; after an editor failure the browser is
         closed if it no longer answers."""
         try:
             result = await session.while_connected(work)
         except (EditorError, PlaywrightError) as exc:
-            result = EpisodeResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
+            result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
         if result.error_class == "editor_failure":
             await self._drop_if_broken(session)
         return result
