@@ -75,14 +75,14 @@ async def test_a_model_answering_in_pixels_makes_the_connection(
     server.push(reply(call(regions.fixed_start, regions.end.deepest())))
     result = await runner.run(spec(server), CONTENT.payload)
     assert (result.outcome, result.error_class) == ("passed", None)
-    drag = result.drag
+    drag = result.detail
     assert drag is not None
     assert (drag.parse, drag.start_in_region, drag.end_in_region, drag.start_error_px) == ("ok", True, True, 0.0)
     assert result.steps[0].llm_calls == 1 and result.steps[0].reply is not None
     assert drag.annotated_sha256 in result.images
     body = server.requests[0].body
     assert "pixels" in str(body["messages"][0]["content"]).lower()
-    recorded = json.dumps([step.model_dump(mode="json") for step in result.steps]) + result.drag.model_dump_json()
+    recorded = json.dumps([step.model_dump(mode="json") for step in result.steps]) + result.detail.model_dump_json()
     assert SECRET not in recorded
 
 
@@ -95,7 +95,7 @@ async def test_a_qwen_model_answers_in_thousandths(
     server.push(reply(call(thousandths(regions.fixed_start), thousandths(regions.end.deepest()))))
     result = await runner.run(spec(server, model="openai/qwen2.5-vl-72b-instruct"), CONTENT.payload)
     assert result.outcome == "passed"
-    assert result.drag is not None and result.drag.start_error_px == 0.0
+    assert result.detail is not None and result.detail.start_error_px == 0.0
 
 
 async def test_gt_start_marks_and_states_the_start_in_the_model_convention(
@@ -106,7 +106,7 @@ async def test_gt_start_marks_and_states_the_start_in_the_model_convention(
     server.push(reply(call(regions.fixed_start, missed)))
     result = await runner.run(spec(server, setting="gt_start"), CONTENT.payload)
     assert result.outcome == "failed"
-    drag = result.drag
+    drag = result.detail
     assert drag is not None and drag.gt_start == regions.fixed_start
     assert (drag.start_in_region, drag.end_in_region) == (True, False)
     assert drag.end_error_px is not None and drag.end_error_px > 100
@@ -127,7 +127,7 @@ async def test_an_unparsable_reply_is_a_failure_by_class_and_nothing_is_dragged(
     server.push(reply("I cannot see the block you mean."))
     result = await runner.run(spec(server), CONTENT.payload)
     assert (result.outcome, result.error_class) == ("failed", None)
-    assert result.drag is not None and (result.drag.parse, result.drag.start, result.drag.connected) == (
+    assert result.detail is not None and (result.detail.parse, result.detail.start, result.detail.connected) == (
         "unparsed",
         None,
         False,
@@ -140,7 +140,7 @@ async def test_a_model_that_keeps_failing_is_an_error_not_a_failure(runner: Drag
     result = await runner.run(spec(server), CONTENT.payload)
     assert (result.outcome, result.error_class) == ("error", "model_provider_error")
     assert server.count == FAST.max_attempts
-    assert result.evaluation is None and result.drag is None
+    assert result.evaluation is None and result.detail is None
 
 
 async def test_the_oracle_passes_every_setting(runner: DragRunner) -> None:

@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.drag._task import DragTask
-from workers.contract import AgentRef, DragPayload, DragRegions, DragSpec, JobResult
+from workers.contract import AgentRef, DragAttempt, DragPayload, DragRegions, DragSpec, JobResult
 from workers.drag._runner import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
 
@@ -54,7 +54,7 @@ async def oracle_drag(runner: DragRunner, payload: DragPayload) -> JobResult:
 
 
 def check_of(task: DragTask, result: JobResult) -> DragTaskCheck:
-    drag = result.drag
+    drag = result.detail if isinstance(result.detail, DragAttempt) else None
     detail = result.error_message or (drag.observed if drag is not None else result.stop_reason)
     return DragTaskCheck(
         task_id=task.id,

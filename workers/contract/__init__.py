@@ -18,6 +18,7 @@ from workers.contract._actions import (
     composite_action,
     primitive_action,
 )
+from workers.contract._detail import JobDetail
 from workers.contract._drag import (
     CONNECTIONS_OF,
     DRAG_SETTINGS,
@@ -218,6 +219,7 @@ __all__ = [
     "FrameTimingCalibration",
     "HarnessFingerprint",
     "InvalidReply",
+    "JobDetail",
     "JobResult",
     "LLMSettings",
     "LatenessModel",

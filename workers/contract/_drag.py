@@ -14,6 +14,8 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from workers.contract._detail import JobDetail
+
 DragType = Literal["T1", "T2"]
 """T1: stacking (``parent``, ``next``); T2: nesting (``substack_1``, ``substack_2``, ``input``)."""
 
@@ -246,10 +248,10 @@ DragParse = Literal["ok", "no_answer", "unparsed", "bad_index", "out_of_screen"]
 index the list does not have, or a point off the screenshot."""
 
 
-class DragAttempt(BaseModel):
+class DragAttempt(JobDetail):
     """What one drag job did, in page px; the distances are to the task's exact regions."""
 
-    model_config = ConfigDict(frozen=True)
+    kind: Literal["drag"] = "drag"
 
     setting: DragSetting
     parse: DragParse

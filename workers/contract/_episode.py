@@ -9,10 +9,11 @@ from __future__ import annotations
 import re
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, JsonValue, SerializeAsAny, field_validator, model_validator
 
 from workers.contract._actions import CompositeAction
-from workers.contract._drag import DragAttempt, DragSetting
+from workers.contract._detail import JobDetail
+from workers.contract._drag import DragSetting
 from workers.contract._errors import ModelErrorClass
 from workers.contract._eval_result import EvalResult
 from workers.contract._evaluation_spec import EvaluationSpec
@@ -20,7 +21,6 @@ from workers.contract._memory import MemoryItem, MemorySnapshot
 from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
 from workers.contract._observation_settings import ObservationSettings
 from workers.contract._observations import StepObservation
-from workers.contract._perception import PerceptionAttempt
 from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import ProjectLimits
 
@@ -348,11 +348,9 @@ class JobResult(BaseModel):
     memory_items: list[MemoryItem] = Field(default_factory=list)
     """What a learning agent proposed to learn from this episode, each with its own judgement."""
 
-    drag: DragAttempt | None = None
-    """A drag job's points and their distances to the feasible regions (None for episodes)."""
-
-    perception: PerceptionAttempt | None = None
-    """A perception job's answer and its scores (None for episodes)."""
+    detail: SerializeAsAny[JobDetail] | None = None
+    """What only the job's kind has (a drag's points and distances, a perception answer's scores; None for
+    episodes)."""
 
     worker: WorkerInfo | None = None
     load: WorkerLoad | None = None

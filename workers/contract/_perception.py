@@ -12,6 +12,8 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from workers.contract._detail import JobDetail
+
 PerceptionKind = Literal["connection", "existence", "field"]
 """``connection``: is block A attached to block B, or in that slot; ``existence``: is a block of this kind
 visible; ``field``: what a block's field shows (or whether it shows a given value)."""
@@ -87,10 +89,10 @@ class PerceptionScore(BaseModel):
     parse: AnswerParse
 
 
-class PerceptionAttempt(BaseModel):
+class PerceptionAttempt(JobDetail):
     """What one perception job answered and how it scored."""
 
-    model_config = ConfigDict(frozen=True)
+    kind: Literal["perception"] = "perception"
 
     reply: str
     """The answer as given: the model's raw reply, or a scripted agent's answer."""

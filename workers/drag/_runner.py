@@ -112,7 +112,7 @@ class DragRunner:
             evaluation=evaluation,
             steps=[step],
             images={**models.images, digest: annotated},
-            drag=attempt.model_copy(update={"annotated_sha256": digest}),
+            detail=attempt.model_copy(update={"annotated_sha256": digest}),
         )
         return _finish(result, started, clock, timings)
 

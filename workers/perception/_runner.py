@@ -91,7 +91,7 @@ async def run_perception(spec: PerceptionSpec, payload: PerceptionPayload) -> Jo
         stop_reason="done",
         evaluation=evaluation,
         steps=[step],
-        perception=PerceptionAttempt(reply=reply, expected=payload.answer, score=score, screenshot_sha256=screenshot),
+        detail=PerceptionAttempt(reply=reply, expected=payload.answer, score=score, screenshot_sha256=screenshot),
     )
     return _finish(_shared_image_dropped(result, models, screenshot), started, clock, timings)
 

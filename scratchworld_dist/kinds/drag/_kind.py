@@ -20,7 +20,7 @@ from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
 from scratchworld_dist.sweep._selection import present_suites, wanted_ids
 from workers.agent_api import agent_class, checked_agent
-from workers.contract import AgentRef, DragSpec, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
+from workers.contract import AgentRef, DragAttempt, DragSpec, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
@@ -110,11 +110,12 @@ class DragKind:
         )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
-        if result.drag is None:
+        drag = result.detail
+        if not isinstance(drag, DragAttempt):
             return {"drags": []}
         annotated = None
-        if result.drag.annotated_sha256 is not None:
-            annotated = f"{artifact_dir or ''}/images/{result.drag.annotated_sha256}.png".lstrip("/")
+        if drag.annotated_sha256 is not None:
+            annotated = f"{artifact_dir or ''}/images/{drag.annotated_sha256}.png".lstrip("/")
         return {"drags": [drag_row(job, result, annotated)]}
 
     def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:

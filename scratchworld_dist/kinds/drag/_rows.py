@@ -5,12 +5,12 @@ from __future__ import annotations
 from scratchworld_dist.kinds.drag._plan import DragBody
 from scratchworld_dist.results import DragRow
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import JobResult
+from workers.contract import DragAttempt, JobResult
 
 
 def drag_row(job: JobSpec, result: JobResult, annotated: str | None) -> DragRow:
-    drag, body = result.drag, job.body
-    if drag is None or not isinstance(body, DragBody):
+    drag, body = result.detail, job.body
+    if not isinstance(drag, DragAttempt) or not isinstance(body, DragBody):
         raise ValueError(f"job {job.job_id} is not a drag job")
     start, end, regions, marked = drag.start, drag.end, drag.regions, drag.gt_start
     return DragRow(

@@ -18,7 +18,15 @@ from scratchworld_dist.kinds.perception._rows import perception_row
 from scratchworld_dist.results import RunStore, SuiteInfo, shared_image_path
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
 from workers.agent_api import agent_class, checked_agent
-from workers.contract import AgentRef, HarnessFingerprint, JobResult, ModelSpec, PerceptionSpec, WorkerJob
+from workers.contract import (
+    AgentRef,
+    HarnessFingerprint,
+    JobResult,
+    ModelSpec,
+    PerceptionAttempt,
+    PerceptionSpec,
+    WorkerJob,
+)
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
@@ -84,7 +92,7 @@ class PerceptionJobKind:
         )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
-        return {"perception": [] if result.perception is None else [perception_row(job, result)]}
+        return {"perception": [perception_row(job, result)] if isinstance(result.detail, PerceptionAttempt) else []}
 
     def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:
         """Each item's screenshot, stored once in the run directory for all the jobs that show it."""

@@ -5,12 +5,12 @@ from __future__ import annotations
 from scratchworld_dist.kinds.perception._plan import PerceptionBody
 from scratchworld_dist.results import PerceptionRow, shared_image_path
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import JobResult
+from workers.contract import JobResult, PerceptionAttempt
 
 
 def perception_row(job: JobSpec, result: JobResult) -> PerceptionRow:
-    attempt, body = result.perception, job.body
-    if attempt is None or not isinstance(body, PerceptionBody):
+    attempt, body = result.detail, job.body
+    if not isinstance(attempt, PerceptionAttempt) or not isinstance(body, PerceptionBody):
         raise ValueError(f"job {job.job_id} is not a perception job")
     score = attempt.score
     return PerceptionRow(
