@@ -121,6 +121,22 @@ class JobSpec(BaseModel):
         """What the worker is sent for ``attempt``, as the job's kind builds it."""
         return job_kind(self.benchmark).worker_job(self, attempt, timeout_s)
 
+    def worker_header(self, attempt: int, timeout_s: float) -> dict[str, Any]:
+        """The fields every kind's worker job takes from the header, for ``attempt`` within ``timeout_s``."""
+        return {
+            "job_id": self.job_id,
+            "attempt": attempt,
+            "task_id": self.task_id,
+            "agent": self.agent,
+            "agent_code": self.agent_code,
+            "model": self.model,
+            "seed": self.seed,
+            "timeout_s": timeout_s,
+            "llm": self.llm,
+            "harness": self.harness,
+            "model_cache": self.model_cache,
+        }
+
 
 def read_project(path: Path, limits: ProjectLimits) -> bytes:
     """A task's project, read only if its size is within the limits and checked to be a project."""

@@ -93,20 +93,10 @@ class DragKind:
         if not isinstance(body, DragBody):
             raise ValueError(f"job {job.job_id} is not a drag job")
         return DragSpec(
-            job_id=job.job_id,
-            attempt=attempt,
-            task_id=job.task_id,
+            **job.worker_header(attempt, timeout_s),
             setting=body.setting,
-            agent=job.agent,
-            agent_code=job.agent_code,
-            model=job.model,
-            seed=job.seed,
-            timeout_s=timeout_s,
             element_list=body.element_list,
             observation=body.observation,
-            llm=job.llm,
-            harness=job.harness,
-            model_cache=job.model_cache,
         )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:

@@ -78,17 +78,7 @@ class PerceptionJobKind:
 
     def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
         return PerceptionSpec(
-            job_id=job.job_id,
-            attempt=attempt,
-            task_id=job.task_id,
-            agent=job.agent,
-            agent_code=job.agent_code,
-            model=job.model,
-            seed=job.seed,
-            timeout_s=timeout_s,
-            llm=job.llm,
-            harness=job.harness,
-            model_cache=job.model_cache,
+            **job.worker_header(attempt, timeout_s),
         )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:

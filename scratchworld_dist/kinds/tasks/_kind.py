@@ -117,23 +117,13 @@ class TasksKind:
         if not isinstance(body, EpisodeBody):
             raise ValueError(f"job {job.job_id} is not an episode")
         return EpisodeSpec(
-            job_id=job.job_id,
-            attempt=attempt,
-            task_id=job.task_id,
+            **job.worker_header(attempt, timeout_s),
             mode=body.mode,
-            agent=job.agent,
-            agent_code=job.agent_code,
-            model=job.model,
-            seed=job.seed,
             max_steps=body.max_steps,
             observation=body.observation,
-            llm=job.llm,
-            timeout_s=timeout_s,
             project_limits=body.project_limits,
-            harness=job.harness,
             memory=job.memory_snapshot,
             episode_clock=body.episode_clock,
-            model_cache=job.model_cache,
         )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
