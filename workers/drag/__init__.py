@@ -1,10 +1,30 @@
 """The single-step drag benchmark inside a worker: set up the view, compute the exact regions, ask, drag, verify.
 
-Only the agents' names and parameters are exported here (``checked_drag_agent``, ``needs_model``): the driver
-validates configs with them without loading the browser stack. The agents (``workers.drag._agents``) and the
-runner (``workers.drag._runner``) are imported where they run.
+The agents' names and parameters (``checked_drag_agent``, ``needs_model``) are imported with the package: the
+driver validates configs with them without loading the browser stack. The runner and the page's steps
+(``DragRunner``, ``show``, ``view_held``, ``SETTLE_MS``) need that stack, so they are imported on first use.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from workers import lazy_exports
 from workers.drag._refs import DRAG_AGENTS, JitterParams, checked_drag_agent, needs_model
 
-__all__ = ["DRAG_AGENTS", "JitterParams", "checked_drag_agent", "needs_model"]
+if TYPE_CHECKING:
+    from workers.drag._page import SETTLE_MS, show, view_held
+    from workers.drag._runner import DragRunner
+
+__getattr__ = lazy_exports(__name__, {"._page": ("SETTLE_MS", "show", "view_held"), "._runner": ("DragRunner",)})
+
+__all__ = [
+    "DRAG_AGENTS",
+    "SETTLE_MS",
+    "DragRunner",
+    "JitterParams",
+    "checked_drag_agent",
+    "needs_model",
+    "show",
+    "view_held",
+]

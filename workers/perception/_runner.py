@@ -12,7 +12,7 @@ from __future__ import annotations
 import hashlib
 import time
 
-from workers.agents._model_calls import EpisodeModels
+from workers.agents import EpisodeModels
 from workers.contract import (
     AgentUnavailableError,
     EpisodeResult,
