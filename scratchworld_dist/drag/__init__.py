@@ -1,4 +1,8 @@
-"""The single-step drag benchmark's tasks: upstream's 60 and our own format, behind one loader."""
+"""The single-step drag benchmark's tasks: upstream's 60 and our own format, behind one loader; and making and
+validating a suite in a real editor (``make_drag_suite``, ``validate_drag_tasks``), which need the browser stack
+and so are imported on first use."""
+
+from typing import TYPE_CHECKING
 
 from scratchworld_dist.drag._detect import DRAG_LOADERS, DragSuiteLoader, load_drag_suite
 from scratchworld_dist.drag._layout import PALETTE_CATEGORIES, UPSTREAM_VIEWPORT
@@ -6,6 +10,7 @@ from scratchworld_dist.drag._native import NativeDragLoader, write_drag_suite
 from scratchworld_dist.drag._suite import DragProblem, DragSuite, ProblemEffect
 from scratchworld_dist.drag._task import DragTask, UpstreamAction, UpstreamDragReference
 from scratchworld_dist.drag._upstream import UpstreamDragLoader
+from workers import lazy_exports
 from workers.contract import (
     CONNECTIONS_OF,
     CanvasSource,
@@ -16,6 +21,15 @@ from workers.contract import (
     ExpectedConnection,
     FlyoutSource,
     PaletteCategory,
+)
+
+if TYPE_CHECKING:
+    from scratchworld_dist.drag._make import MadeSuite, make_drag_suite
+    from scratchworld_dist.drag._validate import DragTaskCheck, validate_drag_tasks
+
+__getattr__ = lazy_exports(
+    __name__,
+    {"._make": ("MadeSuite", "make_drag_suite"), "._validate": ("DragTaskCheck", "validate_drag_tasks")},
 )
 
 __all__ = [
@@ -30,10 +44,12 @@ __all__ = [
     "DragSuite",
     "DragSuiteLoader",
     "DragTask",
+    "DragTaskCheck",
     "DragType",
     "DragView",
     "ExpectedConnection",
     "FlyoutSource",
+    "MadeSuite",
     "NativeDragLoader",
     "PaletteCategory",
     "ProblemEffect",
@@ -41,5 +57,7 @@ __all__ = [
     "UpstreamDragLoader",
     "UpstreamDragReference",
     "load_drag_suite",
+    "make_drag_suite",
+    "validate_drag_tasks",
     "write_drag_suite",
 ]
