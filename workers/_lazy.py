@@ -2,9 +2,10 @@
 a web server) are reached by their package's name, while importing the package stays light
 (tests/test_import_weight.py).
 
-A package lists them once, as ``{module: names}``, and sets ``__getattr__ = lazy_exports(__name__, ...)``;
+A package lists them once, as ``{module: names}``, and sets ``__getattr__ = workers.lazy_exports(__name__, ...)``;
 ``from package import name`` then imports the module on first use (PEP 562). It also imports them under
-``TYPE_CHECKING``, so that readers and editors see where each name comes from. Both sides use it: it is here,
+``typing.TYPE_CHECKING``, so that readers and editors see where each name comes from (both through module
+names, so that neither is taken for a public name of the package). Both sides use it: it is here,
 in the package the driver already imports, rather than copied into each.
 """
 

@@ -2,15 +2,15 @@
 validating a suite in a real editor (``make_drag_suite``, ``validate_drag_tasks``), which need the browser stack
 and so are imported on first use."""
 
-from typing import TYPE_CHECKING
+import typing
 
+import workers
 from scratchworld_dist.drag._detect import DRAG_LOADERS, DragSuiteLoader, load_drag_suite
 from scratchworld_dist.drag._layout import PALETTE_CATEGORIES, UPSTREAM_VIEWPORT
 from scratchworld_dist.drag._native import NativeDragLoader, write_drag_suite
 from scratchworld_dist.drag._suite import DragProblem, DragSuite, ProblemEffect
 from scratchworld_dist.drag._task import DragTask, UpstreamAction, UpstreamDragReference
 from scratchworld_dist.drag._upstream import UpstreamDragLoader
-from workers import lazy_exports
 from workers.contract import (
     CONNECTIONS_OF,
     CanvasSource,
@@ -23,11 +23,11 @@ from workers.contract import (
     PaletteCategory,
 )
 
-if TYPE_CHECKING:
+if typing.TYPE_CHECKING:
     from scratchworld_dist.drag._make import MadeSuite, make_drag_suite
     from scratchworld_dist.drag._validate import DragTaskCheck, validate_drag_tasks
 
-__getattr__ = lazy_exports(
+__getattr__ = workers.lazy_exports(
     __name__,
     {"._make": ("MadeSuite", "make_drag_suite"), "._validate": ("DragTaskCheck", "validate_drag_tasks")},
 )

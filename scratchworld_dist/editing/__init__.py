@@ -5,8 +5,9 @@ Detaching blocks from a script (``detach``, ``cut_link``), naming blocks as the 
 framing needs the browser stack, so it is imported on first use: importing this package stays light.
 """
 
-from typing import TYPE_CHECKING
+import typing
 
+import workers
 from scratchworld_dist.editing._detach import (
     COMPACT_REPORTERS,
     FAR,
@@ -28,12 +29,11 @@ from scratchworld_dist.editing._labels import (
     template_parts,
     templated_opcodes,
 )
-from workers import lazy_exports
 
-if TYPE_CHECKING:
+if typing.TYPE_CHECKING:
     from scratchworld_dist.editing._frame import DEFAULT_SCALE, PaletteBlock, frame_view
 
-__getattr__ = lazy_exports(__name__, {"._frame": ("DEFAULT_SCALE", "PaletteBlock", "frame_view")})
+__getattr__ = workers.lazy_exports(__name__, {"._frame": ("DEFAULT_SCALE", "PaletteBlock", "frame_view")})
 
 __all__ = [
     "COMPACT_REPORTERS",

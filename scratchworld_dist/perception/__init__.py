@@ -2,8 +2,9 @@
 and validating a suite in a real editor (``make_perception_suite``, ``validate_perception_suite``), which need
 the browser stack and so are imported on first use."""
 
-from typing import TYPE_CHECKING
+import typing
 
+import workers
 from scratchworld_dist.perception._detect import PERCEPTION_LOADERS, load_perception_suite
 from scratchworld_dist.perception._item import (
     BlockReference,
@@ -19,13 +20,12 @@ from scratchworld_dist.perception._item import (
 from scratchworld_dist.perception._native import NativePerceptionLoader, read_screenshot, write_perception_suite
 from scratchworld_dist.perception._suite import PerceptionProblem, PerceptionSuite, PerceptionSuiteKind
 from scratchworld_dist.perception._upstream import UpstreamPerceptionLoader
-from workers import lazy_exports
 
-if TYPE_CHECKING:
+if typing.TYPE_CHECKING:
     from scratchworld_dist.perception._make import make_perception_suite
     from scratchworld_dist.perception._validate import ViewCheck, refuse_upstream, validate_perception_suite
 
-__getattr__ = lazy_exports(
+__getattr__ = workers.lazy_exports(
     __name__,
     {
         "._make": ("make_perception_suite",),

@@ -2,15 +2,15 @@
 
 The server (``serve``, aiohttp) is imported on first use: reading the site needs no web server."""
 
-from typing import TYPE_CHECKING
+import typing
 
+import workers
 from scratchworld_dist.viewer._export import ExportSummary, export_site
 from scratchworld_dist.viewer._site import Resource, ViewerSite
-from workers import lazy_exports
 
-if TYPE_CHECKING:
+if typing.TYPE_CHECKING:
     from scratchworld_dist.viewer._server import serve
 
-__getattr__ = lazy_exports(__name__, {"._server": ("serve",)})
+__getattr__ = workers.lazy_exports(__name__, {"._server": ("serve",)})
 
 __all__ = ["ExportSummary", "Resource", "ViewerSite", "export_site", "serve"]

@@ -5,18 +5,18 @@ driver validates configs with them without loading the browser stack. The runner
 (``DragRunner``, ``show``, ``view_held``, ``SETTLE_MS``) need that stack, so they are imported on first use.
 """
 
-from __future__ import annotations
+import typing
 
-from typing import TYPE_CHECKING
-
-from workers import lazy_exports
+import workers
 from workers.drag._refs import DRAG_AGENTS, JitterParams, checked_drag_agent, needs_model
 
-if TYPE_CHECKING:
+if typing.TYPE_CHECKING:
     from workers.drag._page import SETTLE_MS, show, view_held
     from workers.drag._runner import DragRunner
 
-__getattr__ = lazy_exports(__name__, {"._page": ("SETTLE_MS", "show", "view_held"), "._runner": ("DragRunner",)})
+__getattr__ = workers.lazy_exports(
+    __name__, {"._page": ("SETTLE_MS", "show", "view_held"), "._runner": ("DragRunner",)}
+)
 
 __all__ = [
     "DRAG_AGENTS",

@@ -5,17 +5,17 @@ the reports' comparisons score canned replies with them); the runner (``run_perc
 stack, so it is imported on first use.
 """
 
-from typing import TYPE_CHECKING
+import typing
 
-from workers import lazy_exports
+import workers
 from workers.perception._prompts import perception_messages
 from workers.perception._refs import PERCEPTION_AGENTS, checked_perception_agent, needs_model
 from workers.perception._scoring import score_reply, strict_correct
 
-if TYPE_CHECKING:
+if typing.TYPE_CHECKING:
     from workers.perception._runner import run_perception
 
-__getattr__ = lazy_exports(__name__, {"._runner": ("run_perception",)})
+__getattr__ = workers.lazy_exports(__name__, {"._runner": ("run_perception",)})
 
 __all__ = [
     "PERCEPTION_AGENTS",
