@@ -8,4 +8,10 @@
 - ``agents``, ``llm``, ``ocr``: who acts, how models are called, how text is read off the screen;
 - ``episode``: an agent in an environment, then the evaluation, and the Ray actor that runs them;
 - ``node``: this machine's installation, harness fingerprint and self-description.
+
+``lazy_exports`` lets a package (here or on the driver) export its browser-stack names without importing them.
 """
+
+from workers._lazy import lazy_exports
+
+__all__ = ["lazy_exports"]

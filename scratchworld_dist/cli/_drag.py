@@ -31,7 +31,7 @@ def make_command(projects: tuple[Path, ...], out: Path, name: str | None, per_pr
     Each candidate is framed in a real editor and kept only if the oracle passes it there; what is
     left out is listed with its reason.
     """
-    from scratchworld_dist.drag._make import make_drag_suite  # the browser stack, for this command only
+    from scratchworld_dist.drag import make_drag_suite  # the browser stack, for this command only
 
     made = asyncio.run(
         make_drag_suite(
@@ -62,8 +62,7 @@ def validate_command(suite_dir: Path, task_ids: str | None, parallel: int, json_
     """
     from rich.console import Console  # the browser stack and rich: for this command only
 
-    from scratchworld_dist.drag import load_drag_suite
-    from scratchworld_dist.drag._validate import DragTaskCheck, validate_drag_tasks
+    from scratchworld_dist.drag import DragTaskCheck, load_drag_suite, validate_drag_tasks
 
     suite = load_drag_suite(suite_dir)
     wanted = comma_list(task_ids)

@@ -36,7 +36,7 @@ def make_command(
     question a view settles beyond doubt is a candidate; a balanced set (YES as often as NO in each
     kind) is written with the screenshots and saved projects.
     """
-    from scratchworld_dist.perception._make import make_perception_suite  # the browser stack, for this command only
+    from scratchworld_dist.perception import make_perception_suite  # the browser stack, for this command only
 
     def shown(view: PerceptionView, count: int) -> None:
         click.echo(f"  {view.id}: {count} candidate(s)", err=True)
@@ -75,8 +75,12 @@ def validate_command(suite_dir: Path, view_ids: str | None, parallel: int) -> No
     """
     from rich.console import Console  # the browser stack and rich: for this command only
 
-    from scratchworld_dist.perception import load_perception_suite
-    from scratchworld_dist.perception._validate import ViewCheck, refuse_upstream, validate_perception_suite
+    from scratchworld_dist.perception import (
+        ViewCheck,
+        load_perception_suite,
+        refuse_upstream,
+        validate_perception_suite,
+    )
 
     suite = load_perception_suite(suite_dir)
     refuse_upstream(suite)

@@ -33,7 +33,7 @@ def view_command(run_dirs: tuple[Path, ...], port: int, export_dir: Path | None)
             f"to {summary.out}; open {(summary.out / 'index.html').resolve().as_uri()}"
         )
         return
-    from scratchworld_dist.viewer._server import serve
+    from scratchworld_dist.viewer import serve
 
     def ready(url: str) -> None:
         click.echo(f"scratchworld viewer on {url} (Ctrl-C to stop)")

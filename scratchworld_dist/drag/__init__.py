@@ -1,5 +1,10 @@
-"""The single-step drag benchmark's tasks: upstream's 60 and our own format, behind one loader."""
+"""The single-step drag benchmark's tasks: upstream's 60 and our own format, behind one loader; and making and
+validating a suite in a real editor (``make_drag_suite``, ``validate_drag_tasks``), which need the browser stack
+and so are imported on first use."""
 
+import typing
+
+import workers
 from scratchworld_dist.drag._detect import DRAG_LOADERS, DragSuiteLoader, load_drag_suite
 from scratchworld_dist.drag._layout import PALETTE_CATEGORIES, UPSTREAM_VIEWPORT
 from scratchworld_dist.drag._native import NativeDragLoader, write_drag_suite
@@ -18,6 +23,15 @@ from workers.contract import (
     PaletteCategory,
 )
 
+if typing.TYPE_CHECKING:
+    from scratchworld_dist.drag._make import MadeSuite, make_drag_suite
+    from scratchworld_dist.drag._validate import DragTaskCheck, validate_drag_tasks
+
+__getattr__ = workers.lazy_exports(
+    __name__,
+    {"._make": ("MadeSuite", "make_drag_suite"), "._validate": ("DragTaskCheck", "validate_drag_tasks")},
+)
+
 __all__ = [
     "CONNECTIONS_OF",
     "DRAG_LOADERS",
@@ -30,10 +44,12 @@ __all__ = [
     "DragSuite",
     "DragSuiteLoader",
     "DragTask",
+    "DragTaskCheck",
     "DragType",
     "DragView",
     "ExpectedConnection",
     "FlyoutSource",
+    "MadeSuite",
     "NativeDragLoader",
     "PaletteCategory",
     "ProblemEffect",
@@ -41,5 +57,7 @@ __all__ = [
     "UpstreamDragLoader",
     "UpstreamDragReference",
     "load_drag_suite",
+    "make_drag_suite",
+    "validate_drag_tasks",
     "write_drag_suite",
 ]

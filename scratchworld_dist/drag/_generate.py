@@ -8,10 +8,8 @@ palette. Views (scroll, zoom) are chosen later, in a browser.
 
 from __future__ import annotations
 
-import copy
 import hashlib
 import json
-import math
 import random
 import re
 from collections import Counter, defaultdict
@@ -23,11 +21,20 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from scratchworld_dist._errors import ProjectFormatError, validation_summary
-from scratchworld_dist.drag._labels import block_label, instruction, palette_label, palette_offers
+from scratchworld_dist.drag._instruction import instruction
 from scratchworld_dist.drag._project import palette_category_of
 from scratchworld_dist.drag._task import DragTask
+from scratchworld_dist.editing import (
+    COMPACT_REPORTERS,
+    ScriptLink,
+    block_label,
+    cut_link,
+    palette_label,
+    palette_offers,
+    stack_tail,
+)
 from scratchworld_dist.sb3 import Sb3Archive, check_project
-from scratchworld_dist.suites._task import task_id_problem
+from scratchworld_dist.suites import task_id_problem
 from workers.contract import (
     CONNECTIONS_OF,
     CanvasSource,
@@ -40,15 +47,7 @@ from workers.contract import (
     PaletteCategory,
 )
 
-SHIFT_X = 380
-"""Workspace units between a script and the part cut from it (placed to its right)."""
-ROW_Y = 48
-"""Roughly one stack block's height in workspace units: places a cut part level with its reference."""
-FAR = 20000
-"""Cut parts are placed within +-FAR units, whatever coordinates a project holds."""
-
 _SUBSTACKS: dict[str, ConnectionKind] = {"SUBSTACK": "substack_1", "SUBSTACK2": "substack_2"}
-_COMPACT = {12: ("data_variable", "VARIABLE"), 13: ("data_listcontents", "LIST")}
 
 
 @dataclass(frozen=True)
@@ -116,21 +115,6 @@ class DragCandidate(BaseModel):
         return DragTask(**parts, initial_project=initial_project, view=view)
 
 
-@dataclass(frozen=True)
-class _Link:
-    """A connection found in a script: ``moved`` (with ``tail``) is what a cut takes off ``reference``."""
-
-    kind: ConnectionKind
-    reference: str
-    moved: str | None
-    """None for a compact reporter, which gets an id when cut."""
-    tail: str | None
-    top: str
-    row: int
-    input_name: str | None = None
-    compact: tuple[int, str, str] | None = None
-
-
 class _ScriptError(Exception):
     """A script that is not consistent enough to cut."""
 
@@ -187,10 +171,10 @@ def drag_candidates(sb3: bytes, *, project_name: str) -> tuple[list[DragCandidat
     return candidates, problems
 
 
-def _links(target: _Target, project_name: str, problems: list[GenerationProblem]) -> list[_Link]:
+def _links(target: _Target, project_name: str, problems: list[GenerationProblem]) -> list[ScriptLink]:
     blocks = target.blocks
     seen: set[str] = set()
-    links: list[_Link] = []
+    links: list[ScriptLink] = []
     for top, block in blocks.items():
         if not isinstance(block, dict) or not block.get("topLevel"):
             continue
@@ -201,7 +185,7 @@ def _links(target: _Target, project_name: str, problems: list[GenerationProblem]
     return links
 
 
-def _scan(blocks: Mapping[str, Any], top: str, seen: set[str]) -> list[_Link]:
+def _scan(blocks: Mapping[str, Any], top: str, seen: set[str]) -> list[ScriptLink]:
     """The connections of the script at ``top``, checking every parent pointer on the way."""
     found: list[tuple[Any, ...]] = []
     rows: dict[str, int] = {}
@@ -249,29 +233,31 @@ def _scan(blocks: Mapping[str, Any], top: str, seen: set[str]) -> list[_Link]:
         todo += [(child_id, bid) for child_id in reversed(children)]
     links = []
     for kind, reference, moved, tail, name, *compact in found:
-        tail = tail or (_stack_tail(blocks, moved) if moved else None)
-        links.append(_Link(kind, reference, moved, tail, top, rows[reference], name, compact[0] if compact else None))
+        tail = tail or (stack_tail(blocks, moved) if moved else None)
+        links.append(
+            ScriptLink(kind, reference, moved, tail, top, rows[reference], name, compact[0] if compact else None)
+        )
     return links
 
 
 def _compact(held: Any) -> bool:
     """Whether an input holds a variable or list reporter in the compact form ``[12, name, id]``."""
-    if not isinstance(held, list) or len(held) < 3 or held[0] not in _COMPACT:
+    if not isinstance(held, list) or len(held) < 3 or held[0] not in COMPACT_REPORTERS:
         return False
     return isinstance(held[1], str) and bool(held[1]) and isinstance(held[2], str)
 
 
 def _candidate(
-    project_name: str, project: Mapping[str, Any], archive: Sb3Archive, target: _Target, link: _Link, flyout: bool
+    project_name: str, project: Mapping[str, Any], archive: Sb3Archive, target: _Target, link: ScriptLink, flyout: bool
 ) -> DragCandidate:
     before = target.blocks
-    blocks, moved, comments = _cut(before, link, flyout, project["targets"][target.index].get("comments"))
+    blocks, moved, comments = cut_link(before, link, flyout, project["targets"][target.index].get("comments"))
     ref = link.reference
     raw = {**project["targets"][target.index], "blocks": blocks}
     if comments is not None:
         raw["comments"] = comments
     changed = {**project, "targets": [raw if i == target.index else t for i, t in enumerate(project["targets"])]}
-    opcode = before[link.moved]["opcode"] if link.moved else _COMPACT[link.compact[0]][0]  # type: ignore[index]
+    opcode = before[link.moved]["opcode"] if link.moved else COMPACT_REPORTERS[link.compact[0]][0]  # type: ignore[index]
     category = palette_category_of(opcode) if flyout else None
     source: DragSource = (
         FlyoutSource(opcode=opcode)
@@ -316,95 +302,6 @@ def _candidate(
         show_block_ids=tuple(dict.fromkeys([ref if link.kind == "parent" else link.top, *([] if flyout else [moved])])),
         ambiguous=ambiguous,
     )
-
-
-def _cut(
-    before: Mapping[str, Any], link: _Link, flyout: bool, comments: Any
-) -> tuple[dict[str, Any], str, dict[str, Any] | None]:
-    """The target's blocks with ``link`` cut (copying only the blocks that change), the moved part's
-    top id, and the comments if a deleted block had one."""
-    blocks = dict(before)
-    edited: set[str] = set()
-
-    def edit(block_id: str) -> dict[str, Any]:
-        if block_id not in edited:
-            blocks[block_id] = copy.deepcopy(before[block_id])
-            edited.add(block_id)
-        return blocks[block_id]
-
-    top = before[link.top]
-    away = (_at(top.get("x"), SHIFT_X), _at(top.get("y"), ROW_Y * link.row + 40))
-    reference = edit(link.reference)
-    if link.kind == "next":
-        reference["next"] = None
-    elif link.kind == "parent":
-        edit(link.tail or "")["next"] = None
-        reference.update(parent=None, topLevel=True, x=_at(top.get("x")), y=_at(top.get("y")))
-        away = (away[0], _at(top.get("y")))
-    else:
-        entry = reference["inputs"][link.input_name]
-        if link.kind == "input" and len(entry) > 2 and entry[2] is not None:
-            reference["inputs"][link.input_name] = [1, entry[2]]
-        else:
-            del reference["inputs"][link.input_name]
-    moved = link.moved
-    if moved is None:
-        code, name, variable_id = link.compact  # type: ignore[misc]
-        moved = next(i for n in range(len(blocks) + 1) if (i := f"{link.reference}-{n}-reporter") not in blocks)
-        opcode, field = _COMPACT[code]
-        blocks[moved] = {"opcode": opcode, "next": None, "parent": None, "inputs": {}, "shadow": False}
-        blocks[moved]["fields"] = {field: [name, variable_id]}
-        edited.add(moved)
-    if not flyout:
-        edit(moved).update(parent=None, topLevel=True, x=away[0], y=away[1])
-        return blocks, moved, None
-    gone = set(_subtree(before, moved))
-    for block_id in gone:
-        del blocks[block_id]
-    if isinstance(comments, dict) and any(isinstance(c, dict) and c.get("blockId") in gone for c in comments.values()):
-        comments = {k: {**c, "blockId": None} if c.get("blockId") in gone else c for k, c in comments.items()}
-        return blocks, moved, comments
-    return blocks, moved, None
-
-
-def detach(
-    blocks: Mapping[str, Any], *, reference: str, moved: str, input_name: str | None, at: tuple[float, float]
-) -> dict[str, Any]:
-    """``blocks`` with ``moved`` (and the blocks below it) cut off ``reference`` and left top-level at ``at``
-    (workspace units): from below it when ``input_name`` is None, else from that input (a shadow it covered
-    shows again). The cut is the one drag tasks make; blocks that do not change are shared, not copied."""
-    kind: ConnectionKind = "next" if input_name is None else "input"
-    link = _Link(kind, reference, moved, _stack_tail(blocks, moved), reference, 0, input_name)
-    cut, top, _ = _cut(blocks, link, False, None)
-    cut[top] = {**cut[top], "x": _at(at[0]), "y": _at(at[1])}
-    return cut
-
-
-def _subtree(blocks: Mapping[str, Any], block_id: str) -> list[str]:
-    """A block and what hangs in its inputs (for a palette-sized block: its shadows)."""
-    found, todo = [], [block_id]
-    while todo:
-        current = todo.pop()
-        block = blocks.get(current)
-        if current in found or not isinstance(block, dict):
-            continue
-        found.append(current)
-        for entry in block.get("inputs", {}).values():
-            todo += [ref for ref in entry[1:3] if isinstance(ref, str)]
-    return found
-
-
-def _stack_tail(blocks: Mapping[str, Any], block_id: str) -> str:
-    current = block_id
-    while isinstance(following := blocks[current].get("next"), str):
-        current = following
-    return current
-
-
-def _at(value: Any, shift: float = 0) -> int:
-    """A coordinate ``shift`` units past ``value`` (0 when it is no number), within +-FAR."""
-    ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
-    return max(-FAR, min(FAR, round((value if ok else 0) + shift)))
 
 
 _PRIORITY: tuple[tuple[ConnectionKind, str], ...] = (

@@ -24,8 +24,7 @@ from scratchworld_dist.drag._checks import OUR_FIELDS, block_problems, view_prob
 from scratchworld_dist.drag._project import read_project_index
 from scratchworld_dist.drag._suite import DragProblem, DragSuite, problems_from
 from scratchworld_dist.drag._task import DragTask
-from scratchworld_dist.suites._problems import SuiteProblems
-from scratchworld_dist.suites._task import task_id_problem
+from scratchworld_dist.suites import SuiteProblems, task_id_problem
 from workers.contract import ProjectLimits
 
 SUITE_FILE = "drag-suite.json"

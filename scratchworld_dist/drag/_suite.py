@@ -9,8 +9,7 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import TaskNotFoundError
 from scratchworld_dist.drag._task import DragTask
-from scratchworld_dist.suites import SuiteKind
-from scratchworld_dist.suites._problems import SuiteProblems
+from scratchworld_dist.suites import SuiteKind, SuiteProblems
 from workers.contract import DragType
 
 ProblemEffect = Literal["skipped", "no_view", "corrected"]

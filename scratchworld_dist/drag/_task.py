@@ -15,7 +15,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from scratchworld_dist.suites._task import task_id_problem
+from scratchworld_dist.suites import task_id_problem
 from workers.contract import (
     CONNECTIONS_OF,
     DragPayload,

@@ -23,8 +23,7 @@ from scratchworld_dist.drag._preactions import UpstreamWorkspaceState, view_from
 from scratchworld_dist.drag._project import ProjectIndex, read_project_index
 from scratchworld_dist.drag._suite import DragProblem, DragSuite, problems_from, sort_drag_tasks
 from scratchworld_dist.drag._task import DragTask, UpstreamAction, UpstreamDragReference
-from scratchworld_dist.suites._problems import SuiteProblems
-from scratchworld_dist.suites._task import task_id_problem
+from scratchworld_dist.suites import SuiteProblems, task_id_problem
 from workers.contract import (
     CONNECTIONS_OF,
     CanvasSource,

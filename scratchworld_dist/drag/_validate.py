@@ -15,7 +15,7 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.drag._task import DragTask
 from workers.contract import AgentRef, DragAttempt, DragPayload, DragRegions, DragSpec, JobResult
-from workers.drag._runner import DragRunner
+from workers.drag import DragRunner
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
 
 

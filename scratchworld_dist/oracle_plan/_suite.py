@@ -18,8 +18,7 @@ from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import write_atomic
 from scratchworld_dist.oracle_plan._planner import plan_project, project_differences
 from scratchworld_dist.oracle_plan._state import ProjectState, read_state
-from scratchworld_dist.suites import Suite, Task, UpstreamSuiteLoader, load_suite
-from scratchworld_dist.suites._detect import loader_for
+from scratchworld_dist.suites import Suite, Task, UpstreamSuiteLoader, load_suite, loader_for
 from workers import composite
 from workers.contract import BridgeError, CompositeAction, ProjectFormatError, ProjectLimits, check_project
 from workers.editor import BrowserSession, Editor

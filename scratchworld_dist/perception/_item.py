@@ -13,7 +13,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from scratchworld_dist.suites._task import task_id_problem
+from scratchworld_dist.suites import task_id_problem
 from workers.contract import (
     AnswerFormat,
     DragView,

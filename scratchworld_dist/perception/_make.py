@@ -26,7 +26,7 @@ from pydantic import BaseModel
 
 from scratchworld_dist._errors import ProjectFormatError, SuiteError
 from scratchworld_dist._files import FileTooLargeError, read_file
-from scratchworld_dist.drag._make import frame_view
+from scratchworld_dist.editing import frame_view
 from scratchworld_dist.perception._candidates import Candidate, candidates
 from scratchworld_dist.perception._item import PerceptionItem, PerceptionView
 from scratchworld_dist.perception._native import write_perception_suite

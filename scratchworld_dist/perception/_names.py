@@ -14,8 +14,8 @@ from collections import defaultdict
 from functools import cache
 from typing import Literal
 
-from scratchworld_dist.drag._labels import is_boolean, template_parts, templated_opcodes
-from scratchworld_dist.sb3._catalog import SHAPES
+from scratchworld_dist.editing import is_boolean, template_parts, templated_opcodes
+from scratchworld_dist.sb3 import SHAPES
 
 Category = Literal[
     "motion", "looks", "sound", "events", "control", "sensing", "operators", "variables", "lists", "myBlocks"

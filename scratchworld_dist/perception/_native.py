@@ -28,7 +28,7 @@ from scratchworld_dist._errors import SuiteError, validation_summary
 from scratchworld_dist._files import MAX_TEXT_BYTES, read_file, read_text, write_atomic
 from scratchworld_dist.perception._item import PerceptionItem, PerceptionView
 from scratchworld_dist.perception._suite import PerceptionProblem, PerceptionSuite
-from scratchworld_dist.suites._problems import SuiteProblems
+from scratchworld_dist.suites import SuiteProblems
 
 SUITE_FILE = "perception-suite.json"
 ITEMS_FILE = "items.jsonl"

@@ -15,7 +15,7 @@ import numpy as np
 
 from scratchworld_dist.perception._facts import ViewFacts
 from workers.contract import DragView, EditorError
-from workers.drag._page import show, view_held
+from workers.drag import show, view_held
 from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool
 
 

@@ -29,7 +29,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, Literal
 
-from scratchworld_dist.drag._generate import detach
+from scratchworld_dist.editing import detach
 from scratchworld_dist.perception._facts import BlockFacts, Rect, ViewFacts
 from scratchworld_dist.perception._names import kind_name
 from workers.contract import DragView

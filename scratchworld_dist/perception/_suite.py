@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import TaskNotFoundError
 from scratchworld_dist.perception._item import PerceptionItem, PerceptionView
-from scratchworld_dist.suites._problems import SuiteProblems
+from scratchworld_dist.suites import SuiteProblems
 
 PerceptionSuiteKind = Literal["upstream", "scratchworld_dist"]
 

@@ -22,7 +22,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from scratchworld_dist._errors import validation_summary
 from scratchworld_dist.perception._item import PerceptionItem, UpstreamItemInfo
 from scratchworld_dist.perception._suite import PerceptionProblem, PerceptionSuite
-from scratchworld_dist.suites._problems import SuiteProblems
+from scratchworld_dist.suites import SuiteProblems
 from workers.contract import NO, YES, PerceptionKind, ValueKind
 
 BENCHMARK_DIR = Path("visual_perception_benchmark")

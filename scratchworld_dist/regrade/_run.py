@@ -19,11 +19,18 @@ from scratchworld_dist.regrade._manifest import regrade_manifest
 from scratchworld_dist.regrade._plan import RegradeJob, RegradePlan, plan_regrade
 from scratchworld_dist.regrade._record import RegradeRecorder
 from scratchworld_dist.regrade._source import read_source
-from scratchworld_dist.reports._verdict_changes import VerdictChange, verdict_changes
+from scratchworld_dist.reports import VerdictChange, verdict_changes
 from scratchworld_dist.results import RunManifest, RunStore, Session, write_manifest
 from scratchworld_dist.results._manifest import now
-from scratchworld_dist.scheduling import Scheduler, WorkerPool, live_progress, pages_per_worker, ray_runtime
-from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
+from scratchworld_dist.scheduling import (
+    Scheduler,
+    WorkerPool,
+    agreed_harness,
+    inspect_nodes,
+    live_progress,
+    pages_per_worker,
+    ray_runtime,
+)
 from workers.contract import MIB, EvaluationClock, EvaluationProfile, EvaluationRender, NodeReport
 from workers.kinds import kind_fingerprint
 from workers.node import describe_node, harness_fingerprint

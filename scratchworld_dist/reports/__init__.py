@@ -15,6 +15,7 @@ from scratchworld_dist.reports._compare_render import render_comparison
 from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_exact, paired_bootstrap
 from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable
 from scratchworld_dist.reports._diagnosis_report import DiagnosisReport
+from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag, render_drag_markdown
 from scratchworld_dist.reports._metrics import (
     MeanInterval,
     mean_interval,
@@ -25,11 +26,17 @@ from scratchworld_dist.reports._metrics import (
     t_quantile_975,
 )
 from scratchworld_dist.reports._perception_metrics import PerceptionTable, PerceptionTableRow
-from scratchworld_dist.reports._perception_table import build_perception_report, render_perception
+from scratchworld_dist.reports._perception_table import (
+    build_perception_report,
+    is_perception_run,
+    perception_blocks,
+    render_perception,
+)
 from scratchworld_dist.reports._plots import Plot, plots_html, plots_of, report_plots
 from scratchworld_dist.reports._render import (
     FORMATS,
     ReportFormat,
+    blocks_html,
     render,
     render_html,
     render_html_body,
@@ -49,6 +56,7 @@ from scratchworld_dist.reports._summary import (
     SeedRate,
     SeedStats,
 )
+from scratchworld_dist.reports._verdict_changes import VerdictChange, verdict_changes
 
 __all__ = [
     "CATEGORIES",
@@ -77,9 +85,14 @@ __all__ = [
     "Selector",
     "SideInfo",
     "TaskOutcome",
+    "VerdictChange",
+    "blocks_html",
+    "build_drag_report",
     "build_perception_report",
     "build_report",
     "compare_runs",
+    "is_drag_run",
+    "is_perception_run",
     "mcnemar_exact",
     "mean_interval",
     "mean_pass_at_k",
@@ -88,10 +101,13 @@ __all__ = [
     "parse_selector",
     "pass_at_k",
     "pass_hat_k",
+    "perception_blocks",
     "plots_html",
     "plots_of",
     "render",
     "render_comparison",
+    "render_drag",
+    "render_drag_markdown",
     "render_html",
     "render_html_body",
     "render_json",
@@ -100,4 +116,5 @@ __all__ = [
     "report_plots",
     "report_runs",
     "t_quantile_975",
+    "verdict_changes",
 ]

@@ -13,9 +13,11 @@ from scratchworld_dist.sb3._builder import (
     rect_costume,
     variable,
 )
+from scratchworld_dist.sb3._catalog import SHAPES
 from workers.contract import check_project
 
 __all__ = [
+    "SHAPES",
     "Block",
     "Costume",
     "Project",

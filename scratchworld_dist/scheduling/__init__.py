@@ -1,6 +1,8 @@
-"""Scheduling on Ray: the runtime, admission, the worker pool, the driver loop and its progress line."""
+"""Scheduling on Ray: the runtime, the nodes' agreement on one harness, admission, the worker pool, the driver
+loop and its progress line."""
 
 from scratchworld_dist.scheduling._admission import admitted_slots, derive_local, pages_per_worker
+from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.scheduling._progress import live_progress
 from scratchworld_dist.scheduling._ray_runtime import BROWSER_RESOURCE, RayUnavailableError, ray_runtime
@@ -13,7 +15,9 @@ __all__ = [
     "SchedulerStats",
     "WorkerPool",
     "admitted_slots",
+    "agreed_harness",
     "derive_local",
+    "inspect_nodes",
     "live_progress",
     "pages_per_worker",
     "ray_runtime",

@@ -1,6 +1,16 @@
-"""``scratchworld view``: a run's report, jobs and trajectories in a browser, served locally or exported."""
+"""``scratchworld view``: a run's report, jobs and trajectories in a browser, served locally or exported.
 
+The server (``serve``, aiohttp) is imported on first use: reading the site needs no web server."""
+
+import typing
+
+import workers
 from scratchworld_dist.viewer._export import ExportSummary, export_site
 from scratchworld_dist.viewer._site import Resource, ViewerSite
 
-__all__ = ["ExportSummary", "Resource", "ViewerSite", "export_site"]
+if typing.TYPE_CHECKING:
+    from scratchworld_dist.viewer._server import serve
+
+__getattr__ = workers.lazy_exports(__name__, {"._server": ("serve",)})
+
+__all__ = ["ExportSummary", "Resource", "ViewerSite", "export_site", "serve"]

@@ -15,8 +15,7 @@ from typing import Any
 import cv2
 import numpy as np
 
-from workers.agents._coordinates import SCREEN, model_space
-from workers.agents._prompts import PRIMITIVE_POSITIONS
+from workers.agents import PRIMITIVE_POSITIONS, SCREEN, model_space
 from workers.contract import CoordinateSystem, DragSetting
 from workers.primitive import LEGEND
 

@@ -14,7 +14,7 @@ import hashlib
 import time
 
 from workers.agent_api import code_mismatch, is_privileged
-from workers.agents._model_calls import EpisodeModels
+from workers.agents import EpisodeModels
 from workers.contract import (
     AgentUnavailableError,
     BridgeError,

@@ -28,8 +28,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from workers.contract import ChromiumNotFoundError, EditorCrashedError, EditorError
 from workers.editor._editor import Editor, opened
 from workers.editor._server import EditorAssets, EditorServer
-from workers.node._installation import default_chromium
-from workers.node._priority import idle_priority
+from workers.node import default_chromium, idle_priority
 
 CHROMIUM_ARGS: tuple[str, ...] = (
     "--headless",

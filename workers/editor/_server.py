@@ -27,7 +27,7 @@ from typing import BinaryIO
 from urllib.parse import unquote, urlsplit
 
 from workers.contract import EditorBundleMissingError
-from workers.node._installation import BUNDLE_FILE, BUNDLE_PACKAGE, OWN_FILES, default_gui_dir
+from workers.node import BUNDLE_FILE, BUNDLE_PACKAGE, OWN_FILES, default_gui_dir
 
 log = logging.getLogger(__name__)
 

@@ -1,6 +1,6 @@
-"""Block texts for drag instructions: a block named as the editor shows it, "move (10) steps".
+"""Blocks named as the editor shows them, "move (10) steps": drag instructions and perception questions.
 
-The model sees a screenshot, not ids, so an instruction names blocks by their visible text: an
+A model sees a screenshot, not ids, so an instruction or a question names blocks by their visible text: an
 English template per Scratch 3 block, filled from the project's own inputs and fields (or with
 the palette's defaults for a block still in the flyout). Templates mark slots as ``(NAME=default)``
 (round), ``[NAME=default]`` (square: text, menus, fields) and ``<NAME>`` (hexagonal: booleans).
@@ -192,41 +192,8 @@ def palette_offers(blocks: Mapping[str, Any], block_id: str, is_stage: bool) -> 
     return True
 
 
-def instruction(
-    blocks: Mapping[str, Any],
-    reference_id: str,
-    kind: str,
-    input_name: str | None,
-    *,
-    source: str,
-    category: str | None,
-    stack: bool,
-    variable: bool,
-) -> str:
-    """What the model is told: the source by its text (and palette), then where it goes on the reference."""
-    reference = block_label(blocks, reference_id)
-    what = (
-        f"a new “{source}” block from the {category.capitalize()} palette"
-        if category
-        else f"the stack starting with “{source}”"
-        if stack
-        else f"the “{source}” {'variable' if variable else 'block'}"
-    )
-    if kind == "next":
-        where = f"attach it directly below “{reference}”"
-    elif kind == "parent":
-        where = f"attach it directly above “{reference}”"
-    elif kind == "input":
-        where = f"drop it into {slot_phrase(blocks, reference_id, input_name or '')} of “{reference}”"
-    elif blocks[reference_id].get("opcode") == "control_if_else":
-        branch = "first (“if”) branch" if kind == "substack_1" else "second (“else”) branch"
-        where = f"put it into the {branch} of “{reference}”"
-    else:
-        where = f"put it inside the {'' if kind == 'substack_1' else 'second '}mouth of “{reference}”"
-    return f"Drag {what} and {where}."
-
-
 def is_boolean(opcode: str) -> bool:
+    """Whether ``opcode`` is a hexagonal (boolean) block: a slot holding it is drawn ``<...>``."""
     return opcode in _BOOLEANS
 
 
