@@ -27,19 +27,23 @@ from scratchworld_dist.results import (
     RunManifest,
     RunStore,
     Session,
+    continued,
+    git_commit,
+    now,
+    package_versions,
     record_of,
     write_manifest,
 )
-from scratchworld_dist.results._manifest import continued, git_commit, now, package_versions
 from scratchworld_dist.scheduling import (
     Scheduler,
     WorkerPool,
     admitted_slots,
+    agreed_harness,
+    inspect_nodes,
     live_progress,
     pages_per_worker,
     ray_runtime,
 )
-from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.sweep import JobSpec, SweepConfig
 from workers.contract import (
     MIB,

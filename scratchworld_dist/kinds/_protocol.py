@@ -17,9 +17,7 @@ from workers.contract import AgentRef, HarnessFingerprint, JobResult, ModelSpec,
 
 if TYPE_CHECKING:
     from scratchworld_dist._run_plan import RunPlan
-    from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable
-    from scratchworld_dist.reports._render import ReportFormat
-    from scratchworld_dist.reports._run_groups import RunGroup
+    from scratchworld_dist.reports import DiagnosisRow, DiagnosisTable, ReportFormat, RunGroup
     from scratchworld_dist.results import RunStore
     from scratchworld_dist.sweep import JobSpec, SweepConfig
 

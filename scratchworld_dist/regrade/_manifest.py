@@ -12,8 +12,15 @@ import json
 from pathlib import Path
 
 from scratchworld_dist.regrade._plan import RegradePlan
-from scratchworld_dist.results import SCHEMA_VERSION, RegradeInfo, RunManifest, read_manifest
-from scratchworld_dist.results._manifest import continued, git_commit, package_versions
+from scratchworld_dist.results import (
+    SCHEMA_VERSION,
+    RegradeInfo,
+    RunManifest,
+    continued,
+    git_commit,
+    package_versions,
+    read_manifest,
+)
 
 
 def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:

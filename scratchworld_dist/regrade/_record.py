@@ -11,8 +11,7 @@ from __future__ import annotations
 from datetime import UTC, datetime
 
 from scratchworld_dist.regrade._plan import RegradeJob
-from scratchworld_dist.results import JobRecord, JobRow, RunStore, StepRow
-from scratchworld_dist.results._records import test_rows
+from scratchworld_dist.results import JobRecord, JobRow, RunStore, StepRow, test_rows
 from workers.contract import MIB, JobResult
 
 

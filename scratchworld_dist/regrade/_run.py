@@ -20,8 +20,7 @@ from scratchworld_dist.regrade._plan import RegradeJob, RegradePlan, plan_regrad
 from scratchworld_dist.regrade._record import RegradeRecorder
 from scratchworld_dist.regrade._source import read_source
 from scratchworld_dist.reports import VerdictChange, verdict_changes
-from scratchworld_dist.results import RunManifest, RunStore, Session, write_manifest
-from scratchworld_dist.results._manifest import now
+from scratchworld_dist.results import RunManifest, RunStore, Session, now, write_manifest
 from scratchworld_dist.scheduling import (
     Scheduler,
     WorkerPool,

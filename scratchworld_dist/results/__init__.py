@@ -6,6 +6,10 @@ from scratchworld_dist.results._manifest import (
     RunManifest,
     Session,
     SuiteInfo,
+    continued,
+    git_commit,
+    now,
+    package_versions,
     read_manifest,
     require_manifest,
     write_manifest,
@@ -19,6 +23,7 @@ from scratchworld_dist.results._records import (
     TestRow,
     record_of,
     shared_image_path,
+    test_rows,
 )
 from scratchworld_dist.results._schema import SCHEMA_VERSION, SCHEMAS, TABLES
 from scratchworld_dist.results._store import RunStore, effective_rows
@@ -39,10 +44,15 @@ __all__ = [
     "StepRow",
     "SuiteInfo",
     "TestRow",
+    "continued",
     "effective_rows",
+    "git_commit",
+    "now",
+    "package_versions",
     "read_manifest",
     "record_of",
     "require_manifest",
     "shared_image_path",
+    "test_rows",
     "write_manifest",
 ]

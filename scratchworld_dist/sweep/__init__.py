@@ -17,6 +17,7 @@ from scratchworld_dist.sweep._plan import (
     read_project,
     suite_hash,
 )
+from scratchworld_dist.sweep._selection import present_suites, wanted_ids
 
 __all__ = [
     "NO_MODEL",
@@ -30,6 +31,8 @@ __all__ = [
     "agent_identity",
     "identity_id",
     "load_sweep_config",
+    "present_suites",
     "read_project",
     "suite_hash",
+    "wanted_ids",
 ]

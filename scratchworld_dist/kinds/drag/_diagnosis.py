@@ -10,12 +10,18 @@ from typing import Any
 
 from pydantic import BaseModel
 
+from scratchworld_dist.reports import (
+    DiagnosisRow,
+    DiagnosisTable,
+    Rate,
+    ReportFormat,
+    RunGroup,
+    drag_table_of,
+    optional_rate,
+    rate_cell,
+    render_drag_markdown,
+)
 from scratchworld_dist.reports import _drag_metrics as drag
-from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable
-from scratchworld_dist.reports._diagnosis_cells import Rate, optional_rate, rate_cell
-from scratchworld_dist.reports._drag_table import drag_table_of, render_drag_markdown
-from scratchworld_dist.reports._render import ReportFormat
-from scratchworld_dist.reports._run_groups import RunGroup
 
 START_END_SETTING = "baseline"
 """The drag setting whose start and end accuracy the table shows: the unaided one, as the agent acts."""

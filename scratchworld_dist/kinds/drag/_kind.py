@@ -17,8 +17,7 @@ from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
 from scratchworld_dist.kinds.drag._plan import DragBody, plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag._rows import drag_row
 from scratchworld_dist.results import RunStore, SuiteInfo
-from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
-from scratchworld_dist.sweep._selection import present_suites, wanted_ids
+from scratchworld_dist.sweep import JobSpec, SweepConfig, present_suites, suite_hash, wanted_ids
 from workers.agent_api import agent_class, checked_agent
 from workers.contract import AgentRef, DragAttempt, DragSpec, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
 
@@ -112,12 +111,12 @@ class DragKind:
         return None
 
     def holds(self, run_dir: Path) -> bool:
-        from scratchworld_dist.reports._drag_table import is_drag_run
+        from scratchworld_dist.reports import is_drag_run
 
         return is_drag_run(run_dir)
 
     def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
-        from scratchworld_dist.reports._drag_table import build_drag_report, render_drag
+        from scratchworld_dist.reports import build_drag_report, render_drag
 
         drag = build_drag_report(list(run_dirs), force=force)
         return render_drag(drag, fmt), drag.warnings
@@ -129,7 +128,7 @@ class DragKind:
         return DIAGNOSIS
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
-        from scratchworld_dist.reports._drag_table import build_drag_report, render_drag_markdown
+        from scratchworld_dist.reports import build_drag_report, render_drag_markdown
 
         drag = build_drag_report([run_dir])
         return f"<pre>{html.escape(render_drag_markdown(drag))}</pre>", drag.warnings

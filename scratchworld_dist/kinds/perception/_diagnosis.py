@@ -8,12 +8,20 @@ from typing import Any
 
 from pydantic import BaseModel
 
+from scratchworld_dist.reports import (
+    MISSING,
+    DiagnosisRow,
+    DiagnosisTable,
+    PerceptionRate,
+    ReportFormat,
+    RunGroup,
+    blocks_html,
+    blocks_markdown,
+    pct,
+    perception_blocks,
+    perception_table_of,
+)
 from scratchworld_dist.reports import _perception_metrics as perception
-from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable, PerceptionRate
-from scratchworld_dist.reports._diagnosis_cells import MISSING, pct
-from scratchworld_dist.reports._perception_table import perception_blocks, perception_table_of
-from scratchworld_dist.reports._render import ReportFormat, blocks_html, blocks_markdown
-from scratchworld_dist.reports._run_groups import RunGroup
 from workers.contract import PERCEPTION_KINDS
 
 

@@ -9,12 +9,20 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable, Gap
-from scratchworld_dist.reports._diagnosis_cells import MISSING, Rate, rate_cell
-from scratchworld_dist.reports._metrics import mean_interval
-from scratchworld_dist.reports._render import ReportFormat, render_html_body, render_markdown
-from scratchworld_dist.reports._run_groups import RunGroup
-from scratchworld_dist.reports._summary import DETERMINATE
+from scratchworld_dist.reports import (
+    DETERMINATE,
+    MISSING,
+    DiagnosisRow,
+    DiagnosisTable,
+    Gap,
+    Rate,
+    ReportFormat,
+    RunGroup,
+    mean_interval,
+    rate_cell,
+    render_html_body,
+    render_markdown,
+)
 from scratchworld_dist.results import JobRow, effective_rows
 
 
@@ -51,14 +59,14 @@ class TasksDiagnosis:
         return [rate_cell(row.composite_sr), rate_cell(row.primitive_sr), gap_cell(row.gap)]
 
     def section(self, group: RunGroup) -> BaseModel:
-        from scratchworld_dist.reports._build import report_of
+        from scratchworld_dist.reports import report_of
 
         return report_of(group.runs, group.warnings)
 
     def render_section(self, section: Any, fmt: ReportFormat, group: RunGroup) -> str:
         if fmt == "md":
             return render_markdown(section)
-        from scratchworld_dist.reports._plots import plots_html, report_plots
+        from scratchworld_dist.reports import plots_html, report_plots
 
         plots = report_plots(group.paths, force=True)  # the runs were checked for merging already
         return render_html_body(section) + ("\n" + plots_html(plots) if plots else "")

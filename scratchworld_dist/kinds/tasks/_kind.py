@@ -137,9 +137,7 @@ class TasksKind:
 
     def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
         # Reports import the plotting and statistics stacks: only a report asks for them.
-        from scratchworld_dist.reports._build import build_report
-        from scratchworld_dist.reports._plots import report_plots
-        from scratchworld_dist.reports._render import render
+        from scratchworld_dist.reports import build_report, render, report_plots
 
         members = list(run_dirs)
         report = build_report(members, force=force)

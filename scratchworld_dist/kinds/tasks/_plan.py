@@ -14,8 +14,7 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import SuiteError
 from scratchworld_dist.memory import store_name, task_waves
-from scratchworld_dist.suites import Task
-from scratchworld_dist.suites._task import read_trajectory
+from scratchworld_dist.suites import Task, read_trajectory
 from scratchworld_dist.sweep import NO_MODEL, JobBody, JobSpec, identity_id, read_project
 from workers.contract import (
     AgentRef,
