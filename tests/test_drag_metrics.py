@@ -11,8 +11,8 @@ from click.testing import CliRunner
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.cli._main import cli
-from scratchworld_dist.reports._drag_metrics import DragRun, DragTable, drag_cell, drag_rows, join_runs
-from scratchworld_dist.reports._drag_table import build_drag_report, is_drag_run, render_drag_markdown
+from scratchworld_dist.kinds.drag._metrics import DragRun, DragTable, drag_cell, drag_rows, join_runs
+from scratchworld_dist.kinds.drag._table import build_drag_report, is_drag_run, render_drag_markdown
 from scratchworld_dist.results import JobRecord
 from tests.run_dirs import HARNESS, make_run
 from tests.run_dirs import drag_job as job

@@ -10,15 +10,16 @@ import pyarrow.parquet as pq
 import pytest
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.reports import PerceptionTable, report_runs
-from scratchworld_dist.reports._perception_metrics import (
+from scratchworld_dist.kinds.perception._metrics import (
     PerceptionCell,
     PerceptionRun,
+    PerceptionTable,
     PerceptionTableRow,
     join_runs,
     perception_rows,
 )
-from scratchworld_dist.reports._perception_table import build_perception_report, is_perception_run
+from scratchworld_dist.kinds.perception._table import build_perception_report, is_perception_run
+from scratchworld_dist.reports import report_runs
 from scratchworld_dist.results import JobRecord
 from scratchworld_dist.viewer import ViewerSite
 from tests.cli_runner import invoke

@@ -1,5 +1,5 @@
-"""Reports over run directories: the main table as Markdown, HTML (with plots) or JSON, the drag and perception
-benchmarks' tables, the diagnosis across benchmarks, and paired comparisons."""
+"""Reports over run directories: the main table as Markdown, HTML (with plots) or JSON, the diagnosis across
+benchmarks (each kind's own report comes from its kind), paired comparisons, and what kinds build theirs from."""
 
 from scratchworld_dist.reports._build import build_report, report_of
 from scratchworld_dist.reports._compare import (
@@ -16,15 +16,10 @@ from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_
 from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable, Gap, PerceptionRate
 from scratchworld_dist.reports._diagnosis_cells import MISSING, Rate, optional_rate, pct, rate_cell
 from scratchworld_dist.reports._diagnosis_report import DiagnosisReport
-from scratchworld_dist.reports._drag_table import (
-    build_drag_report,
-    drag_table_of,
-    is_drag_run,
-    render_drag,
-    render_drag_markdown,
-)
 from scratchworld_dist.reports._metrics import (
+    ClassCount,
     MeanInterval,
+    class_counts,
     mean_interval,
     mean_pass_at_k,
     mean_pass_hat_k,
@@ -32,28 +27,27 @@ from scratchworld_dist.reports._metrics import (
     pass_hat_k,
     t_quantile_975,
 )
-from scratchworld_dist.reports._perception_metrics import PerceptionTable, PerceptionTableRow
-from scratchworld_dist.reports._perception_table import (
-    build_perception_report,
-    is_perception_run,
-    perception_blocks,
-    perception_table_of,
-    render_perception,
-)
 from scratchworld_dist.reports._plots import Plot, plots_html, plots_of, report_plots
 from scratchworld_dist.reports._render import (
     FORMATS,
+    Block,
+    Heading,
+    Paragraph,
     ReportFormat,
+    Table,
     blocks_html,
     blocks_markdown,
+    markdown_table,
     render,
     render_html,
     render_html_body,
     render_json,
     render_markdown,
+    render_text,
 )
 from scratchworld_dist.reports._report_runs import report_runs
 from scratchworld_dist.reports._run_groups import RunGroup
+from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
 from scratchworld_dist.reports._summary import (
     CATEGORIES,
     DETERMINATE,
@@ -66,6 +60,7 @@ from scratchworld_dist.reports._summary import (
     RunReport,
     SeedRate,
     SeedStats,
+    row_label,
 )
 from scratchworld_dist.reports._verdict_changes import VerdictChange, verdict_changes
 
@@ -75,7 +70,9 @@ __all__ = [
     "FORMATS",
     "MISSING",
     "REPORT_VERSION",
+    "Block",
     "CategoryStats",
+    "ClassCount",
     "Comparison",
     "DiagnosisReport",
     "DiagnosisRow",
@@ -83,13 +80,14 @@ __all__ = [
     "Difference",
     "ErrorCount",
     "Gap",
+    "Heading",
     "Interval",
     "KEstimate",
+    "LoadedRun",
     "McNemar",
     "MeanInterval",
+    "Paragraph",
     "PerceptionRate",
-    "PerceptionTable",
-    "PerceptionTableRow",
     "Plot",
     "Rate",
     "ReportFormat",
@@ -101,17 +99,16 @@ __all__ = [
     "SeedStats",
     "Selector",
     "SideInfo",
+    "Table",
     "TaskOutcome",
     "VerdictChange",
     "blocks_html",
     "blocks_markdown",
-    "build_drag_report",
-    "build_perception_report",
     "build_report",
+    "class_counts",
     "compare_runs",
-    "drag_table_of",
-    "is_drag_run",
-    "is_perception_run",
+    "load_runs",
+    "markdown_table",
     "mcnemar_exact",
     "mean_interval",
     "mean_pass_at_k",
@@ -122,23 +119,22 @@ __all__ = [
     "pass_at_k",
     "pass_hat_k",
     "pct",
-    "perception_blocks",
-    "perception_table_of",
     "plots_html",
     "plots_of",
     "rate_cell",
+    "read_rows",
     "render",
     "render_comparison",
-    "render_drag",
-    "render_drag_markdown",
     "render_html",
     "render_html_body",
     "render_json",
     "render_markdown",
-    "render_perception",
+    "render_text",
     "report_of",
     "report_plots",
     "report_runs",
+    "row_label",
+    "stale_warnings",
     "t_quantile_975",
     "verdict_changes",
 ]

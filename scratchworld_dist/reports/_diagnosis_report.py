@@ -6,13 +6,11 @@ their tables); JSON is one ``DiagnosisReport``.
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, SerializeAsAny
 
 from scratchworld_dist.kinds import DiagnosisPart, job_kind, job_kinds
 from scratchworld_dist.reports._diagnosis import DiagnosisTable
 from scratchworld_dist.reports._diagnosis_cells import MISSING
-from scratchworld_dist.reports._drag_metrics import DragTable
-from scratchworld_dist.reports._perception_metrics import PerceptionTable
 from scratchworld_dist.reports._render import (
     Block,
     Heading,
@@ -47,14 +45,17 @@ class DiagnosisReport(BaseModel):
     version: int = 1
     diagnosis: DiagnosisTable
     episodes: RunReport | None = None
-    drag: DragTable | None = None
-    perception: PerceptionTable | None = None
+    drag: SerializeAsAny[BaseModel] | None = None
+    """The drag kind's table (``kinds.drag.DragTable``)."""
+
+    perception: SerializeAsAny[BaseModel] | None = None
+    """The perception kind's table (``kinds.perception.PerceptionTable``)."""
 
     @property
     def warnings(self) -> list[str]:
         """The table's and every section's."""
         sections = [getattr(self, name) for name in self.model_fields_set if name not in ("version", "diagnosis")]
-        return self.diagnosis.warnings + [w for s in sections if s is not None for w in s.warnings]
+        return self.diagnosis.warnings + [w for s in sections if s is not None for w in getattr(s, "warnings", [])]
 
 
 def diagnosis_report(groups: list[RunGroup], table: DiagnosisTable) -> DiagnosisReport:

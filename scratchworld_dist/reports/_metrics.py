@@ -1,4 +1,4 @@
-"""Benchmark metrics as pure functions: pass@k, pass^k and a mean with its 95% interval.
+"""Benchmark metrics as pure functions: pass@k, pass^k, a mean with its 95% interval, and class counts.
 
 pass@k and pass^k use the unbiased estimators over ``n`` samples of a task of which ``c``
 passed (Chen et al. 2021 for pass@k; its all-``k``-succeed twin for pass^k), averaged over
@@ -9,7 +9,8 @@ of the average rather than guessed.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections import Counter
+from collections.abc import Iterable, Sequence
 
 from pydantic import BaseModel, ConfigDict
 
@@ -96,3 +97,15 @@ def mean_interval(values: Sequence[float]) -> MeanInterval:
 def _check(n: int, c: int, k: int) -> None:
     if not 0 <= c <= n or not 1 <= k <= n:
         raise ValueError(f"need 0 <= c <= n and 1 <= k <= n, got n={n}, c={c}, k={k}")
+
+
+class ClassCount(BaseModel):
+    """How many runs had one error class or one parse failure."""
+
+    name: str
+    runs: int
+
+
+def class_counts(names: Iterable[str]) -> list[ClassCount]:
+    """Each name and how often it occurs, most frequent first (ties by name)."""
+    return [ClassCount(name=name, runs=n) for name, n in sorted(Counter(names).items(), key=lambda i: (-i[1], i[0]))]

@@ -10,18 +10,17 @@ from typing import Any
 
 from pydantic import BaseModel
 
+from scratchworld_dist.kinds.drag import _metrics as drag
+from scratchworld_dist.kinds.drag._table import drag_table_of, render_drag_markdown
 from scratchworld_dist.reports import (
     DiagnosisRow,
     DiagnosisTable,
     Rate,
     ReportFormat,
     RunGroup,
-    drag_table_of,
     optional_rate,
     rate_cell,
-    render_drag_markdown,
 )
-from scratchworld_dist.reports import _drag_metrics as drag
 
 START_END_SETTING = "baseline"
 """The drag setting whose start and end accuracy the table shows: the unaided one, as the agent acts."""

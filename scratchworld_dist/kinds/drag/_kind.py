@@ -111,12 +111,12 @@ class DragKind:
         return None
 
     def holds(self, run_dir: Path) -> bool:
-        from scratchworld_dist.reports import is_drag_run
+        from scratchworld_dist.kinds.drag._table import is_drag_run
 
         return is_drag_run(run_dir)
 
     def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
-        from scratchworld_dist.reports import build_drag_report, render_drag
+        from scratchworld_dist.kinds.drag._table import build_drag_report, render_drag
 
         drag = build_drag_report(list(run_dirs), force=force)
         return render_drag(drag, fmt), drag.warnings
@@ -128,7 +128,7 @@ class DragKind:
         return DIAGNOSIS
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
-        from scratchworld_dist.reports import build_drag_report, render_drag_markdown
+        from scratchworld_dist.kinds.drag._table import build_drag_report, render_drag_markdown
 
         drag = build_drag_report([run_dir])
         return f"<pre>{html.escape(render_drag_markdown(drag))}</pre>", drag.warnings

@@ -8,6 +8,8 @@ from typing import Any
 
 from pydantic import BaseModel
 
+from scratchworld_dist.kinds.perception import _metrics as perception
+from scratchworld_dist.kinds.perception._table import perception_blocks, perception_table_of
 from scratchworld_dist.reports import (
     MISSING,
     DiagnosisRow,
@@ -18,10 +20,7 @@ from scratchworld_dist.reports import (
     blocks_html,
     blocks_markdown,
     pct,
-    perception_blocks,
-    perception_table_of,
 )
-from scratchworld_dist.reports import _perception_metrics as perception
 from workers.contract import PERCEPTION_KINDS
 
 

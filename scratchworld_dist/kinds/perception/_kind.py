@@ -92,12 +92,12 @@ class PerceptionJobKind:
                 store.write_shared_image(shared_image_path(hashlib.sha256(png).hexdigest()), png)
 
     def holds(self, run_dir: Path) -> bool:
-        from scratchworld_dist.reports import is_perception_run
+        from scratchworld_dist.kinds.perception._table import is_perception_run
 
         return is_perception_run(run_dir)
 
     def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
-        from scratchworld_dist.reports import build_perception_report, render_perception
+        from scratchworld_dist.kinds.perception._table import build_perception_report, render_perception
 
         table = build_perception_report(list(run_dirs), force=force)
         return render_perception(table, fmt), table.warnings
@@ -109,7 +109,8 @@ class PerceptionJobKind:
         return DIAGNOSIS
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
-        from scratchworld_dist.reports import blocks_html, build_perception_report, perception_blocks
+        from scratchworld_dist.kinds.perception._table import build_perception_report, perception_blocks
+        from scratchworld_dist.reports import blocks_html
 
         perception = build_perception_report([run_dir])
         return blocks_html(perception_blocks(perception)), perception.warnings

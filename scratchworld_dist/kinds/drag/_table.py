@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.reports._drag_metrics import (
+from scratchworld_dist.kinds.drag._metrics import (
     ALL,
     Distance,
     DragCell,
@@ -20,9 +20,16 @@ from scratchworld_dist.reports._drag_metrics import (
     drag_rows,
     join_runs,
 )
-from scratchworld_dist.reports._render import ReportFormat, markdown_table, render_text
-from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
-from scratchworld_dist.reports._summary import row_label
+from scratchworld_dist.reports import (
+    LoadedRun,
+    ReportFormat,
+    load_runs,
+    markdown_table,
+    read_rows,
+    render_text,
+    row_label,
+    stale_warnings,
+)
 from scratchworld_dist.results import DragRow, RunStore
 from scratchworld_dist.sweep import NO_MODEL
 

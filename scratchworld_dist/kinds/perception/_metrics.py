@@ -21,7 +21,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict
 
-from scratchworld_dist.reports._drag_metrics import ClassCount
+from scratchworld_dist.reports import ClassCount, class_counts
 from scratchworld_dist.results import JobRow, PerceptionRow, effective_rows
 from workers.contract import NO, PERCEPTION_KINDS, YES
 
@@ -226,8 +226,8 @@ def perception_row(model: str, agent: str, runs: Sequence[PerceptionRun]) -> Per
         kinds=[perception_cell(kind, kind, [r for r in runs if r.kind == kind]) for kind in kinds],
         tags=[perception_cell(tag, _only({r.kind for r in by_tag[tag]}), by_tag[tag]) for tag in tags],
         confusion=[confusion_cell(k, [r for r in runs if r.kind == k]) for k in confused] + [confusion_cell(ALL, runs)],
-        errors=_counts(r.job.error_class or "unknown" for r in runs if r.error),
-        parse_failures=_counts(r.answer.parse for r in scored if r.answer is not None and r.answer.parse != "ok"),
+        errors=class_counts(r.job.error_class or "unknown" for r in runs if r.error),
+        parse_failures=class_counts(r.answer.parse for r in scored if r.answer is not None and r.answer.parse != "ok"),
         input_tokens=sum(r.job.input_tokens for r in runs),
         output_tokens=sum(r.job.output_tokens for r in runs),
         cost_usd=sum(r.job.cost_usd for r in runs),
@@ -304,10 +304,6 @@ def _yes_no(run: PerceptionRun) -> bool:
 
 def _only(values: set[str]) -> str | None:
     return next(iter(values)) if len(values) == 1 else None
-
-
-def _counts(names: Iterable[str]) -> list[ClassCount]:
-    return [ClassCount(name=name, runs=n) for name, n in sorted(Counter(names).items(), key=lambda i: (-i[1], i[0]))]
 
 
 def _ratio(part: int, whole: int) -> float | None:

@@ -18,7 +18,7 @@ from collections.abc import Iterable, Sequence
 
 from pydantic import BaseModel, ConfigDict
 
-from scratchworld_dist.reports._metrics import pass_at_k
+from scratchworld_dist.reports import ClassCount, class_counts, pass_at_k
 from scratchworld_dist.results import DragRow, JobRow, effective_rows
 
 ALL = "ALL"
@@ -52,13 +52,6 @@ class DragRun(BaseModel):
     @property
     def start_pass(self) -> bool:
         return self.passed or (self.drag is not None and self.drag.start_in_region is True)
-
-
-class ClassCount(BaseModel):
-    """How many runs had one error class or one parse failure."""
-
-    name: str
-    runs: int
 
 
 class PassAtK(BaseModel):
@@ -211,8 +204,8 @@ def drag_cell(group: str, runs: Sequence[DragRun]) -> DragCell:
         runs=len(scored),
         passed=passed,
         error_runs=sum(r.error for r in runs),
-        errors=_counts(r.job.error_class or "unknown" for r in runs if r.error),
-        parse_failures=_counts(r.drag.parse for r in scored if r.drag is not None and r.drag.parse != "ok"),
+        errors=class_counts(r.job.error_class or "unknown" for r in runs if r.error),
+        parse_failures=class_counts(r.drag.parse for r in scored if r.drag is not None and r.drag.parse != "ok"),
         k_max=k_max,
         pass_at_k=[_pass_at(ordered, k) for k in range(1, k_max + 1)],
         start_passes=len(starts),
@@ -240,10 +233,6 @@ def _pass_at(tasks: Sequence[Sequence[DragRun]], k: int) -> PassAtK:
     unbiased = [pass_at_k(len(task), sum(r.passed for r in task), k) for task in tasks]
     empirical = [any(r.passed for r in task[:k]) for task in tasks]
     return PassAtK(k=k, unbiased=statistics.fmean(unbiased), empirical=statistics.fmean(empirical))
-
-
-def _counts(names: Iterable[str]) -> list[ClassCount]:
-    return [ClassCount(name=name, runs=n) for name, n in sorted(Counter(names).items(), key=lambda i: (-i[1], i[0]))]
 
 
 def _ratio(part: int, whole: int) -> float | None:

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.reports._perception_metrics import (
+from scratchworld_dist.kinds.perception._metrics import (
     Accuracy,
     Confusion,
     PerceptionCell,
@@ -20,18 +20,21 @@ from scratchworld_dist.reports._perception_metrics import (
     join_runs,
     perception_rows,
 )
-from scratchworld_dist.reports._render import (
+from scratchworld_dist.reports import (
     Block,
     Heading,
+    LoadedRun,
     Paragraph,
     ReportFormat,
     Table,
     blocks_html,
     blocks_markdown,
+    load_runs,
+    read_rows,
     render_text,
+    row_label,
+    stale_warnings,
 )
-from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
-from scratchworld_dist.reports._summary import row_label
 from scratchworld_dist.results import PerceptionRow, RunStore, read_manifest
 
 _DEFINITIONS = (
