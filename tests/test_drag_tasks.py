@@ -89,7 +89,7 @@ def _clone(root: Path, *tasks: dict[str, Any]) -> Path:
 
 def _problems(suite: DragSuite, task_id: str) -> str:
     """The task's problems, each checked to be one line that names the task's file."""
-    problems = [str(p) for p in suite.problems if p.task_id == task_id]
+    problems = [str(p) for p in suite.problems if p.item_id == task_id]
     assert problems
     for text in problems:
         assert "\n" not in text
@@ -292,7 +292,7 @@ def _ours(tmp_path: Path) -> tuple[DragSuite, Path]:
         ),
     ]
     root = write_drag_suite(tasks, tmp_path / "suite", "mine")
-    return DragSuite(name="mine", kind="scratchworld_dist", root=root, tasks=tuple(tasks)), root
+    return DragSuite(name="mine", kind="scratchworld_dist", root=root, items=tuple(tasks)), root
 
 
 def _without_project(task: DragTask) -> dict[str, Any]:

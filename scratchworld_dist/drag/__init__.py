@@ -5,10 +5,10 @@ and so are imported on first use."""
 import typing
 
 import workers
-from scratchworld_dist.drag._detect import DRAG_LOADERS, DragSuiteLoader, load_drag_suite
+from scratchworld_dist.drag._detect import DRAG_LOADERS, load_drag_suite
 from scratchworld_dist.drag._layout import PALETTE_CATEGORIES, UPSTREAM_VIEWPORT
 from scratchworld_dist.drag._native import NativeDragLoader, write_drag_suite
-from scratchworld_dist.drag._suite import DragProblem, DragSuite, ProblemEffect
+from scratchworld_dist.drag._suite import DragSuite
 from scratchworld_dist.drag._task import DragTask, UpstreamAction, UpstreamDragReference
 from scratchworld_dist.drag._upstream import UpstreamDragLoader
 from workers.contract import (
@@ -39,10 +39,8 @@ __all__ = [
     "UPSTREAM_VIEWPORT",
     "CanvasSource",
     "ConnectionKind",
-    "DragProblem",
     "DragSource",
     "DragSuite",
-    "DragSuiteLoader",
     "DragTask",
     "DragTaskCheck",
     "DragType",
@@ -52,7 +50,6 @@ __all__ = [
     "MadeSuite",
     "NativeDragLoader",
     "PaletteCategory",
-    "ProblemEffect",
     "UpstreamAction",
     "UpstreamDragLoader",
     "UpstreamDragReference",

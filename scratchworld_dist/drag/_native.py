@@ -22,9 +22,9 @@ from scratchworld_dist._errors import ProjectFormatError, SuiteError, validation
 from scratchworld_dist._files import MIB, read_file, write_atomic
 from scratchworld_dist.drag._checks import OUR_FIELDS, block_problems, view_problems
 from scratchworld_dist.drag._project import read_project_index
-from scratchworld_dist.drag._suite import DragProblem, DragSuite, problems_from
+from scratchworld_dist.drag._suite import DragSuite
 from scratchworld_dist.drag._task import DragTask
-from scratchworld_dist.suites import SuiteProblems, task_id_problem
+from scratchworld_dist.suites import SuiteKind, SuiteProblem, SuiteProblems, task_id_problem
 from workers.contract import ProjectLimits
 
 SUITE_FILE = "drag-suite.json"
@@ -47,7 +47,7 @@ class DragSuiteFile(BaseModel):
 class NativeDragLoader:
     """Loads a folder holding ``drag-suite.json``."""
 
-    kind = "scratchworld_dist"
+    kind: SuiteKind = "scratchworld_dist"
 
     @staticmethod
     def handles(root: Path) -> bool:
@@ -59,11 +59,11 @@ class NativeDragLoader:
         reader.raise_if_any()  # without the manifest there is no list of tasks to load
         assert manifest is not None
         tasks: list[DragTask] = []
-        problems: list[DragProblem] = []
+        problems: list[SuiteProblem] = []
         seen: set[str] = set()
         for task_id in manifest.tasks:
             if task_id in seen:
-                problems.append(DragProblem(path=root / SUITE_FILE, message=f"tasks: {task_id!r} is listed twice"))
+                problems.append(SuiteProblem(path=root / SUITE_FILE, message=f"tasks: {task_id!r} is listed twice"))
                 continue
             seen.add(task_id)
             task, found = self._load_task(root, task_id)
@@ -72,21 +72,21 @@ class NativeDragLoader:
                 tasks.append(task)
         for path in sorted((root / "tasks").glob("*.json")):
             if path.stem not in seen:
-                problems.append(DragProblem(path=path, message=f"not listed in {SUITE_FILE}; not loaded"))
+                problems.append(SuiteProblem(path=path, message=f"not listed in {SUITE_FILE}; not loaded"))
         return DragSuite(
-            name=manifest.name, kind="scratchworld_dist", root=root, tasks=tuple(tasks), problems=tuple(problems)
+            name=manifest.name, kind="scratchworld_dist", root=root, items=tuple(tasks), problems=tuple(problems)
         )
 
-    def _load_task(self, root: Path, task_id: str) -> tuple[DragTask | None, list[DragProblem]]:
+    def _load_task(self, root: Path, task_id: str) -> tuple[DragTask | None, list[SuiteProblem]]:
         reader = SuiteProblems(root)
         bad_id = task_id_problem(task_id)
         if bad_id is not None:
             reader.add(root / SUITE_FILE, f"tasks: {bad_id}")
-            return None, problems_from(reader, None)
+            return None, reader.of_item(None)
         path = root / "tasks" / f"{task_id}.json"
         task = reader.read_model(path, DragTask)
         if task is None:
-            return None, problems_from(reader, task_id)
+            return None, reader.of_item(task_id)
         if task.id != task_id:
             reader.add(path, f"id: {task.id!r} differs from the file name {task_id!r}")
         named = task.initial_project
@@ -114,7 +114,7 @@ class NativeDragLoader:
                 for message in view_problems(project, task.view, task.source, task.reference_block_id, OUR_FIELDS):
                     reader.add(path, message)
         if reader.items:
-            return None, problems_from(reader, task_id)
+            return None, reader.of_item(task_id)
         return task.model_copy(update={"initial_project": project_path}), []
 
 

@@ -21,9 +21,9 @@ from scratchworld_dist._errors import ProjectFormatError, validation_summary
 from scratchworld_dist.drag._checks import UPSTREAM_FIELDS, block_problems, view_problems
 from scratchworld_dist.drag._preactions import UpstreamWorkspaceState, view_from_upstream
 from scratchworld_dist.drag._project import ProjectIndex, read_project_index
-from scratchworld_dist.drag._suite import DragProblem, DragSuite, problems_from, sort_drag_tasks
+from scratchworld_dist.drag._suite import DragSuite, sort_drag_tasks
 from scratchworld_dist.drag._task import DragTask, UpstreamAction, UpstreamDragReference
-from scratchworld_dist.suites import SuiteProblems, task_id_problem
+from scratchworld_dist.suites import SuiteKind, SuiteProblem, SuiteProblems, task_id_problem
 from workers.contract import (
     CONNECTIONS_OF,
     CanvasSource,
@@ -84,7 +84,7 @@ class UpstreamDragFile(BaseModel):
 class UpstreamDragLoader:
     """Loads a clone holding ``single_step_drag_benchmark/tasks/`` and ``scratch-gui/static/``."""
 
-    kind = "upstream"
+    kind: SuiteKind = "upstream"
 
     @staticmethod
     def handles(root: Path) -> bool:
@@ -92,39 +92,39 @@ class UpstreamDragLoader:
 
     def load(self, root: Path) -> DragSuite:
         tasks: list[DragTask] = []
-        problems: list[DragProblem] = []
+        problems: list[SuiteProblem] = []
         for path in sorted((root / TASKS_DIR).glob("*.json")):
             task, found = self._load_task(root, path)
             problems += found
             if task is not None:
                 tasks.append(task)
         if not tasks and not problems:
-            problems.append(DragProblem(path=root / TASKS_DIR, message=f"no task files under {TASKS_DIR}/"))
+            problems.append(SuiteProblem(path=root / TASKS_DIR, message=f"no task files under {TASKS_DIR}/"))
         return DragSuite(
             name=f"scratchworld-upstream-drag:{root.name}",
             kind="upstream",
             root=root,
-            tasks=sort_drag_tasks(tasks),
+            items=sort_drag_tasks(tasks),
             problems=tuple(problems),
         )
 
-    def _load_task(self, root: Path, path: Path) -> tuple[DragTask | None, list[DragProblem]]:
+    def _load_task(self, root: Path, path: Path) -> tuple[DragTask | None, list[SuiteProblem]]:
         task_id = path.stem
         reader = SuiteProblems(root)
         bad_id = task_id_problem(task_id)
         if bad_id is not None:  # named by its folder: the name itself may hold a line break
             reader.add(path.parent, bad_id)
-            return None, problems_from(reader, None)
+            return None, reader.of_item(None)
         file = reader.read_model(path, UpstreamDragFile)
         if file is None:
-            return None, problems_from(reader, task_id)
+            return None, reader.of_item(task_id)
         config = file.evaluation_config
         if file.id != task_id:
             reader.add(path, f"id: {file.id!r} differs from the file name {task_id!r}")
         connection = _connection(config, file.category, reader, path)
         project_path, project = _project(root, file.init_project, reader, path)
         if connection is None or project is None or reader.items:
-            return None, problems_from(reader, task_id)
+            return None, reader.of_item(task_id)
         # Upstream verifies by block id; its opcodes are labels, wrong in a few tasks. The
         # project's opcode is used and the difference reported.
         corrected: list[str] = []
@@ -138,7 +138,7 @@ class UpstreamDragLoader:
             ):
                 reader.add(path, message)
         if source is None or reader.items:
-            return None, problems_from(reader, task_id)
+            return None, reader.of_item(task_id)
 
         view, unmapped = view_from_upstream(
             project,
@@ -168,10 +168,10 @@ class UpstreamDragLoader:
             )
         except ValidationError as exc:
             reader.add(path, validation_summary(exc))
-            return None, problems_from(reader, task_id)
+            return None, reader.of_item(task_id)
         return task, [
-            *(DragProblem(path=path, message=m, task_id=task_id, effect="corrected") for m in corrected),
-            *(DragProblem(path=path, message=m, task_id=task_id, effect="no_view") for m in unmapped),
+            *(SuiteProblem(path=path, message=m, item_id=task_id, effect="corrected") for m in corrected),
+            *(SuiteProblem(path=path, message=m, item_id=task_id, effect="no_view") for m in unmapped),
         ]
 
 

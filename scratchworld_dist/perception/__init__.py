@@ -18,7 +18,7 @@ from scratchworld_dist.perception._item import (
     UpstreamItemInfo,
 )
 from scratchworld_dist.perception._native import NativePerceptionLoader, read_screenshot, write_perception_suite
-from scratchworld_dist.perception._suite import PerceptionProblem, PerceptionSuite, PerceptionSuiteKind
+from scratchworld_dist.perception._suite import PerceptionSuite
 from scratchworld_dist.perception._upstream import UpstreamPerceptionLoader
 
 if typing.TYPE_CHECKING:
@@ -42,9 +42,7 @@ __all__ = [
     "FieldFact",
     "NativePerceptionLoader",
     "PerceptionItem",
-    "PerceptionProblem",
     "PerceptionSuite",
-    "PerceptionSuiteKind",
     "PerceptionView",
     "Position",
     "UpstreamItemInfo",

@@ -2,25 +2,25 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Protocol
 
-from scratchworld_dist._errors import SuiteError
 from scratchworld_dist.perception._native import SUITE_FILE, NativePerceptionLoader
 from scratchworld_dist.perception._suite import PerceptionSuite
 from scratchworld_dist.perception._upstream import BENCHMARK_DIR, UpstreamPerceptionLoader
+from scratchworld_dist.suites import SuiteLoader, load_with
+
+PERCEPTION_LOADERS: tuple[SuiteLoader[PerceptionSuite], ...] = (NativePerceptionLoader(), UpstreamPerceptionLoader())
+
+NOT_A_PERCEPTION_SUITE = (
+    f"not a perception suite: expected {SUITE_FILE} (a scratchworld_dist perception suite) or "
+    f"{BENCHMARK_DIR}/ (a clone of the upstream ScratchWorld repository)"
+)
 
 
-class PerceptionSuiteLoader(Protocol):
-    kind: str
-
-    @staticmethod
-    def handles(root: Path) -> bool: ...
-
-    def load(self, root: Path) -> PerceptionSuite: ...
-
-
-PERCEPTION_LOADERS: tuple[PerceptionSuiteLoader, ...] = (NativePerceptionLoader(), UpstreamPerceptionLoader())
+def _clone_above(root: Path) -> Sequence[Path]:
+    """A clone's ``visual_perception_benchmark/`` folder stands for the clone."""
+    return (root.parent,) if root.name == BENCHMARK_DIR.name else ()
 
 
 def load_perception_suite(path: str | Path) -> PerceptionSuite:
@@ -29,16 +29,4 @@ def load_perception_suite(path: str | Path) -> PerceptionSuite:
     Raises ``SuiteError`` only when there is no suite to speak of (no folder, no recognisable layout, an
     unreadable manifest); a bad item is left out and listed in ``PerceptionSuite.problems``.
     """
-    root = Path(path).expanduser().absolute()
-    if not root.is_dir():
-        raise SuiteError("not a directory" if root.exists() else "no such directory", root)
-    candidates = [root, root.parent] if root.name == BENCHMARK_DIR.name else [root]
-    for candidate in candidates:
-        for loader in PERCEPTION_LOADERS:
-            if loader.handles(candidate):
-                return loader.load(candidate)
-    raise SuiteError(
-        f"not a perception suite: expected {SUITE_FILE} (a scratchworld_dist perception suite) or "
-        f"{BENCHMARK_DIR}/ (a clone of the upstream ScratchWorld repository)",
-        root,
-    )
+    return load_with(path, PERCEPTION_LOADERS, NOT_A_PERCEPTION_SUITE, _clone_above)

@@ -27,8 +27,8 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from scratchworld_dist._errors import SuiteError, validation_summary
 from scratchworld_dist._files import MAX_TEXT_BYTES, read_file, read_text, write_atomic
 from scratchworld_dist.perception._item import PerceptionItem, PerceptionView
-from scratchworld_dist.perception._suite import PerceptionProblem, PerceptionSuite
-from scratchworld_dist.suites import SuiteProblems
+from scratchworld_dist.perception._suite import PerceptionSuite
+from scratchworld_dist.suites import SuiteKind, SuiteProblem, SuiteProblems
 
 SUITE_FILE = "perception-suite.json"
 ITEMS_FILE = "items.jsonl"
@@ -56,7 +56,7 @@ class PerceptionSuiteFile(BaseModel):
 class NativePerceptionLoader:
     """Loads a folder holding ``perception-suite.json``."""
 
-    kind = "scratchworld_dist"
+    kind: SuiteKind = "scratchworld_dist"
 
     @staticmethod
     def handles(root: Path) -> bool:
@@ -67,14 +67,14 @@ class NativePerceptionLoader:
         manifest = reader.read_model(root / SUITE_FILE, PerceptionSuiteFile)
         reader.raise_if_any()  # without the manifest there is no suite
         assert manifest is not None
-        problems: list[PerceptionProblem] = []
+        problems: list[SuiteProblem] = []
         views = _records(root, VIEWS_FILE, PerceptionView, manifest.views, problems)
         kept_views: dict[str, PerceptionView] = {}
         for line, view in views:
             where = root / f"{VIEWS_FILE}:{line}"
             bad = _outside(root, view.project) or _outside(root, view.screenshot)
             if bad is not None or view.id in kept_views:
-                problems.append(PerceptionProblem(path=where, message=bad or f"view {view.id!r} is listed twice"))
+                problems.append(SuiteProblem(path=where, message=bad or f"view {view.id!r} is listed twice"))
                 continue
             kept_views[view.id] = view.model_copy(
                 update={"project": root / view.project, "screenshot": root / view.screenshot}
@@ -89,7 +89,7 @@ class NativePerceptionLoader:
             if bad is None and item.view is not None and item.view not in kept_views:
                 bad = f"view: {item.view!r} is not a view of the suite"
             if bad is not None:
-                problems.append(PerceptionProblem(path=where, message=bad))
+                problems.append(SuiteProblem(path=where, message=bad))
                 continue
             seen.add(item.id)
             items.append(item.model_copy(update={"screenshot": root / item.screenshot}))
@@ -100,17 +100,17 @@ class NativePerceptionLoader:
 
 
 def _records(
-    root: Path, name: str, model: type[RecordT], expected: int, problems: list[PerceptionProblem]
+    root: Path, name: str, model: type[RecordT], expected: int, problems: list[SuiteProblem]
 ) -> list[tuple[int, RecordT]]:
     """The valid lines of a JSON-lines file, by line number; every bad line (and a wrong count) a problem."""
     path = root / name
     try:
         text = read_text(path, MAX_TEXT_BYTES)
     except FileNotFoundError:
-        problems.append(PerceptionProblem(path=path, message="missing"))
+        problems.append(SuiteProblem(path=path, message="missing"))
         return []
     except (OSError, UnicodeDecodeError) as exc:
-        problems.append(PerceptionProblem(path=path, message=f"cannot read: {exc}"))
+        problems.append(SuiteProblem(path=path, message=f"cannot read: {exc}"))
         return []
     records: list[tuple[int, RecordT]] = []
     lines = [(number, line) for number, line in enumerate(text.splitlines(), start=1) if line.strip()]
@@ -118,10 +118,10 @@ def _records(
         try:
             records.append((number, model.model_validate_json(line)))
         except ValidationError as exc:
-            problems.append(PerceptionProblem(path=root / f"{name}:{number}", message=validation_summary(exc)))
+            problems.append(SuiteProblem(path=root / f"{name}:{number}", message=validation_summary(exc)))
     if len(lines) != expected:
         message = f"holds {len(lines)} line(s); {SUITE_FILE} says {expected}"
-        problems.append(PerceptionProblem(path=path, message=message))
+        problems.append(SuiteProblem(path=path, message=message))
     return records
 
 

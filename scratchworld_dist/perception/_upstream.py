@@ -21,8 +21,8 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from scratchworld_dist._errors import validation_summary
 from scratchworld_dist.perception._item import PerceptionItem, UpstreamItemInfo
-from scratchworld_dist.perception._suite import PerceptionProblem, PerceptionSuite
-from scratchworld_dist.suites import SuiteProblems
+from scratchworld_dist.perception._suite import PerceptionSuite
+from scratchworld_dist.suites import SuiteKind, SuiteProblem, SuiteProblems
 from workers.contract import NO, YES, PerceptionKind, ValueKind
 
 BENCHMARK_DIR = Path("visual_perception_benchmark")
@@ -67,7 +67,7 @@ def item_id_of(task_id: str) -> str:
 class UpstreamPerceptionLoader:
     """Loads a clone's ``visual_perception_benchmark``."""
 
-    kind = "upstream"
+    kind: SuiteKind = "upstream"
 
     @staticmethod
     def handles(root: Path) -> bool:
@@ -75,18 +75,18 @@ class UpstreamPerceptionLoader:
 
     def load(self, root: Path) -> PerceptionSuite:
         items: list[tuple[int, str, PerceptionItem]] = []
-        problems: list[PerceptionProblem] = []
+        problems: list[SuiteProblem] = []
         for path in sorted((root / TASKS_DIR).glob("*.json")):
             item, number, problem = self._load_item(root, path)
             if item is None:
-                problems.append(problem or PerceptionProblem(path=path, message="unreadable"))
+                problems.append(problem or SuiteProblem(path=path, message="unreadable"))
                 continue
             items.append((int(number) if number.isdigit() else 10**9, number, item))
         seen: set[str] = set()
         ordered: list[PerceptionItem] = []
         for _, _, item in sorted(items, key=lambda entry: entry[:2]):
             if item.id in seen:
-                problems.append(PerceptionProblem(path=root / TASKS_DIR, message=f"two tasks are item {item.id}"))
+                problems.append(SuiteProblem(path=root / TASKS_DIR, message=f"two tasks are item {item.id}"))
                 continue
             seen.add(item.id)
             ordered.append(item)
@@ -95,23 +95,23 @@ class UpstreamPerceptionLoader:
             problems=tuple(problems),
         )  # fmt: skip
 
-    def _load_item(self, root: Path, path: Path) -> tuple[PerceptionItem | None, str, PerceptionProblem | None]:
+    def _load_item(self, root: Path, path: Path) -> tuple[PerceptionItem | None, str, SuiteProblem | None]:
         """The item of one task file and upstream's number for it, or the problem that leaves it out."""
         reader = SuiteProblems(root)
         data = reader.read_json(path)
         if data is None:
-            return None, "", PerceptionProblem(path=path, message=reader.items[0][1])
+            return None, "", SuiteProblem(path=path, message=reader.items[0].message)
         try:
             task = UpstreamPerceptionTask.model_validate(data)
         except ValidationError as exc:
-            return None, "", PerceptionProblem(path=path, message=validation_summary(exc))
+            return None, "", SuiteProblem(path=path, message=validation_summary(exc))
         shot = Path(task.screenshot)
         if shot.is_absolute() or len(shot.parts) != 1:
             message = f"screenshot: {task.screenshot!r} is not a file name"
-            return None, "", PerceptionProblem(path=path, message=message)
+            return None, "", SuiteProblem(path=path, message=message)
         screenshot = root / SCREENSHOTS_DIR / shot
         if not screenshot.is_file():
-            return None, "", PerceptionProblem(path=path, message=f"screenshot: {screenshot} does not exist")
+            return None, "", SuiteProblem(path=path, message=f"screenshot: {screenshot} does not exist")
         answer = task.ground_truth.strip()
         yes_no = answer.upper() in (YES, NO)
         try:
@@ -127,5 +127,5 @@ class UpstreamPerceptionLoader:
                 upstream=UpstreamItemInfo(task_id=task.task_id, focus_hint=task.focus_hint),
             )
         except ValidationError as exc:
-            return None, "", PerceptionProblem(path=path, message=validation_summary(exc))
+            return None, "", SuiteProblem(path=path, message=validation_summary(exc))
         return item, task.task_id, None

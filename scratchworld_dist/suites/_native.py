@@ -17,6 +17,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from scratchworld_dist.suites._generic import SuiteKind
 from scratchworld_dist.suites._problems import SuiteProblems
 from scratchworld_dist.suites._task import CATEGORIES, Suite, Task, sort_tasks, task_id_problem
 
@@ -48,17 +49,20 @@ class TaskFile(BaseModel):
 
 
 class NativeSuiteLoader:
-    """Loads a folder holding ``suite.json``."""
+    """Loads a folder holding ``suite.json``; ``task_list`` (an upstream-clone feature) is refused."""
 
-    kind = "scratchworld_dist"
+    kind: SuiteKind = "scratchworld_dist"
+
+    def __init__(self, task_list: str | None = None) -> None:
+        self.task_list = task_list
 
     @staticmethod
     def handles(root: Path) -> bool:
         return (root / SUITE_FILE).is_file()
 
-    def load(self, root: Path, task_list: str | None = None) -> Suite:
+    def load(self, root: Path) -> Suite:
         problems = SuiteProblems(root)
-        if task_list is not None:
+        if self.task_list is not None:
             problems.add(root / SUITE_FILE, "task lists are an upstream-clone feature; select tasks by id instead")
         suite_file = problems.read_model(root / SUITE_FILE, SuiteFile)
         problems.raise_if_any()
@@ -83,7 +87,7 @@ class NativeSuiteLoader:
         if not tasks and not problems.items:
             problems.add(root, "the suite has no tasks")
         problems.raise_if_any()
-        return Suite(name=suite_file.name, kind="scratchworld_dist", root=root, tasks=sort_tasks(tasks))
+        return Suite(name=suite_file.name, kind="scratchworld_dist", root=root, items=sort_tasks(tasks))
 
     def _load_task(
         self, task_dir: Path, category: str, suite_file: SuiteFile, helper: Path | None, problems: SuiteProblems

@@ -10,6 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
 from scratchworld_dist._errors import ConfigError, SuiteError, TaskNotFoundError
 from scratchworld_dist._files import read_file, read_text
+from scratchworld_dist.suites._generic import BaseSuite
 from workers.contract import (
     CompositeAction,
     EvaluationClock,
@@ -22,8 +23,6 @@ from workers.contract import (
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
 CATEGORIES: tuple[TaskCategory, ...] = get_args(TaskCategory)
-
-SuiteKind = Literal["scratchworld_dist", "upstream"]
 
 _TRAJECTORY = TypeAdapter(list[CompositeAction])
 
@@ -147,15 +146,12 @@ def _read_text(path: Path) -> str:
         raise SuiteError(f"cannot read the script: {exc}", path) from exc
 
 
-class Suite(BaseModel):
-    """The tasks found in one folder, in a stable order (category, then id)."""
+class Suite(BaseSuite[Task]):
+    """The tasks found in one folder, in a stable order (category, then id); any problem fails the load."""
 
-    model_config = ConfigDict(frozen=True)
-
-    name: str
-    kind: SuiteKind
-    root: Path
-    tasks: tuple[Task, ...]
+    @property
+    def tasks(self) -> tuple[Task, ...]:
+        return self.items
 
     def task(self, task_id: str) -> Task:
         for task in self.tasks:

@@ -19,6 +19,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from scratchworld_dist.suites._generic import SuiteKind
 from scratchworld_dist.suites._problems import SuiteProblems
 from scratchworld_dist.suites._task import CATEGORIES, Suite, Task, sort_tasks, task_id_problem
 
@@ -55,20 +56,23 @@ def find_golden(projects: Path, task_id: str, category: str) -> Path | None:
 class UpstreamSuiteLoader:
     """Loads a ScratchWorld clone (its ``tasks/`` and ``scratch-gui/static/`` folders).
 
-    ``require_scripts=False`` loads tasks whose evaluation scripts are absent (their paths are kept):
-    for what needs only the projects, such as planning oracle trajectories.
+    ``task_list`` (a file, or a name under ``tasks/``) picks the tasks it lists. ``require_scripts=False``
+    loads tasks whose evaluation scripts are absent (their paths are kept): for what needs only the
+    projects, such as planning oracle trajectories.
     """
 
-    kind = "upstream"
+    kind: SuiteKind = "upstream"
 
-    def __init__(self, require_scripts: bool = True) -> None:
+    def __init__(self, require_scripts: bool = True, task_list: str | None = None) -> None:
         self.require_scripts = require_scripts
+        self.task_list = task_list
 
     @staticmethod
     def handles(root: Path) -> bool:
         return (root / "tasks").is_dir() and (root / PROJECTS_DIR).is_dir()
 
-    def load(self, root: Path, task_list: str | None = None) -> Suite:
+    def load(self, root: Path) -> Suite:
+        task_list = self.task_list
         problems = SuiteProblems(root)
         scripts = root / SCRIPTS_DIR
         helper = scripts / HELPER_FILE
@@ -95,7 +99,7 @@ class UpstreamSuiteLoader:
         if not tasks and not problems.items:
             problems.add(root / "tasks", "no task files under tasks/<category>/")
         problems.raise_if_any()
-        return Suite(name=f"scratchworld-upstream:{root.name}", kind="upstream", root=root, tasks=sort_tasks(tasks))
+        return Suite(name=f"scratchworld-upstream:{root.name}", kind="upstream", root=root, items=sort_tasks(tasks))
 
     def _task_list(self, root: Path, task_list: str, problems: SuiteProblems) -> dict[str, list[str]]:
         path = Path(task_list)
