@@ -9,7 +9,7 @@ from typing import TypeVar
 from scratchworld_dist._errors import SuiteError
 from scratchworld_dist.suites._generic import BaseSuite, SuiteLoader
 
-SuiteT = TypeVar("SuiteT", bound=BaseSuite)  # type: ignore[type-arg]
+SuiteT = TypeVar("SuiteT", bound=BaseSuite)
 
 Above = Callable[[Path], Sequence[Path]]
 """The folders above ``root`` that may hold the suite ``root`` is part of (a clone's ``tasks/``, say)."""
