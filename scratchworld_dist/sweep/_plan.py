@@ -99,6 +99,11 @@ class JobSpec(BaseModel):
         return self.body.kind
 
     @property
+    def mode(self) -> str:
+        """The mode its rows name (an episode's own; a single-step job's is primitive), as its body decides."""
+        return str(self.body.columns()["mode"])
+
+    @property
     def needs_browser(self) -> bool:
         """Whether the job's worker opens an editor (a perception job reads a static screenshot)."""
         return job_kind(self.benchmark).needs_browser
