@@ -1,6 +1,6 @@
 """The single-step drag kind (``benchmark: drag``): planning, rows and report of one drag per job."""
 
-from scratchworld_dist.kinds.drag._kind import DRAG, DragKind, refuse_episode_sections
+from scratchworld_dist.kinds.drag._kind import DRAG, DragKind
 from scratchworld_dist.kinds.drag._plan import (
     DragBody,
     DragContent,
@@ -19,5 +19,4 @@ __all__ = [
     "drag_job_id",
     "plan_drag_jobs",
     "read_drag_task",
-    "refuse_episode_sections",
 ]

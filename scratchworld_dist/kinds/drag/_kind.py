@@ -14,6 +14,7 @@ from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
 from scratchworld_dist.drag import DragTask, load_drag_suite
 from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
+from scratchworld_dist.kinds._single_answer import refuse_episode_sections
 from scratchworld_dist.kinds.drag._plan import DragBody, plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag._rows import drag_row
 from scratchworld_dist.results import RunStore, SuiteInfo
@@ -132,12 +133,6 @@ class DragKind:
 
         drag = build_drag_report([run_dir])
         return f"<pre>{html.escape(render_drag_markdown(drag))}</pre>", drag.warnings
-
-
-def refuse_episode_sections(config: SweepConfig, title: str) -> None:
-    """A benchmark of single answers has no memory across jobs and no synthetic stand-in episodes."""
-    if config.memory is not None or config.synthetic is not None:
-        raise ValueError(f"memory and synthetic are for task suites, not the {title} benchmark")
 
 
 DRAG = DragKind()

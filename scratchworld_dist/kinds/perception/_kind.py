@@ -12,7 +12,7 @@ from pydantic import BaseModel
 
 from scratchworld_dist._run_plan import RunPlan
 from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
-from scratchworld_dist.kinds.drag import refuse_episode_sections
+from scratchworld_dist.kinds._single_answer import refuse_episode_sections
 from scratchworld_dist.kinds.perception._plan import PerceptionContent, plan_perception_jobs, select_perception_items
 from scratchworld_dist.kinds.perception._rows import perception_row
 from scratchworld_dist.results import RunStore, SuiteInfo, shared_image_path
