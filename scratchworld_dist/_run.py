@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import ray
-from pydantic import BaseModel
+from pydantic import BaseModel, ValidationError
 from ray.exceptions import RayError
 from rich.console import Console
 
@@ -103,9 +103,11 @@ class AttemptRecorder:
 
 
 def config_hash(config: SweepConfig) -> str:
-    """Hash of the fields that shape the job matrix; paths, execution limits and the model cache (a replay is
-    the reply the same request got, so a run may turn it on or off) may change freely."""
+    """Hash of the fields that shape the job matrix; paths, execution limits, the model cache (a replay is
+    the reply the same request got, so a run may turn it on or off) and other kinds' sections may change freely."""
+    others = {kind for kind in config.sections if kind != config.benchmark}
     pacing: dict[str, object] = {
+        "sections": {kind: True for kind in others},
         "suite": True,
         "output": True,
         "limits": True,
@@ -131,7 +133,18 @@ def _checked_manifest(plan: RunPlan, run_dir: Path, force: bool) -> RunManifest:
         packages=package_versions(),
         git_commit=git_commit(Path(__file__).parent),
     )
-    return continued(run_dir, fresh, force=force, kind="sweep", config_label="sweep config")
+    return continued(
+        run_dir, fresh, force=force, kind="sweep", config_label="sweep config", config_hash_of=_hash_as_now
+    )
+
+
+def _hash_as_now(old: RunManifest) -> str:
+    """An earlier run's config hashed as this code hashes (what counts may have changed since, e.g. other kinds'
+    sections); its recorded hash when its config no longer reads."""
+    try:
+        return config_hash(SweepConfig.model_validate(old.config))
+    except ValidationError:
+        return old.config_hash
 
 
 def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | None = None) -> RunSummary:

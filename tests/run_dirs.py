@@ -8,11 +8,11 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from scratchworld_dist.kinds.drag import DragRow
+from scratchworld_dist.kinds.perception import PerceptionRow
 from scratchworld_dist.results import (
-    DragRow,
     JobRecord,
     JobRow,
-    PerceptionRow,
     RegradeInfo,
     RunManifest,
     RunStore,

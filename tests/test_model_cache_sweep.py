@@ -16,7 +16,7 @@ import yaml
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.kinds.tasks import EpisodeBody, EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.reports import build_report, render_html, render_markdown
-from scratchworld_dist.results import SCHEMAS, RunStore, record_of
+from scratchworld_dist.results import RunStore, record_of, table_schema
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, load_sweep_config
 from tests.conftest import SUITE_DIR
@@ -217,7 +217,7 @@ def test_shards_written_before_the_column_existed_still_read(tmp_path: Path) -> 
     for table in ("jobs", "steps"):
         shard = run / table / "part-000001.parquet"
         older = pq.read_table(shard).drop_columns(["llm_cache_hits"])
-        schema = pa.schema(older.schema, metadata=SCHEMAS[table].metadata)
+        schema = pa.schema(older.schema, metadata=table_schema(table).metadata)
         pq.write_table(older.cast(schema), shard)
         assert "llm_cache_hits" not in pq.read_schema(shard).names
     (row,) = RunStore(run).job_rows()

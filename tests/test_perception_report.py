@@ -54,7 +54,7 @@ def mixed_records() -> list[JobRecord]:
 
 
 def joined(records: list[JobRecord]) -> tuple[list[PerceptionRun], list[str]]:
-    return join_runs([r.job for r in records], [a for r in records for a in r.perception])
+    return join_runs([r.job for r in records], [a for r in records for a in r.kind_rows.get("perception", [])])
 
 
 def one_row() -> PerceptionTableRow:
@@ -109,7 +109,7 @@ def test_yes_share_is_what_answering_yes_to_everything_scores() -> None:
     row = one_row()
     assert (row.overall.yes_expected, row.overall.yes_share) == (4, 0.4)  # c1, c5, e1, f3 of 10 scored
     assert [c.yes_share for c in row.kinds] == [pytest.approx(2 / 5), 0.5, pytest.approx(1 / 3)]
-    answered = [r.perception[0] for r in mixed_records() if r.perception]
+    answered = [r.kind_rows["perception"][0] for r in mixed_records() if r.kind_rows.get("perception")]
     always_yes = [
         perception_record(
             a.item_id, a.expected, "YES", kind=a.kind, value_kind=a.value_kind, model="-", agent="always_yes"

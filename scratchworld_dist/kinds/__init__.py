@@ -4,7 +4,7 @@ Each kind is one folder here with everything the driver does differently for it;
 only through ``job_kind(name)``.
 """
 
-from scratchworld_dist.kinds._protocol import DiagnosisPart, JobKind, Notice
+from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, JobKind, Notice
 from scratchworld_dist.kinds._registry import (
     DEFAULT_KIND,
     ENTRY_POINT_GROUP,
@@ -18,6 +18,7 @@ from scratchworld_dist.kinds._registry import (
 __all__ = [
     "DEFAULT_KIND",
     "ENTRY_POINT_GROUP",
+    "AttemptPanel",
     "DiagnosisPart",
     "JobKind",
     "Notice",

@@ -7,7 +7,7 @@ config's ``benchmark:`` value and the ``benchmark`` column of every job row.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -25,6 +25,20 @@ Notice = Callable[[str], None]
 """Where planning says what it left out (a missing optional suite, an unusable task)."""
 
 
+class AttemptPanel(BaseModel):
+    """A kind's part of one attempt on the viewer's job page, above its tests."""
+
+    title: str
+    html: str
+    """The panel's body: an HTML fragment, every value in it escaped by the kind."""
+
+    instruction: str | None = None
+    """What the page shows as the job's instruction instead of the task's (a perception item's question)."""
+
+    shows_project: bool = True
+    """Whether the attempt's final project belongs on the page (False when its jobs edit no project)."""
+
+
 class JobKind(Protocol):
     """One benchmark, as the driver runs and reports it."""
 
@@ -37,8 +51,12 @@ class JobKind(Protocol):
     needs_browser: bool
     """Whether its jobs open an editor (admission and warm editors count only those that do)."""
 
-    tables: tuple[str, ...]
-    """Result tables of its own besides ``jobs``, ``steps`` and ``tests`` (each a ``JobRecord`` field)."""
+    tables: Mapping[str, type[BaseModel]]
+    """Result tables of its own besides ``jobs``, ``steps`` and ``tests``: folder name and row model (with
+    ``job_id`` and ``attempt``; a run holds the tables of its kind)."""
+
+    config_section: type[BaseModel] | None
+    """The model of its section of a sweep config, the key named after it (``drag:``); None: it has none."""
 
     regrade_refusal: str | None
     """Why its runs cannot be regraded (None: they store projects a regrade evaluates again)."""
@@ -85,6 +103,11 @@ class JobKind(Protocol):
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         """The body of one run's page in the viewer (HTML, escaped), and its warnings."""
+        ...
+
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+        """What the viewer's job page shows of one attempt's rows in this kind's ``tables`` (None: nothing);
+        ``root`` is the run directory as the page links to it (``../``)."""
         ...
 
     def diagnosis(self) -> DiagnosisPart | None:

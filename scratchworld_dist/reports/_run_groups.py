@@ -15,7 +15,6 @@ from pydantic import BaseModel
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.kinds import job_kind, kind_names, kind_of_run
 from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows
-from scratchworld_dist.results import TABLES
 
 
 @dataclass(frozen=True)
@@ -59,8 +58,8 @@ def load_groups(paths: dict[str, list[Path]], *, force: bool) -> list[RunGroup]:
     for benchmark, members in paths.items():
         runs, warnings = load_runs(members, force=force)
         tables: dict[str, list[BaseModel]] = {
-            table: [row for run in runs for row in read_rows(run.path, table, TABLES[table], f"a {table} row")]
-            for table in job_kind(benchmark).tables
+            table: [row for run in runs for row in read_rows(run.path, table, model, f"a {table} row")]
+            for table, model in job_kind(benchmark).tables.items()
         }
         groups.append(RunGroup(benchmark=benchmark, runs=runs, warnings=warnings, tables=tables))
     return groups

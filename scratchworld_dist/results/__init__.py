@@ -15,28 +15,30 @@ from scratchworld_dist.results._manifest import (
     write_manifest,
 )
 from scratchworld_dist.results._records import (
-    DragRow,
     JobRecord,
     JobRow,
-    PerceptionRow,
     StepRow,
     TestRow,
     record_of,
     shared_image_path,
     test_rows,
 )
-from scratchworld_dist.results._schema import SCHEMA_VERSION, SCHEMAS, TABLES
+from scratchworld_dist.results._schema import (
+    CORE_TABLES,
+    SCHEMA_VERSION,
+    UnknownTableError,
+    row_tables,
+    table_model,
+    table_schema,
+)
 from scratchworld_dist.results._store import RunStore, effective_rows
 
 __all__ = [
+    "CORE_TABLES",
     "MANIFEST_NAME",
-    "SCHEMAS",
     "SCHEMA_VERSION",
-    "TABLES",
-    "DragRow",
     "JobRecord",
     "JobRow",
-    "PerceptionRow",
     "RegradeInfo",
     "RunManifest",
     "RunStore",
@@ -44,6 +46,7 @@ __all__ = [
     "StepRow",
     "SuiteInfo",
     "TestRow",
+    "UnknownTableError",
     "continued",
     "effective_rows",
     "git_commit",
@@ -52,7 +55,10 @@ __all__ = [
     "read_manifest",
     "record_of",
     "require_manifest",
+    "row_tables",
     "shared_image_path",
+    "table_model",
+    "table_schema",
     "test_rows",
     "write_manifest",
 ]

@@ -7,7 +7,7 @@ import os
 import platform
 import socket
 import subprocess
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from datetime import UTC, datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -189,19 +189,21 @@ def continued(
     kind: str,
     config_label: str,
     also: Sequence[tuple[str, object, object]] = (),
+    config_hash_of: Callable[[RunManifest], str] | None = None,
 ) -> RunManifest:
     """``fresh``, carrying the sessions of the manifest ``run_dir`` already holds.
 
     A directory holding results of another ``kind`` (``also``, then the config hash named ``config_label``,
     the suite's content, the result schema beyond ``CONTINUABLE_SCHEMAS`` or the harness differ) is refused,
-    naming what differs, unless ``force``: its rows are then kept and reported as stale.
+    naming what differs, unless ``force``: its rows are then kept and reported as stale. ``config_hash_of`` hashes
+    the old manifest's config as ``fresh`` was hashed (default: the hash it recorded).
     """
     old = read_manifest(run_dir)
     if old is None:
         return fresh
     checks = [
         *also,
-        (config_label, old.config_hash, fresh.config_hash),
+        (config_label, config_hash_of(old) if config_hash_of else old.config_hash, fresh.config_hash),
         ("suite content", old.suite.hash, fresh.suite.hash),
     ]
     if not {old.schema_version, fresh.schema_version} <= CONTINUABLE_SCHEMAS:

@@ -1,15 +1,16 @@
-"""Result rows: one per finished job, one per step, one per unit test, one per drag, one per perception answer.
+"""Result rows: one per finished job, one per step, one per unit test, and the rows of the job kind's own tables.
 
-The five row models are the only shape results take, in the journal, in Parquet and in
-reports; ``schema.py`` derives the Arrow schemas from the same field list.
+The row models are the only shape results take, in the journal, in Parquet and in reports;
+``_schema.py`` derives the Arrow schemas from the same field lists.
 """
 
 from __future__ import annotations
 
 import json
 from datetime import UTC, datetime
+from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, SerializeAsAny, model_validator
 
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.sweep import JobSpec
@@ -154,114 +155,31 @@ class TestRow(BaseModel):
     duration_ms: float | None
 
 
-class DragRow(BaseModel):
-    """What one drag attempt predicted and how far it was from the exact regions (a row of ``drags/``).
-
-    Points are page px as performed; ``end_*`` distances are for the release translated by
-    ``fixed_start - start`` (a press elsewhere in the block moves the block's grip by as much).
-    """
-
-    model_config = ConfigDict(frozen=True)
-
-    job_id: str
-    attempt: int
-    task_id: str
-    drag_type: str
-    """T1 (stacking) or T2 (nesting)."""
-
-    connection: str
-    """The expected connection kind: parent, next, substack_1, substack_2 or input."""
-
-    source: str
-    """Where the dragged block comes from: canvas or flyout."""
-
-    setting: str
-    model: str
-    agent: str
-    seed: int
-    parse: str
-    """How the reply was read: ok, no_answer, unparsed, bad_index or out_of_screen."""
-
-    start_x: float | None
-    start_y: float | None
-    end_x: float | None
-    end_y: float | None
-    start_in_region: bool | None
-    start_error_px: float | None
-    end_in_region: bool | None
-    end_error_px: float | None
-    connected: bool
-    observed: str
-    fixed_start_x: int
-    fixed_start_y: int
-    """The press the end region is for (a deepest pixel of the start region)."""
-
-    gt_start_x: int | None
-    gt_start_y: int | None
-    start_area: int
-    end_area: int
-    regions_json: str
-    """The exact regions, ``{"start": {"rows": [[y, x_first, x_last], ...]}, "fixed_start": [x, y], "end": {...}}``
-    (``DragRegions.model_validate_json`` reads it back): any other distance or metric is a query away."""
-    reply: str | None
-    """The model's raw reply (null for scripted agents)."""
-
-    annotated: str | None
-    """The annotated screenshot (prediction and regions), relative to the run directory."""
-
-
-class PerceptionRow(BaseModel):
-    """What one perception attempt answered and how it scored both ways (a row of ``perception/``)."""
-
-    model_config = ConfigDict(frozen=True)
-
-    job_id: str
-    attempt: int
-    item_id: str
-    question: str
-    kind: str
-    """connection, existence or field."""
-
-    tag: str
-    """The item's finer class (upstream's tags, e.g. ``connection_no_hard``, or ours)."""
-
-    answer_format: str
-    """yes_no or value."""
-
-    value_kind: str | None
-    """For value items: number, text or dropdown."""
-
-    model: str
-    agent: str
-    seed: int
-    expected: str
-    reply: str
-    """The answer as given: the model's raw reply, or a scripted agent's answer."""
-
-    extracted: str | None
-    """The answer the normalized scoring read out of the reply (null when it found none)."""
-
-    parse: str
-    """ok, no_answer (empty reply) or unparsed (no answer of the asked form in it)."""
-
-    strict_correct: bool
-    """Upstream's scoring: the stripped reply equals the answer (YES/NO case-insensitively)."""
-
-    normalized_correct: bool
-    """Ours (decides the job's outcome): the final answer read from the reply, trimmed, numbers as numbers."""
-
-    screenshot: str
-    """The item's screenshot, relative to the run directory (``images/<sha256>.png``, stored once per run)."""
-
-
 class JobRecord(BaseModel):
     """Everything one attempt adds to the results, committed together."""
 
     job: JobRow
     steps: list[StepRow] = Field(default_factory=list)
     tests: list[TestRow] = Field(default_factory=list)
-    drags: list[DragRow] = Field(default_factory=list)
-    perception: list[PerceptionRow] = Field(default_factory=list)
+    kind_rows: dict[str, list[SerializeAsAny[BaseModel]]] = Field(default_factory=dict)
+    """Rows of the job kind's own tables (``JobKind.tables``: ``drags``, ``perception``...), by table."""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _typed_kind_rows(cls, data: Any) -> Any:
+        """Each kind table's rows as its row model; a table given as a field of its own (``drags=[...]``, and
+        journal lines written before ``kind_rows``) is one of them."""
+        from scratchworld_dist.results._schema import table_model  # derived from these rows: imported after them
+
+        if not isinstance(data, dict):
+            return data
+        core = {"job", "steps", "tests"}
+        given = {**(data.get("kind_rows") or {}), **{k: v for k, v in data.items() if k not in core | {"kind_rows"}}}
+        typed: dict[str, list[BaseModel]] = {}
+        for table, rows in given.items():
+            model = table_model(table)
+            typed[table] = [row if isinstance(row, model) else model.model_validate(row) for row in rows]
+        return {**{k: v for k, v in data.items() if k in core}, "kind_rows": typed}
 
 
 def _time(unix: float) -> datetime:
@@ -353,7 +271,9 @@ def record_of(
         for step in result.steps
     ]
     tests = test_rows(job.job_id, result.attempt, job.task_id, evaluation)
-    return JobRecord(job=row, steps=steps, tests=tests, **job_kind(job.benchmark).own_rows(job, result, artifact_dir))
+    kind = job_kind(job.benchmark)
+    kind_rows = {table: [] for table in kind.tables} | kind.own_rows(job, result, artifact_dir)
+    return JobRecord(job=row, steps=steps, tests=tests, kind_rows=kind_rows)
 
 
 def test_rows(job_id: str, attempt: int, task_id: str, evaluation: EvalResult | None) -> list[TestRow]:

@@ -32,7 +32,7 @@ from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist._files import link_atomic, write_atomic
 from scratchworld_dist.kinds import kind_of_run
 from scratchworld_dist.results._records import JobRecord, JobRow
-from scratchworld_dist.results._schema import SCHEMAS
+from scratchworld_dist.results._schema import CORE_TABLES, KIND_TABLE_KEYS, table_schema
 
 
 class _Named(Protocol):
@@ -75,10 +75,9 @@ _KEYS: dict[str, tuple[str, ...]] = {
     "jobs": ("job_id", "attempt", "outcome"),
     "steps": ("job_id", "attempt", "step"),
     "tests": ("job_id", "attempt", "test_index"),
-    "drags": ("job_id", "attempt", "task_id"),
-    "perception": ("job_id", "attempt", "item_id"),
 }
-"""Columns every shard of a table has had in every schema version: a file without them is not one."""
+"""Columns every shard of a table has had in every schema version (a kind's table: ``KIND_TABLE_KEYS``): a file
+without them is not one."""
 
 
 def _check_shard(path: Path, table: str) -> None:
@@ -87,7 +86,7 @@ def _check_shard(path: Path, table: str) -> None:
         schema = pq.read_schema(path)
     except (OSError, pa.ArrowInvalid) as exc:
         raise RunDirError(f"{path}: unreadable shard ({' '.join(str(exc).split())})") from exc
-    missing = [name for name in _KEYS[table] if name not in schema.names]
+    missing = [name for name in _KEYS.get(table, KIND_TABLE_KEYS) if name not in schema.names]
     if b"scratchworld_schema_version" not in (schema.metadata or {}) or missing:
         lacks = f"lacks column(s) {', '.join(missing)}" if missing else "has no scratchworld_schema_version"
         raise RunDirError(f"{path}: not a shard of the {table} table ({lacks}); move it out of the run directory")
@@ -97,9 +96,18 @@ def _to_table(records: list[JobRecord], table: str) -> pa.Table:
     """One table's rows of some records, with that table's schema."""
     if table == "jobs":
         rows = [r.job.model_dump() for r in records]
-    else:
+    elif table in CORE_TABLES:
         rows = [row.model_dump() for r in records for row in getattr(r, table)]
-    return pa.Table.from_pylist(rows, schema=SCHEMAS[table])
+    else:
+        rows = [row.model_dump() for r in records for row in r.kind_rows.get(table, [])]
+    return pa.Table.from_pylist(rows, schema=table_schema(table))
+
+
+def _segment_tables(records: list[JobRecord]) -> list[str]:
+    """The tables a segment's shards are written to: the core ones and its kinds' own, ``jobs`` last (a segment
+    is done once its ``jobs`` shard exists)."""
+    own = {table for r in records for table in r.kind_rows}
+    return [*(t for t in CORE_TABLES if t != "jobs"), *sorted(own), "jobs"]
 
 
 class RunStore:
@@ -139,7 +147,7 @@ class RunStore:
             lock.close()
             raise RunDirError(f"{self.run_dir}: another scratchworld run is writing here") from None
         self._lock = lock
-        for table in SCHEMAS:
+        for table in CORE_TABLES:
             self.table_dir(table).mkdir(exist_ok=True)
         self.journal_dir.mkdir(exist_ok=True)
         for number, path in self._segments():
@@ -218,10 +226,11 @@ class RunStore:
     def _compact(self, number: int, path: Path) -> None:
         records = _read_segment(path)
         if records:
-            for table in ("steps", "tests", "drags", "perception", "jobs"):  # jobs last: it marks the segment done
+            for table in _segment_tables(records):
                 shard = _to_table(records, table)
                 sink = pa.BufferOutputStream()
                 pq.write_table(shard, sink, compression="zstd")
+                self.table_dir(table).mkdir(exist_ok=True)
                 write_atomic(self.table_dir(table) / f"part-{number:06d}.parquet", sink.getvalue().to_pybytes())
         path.unlink()
 
@@ -264,7 +273,7 @@ class RunStore:
         return self._read_table(table, columns)
 
     def _read_table(self, table: str, columns: list[str] | None) -> pa.Table:
-        schema = SCHEMAS[table]
+        schema = table_schema(table)
         parts: list[pa.Table] = []
         folder = self.table_dir(table)
         segments = self._segments()  # listed before the shards: a segment gone by then has its jobs shard

@@ -10,24 +10,27 @@ from __future__ import annotations
 import os
 import re
 from pathlib import Path
-from typing import Annotated, Any, Literal, get_args
+from typing import Annotated, Any, Literal, TypeVar, get_args
 
 import yaml
 from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    ModelWrapValidatorHandler,
     PlainValidator,
+    SerializeAsAny,
+    SerializerFunctionWrapHandler,
     ValidationError,
     ValidationInfo,
     field_validator,
+    model_serializer,
     model_validator,
 )
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
-from scratchworld_dist.kinds import DEFAULT_KIND, job_kind
-from scratchworld_dist.sweep._benchmarks import DragSweep, PerceptionSweep
+from scratchworld_dist.kinds import DEFAULT_KIND, job_kind, job_kinds
 from workers.contract import (
     AgentRef,
     AgentUnavailableError,
@@ -51,6 +54,8 @@ from workers.llm import uncacheable
 
 _ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
+
+SectionT = TypeVar("SectionT", bound=BaseModel)
 
 
 class ModelConfig(BaseModel):
@@ -212,11 +217,9 @@ class SweepConfig(BaseModel):
 
     suite: Path
     tasks: TaskSelection = Field(default_factory=TaskSelection)
-    drag: DragSweep = Field(default_factory=DragSweep)
-    """Settings of the drag benchmark (``benchmark: drag`` only)."""
-
-    perception: PerceptionSweep = Field(default_factory=PerceptionSweep)
-    """Settings of the perception benchmark (``benchmark: perception`` only)."""
+    sections: dict[str, SerializeAsAny[BaseModel]] = Field(default_factory=dict)
+    """Each installed kind's own section (``JobKind.config_section``), written under the kind's name (``drag:``,
+    ``perception:``): read with ``section``; a section left out holds its defaults."""
 
     agent: AgentRef = Field(default_factory=lambda: AgentRef(name="oracle"))
     """Who acts: a registered name (oracle, noop, llm, a plugin's) or ``package.module:Class``,
@@ -268,6 +271,43 @@ class SweepConfig(BaseModel):
 
     model_cache: ModelCacheSettings | None = None
     """Opt-in: answer a model request made before from ``model_cache.dir`` (no request, no cost)."""
+
+    @model_validator(mode="wrap")
+    @classmethod
+    def _kind_sections(cls, data: Any, handler: ModelWrapValidatorHandler[SweepConfig]) -> SweepConfig:
+        """Each kind's section validated by its own model, its problems named by their path (``drag.settings.0``)."""
+        if not isinstance(data, dict):
+            return handler(data)
+        if "sections" in data:
+            raise ValueError("sections is not a field: write each benchmark's section under its name (drag: ...)")
+        data, sections, problems = dict(data), {}, []
+        for kind in job_kinds():
+            if kind.config_section is None:
+                continue
+            try:
+                sections[kind.name] = kind.config_section.model_validate(data.pop(kind.name, None) or {})
+            except ValidationError as exc:
+                problems += [{**e, "loc": (kind.name, *e["loc"])} for e in exc.errors()]  # type: ignore[typeddict-item]
+        if not problems:
+            return handler({**data, "sections": sections})
+        try:
+            handler({**data, "sections": sections})
+        except ValidationError as exc:
+            problems += exc.errors()  # type: ignore[arg-type]
+        raise ValidationError.from_exception_data(cls.__name__, problems)  # type: ignore[arg-type]
+
+    @model_serializer(mode="wrap")
+    def _sections_by_name(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """Sections written back under their kinds' names, as the config file has them."""
+        data = handler(self)
+        return {**{k: v for k, v in data.items() if k != "sections"}, **data.get("sections", {})}
+
+    def section(self, kind: str, model: type[SectionT]) -> SectionT:
+        """Kind ``kind``'s section of this config, as ``model`` (its defaults when the file has none)."""
+        section = self.sections.get(kind) or model()
+        if not isinstance(section, model):
+            raise TypeError(f"the {kind} section is a {type(section).__name__}, not a {model.__name__}")
+        return section
 
     @field_validator("seeds", mode="before")
     @classmethod
@@ -351,14 +391,6 @@ class SweepConfig(BaseModel):
                 raise ValueError(reason)
         return cache
 
-    def drag_agents(self) -> list[AgentRef]:
-        """The agents of a drag sweep: ``drag.agents``, else ``agent``."""
-        return self.drag.agents or [self.agent]
-
-    def perception_agents(self) -> list[AgentRef]:
-        """The agents of a perception sweep: ``perception.agents``, else ``agent``."""
-        return self.perception.agents or [self.agent]
-
     def model_specs(self) -> list[ModelSpec | None]:
         """The models of the matrix; a sweep without models (scripted agents) has one model-less column."""
         return [m.spec() for m in self.models] or [None]
@@ -396,12 +428,7 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     if config.memory is not None and config.memory.from_run is not None:
         from_run = _resolve(base, config.memory.from_run)
         resolved["memory"] = config.memory.model_copy(update={"from_run": from_run})
-    if config.drag.optional_suites:
-        optional = [_resolve(base, suite) for suite in config.drag.optional_suites]
-        resolved["drag"] = config.drag.model_copy(update={"optional_suites": optional})
-    if config.perception.optional_suites:
-        optional = [_resolve(base, suite) for suite in config.perception.optional_suites]
-        resolved["perception"] = config.perception.model_copy(update={"optional_suites": optional})
+    resolved["sections"] = {kind: _resolved_paths(base, section) for kind, section in config.sections.items()}
     if config.oracle_trajectories is not None:
         resolved["oracle_trajectories"] = _resolve(base, config.oracle_trajectories)
     if config.model_cache is not None and "model_cache" not in (overrides or {}):
@@ -409,6 +436,18 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):
         resolved["ray"] = RayConfig(address=os.environ["RAY_ADDRESS"])
     return config.model_copy(update=resolved)
+
+
+def _resolved_paths(base: Path, section: BaseModel) -> BaseModel:
+    """A kind's section with its paths (fields of ``Path`` values, or lists of them) resolved against ``base``."""
+    update: dict[str, Any] = {}
+    for name in type(section).model_fields:
+        value = getattr(section, name)
+        if isinstance(value, Path):
+            update[name] = _resolve(base, value)
+        elif isinstance(value, list) and value and all(isinstance(item, Path) for item in value):
+            update[name] = [_resolve(base, item) for item in value]
+    return section.model_copy(update=update)
 
 
 def _yaml_problem(exc: yaml.YAMLError) -> str:

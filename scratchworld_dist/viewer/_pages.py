@@ -13,8 +13,8 @@ from typing import Literal
 from pydantic import BaseModel, JsonValue
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.kinds import kind_of_run
-from scratchworld_dist.results import JobRow, PerceptionRow
+from scratchworld_dist.kinds import AttemptPanel, kind_of_run
+from scratchworld_dist.results import JobRow
 from scratchworld_dist.viewer._listing import project_listing
 from scratchworld_dist.viewer._runs import Attempt, ViewedRun
 from scratchworld_dist.viewer._timeline import StepView, step_views
@@ -121,8 +121,8 @@ class AttemptView(BaseModel):
     """Where each image its prompts showed is, by digest, relative to the job's page: the attempt's own
     ``images/``, or the run's shared ones (a perception item's screenshot)."""
 
-    perception: PerceptionRow | None = None
-    """A perception job's answer, both scores and its screenshot's path in the run."""
+    panel: AttemptPanel | None = None
+    """What the run's kind shows of the attempt's own rows (a perception job's answer and scores)."""
 
 
 class JobPage(BaseModel):
@@ -235,18 +235,19 @@ def job_page(index: int, run: ViewedRun, job_id: str) -> JobPage | None:
     from scratchworld_dist.results import effective_rows
 
     (best,) = effective_rows([a.row for a in found])
-    views = [_attempt_view(run, attempt) for attempt in found]
-    question = next((a.perception.question for a in found if a.perception is not None), None)
+    kind = run.kind()
+    views = [_attempt_view(run, attempt, kind.attempt_panel(attempt.kind_rows, "../")) for attempt in found]
+    own = next((v.panel.instruction for v in views if v.panel is not None and v.panel.instruction), None)
     return JobPage(
         run=run_card(index, run),
         job_id=job_id,
-        instruction=question or run.instruction(found[0].row.task_id),
+        instruction=own or run.instruction(found[0].row.task_id),
         attempts=views,
         effective=next(i for i, a in enumerate(found) if a.row.attempt == best.attempt),
     )
 
 
-def _attempt_view(run: ViewedRun, attempt: Attempt) -> AttemptView:
+def _attempt_view(run: ViewedRun, attempt: Attempt, panel: AttemptPanel | None) -> AttemptView:
     row = attempt.row
     listing, files = None, None
     if row.artifact_dir is not None:
@@ -278,7 +279,7 @@ def _attempt_view(run: ViewedRun, attempt: Attempt) -> AttemptView:
         listing=listing,
         files=files,
         image_hrefs=hrefs,
-        perception=attempt.perception,
+        panel=panel,
     )
 
 

@@ -17,14 +17,14 @@ from pathlib import Path
 from typing import TypeVar
 
 import pyarrow.compute as pc
-from pydantic import BaseModel, ValidationError
+from pydantic import BaseModel, Field, SerializeAsAny, ValidationError
 
 from scratchworld_dist._errors import ScratchWorldError
 from scratchworld_dist._files import read_file
+from scratchworld_dist.kinds import JobKind, kind_of_run
 from scratchworld_dist.results import (
     MANIFEST_NAME,
     JobRow,
-    PerceptionRow,
     RunManifest,
     RunStore,
     StepRow,
@@ -39,7 +39,7 @@ ARTIFACTS = "artifacts"
 SHARED_IMAGES = "images"
 _IMAGE_NAME = re.compile(r"[0-9a-f]{64}\.png")
 
-_Row = TypeVar("_Row", StepRow, TestRow, PerceptionRow)
+_Row = TypeVar("_Row", bound=BaseModel)
 
 
 class Attempt(BaseModel):
@@ -51,8 +51,8 @@ class Attempt(BaseModel):
     """Why the steps are partial or missing (no trajectory kept, an unreadable line)."""
 
     tests: list[TestRow]
-    perception: PerceptionRow | None = None
-    """A perception job's answer and its scores (None for other jobs, and for an attempt without a verdict)."""
+    kind_rows: dict[str, list[SerializeAsAny[BaseModel]]] = Field(default_factory=dict)
+    """Its rows in the tables of the run's kind (``drags``, ``perception``...), by table."""
 
 
 class ViewedRun:
@@ -95,6 +95,10 @@ class ViewedRun:
         self._rows = (version, rows)
         return rows
 
+    def kind(self) -> JobKind:
+        """The kind of jobs the run holds (the default kind for a run with no rows yet)."""
+        return kind_of_run(self.path)
+
     def effective_rows(self) -> list[JobRow]:
         """One row per job: its latest attempt with a verdict, else its latest error."""
         return list(effective(self.rows()))
@@ -106,7 +110,7 @@ class ViewedRun:
             return []
         tests = self._rows_of("tests", TestRow, job_id)
         step_rows = self._rows_of("steps", StepRow, job_id)
-        answers = self._rows_of("perception", PerceptionRow, job_id)
+        own = {table: self._rows_of(table, model, job_id) for table, model in self.kind().tables.items()}
         found = []
         for attempt in sorted(rows, reverse=True):
             steps, note = self._steps(rows[attempt], step_rows.get(attempt, []))
@@ -116,7 +120,7 @@ class ViewedRun:
                     steps=steps,
                     steps_note=note,
                     tests=sorted(tests.get(attempt, []), key=lambda t: t.test_index),
-                    perception=next(iter(answers.get(attempt, [])), None),
+                    kind_rows={table: by_attempt.get(attempt, []) for table, by_attempt in own.items()},
                 )
             )
         return found

@@ -9,12 +9,14 @@ from scratchworld_dist.kinds.drag._plan import (
     plan_drag_jobs,
     read_drag_task,
 )
+from scratchworld_dist.kinds.drag._rows import DragRow
 
 __all__ = [
     "DRAG",
     "DragBody",
     "DragContent",
     "DragKind",
+    "DragRow",
     "DragTaskInfo",
     "drag_job_id",
     "plan_drag_jobs",

@@ -4,19 +4,21 @@ one drag, judged by where it pressed and released against the exact regions of t
 from __future__ import annotations
 
 import html
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
 from scratchworld_dist.drag import DragTask, load_drag_suite
-from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
-from scratchworld_dist.kinds._single_answer import refuse_episode_sections
+from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
+from scratchworld_dist.kinds._single_answer import refuse_episode_sections, section_agents
 from scratchworld_dist.kinds.drag._plan import DragBody, plan_drag_jobs, read_drag_task
-from scratchworld_dist.kinds.drag._rows import drag_row
+from scratchworld_dist.kinds.drag._rows import DragRow, drag_row
+from scratchworld_dist.kinds.drag._settings import DragSweep
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig, present_suites, suite_hash, wanted_ids
 from workers.agent_api import agent_class, checked_agent
@@ -32,7 +34,8 @@ class DragKind:
     name = "drag"
     title = "single-step drag"
     needs_browser = True
-    tables: tuple[str, ...] = ("drags",)
+    tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"drags": DragRow})
+    config_section: type[BaseModel] | None = DragSweep
     regrade_refusal: str | None = "a drag benchmark run stores drags, not projects: nothing to regrade"
 
     def check_agent(self, agent: AgentRef) -> None:
@@ -42,16 +45,21 @@ class DragKind:
         refuse_episode_sections(config, self.title)
 
     def needs_model(self, config: SweepConfig) -> bool:
-        return any(agent_class(agent.name, self.name).needs_model for agent in config.drag_agents())
+        return any(agent_class(agent.name, self.name).needs_model for agent in self.agents(config))
 
     def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
         return []
 
+    def agents(self, config: SweepConfig) -> list[AgentRef]:
+        """The agents the sweep compares: ``drag.agents``, else ``agent``."""
+        return section_agents(config, config.section(self.name, DragSweep).agents)
+
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
         """The suite's tasks (and those of each optional suite that is present) with a view, selected by
         ``tasks.ids`` and ``drag.types``; a task without a view is left out, named."""
+        section = config.section(self.name, DragSweep)
         suites = present_suites(
-            config.suite, config.drag.optional_suites, load_drag_suite, notice, benchmark="drag", item="task"
+            config.suite, section.optional_suites, load_drag_suite, notice, benchmark="drag", item="task"
         )
         tasks: list[DragTask] = []
         for suite in suites:
@@ -61,7 +69,7 @@ class DragKind:
                     continue
                 tasks.append(task)
         wanted = wanted_ids([task.id for task in tasks], config.tasks.ids, benchmark="drag", item="task")
-        types = config.drag.types
+        types = section.types
         tasks = [t for t in tasks if (not wanted or t.id in wanted) and (not types or t.type in types)]
         if not tasks:
             raise ConfigError(f"the selection matches no drag task of {', '.join(s.name for s in suites)}")
@@ -75,11 +83,11 @@ class DragKind:
         )
         jobs = plan_drag_jobs(
             config.model_specs(),
-            config.drag.settings,
-            config.drag_agents(),
+            section.settings,
+            self.agents(config),
             contents,
             config.seeds,
-            element_list=config.drag.element_list,
+            element_list=section.element_list,
             observation=config.primitive,
             llm=config.llm,
             project_limits=config.project_limits,
@@ -121,6 +129,9 @@ class DragKind:
 
         drag = build_drag_report(list(run_dirs), force=force)
         return render_drag(drag, fmt), drag.warnings
+
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+        return None  # the page's tests, steps and final project say it all
 
     def diagnosis(self) -> DiagnosisPart | None:
         # Reports import the statistics stack: only a report asks for them.

@@ -18,8 +18,9 @@ from collections.abc import Iterable, Sequence
 
 from pydantic import BaseModel, ConfigDict
 
+from scratchworld_dist.kinds.drag._rows import DragRow
 from scratchworld_dist.reports import ClassCount, class_counts, pass_at_k
-from scratchworld_dist.results import DragRow, JobRow, effective_rows
+from scratchworld_dist.results import JobRow, effective_rows
 
 ALL = "ALL"
 TYPES = ("T1", "T2")

@@ -1,11 +1,68 @@
-"""A drag attempt as a row of the run's ``drags`` table."""
+"""The drag kind's own table, ``drags``: one row per attempt."""
 
 from __future__ import annotations
 
+from pydantic import BaseModel, ConfigDict
+
 from scratchworld_dist.kinds.drag._plan import DragBody
-from scratchworld_dist.results import DragRow
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import DragAttempt, JobResult
+
+
+class DragRow(BaseModel):
+    """What one drag attempt predicted and how far it was from the exact regions (a row of ``drags/``).
+
+    Points are page px as performed; ``end_*`` distances are for the release translated by
+    ``fixed_start - start`` (a press elsewhere in the block moves the block's grip by as much).
+    """
+
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int
+    task_id: str
+    drag_type: str
+    """T1 (stacking) or T2 (nesting)."""
+
+    connection: str
+    """The expected connection kind: parent, next, substack_1, substack_2 or input."""
+
+    source: str
+    """Where the dragged block comes from: canvas or flyout."""
+
+    setting: str
+    model: str
+    agent: str
+    seed: int
+    parse: str
+    """How the reply was read: ok, no_answer, unparsed, bad_index or out_of_screen."""
+
+    start_x: float | None
+    start_y: float | None
+    end_x: float | None
+    end_y: float | None
+    start_in_region: bool | None
+    start_error_px: float | None
+    end_in_region: bool | None
+    end_error_px: float | None
+    connected: bool
+    observed: str
+    fixed_start_x: int
+    fixed_start_y: int
+    """The press the end region is for (a deepest pixel of the start region)."""
+
+    gt_start_x: int | None
+    gt_start_y: int | None
+    start_area: int
+    end_area: int
+    regions_json: str
+    """The exact regions, ``{"start": {"rows": [[y, x_first, x_last], ...]}, "fixed_start": [x, y], "end": {...}}``
+    (``DragRegions.model_validate_json`` reads it back): any other distance or metric is a query away."""
+    reply: str | None
+    """The model's raw reply (null for scripted agents)."""
+
+    annotated: str | None
+    """The annotated screenshot (prediction and regions), relative to the run directory."""
 
 
 def drag_row(job: JobSpec, result: JobResult, annotated: str | None) -> DragRow:

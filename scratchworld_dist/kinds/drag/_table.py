@@ -20,6 +20,7 @@ from scratchworld_dist.kinds.drag._metrics import (
     drag_rows,
     join_runs,
 )
+from scratchworld_dist.kinds.drag._rows import DragRow
 from scratchworld_dist.reports import (
     LoadedRun,
     ReportFormat,
@@ -30,7 +31,7 @@ from scratchworld_dist.reports import (
     row_label,
     stale_warnings,
 )
-from scratchworld_dist.results import DragRow, RunStore
+from scratchworld_dist.results import RunStore
 from scratchworld_dist.sweep import NO_MODEL
 
 _DEFINITIONS = (

@@ -9,6 +9,7 @@ from scratchworld_dist.kinds.perception._plan import (
     read_perception_item,
     select_perception_items,
 )
+from scratchworld_dist.kinds.perception._rows import PerceptionRow
 
 __all__ = [
     "PERCEPTION",
@@ -16,6 +17,7 @@ __all__ = [
     "PerceptionContent",
     "PerceptionItemInfo",
     "PerceptionJobKind",
+    "PerceptionRow",
     "plan_perception_jobs",
     "read_perception_item",
     "select_perception_items",

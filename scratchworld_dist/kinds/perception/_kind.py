@@ -4,17 +4,20 @@ static screenshot of the editor, scored strictly (upstream's exact match) and no
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from pydantic import BaseModel
 
 from scratchworld_dist._run_plan import RunPlan
-from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
-from scratchworld_dist.kinds._single_answer import refuse_episode_sections
+from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
+from scratchworld_dist.kinds._single_answer import refuse_episode_sections, section_agents
+from scratchworld_dist.kinds.perception._panel import answer_panel
 from scratchworld_dist.kinds.perception._plan import PerceptionContent, plan_perception_jobs, select_perception_items
-from scratchworld_dist.kinds.perception._rows import perception_row
+from scratchworld_dist.kinds.perception._rows import PerceptionRow, perception_row
+from scratchworld_dist.kinds.perception._settings import PerceptionSweep
 from scratchworld_dist.results import RunStore, SuiteInfo, shared_image_path
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
 from workers.agent_api import agent_class, checked_agent
@@ -38,7 +41,8 @@ class PerceptionJobKind:
     name = "perception"
     title = "perception"
     needs_browser = False
-    tables: tuple[str, ...] = ("perception",)
+    tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"perception": PerceptionRow})
+    config_section: type[BaseModel] | None = PerceptionSweep
     regrade_refusal: str | None = "a perception benchmark run stores answers, not projects: nothing to regrade"
 
     def check_agent(self, agent: AgentRef) -> None:
@@ -48,15 +52,19 @@ class PerceptionJobKind:
         refuse_episode_sections(config, self.title)
 
     def needs_model(self, config: SweepConfig) -> bool:
-        return any(agent_class(agent.name, self.name).needs_model for agent in config.perception_agents())
+        return any(agent_class(agent.name, self.name).needs_model for agent in self.agents(config))
 
     def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
         return []
 
+    def agents(self, config: SweepConfig) -> list[AgentRef]:
+        """The agents the sweep compares: ``perception.agents``, else ``agent``."""
+        return section_agents(config, config.section(self.name, PerceptionSweep).agents)
+
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
         """The items of the suite (and of each optional suite that is present), selected by ``tasks.ids`` and
         ``perception.kinds``."""
-        perception = config.perception
+        perception = config.section(self.name, PerceptionSweep)
         selection = select_perception_items(
             config.suite, perception.optional_suites, config.tasks.ids, perception.kinds, notice
         )
@@ -67,7 +75,7 @@ class PerceptionJobKind:
         )  # fmt: skip
         jobs = plan_perception_jobs(
             config.model_specs(),
-            config.perception_agents(),
+            self.agents(config),
             contents,
             config.seeds,
             llm=config.llm,
@@ -114,6 +122,9 @@ class PerceptionJobKind:
 
         perception = build_perception_report([run_dir])
         return blocks_html(perception_blocks(perception)), perception.warnings
+
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+        return answer_panel(rows, root)
 
 
 PERCEPTION = PerceptionJobKind()

@@ -21,8 +21,9 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict
 
+from scratchworld_dist.kinds.perception._rows import PerceptionRow
 from scratchworld_dist.reports import ClassCount, class_counts
-from scratchworld_dist.results import JobRow, PerceptionRow, effective_rows
+from scratchworld_dist.results import JobRow, effective_rows
 from workers.contract import NO, PERCEPTION_KINDS, YES
 
 ALL = "ALL"

@@ -1,11 +1,57 @@
-"""A perception attempt as a row of the run's ``perception`` table."""
+"""The perception kind's own table, ``perception``: one row per attempt."""
 
 from __future__ import annotations
 
+from pydantic import BaseModel, ConfigDict
+
 from scratchworld_dist.kinds.perception._plan import PerceptionBody
-from scratchworld_dist.results import PerceptionRow, shared_image_path
+from scratchworld_dist.results import shared_image_path
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import JobResult, PerceptionAttempt
+
+
+class PerceptionRow(BaseModel):
+    """What one perception attempt answered and how it scored both ways (a row of ``perception/``)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int
+    item_id: str
+    question: str
+    kind: str
+    """connection, existence or field."""
+
+    tag: str
+    """The item's finer class (upstream's tags, e.g. ``connection_no_hard``, or ours)."""
+
+    answer_format: str
+    """yes_no or value."""
+
+    value_kind: str | None
+    """For value items: number, text or dropdown."""
+
+    model: str
+    agent: str
+    seed: int
+    expected: str
+    reply: str
+    """The answer as given: the model's raw reply, or a scripted agent's answer."""
+
+    extracted: str | None
+    """The answer the normalized scoring read out of the reply (null when it found none)."""
+
+    parse: str
+    """ok, no_answer (empty reply) or unparsed (no answer of the asked form in it)."""
+
+    strict_correct: bool
+    """Upstream's scoring: the stripped reply equals the answer (YES/NO case-insensitively)."""
+
+    normalized_correct: bool
+    """Ours (decides the job's outcome): the final answer read from the reply, trimmed, numbers as numbers."""
+
+    screenshot: str
+    """The item's screenshot, relative to the run directory (``images/<sha256>.png``, stored once per run)."""
 
 
 def perception_row(job: JobSpec, result: JobResult) -> PerceptionRow:

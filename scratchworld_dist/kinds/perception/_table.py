@@ -20,6 +20,7 @@ from scratchworld_dist.kinds.perception._metrics import (
     join_runs,
     perception_rows,
 )
+from scratchworld_dist.kinds.perception._rows import PerceptionRow
 from scratchworld_dist.reports import (
     Block,
     Heading,
@@ -35,7 +36,7 @@ from scratchworld_dist.reports import (
     row_label,
     stale_warnings,
 )
-from scratchworld_dist.results import PerceptionRow, RunStore, read_manifest
+from scratchworld_dist.results import RunStore, read_manifest
 
 _DEFINITIONS = (
     "One run = the effective attempt of one perception job (item, seed, agent, model): its latest attempt with "

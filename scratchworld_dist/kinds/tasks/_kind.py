@@ -3,15 +3,16 @@ then the task's tests judge the project it leaves; the kind ``regrade`` evaluate
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, ClassVar
 
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
-from scratchworld_dist.kinds._protocol import DiagnosisPart, Notice
+from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
 from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
 from scratchworld_dist.results import RunStore, SuiteInfo
@@ -39,7 +40,8 @@ class TasksKind:
     name = "tasks"
     title = "task episodes"
     needs_browser = True
-    tables: tuple[str, ...] = ()
+    tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({})
+    config_section: type[BaseModel] | None = None  # its axes are the config's own fields (modes, tasks...)
     regrade_refusal: str | None = None
 
     def check_agent(self, agent: AgentRef) -> None:
@@ -149,6 +151,9 @@ class TasksKind:
         from scratchworld_dist.kinds.tasks._diagnosis import DIAGNOSIS
 
         return DIAGNOSIS
+
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+        return None  # the page's tests, steps and final project say it all
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         from scratchworld_dist.reports import build_report, render_html_body
