@@ -116,9 +116,8 @@ def test_editing_drag_code_leaves_an_episode_run_resumable_and_a_drag_run_refuse
     assert resumed.harness == before.harness
 
     drag = load_sweep_config(REPO / "configs" / "drag-demo.yaml")
-    drag = drag.model_copy(
-        update={"output": tmp_path / "drag", "drag": drag.drag.model_copy(update={"optional_suites": []})}
-    )
+    no_optional = drag.sections["drag"].model_copy(update={"optional_suites": []})
+    drag = drag.model_copy(update={"output": tmp_path / "drag", "sections": {**drag.sections, "drag": no_optional}})
     drag_before, drag_after = plan_run(drag, ours), plan_run(drag, theirs)
     assert not {job.job_id for job in drag_before.jobs} & {job.job_id for job in drag_after.jobs}
     drag.run_dir().mkdir(parents=True)
