@@ -4,9 +4,9 @@ against its suite and a harness into the full job matrix, with each item's conte
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import Protocol, runtime_checkable
 
-from pydantic import BaseModel
+from pydantic import BaseModel, InstanceOf
 from rich.console import Console
 
 from scratchworld_dist.kinds import Notice, job_kind
@@ -18,14 +18,34 @@ from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
 
+class PlannedItem(Protocol):
+    @property
+    def id(self) -> str: ...
+
+
+@runtime_checkable
+class ItemContent(Protocol):
+    """One selected item read into memory, as its kind holds it (``TaskContent``, ``DragContent``...): the core
+    sends each worker that runs one of its jobs the payload, once, by the item's id."""
+
+    @property
+    def task(self) -> PlannedItem: ...
+
+    @property
+    def payload(self) -> BaseModel: ...
+
+    @property
+    def task_hash(self) -> str: ...
+
+
 class RunPlan(BaseModel):
     """A sweep resolved against its suite and this harness: the items' contents and the full job matrix."""
 
     config: SweepConfig
     harness: HarnessFingerprint
     suite: SuiteInfo
-    contents: Sequence[Any]
-    """Each selected item read into memory: its kind's content model (``task``, ``payload``, ``task_hash``)."""
+    contents: Sequence[InstanceOf[ItemContent]]
+    """Each selected item read into memory: its kind's content model."""
 
     jobs: list[JobSpec]
     memory_sources: dict[tuple[str, Mode], list[JobItems]] = {}

@@ -16,7 +16,7 @@ from pydantic import BaseModel
 from workers.contract import AgentRef, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
 
 if TYPE_CHECKING:
-    from scratchworld_dist._run_plan import RunPlan
+    from scratchworld_dist._run_plan import ItemContent, RunPlan
     from scratchworld_dist.reports import DiagnosisRow, DiagnosisTable, ReportFormat, RunGroup
     from scratchworld_dist.results import RunStore
     from scratchworld_dist.sweep import JobSpec, SweepConfig
@@ -89,7 +89,7 @@ class JobKind(Protocol):
         """The rows of this kind's own ``tables`` for one attempt (``artifact_dir``: where its files went)."""
         ...
 
-    def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:
+    def store_shared(self, store: RunStore, contents: Sequence[ItemContent]) -> None:
         """Store once per run what many of its jobs' rows refer to (a perception item's screenshot)."""
         ...
 

@@ -24,6 +24,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, JsonValue, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
+from scratchworld_dist.kinds import job_kinds
 from scratchworld_dist.results import RunManifest
 from scratchworld_dist.sweep import NO_MODEL, ModelConfig
 
@@ -122,10 +123,11 @@ def _config_models(config: dict[str, Any], where: str) -> Iterator[tuple[str, di
 
 
 def _agent_models(config: dict[str, Any]) -> Iterator[tuple[str, dict[str, JsonValue]]]:
-    """Model settings found in the params of the config's agents (an agent's extra models live there)."""
+    """Model settings found in the params of the config's agents (an agent's extra models live there), its
+    kinds' sections' ``agents`` included."""
     agents: list[Any] = [config.get("agent")]
-    for section in ("drag", "perception"):
-        part = config.get(section)
+    for kind in job_kinds():
+        part = config.get(kind.name) if kind.config_section is not None else None
         if isinstance(part, dict) and isinstance(part.get("agents"), list):
             agents += part["agents"]
     for agent in agents:

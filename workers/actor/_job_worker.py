@@ -41,7 +41,7 @@ from workers.contract import (
     WorkerLoad,
 )
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
-from workers.episode._runner import EpisodeRunner
+from workers.episode import EpisodeRunner
 from workers.kinds import WorkerKind, kind_fingerprint, kind_of, worker_kinds
 from workers.llm import close_litellm_clients
 from workers.llm import load_litellm as import_litellm

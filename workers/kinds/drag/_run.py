@@ -5,7 +5,7 @@ from __future__ import annotations
 from pydantic import BaseModel
 
 from workers.contract import DragPayload, DragSpec, JobResult, WorkerJob
-from workers.drag._runner import DragRunner
+from workers.drag import DragRunner
 from workers.kinds._protocol import WorkerHost
 
 

@@ -6,7 +6,7 @@ from pydantic import BaseModel
 
 from workers.contract import JobResult, PerceptionPayload, PerceptionSpec, WorkerJob
 from workers.kinds._protocol import WorkerHost
-from workers.perception._runner import run_perception
+from workers.perception import run_perception
 
 
 async def run_item(host: WorkerHost, spec: WorkerJob, item: BaseModel) -> JobResult:

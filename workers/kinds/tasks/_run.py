@@ -6,8 +6,7 @@ from pydantic import BaseModel
 
 from workers.agent_api import agent_code, build_agent
 from workers.contract import AgentUnavailableError, EpisodeSpec, JobResult, RegradeSpec, TaskPayload, WorkerJob
-from workers.episode._regrade import regrade
-from workers.episode._synthetic import run_synthetic
+from workers.episode import regrade, run_synthetic
 from workers.kinds._protocol import WorkerHost
 
 
