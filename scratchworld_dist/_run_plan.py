@@ -59,4 +59,14 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None, not
         console = Console(stderr=True, soft_wrap=True)
         notice = lambda message: console.print(message, markup=False)  # noqa: E731
     harness = kind_fingerprint(harness or harness_fingerprint(), config.benchmark)  # the core + this kind's code
-    return job_kind(config.benchmark).plan(config, harness, notice)
+    plan = job_kind(config.benchmark).plan(config, harness, notice)
+    return plan if config.tasks.limit is None else first_items(plan, config.tasks.limit)
+
+
+def first_items(plan: RunPlan, limit: int) -> RunPlan:
+    """The plan cut to its first ``limit`` items (``tasks.limit``), whatever its kind: their contents and jobs."""
+    kept = list(plan.contents[:limit])
+    ids = {content.task.id for content in kept}
+    jobs = [job for job in plan.jobs if job.task_id in ids]
+    suite = plan.suite.model_copy(update={"tasks": len(kept)})
+    return plan.model_copy(update={"contents": kept, "jobs": jobs, "suite": suite})

@@ -15,6 +15,7 @@ from scratchworld_dist.cli._flakes import flakes_command
 from scratchworld_dist.cli._gui import gui_command
 from scratchworld_dist.cli._oracle_plan import oracle_plan_command
 from scratchworld_dist.cli._perception import perception_group
+from scratchworld_dist.cli._plan import plan_command
 from scratchworld_dist.cli._regrade import regrade_command
 from scratchworld_dist.cli._replay import observe_command, replay_command
 from scratchworld_dist.cli._report import report_command
@@ -39,6 +40,7 @@ cli.add_command(gui_command)
 cli.add_command(report_command)
 cli.add_command(compare_command)
 cli.add_command(run_command)
+cli.add_command(plan_command)
 cli.add_command(regrade_command)
 cli.add_command(replay_command)
 cli.add_command(observe_command)

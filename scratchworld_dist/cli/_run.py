@@ -8,9 +8,10 @@ import click
 from rich.console import Console
 
 from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._sweep_options import sweep_overrides
 from scratchworld_dist.cli._timing_option import timing_option
 from scratchworld_dist.reports import report_runs
-from scratchworld_dist.sweep import load_sweep_config
+from scratchworld_dist.sweep import SweepOverrides, load_sweep_config
 
 EXIT_ERRORS = 1
 
@@ -29,6 +30,7 @@ EXIT_ERRORS = 1
     help="Answer repeated model requests from this folder (overrides model_cache.dir).",
 )
 @click.option("--force", is_flag=True, help="Continue in a run directory that holds another sweep.")
+@sweep_overrides
 def run_command(
     config_file: Path,
     out: Path | None,
@@ -39,30 +41,31 @@ def run_command(
     timing: str | None,
     model_cache: Path | None,
     force: bool,
+    overrides: SweepOverrides,
 ) -> None:
     """Run the sweep in CONFIG_FILE; run it again to resume.
 
     Prints the report (also saved as RUN_DIR/report.md). Exits 1 when jobs are left without a
     verdict (errors after all retries; running again retries them).
     """
-    overrides: dict[str, object] = {}
+    fields: dict[str, object] = {}
     if out is not None:
-        overrides["output"] = out
+        fields["output"] = out
     if address is not None:
-        overrides["ray"] = {"address": address}
+        fields["ray"] = {"address": address}
     if profile is not None:
-        overrides["profile"] = profile
+        fields["profile"] = profile
     if clock is not None:
-        overrides["clock"] = clock
+        fields["clock"] = clock
     if render is not None:
-        overrides["render"] = render
+        fields["render"] = render
     if timing is not None:
-        overrides["timing"] = timing
+        fields["timing"] = timing
     if model_cache is not None:  # relative to the working directory, like --out; workers get it absolute
-        overrides["model_cache"] = {"dir": str(model_cache.resolve())}
+        fields["model_cache"] = {"dir": str(model_cache.resolve())}
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
 
-    config = load_sweep_config(config_file, overrides)
+    config = load_sweep_config(config_file, fields, overrides)
     console = Console(stderr=True)
     summary = run_sweep(config, force=force, console=console)
     outcomes = summary.outcomes

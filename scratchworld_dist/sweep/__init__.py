@@ -8,6 +8,7 @@ from scratchworld_dist.sweep._config import (
     TaskSelection,
     load_sweep_config,
 )
+from scratchworld_dist.sweep._overrides import SweepOverrides
 from scratchworld_dist.sweep._plan import (
     NO_MODEL,
     JobBody,
@@ -27,6 +28,7 @@ __all__ = [
     "ModelConfig",
     "RayConfig",
     "SweepConfig",
+    "SweepOverrides",
     "TaskSelection",
     "agent_identity",
     "identity_id",

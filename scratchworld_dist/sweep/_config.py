@@ -31,6 +31,7 @@ from pydantic import (
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
 from scratchworld_dist.kinds import DEFAULT_KIND, job_kind, job_kinds
+from scratchworld_dist.sweep._overrides import SweepOverrides
 from workers.contract import (
     AgentRef,
     AgentUnavailableError,
@@ -139,6 +140,9 @@ class TaskSelection(BaseModel):
     ids: list[str] = Field(default_factory=list)
     task_list: str | None = None
     """Upstream task list name (e.g. ``all_tasks``, ``15_tasks``)."""
+
+    limit: int | None = Field(default=None, gt=0)
+    """Only the first N of the selected tasks (or items), in the suite's order (``--limit``: a quick try)."""
 
 
 class Limits(BaseModel):
@@ -399,8 +403,11 @@ class SweepConfig(BaseModel):
         return self.output if self.output is not None else Path("results") / self.name
 
 
-def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None) -> SweepConfig:
-    """Read, validate and resolve a sweep config; raises ``ConfigError`` listing every problem."""
+def load_sweep_config(
+    path: str | Path, overrides: dict[str, Any] | None = None, changes: SweepOverrides | None = None
+) -> SweepConfig:
+    """Read, validate and resolve a sweep config, with the command line's ``changes`` to its fields and
+    ``overrides`` of whole fields; raises ``ConfigError`` listing every problem."""
     path = Path(path)
     try:
         text = read_text(path)
@@ -412,6 +419,7 @@ def load_sweep_config(path: str | Path, overrides: dict[str, Any] | None = None)
         raise ConfigError(f"not valid YAML: {_yaml_problem(exc)}", path) from exc
     if not isinstance(data, dict):
         raise ConfigError("the config must be a mapping of fields (name, suite, agent, ...)", path)
+    data = (changes or SweepOverrides()).apply(data)
     data.update(overrides or {})
     try:
         config = SweepConfig.model_validate(data)
