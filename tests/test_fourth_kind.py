@@ -12,10 +12,12 @@ from pathlib import Path
 import pytest
 import yaml
 
+from scratchworld_dist import api
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run import config_hash
 from scratchworld_dist.kinds import job_kind, kind_names, kind_of_run
 from scratchworld_dist.kinds._registry import _registered
+from scratchworld_dist.reports import report_schemas
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.results._schema import row_tables
 from scratchworld_dist.sweep import SweepConfig, load_sweep_config
@@ -51,6 +53,11 @@ class EchoRow(BaseModel):
     attempt: int
     word: str
     passing_word: str
+
+
+class EchoReport(BaseModel):
+    echoed_yes: int
+    jobs: int
 
 
 class EchoBody(JobBody):
@@ -156,6 +163,13 @@ class EchoKind:
         passed = sum(row.outcome == "passed" for row in rows)
         return f"# Echo report\\n\\n{passed} of {len(rows)} echoed yes\\n", []
 
+    def report_model(self):
+        return EchoReport
+
+    def report_data(self, run_dirs, *, force):
+        rows = [row for run_dir in run_dirs for row in RunStore(Path(run_dir)).job_rows()]
+        return EchoReport(echoed_yes=sum(row.outcome == "passed" for row in rows), jobs=len(rows))
+
     def report_html(self, run_dir):
         text, warnings = self.report([run_dir], "md", force=False)
         return f"<p>{text}</p>", warnings
@@ -235,6 +249,8 @@ def test_a_plugin_kind_is_planned_run_recorded_reported_and_resumed(tmp_path: Pa
     assert page is not None and page.body is not None
     assert b"<h3>Echoed</h3>" in page.body and b"<p class=echoed>no</p>" in page.body
     assert b"Final project" not in page.body
+    assert api.report([tmp_path / "run"]).model_dump() == {"echoed_yes": 4, "jobs": 6}
+    assert "echo-report.schema.json" in report_schemas()
     report = invoke("report", str(tmp_path / "run"))
     assert report.returncode == 0 and report.stdout.startswith("# Echo report") and "4 of 6 echoed yes" in report.stdout
     code, out = run_here(config)

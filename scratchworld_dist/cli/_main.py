@@ -20,6 +20,7 @@ from scratchworld_dist.cli._regrade import regrade_command
 from scratchworld_dist.cli._replay import observe_command, replay_command
 from scratchworld_dist.cli._report import report_command
 from scratchworld_dist.cli._run import run_command
+from scratchworld_dist.cli._schemas import schemas_command
 from scratchworld_dist.cli._status import status_command
 from scratchworld_dist.cli._validate import validate_command
 from scratchworld_dist.cli._view import view_command
@@ -50,6 +51,7 @@ cli.add_command(capacity_command)
 cli.add_command(drag_group)
 cli.add_command(perception_group)
 cli.add_command(view_command)
+cli.add_command(schemas_command)
 
 
 def main() -> None:

@@ -101,6 +101,14 @@ class JobKind(Protocol):
         """This kind's own report over its runs, and its warnings (``RunDirError`` when they cannot be merged)."""
         ...
 
+    def report_data(self, run_dirs: Sequence[Path], *, force: bool) -> BaseModel:
+        """This kind's report over its runs as data: the model ``report`` renders (its JSON format is its dump)."""
+        ...
+
+    def report_model(self) -> type[BaseModel]:
+        """The model ``report_data`` returns (its JSON schema is published with the reports')."""
+        ...
+
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         """The body of one run's page in the viewer (HTML, escaped), and its warnings."""
         ...

@@ -45,9 +45,10 @@ from scratchworld_dist.reports._render import (
     render_markdown,
     render_text,
 )
-from scratchworld_dist.reports._report_runs import report_runs
+from scratchworld_dist.reports._report_runs import report_data, report_runs
 from scratchworld_dist.reports._run_groups import RunGroup
 from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
+from scratchworld_dist.reports._schemas import report_schemas, write_report_schemas
 from scratchworld_dist.reports._summary import (
     CATEGORIES,
     DETERMINATE,
@@ -130,11 +131,14 @@ __all__ = [
     "render_json",
     "render_markdown",
     "render_text",
+    "report_data",
     "report_of",
     "report_plots",
     "report_runs",
+    "report_schemas",
     "row_label",
     "stale_warnings",
     "t_quantile_975",
     "verdict_changes",
+    "write_report_schemas",
 ]

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from pydantic import BaseModel
+
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.reports._diagnosis import diagnosis_table
 from scratchworld_dist.reports._diagnosis_report import diagnosis_report, render_diagnosis_report
@@ -24,6 +26,17 @@ def report_runs(run_dirs: list[Path], fmt: ReportFormat, *, force: bool = False)
         return _diagnosis(paths, fmt, force=force)
     benchmark, members = next(iter(paths.items()))
     return job_kind(benchmark).report(members, fmt, force=force)
+
+
+def report_data(run_dirs: list[Path], *, force: bool = False) -> BaseModel:
+    """The report as data, the model ``report_runs`` renders: a kind's own report (``RunReport`` for episodes,
+    ``DragTable``, ``PerceptionTable``...), or ``DiagnosisReport`` over runs of several kinds."""
+    paths = paths_by_benchmark(run_dirs)
+    if len(paths) > 1:
+        groups = load_groups(paths, force=force)
+        return diagnosis_report(groups, diagnosis_table(groups))
+    benchmark, members = next(iter(paths.items()))
+    return job_kind(benchmark).report_data(members, force=force)
 
 
 def _diagnosis(paths: dict[str, list[Path]], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:

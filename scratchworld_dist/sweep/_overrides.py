@@ -34,6 +34,9 @@ class SweepOverrides(BaseModel):
     settings: list[str] = Field(default_factory=list)
     """``dotted.key=value`` assignments, each value read as YAML (``limits.retries=2``, ``drag.types=[T1]``)."""
 
+    values: dict[str, Any] = Field(default_factory=dict)
+    """Dotted keys and their values as they are (the Python API's keyword arguments), applied last."""
+
     def apply(self, data: dict[str, Any]) -> dict[str, Any]:
         """``data`` (a config file's mapping) with these changes, the ``--set`` ones last."""
         changed = dict(data)
@@ -57,6 +60,8 @@ class SweepOverrides(BaseModel):
             except yaml.YAMLError:
                 raise ConfigError(f"--set {key}: the value is not valid YAML") from None
             _assign(changed, path, parsed)
+        for key, value in self.values.items():
+            _assign(changed, key.split("."), value)
         return changed
 
 

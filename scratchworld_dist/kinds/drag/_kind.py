@@ -130,6 +130,16 @@ class DragKind:
         drag = build_drag_report(list(run_dirs), force=force)
         return render_drag(drag, fmt), drag.warnings
 
+    def report_model(self) -> type[BaseModel]:
+        from scratchworld_dist.kinds.drag._table import DragTable
+
+        return DragTable
+
+    def report_data(self, run_dirs: Sequence[Path], *, force: bool) -> BaseModel:
+        from scratchworld_dist.kinds.drag._table import build_drag_report
+
+        return build_drag_report(list(run_dirs), force=force)
+
     def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
         return None  # the page's tests, steps and final project say it all
 

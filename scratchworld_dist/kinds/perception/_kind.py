@@ -110,6 +110,16 @@ class PerceptionJobKind:
         table = build_perception_report(list(run_dirs), force=force)
         return render_perception(table, fmt), table.warnings
 
+    def report_model(self) -> type[BaseModel]:
+        from scratchworld_dist.kinds.perception._table import PerceptionTable
+
+        return PerceptionTable
+
+    def report_data(self, run_dirs: Sequence[Path], *, force: bool) -> BaseModel:
+        from scratchworld_dist.kinds.perception._table import build_perception_report
+
+        return build_perception_report(list(run_dirs), force=force)
+
     def diagnosis(self) -> DiagnosisPart | None:
         # Reports import the statistics stack: only a report asks for them.
         from scratchworld_dist.kinds.perception._diagnosis import DIAGNOSIS

@@ -146,6 +146,16 @@ class TasksKind:
         plots = report_plots(members, force=force) if fmt == "html" else []  # drawing is slow: only for a page
         return render(report, fmt, plots), report.warnings
 
+    def report_model(self) -> type[BaseModel]:
+        from scratchworld_dist.reports import RunReport
+
+        return RunReport
+
+    def report_data(self, run_dirs: Sequence[Path], *, force: bool) -> BaseModel:
+        from scratchworld_dist.reports import build_report
+
+        return build_report(list(run_dirs), force=force)
+
     def diagnosis(self) -> DiagnosisPart | None:
         # Reports import the statistics stack: only a report asks for them.
         from scratchworld_dist.kinds.tasks._diagnosis import DIAGNOSIS
