@@ -9,7 +9,7 @@ from rich.console import Console
 
 from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.cli._timing_option import timing_option
-from scratchworld_dist.reports import report_runs
+from scratchworld_dist.reports import digest_lines, report_runs, run_error_digest
 from scratchworld_dist.sweep import load_sweep_config
 
 EXIT_ERRORS = 1
@@ -56,7 +56,7 @@ def run_command(
 
     Before any editor opens, every model the jobs call is checked (its key and base URL set; by default
     one smallest call): a broken one stops the run, one line per model, with exit status 2. Prints the
-    report (also saved as RUN_DIR/report.md).
+    report (also saved as RUN_DIR/report.md) after the most frequent error message per class and model.
     Exits 1 when jobs are left without a verdict (errors after all retries; running again retries them).
     """
     overrides: dict[str, object] = {}
@@ -87,6 +87,9 @@ def run_command(
         f"ran {summary.sent} attempt(s): passed {outcomes['passed']}, failed {outcomes['failed']}, "
         f"error {outcomes['error']} (retried {summary.retried}); {summary.already_decided} decided before{left_out}"
     )
+    if summary.planned:
+        for line in digest_lines(run_error_digest(summary.run_dir)):
+            console.print(line, markup=False, soft_wrap=True)  # messages quote providers and scripts
     report, _ = report_runs([summary.run_dir], "md")  # its warnings are in its text
     (summary.run_dir / "report.md").write_text(report, encoding="utf-8")
     click.echo(report)

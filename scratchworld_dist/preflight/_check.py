@@ -78,7 +78,7 @@ def settle(
         return todo
     broken = preflight.broken
     if not broken:
-        console.print(_passed(preflight), markup=False)
+        console.print(_passed(preflight), markup=False, soft_wrap=True)
         return todo
     unusable = {(check.name, check.model) for check in broken}
     calls = ModelCalls(config)
@@ -89,6 +89,7 @@ def settle(
         f"{preflight.left_out_jobs} job(s) are left out of this run (a run without --skip-broken-models plans "
         f"them again):\n{_lines(broken)}",
         markup=False,  # causes quote providers
+        soft_wrap=True,  # one line per model, whatever the console's width
     )
     return kept
 
