@@ -22,6 +22,7 @@ from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan, plan_run
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
+from scratchworld_dist.preflight import refuse_broken, run_preflight, settle
 from scratchworld_dist.results import (
     SCHEMA_VERSION,
     RunManifest,
@@ -68,6 +69,9 @@ class RunSummary(BaseModel):
     budget_stop: str | None = None
     """Set when the budget left jobs unstarted."""
 
+    left_out: int = 0
+    """Jobs of models the preflight found broken, left out of this run (``--skip-broken-models``)."""
+
 
 class AttemptRecorder:
     """Commits every finished attempt: artifacts first, then its rows (the commit point)."""
@@ -113,6 +117,7 @@ def config_hash(config: SweepConfig) -> str:
         "limits": True,
         "ray": True,
         "model_cache": True,
+        "probe": True,
         "llm": {"retry"},
         "models": {"__all__": {"rate_limits"}},
         "memory": {"from_run"},
@@ -147,31 +152,42 @@ def _hash_as_now(old: RunManifest) -> str:
         return old.config_hash
 
 
-def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | None = None) -> RunSummary:
+def run_sweep(
+    config: SweepConfig, *, force: bool = False, console: Console | None = None, skip_broken_models: bool = False
+) -> RunSummary:
     """Run or resume the sweep. On a cluster, its nodes are checked first (the driver's code, one editor
-    and one browser among them) and the jobs are planned under their environment."""
+    and one browser among them) and the jobs are planned under their environment. Before any editor
+    opens, the models the jobs to run call are checked (``PreflightError`` names the broken ones, unless
+    ``skip_broken_models`` leaves their jobs out)."""
     console = console or Console(stderr=True)
     if config.ray.address is None:  # a private local Ray: this machine is the only node
         local = describe_node()
-        return _run_plan(plan_run(config, local.harness), [local], force, console)
+        return _run_plan(plan_run(config, local.harness), [local], force, console, skip_broken_models)
     with ray_runtime(config.ray.address, config.limits.browser_slots, config.ray.connect_timeout_s):
         nodes = inspect_nodes()
         harness = agreed_harness(nodes, harness_fingerprint())
         slots = sum(node.browser_slots for node in nodes)
         console.print(f"{len(nodes)} node(s) with {slots} browser slot(s) run harness {harness.digest}")
-        return _run_plan(plan_run(config, harness), nodes, force, console)
+        return _run_plan(plan_run(config, harness), nodes, force, console, skip_broken_models)
 
 
-def _run_plan(plan: RunPlan, nodes: list[NodeReport], force: bool, console: Console) -> RunSummary:
+def _run_plan(
+    plan: RunPlan, nodes: list[NodeReport], force: bool, console: Console, skip_broken_models: bool
+) -> RunSummary:
     config = plan.config
     run_dir = config.run_dir()
     store = RunStore(run_dir)
     manifest = _checked_manifest(plan, run_dir, force)
     if config.model_cache is not None:
         _open_model_cache(config.model_cache.dir)
+    # Before the run directory is touched: a broken model stops the run leaving nothing behind.
+    on_node = None if config.ray.address is None else nodes[0]  # a cluster: where the workers' environment is
+    preflight = run_preflight(config, [job for job, _ in store.undecided(plan.jobs)], on_node)
+    refuse_broken(preflight, skip_broken_models)
     store.open_for_writing()
     try:
-        todo = store.undecided(plan.jobs)
+        undecided = store.undecided(plan.jobs)
+        todo = settle(preflight, config, undecided, console)
         local_slots = None
         if config.ray.address is None:  # admission on this machine, measured only when there is work
             local_slots = admitted_slots(
@@ -179,17 +195,21 @@ def _run_plan(plan: RunPlan, nodes: list[NodeReport], force: bool, console: Cons
             )
             nodes = [nodes[0].model_copy(update={"browser_slots": local_slots})]
         session = Session.begin(len(todo), [node.summary() for node in nodes])
+        session.preflight = preflight
         manifest.sessions.append(session)
         write_manifest(run_dir, manifest)
         console.print(
             f"{config.name}: {len(plan.jobs)} job(s) planned over {plan.suite.tasks} task(s) of {plan.suite.name}; "
-            f"{len(plan.jobs) - len(todo)} already decided, {len(todo)} to run -> {run_dir}",
+            f"{len(plan.jobs) - len(undecided)} already decided, {len(todo)} to run"
+            + (f" ({len(undecided) - len(todo)} left out)" if len(todo) < len(undecided) else "")
+            + f" -> {run_dir}",
             markup=False,  # the suite's name and the path are the user's text
         )
         summary = RunSummary(
             run_dir=run_dir,
             planned=len(plan.jobs),
-            already_decided=len(plan.jobs) - len(todo),
+            already_decided=len(plan.jobs) - len(undecided),
+            left_out=len(undecided) - len(todo),
             sent=0,
             outcomes={"passed": 0, "failed": 0, "error": 0},
             attempts=0,

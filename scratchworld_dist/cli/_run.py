@@ -10,7 +10,7 @@ from rich.console import Console
 from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.cli._sweep_options import sweep_overrides
 from scratchworld_dist.cli._timing_option import timing_option
-from scratchworld_dist.reports import report_runs
+from scratchworld_dist.reports import digest_lines, report_runs, run_error_digest
 from scratchworld_dist.sweep import SweepOverrides, load_sweep_config
 
 EXIT_ERRORS = 1
@@ -29,6 +29,16 @@ EXIT_ERRORS = 1
     type=click.Path(file_okay=False, path_type=Path),
     help="Answer repeated model requests from this folder (overrides model_cache.dir).",
 )
+@click.option(
+    "--probe/--no-probe",
+    default=None,
+    help="Call each model once before any editor opens (overrides probe; default: when a model names api_key_env).",
+)
+@click.option(
+    "--skip-broken-models",
+    is_flag=True,
+    help="Run the other models' jobs when the preflight finds a model broken (default: stop before any job).",
+)
 @click.option("--force", is_flag=True, help="Continue in a run directory that holds another sweep.")
 @sweep_overrides
 def run_command(
@@ -40,13 +50,17 @@ def run_command(
     render: str | None,
     timing: str | None,
     model_cache: Path | None,
+    probe: bool | None,
+    skip_broken_models: bool,
     force: bool,
     overrides: SweepOverrides,
 ) -> None:
     """Run the sweep in CONFIG_FILE; run it again to resume.
 
-    Prints the report (also saved as RUN_DIR/report.md). Exits 1 when jobs are left without a
-    verdict (errors after all retries; running again retries them).
+    Before any editor opens, every model the jobs call is checked (its key and base URL set; by default
+    one smallest call): a broken one stops the run, one line per model, with exit status 2. Prints the
+    report (also saved as RUN_DIR/report.md) after the most frequent error message per class and model.
+    Exits 1 when jobs are left without a verdict (errors after all retries; running again retries them).
     """
     fields: dict[str, object] = {}
     if out is not None:
@@ -63,16 +77,22 @@ def run_command(
         fields["timing"] = timing
     if model_cache is not None:  # relative to the working directory, like --out; workers get it absolute
         fields["model_cache"] = {"dir": str(model_cache.resolve())}
+    if probe is not None:
+        fields["probe"] = probe
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
 
     config = load_sweep_config(config_file, fields, overrides)
     console = Console(stderr=True)
-    summary = run_sweep(config, force=force, console=console)
+    summary = run_sweep(config, force=force, console=console, skip_broken_models=skip_broken_models)
     outcomes = summary.outcomes
+    left_out = f"; {summary.left_out} left out (broken models)" if summary.left_out else ""
     console.print(
         f"ran {summary.sent} attempt(s): passed {outcomes['passed']}, failed {outcomes['failed']}, "
-        f"error {outcomes['error']} (retried {summary.retried}); {summary.already_decided} decided before"
+        f"error {outcomes['error']} (retried {summary.retried}); {summary.already_decided} decided before{left_out}"
     )
+    if summary.planned:
+        for line in digest_lines(run_error_digest(summary.run_dir)):
+            console.print(line, markup=False, soft_wrap=True)  # messages quote providers and scripts
     report, _ = report_runs([summary.run_dir], "md")  # its warnings are in its text
     (summary.run_dir / "report.md").write_text(report, encoding="utf-8")
     click.echo(report)

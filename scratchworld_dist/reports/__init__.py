@@ -16,6 +16,7 @@ from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_
 from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable, Gap, PerceptionRate
 from scratchworld_dist.reports._diagnosis_cells import MISSING, Rate, optional_rate, pct, rate_cell
 from scratchworld_dist.reports._diagnosis_report import DiagnosisReport
+from scratchworld_dist.reports._error_digest import ErrorDigest, digest_lines, error_digest, run_error_digest
 from scratchworld_dist.reports._metrics import (
     ClassCount,
     MeanInterval,
@@ -80,6 +81,7 @@ __all__ = [
     "DiagnosisTable",
     "Difference",
     "ErrorCount",
+    "ErrorDigest",
     "Gap",
     "Heading",
     "Interval",
@@ -108,6 +110,8 @@ __all__ = [
     "build_report",
     "class_counts",
     "compare_runs",
+    "digest_lines",
+    "error_digest",
     "load_runs",
     "markdown_table",
     "mcnemar_exact",
@@ -137,6 +141,7 @@ __all__ = [
     "report_runs",
     "report_schemas",
     "row_label",
+    "run_error_digest",
     "stale_warnings",
     "t_quantile_975",
     "verdict_changes",

@@ -17,7 +17,7 @@ from pydantic import BaseModel, Field, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist.results._schema import CONTINUABLE_SCHEMAS
-from workers.contract import HarnessFingerprint, NodeSummary, describe_differences
+from workers.contract import HarnessFingerprint, NodeSummary, Preflight, describe_differences
 
 if TYPE_CHECKING:  # the rows module imports the sweep's plan, which needs none of this
     from scratchworld_dist.results._records import JobRow
@@ -50,6 +50,9 @@ class Session(BaseModel):
 
     nodes: list[NodeSummary] = Field(default_factory=list)
     """The nodes with browsers this session ran on (checked to run the run's harness)."""
+
+    preflight: Preflight | None = None
+    """What the models its jobs call answered before any editor opened (None: they call none)."""
 
     @classmethod
     def begin(cls, planned: int, nodes: list[NodeSummary]) -> Session:

@@ -276,6 +276,10 @@ class SweepConfig(BaseModel):
     model_cache: ModelCacheSettings | None = None
     """Opt-in: answer a model request made before from ``model_cache.dir`` (no request, no cost)."""
 
+    probe: bool | None = None
+    """Before any editor opens, call each model the jobs call once (one short message, ``max_tokens`` 1); default:
+    when a model names ``api_key_env``. Keys and base URLs are checked either way (not part of job identity)."""
+
     @model_validator(mode="wrap")
     @classmethod
     def _kind_sections(cls, data: Any, handler: ModelWrapValidatorHandler[SweepConfig]) -> SweepConfig:

@@ -150,6 +150,7 @@ from workers.contract._perturbation import (
     TimerLateness,
     frames_per_second,
 )
+from workers.contract._preflight import ModelCheck, Preflight
 from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
 from workers.contract._synthetic import SyntheticEpisodes
@@ -233,6 +234,7 @@ __all__ = [
     "Mode",
     "ModelCacheSettings",
     "ModelCallError",
+    "ModelCheck",
     "ModelErrorClass",
     "ModelSpec",
     "NodeReport",
@@ -249,6 +251,7 @@ __all__ = [
     "PerceptionScore",
     "PerceptionSpec",
     "Point",
+    "Preflight",
     "PrimitiveAction",
     "PrimitiveObservation",
     "ProfileConditions",

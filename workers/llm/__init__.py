@@ -26,11 +26,13 @@ from workers.llm._limiter import (
 )
 from workers.llm._litellm import close_litellm_clients, litellm_version, load_litellm, takes_seed
 from workers.llm._parsing import EXPECTED_FORMAT, ParsedReply, parse_reply
+from workers.llm._probe import PROBE_MESSAGES, check_models, probe_model, setting_problem
 from workers.llm._repair import repair_json
 
 __all__ = [
     "EXPECTED_FORMAT",
     "LIMITER_NAMESPACE",
+    "PROBE_MESSAGES",
     "BreakerState",
     "CacheEntry",
     "CircuitBreaker",
@@ -51,6 +53,7 @@ __all__ = [
     "ReplyParseError",
     "Slot",
     "Wait",
+    "check_models",
     "circuit_breaker",
     "close_litellm_clients",
     "estimate_tokens",
@@ -59,8 +62,10 @@ __all__ = [
     "load_litellm",
     "model_key",
     "parse_reply",
+    "probe_model",
     "repair_json",
     "request_key",
+    "setting_problem",
     "takes_seed",
     "uncacheable",
 ]
