@@ -11,6 +11,7 @@ from scratchworld_dist.cli._capacity import capacity_command
 from scratchworld_dist.cli._compare import compare_command
 from scratchworld_dist.cli._drag import drag_group
 from scratchworld_dist.cli._evaluate import evaluate_command
+from scratchworld_dist.cli._export import export_command
 from scratchworld_dist.cli._flakes import flakes_command
 from scratchworld_dist.cli._gui import gui_command
 from scratchworld_dist.cli._oracle_plan import oracle_plan_command
@@ -51,6 +52,7 @@ cli.add_command(capacity_command)
 cli.add_command(drag_group)
 cli.add_command(perception_group)
 cli.add_command(view_command)
+cli.add_command(export_command)
 cli.add_command(schemas_command)
 
 

@@ -32,6 +32,7 @@ from scratchworld_dist.results._schema import (
     table_schema,
 )
 from scratchworld_dist.results._store import RunStore, effective_rows
+from scratchworld_dist.results._trajectories import attempt_steps
 
 __all__ = [
     "CORE_TABLES",
@@ -47,6 +48,7 @@ __all__ = [
     "SuiteInfo",
     "TestRow",
     "UnknownTableError",
+    "attempt_steps",
     "continued",
     "effective_rows",
     "git_commit",

@@ -10,17 +10,15 @@ from __future__ import annotations
 
 import contextlib
 import functools
-import json
 import re
 from collections import defaultdict
 from pathlib import Path
 from typing import TypeVar
 
 import pyarrow.compute as pc
-from pydantic import BaseModel, Field, SerializeAsAny, ValidationError
+from pydantic import BaseModel, Field, SerializeAsAny
 
 from scratchworld_dist._errors import ScratchWorldError
-from scratchworld_dist._files import read_file
 from scratchworld_dist.kinds import JobKind, kind_of_run
 from scratchworld_dist.results import (
     MANIFEST_NAME,
@@ -29,6 +27,7 @@ from scratchworld_dist.results import (
     RunStore,
     StepRow,
     TestRow,
+    attempt_steps,
     read_manifest,
     require_manifest,
 )
@@ -113,7 +112,7 @@ class ViewedRun:
         own = {table: self._rows_of(table, model, job_id) for table, model in self.kind().tables.items()}
         found = []
         for attempt in sorted(rows, reverse=True):
-            steps, note = self._steps(rows[attempt], step_rows.get(attempt, []))
+            steps, note = attempt_steps(self.path, rows[attempt], step_rows.get(attempt, []))
             found.append(
                 Attempt(
                     row=rows[attempt],
@@ -161,53 +160,6 @@ class ViewedRun:
         for row in picked:
             by_attempt[row["attempt"]].append(model.model_validate(row))
         return by_attempt
-
-    def _steps(self, row: JobRow, rows: list[StepRow]) -> tuple[list[StepRecord], str | None]:
-        if row.artifact_dir is not None:
-            path = self.path / row.artifact_dir / "trajectory.jsonl"
-            if path.is_file():
-                return _read_trajectory(path)
-        steps = [_step_of(r) for r in sorted(rows, key=lambda r: r.step)]
-        note = "no trajectory was kept for this attempt: steps come from the steps table" if steps else None
-        return steps, note
-
-
-def _read_trajectory(path: Path) -> tuple[list[StepRecord], str | None]:
-    steps, bad = [], 0
-    try:
-        text = read_file(path, 256 * 2**20).decode("utf-8", errors="replace")
-    except OSError as exc:
-        return [], f"the trajectory cannot be read: {exc}"
-    for line in text.splitlines():
-        if not line.strip():
-            continue
-        try:
-            steps.append(StepRecord.model_validate_json(line))
-        except ValidationError:
-            bad += 1
-    return steps, f"{bad} line(s) of the trajectory are not steps and are left out" if bad else None
-
-
-def _step_of(row: StepRow) -> StepRecord:
-    try:
-        args = json.loads(row.args_json)
-    except ValueError:
-        args = {"args_json": row.args_json}
-    return StepRecord(
-        index=row.step,
-        action=row.action,
-        args=args if isinstance(args, dict) else {"args": args},
-        ok=row.ok,
-        error_code=row.error_code,
-        error_message=row.error_message,
-        latency_s=row.latency_s,
-        observation_s=row.observation_s,
-        warnings=row.warnings.splitlines() if row.warnings else [],
-        llm_calls=row.llm_calls,
-        input_tokens=row.input_tokens,
-        output_tokens=row.output_tokens,
-        cost_usd=row.cost_usd,
-    )
 
 
 @functools.lru_cache(maxsize=16)

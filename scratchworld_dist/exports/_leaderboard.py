@@ -1,0 +1,77 @@
+"""A leaderboard of task-episode runs: one entry per agent, model and mode, ranked by success rate.
+
+Each entry is the episode report's row (effective attempts, errors left out of SR and PSR) with a 95%
+Wilson score interval on SR, the interval for a proportion that stays inside [0, 1] and behaves at 0 and
+100% (SciPy's ``binomtest``); ties in SR rank by PSR, then by cost per success.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+
+from pydantic import BaseModel
+from scipy.stats import binomtest
+
+from scratchworld_dist.reports import ReportRow, RunReport
+
+
+class LeaderboardEntry(BaseModel):
+    rank: int
+    label: str
+    agent: str
+    model: str
+    mode: str
+    jobs: int
+    determinate: int
+    passed: int
+    sr: float | None
+    sr_low: float | None
+    """Lower end of the 95% Wilson interval on SR."""
+
+    sr_high: float | None
+    psr: float | None
+    coverage: float | None
+    input_tokens: int
+    output_tokens: int
+    cost_usd: float
+    cost_per_success: float | None
+
+
+def wilson_interval(passed: int, determinate: int) -> tuple[float | None, float | None]:
+    """The 95% Wilson score interval of ``passed / determinate`` (None without a verdict)."""
+    if determinate == 0:
+        return None, None
+    interval = binomtest(passed, determinate).proportion_ci(confidence_level=0.95, method="wilson")
+    return float(interval.low), float(interval.high)
+
+
+def leaderboard(report: RunReport) -> list[LeaderboardEntry]:
+    """The report's rows ranked: SR first (no verdict last), then PSR, then the cheaper success."""
+
+    def order(row: ReportRow) -> tuple[float, float, float]:
+        cost = row.cost_per_success if row.cost_per_success is not None else float("inf")
+        return (-(row.sr if row.sr is not None else -1.0), -(row.psr or 0.0), cost)
+
+    entries = []
+    for rank, row in enumerate(sorted(report.rows, key=order), start=1):
+        low, high = wilson_interval(row.passed, row.determinate)
+        entries.append(
+            LeaderboardEntry(
+                rank=rank, label=row.label, agent=row.agent, model=row.model, mode=row.mode, jobs=row.jobs,
+                determinate=row.determinate, passed=row.passed, sr=row.sr, sr_low=low, sr_high=high, psr=row.psr,
+                coverage=row.coverage, input_tokens=row.input_tokens, output_tokens=row.output_tokens,
+                cost_usd=row.cost_usd, cost_per_success=row.cost_per_success,
+            )
+        )  # fmt: skip
+    return entries
+
+
+def leaderboard_csv(entries: list[LeaderboardEntry]) -> str:
+    """The entries as CSV with a header row (empty cells for values that do not exist)."""
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=list(LeaderboardEntry.model_fields), lineterminator="\n")
+    writer.writeheader()
+    for entry in entries:
+        writer.writerow({k: "" if v is None else v for k, v in entry.model_dump().items()})
+    return out.getvalue()
