@@ -62,6 +62,7 @@ from workers.contract._episode import (
     outcome_of,
 )
 from workers.contract._errors import (
+    AgentUnableError,
     AgentUnavailableError,
     BridgeError,
     ChromiumNotFoundError,
@@ -172,6 +173,7 @@ __all__ = [
     "ActionEnvelope",
     "ActionFailure",
     "AgentRef",
+    "AgentUnableError",
     "AgentUnavailableError",
     "AnswerFormat",
     "AnswerParse",

@@ -35,6 +35,7 @@ ErrorClass = Literal[
     "editor_failure",  # the editor could not be opened, loaded or evaluated in
     "evaluator_error",  # the evaluation produced no verdict for reasons outside the project
     "agent_error",  # the agent itself crashed (a bug in it)
+    "agent_unable",  # the agent said it cannot go on and would fail the same way again: permanent
     "task_invalid",  # the task's initial project cannot be loaded (over the limits, corrupt): permanent
     "harness_mismatch",  # the worker runs other code than the driver planned the job for
     "internal_error",  # anything else: a bug in this harness
@@ -45,6 +46,7 @@ ErrorClass = Literal[
 PERMANENT_ERRORS: frozenset[str] = frozenset(
     {
         "task_invalid",
+        "agent_unable",
         "model_auth",
         "model_bad_request",
         "model_not_found",

@@ -27,6 +27,11 @@ class ScratchWorldError(Exception):
     """Root of every error raised on purpose by scratchworld_dist and its workers."""
 
 
+class AgentUnableError(ScratchWorldError):
+    """An agent cannot go on and would fail the same way if the job ran again (a scripted plan the editor
+    cannot act out): recorded as ``agent_unable``, an error the driver does not retry."""
+
+
 class ProjectFormatError(ScratchWorldError):
     """Bytes that cannot be a Scratch 3 project: not a zip, no project.json, bad JSON."""
 

@@ -31,6 +31,7 @@ from workers.agents import EpisodeModels
 from workers.contract import (
     FINAL_ACTIONS,
     Action,
+    AgentUnableError,
     BridgeError,
     CompositeAction,
     Done,
@@ -38,6 +39,7 @@ from workers.contract import (
     EpisodeClock,
     EpisodeSpec,
     EpisodeTimings,
+    ErrorClass,
     Failed,
     InvalidReply,
     JobResult,
@@ -76,11 +78,13 @@ PRIMITIVE_STAGE = "small"
 
 
 class AgentCrashedError(Exception):
-    """The agent raised instead of doing its part; ``trace`` is its traceback for the trajectory."""
+    """The agent raised instead of doing its part; ``trace`` is its traceback for the trajectory, ``error_class``
+    says whether a retry can help (``agent_unable``: the agent said it cannot; ``agent_error``: a crash)."""
 
-    def __init__(self, message: str, trace: str) -> None:
+    def __init__(self, message: str, trace: str, error_class: ErrorClass = "agent_error") -> None:
         super().__init__(message)
         self.trace = trace
+        self.error_class = error_class
 
 
 STARTS_AT_ONCE = 1
@@ -178,8 +182,8 @@ class EpisodeRunner:
                 except ModelCallError as exc:
                     stop_reason = exc.error_class
                     raise
-                except AgentCrashedError:
-                    stop_reason = "agent_error"
+                except AgentCrashedError as exc:
+                    stop_reason = exc.error_class
                     raise
                 except (EditorError, BridgeError):
                     stop_reason = "editor_failure"
@@ -200,7 +204,7 @@ class EpisodeRunner:
             return _finish(result, started, clock, timings)
         except AgentCrashedError as exc:
             steps.append(_crash_step(len(steps), exc))
-            result = JobResult.errored(spec, "agent_error", str(exc), steps=steps)
+            result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
             return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
         except ModelCallError as exc:  # the model cannot be reached or refuses: no verdict about it
             result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
@@ -301,7 +305,9 @@ async def _guarded(call: Awaitable[_T], doing: str) -> _T:
     except (EditorError, BridgeError, ModelCallError, AgentCrashedError):
         raise
     except Exception as exc:  # a broken agent is the agent's error, not the harness's
-        raise AgentCrashedError(f"the agent {doing}: {type(exc).__name__}: {exc}", _trace(exc)) from exc
+        unable = isinstance(exc, AgentUnableError)
+        message = f"the agent {doing}: {type(exc).__name__}: {exc}"
+        raise AgentCrashedError(message, _trace(exc), "agent_unable" if unable else "agent_error") from exc
 
 
 ACTION_LEAD_MS = 50
@@ -455,7 +461,8 @@ def _book_late_calls(steps: list[StepRecord], models: EpisodeModels, stop_reason
 
 def _crash_step(index: int, exc: AgentCrashedError) -> StepRecord:
     """The trajectory's last entry when the agent raised: what it raised, with its traceback."""
-    return StepRecord(index=index, action="agent_error", ok=False, error_code="agent_error", error_message=exc.trace)
+    kind = exc.error_class
+    return StepRecord(index=index, action=kind, ok=False, error_code=kind, error_message=exc.trace)
 
 
 def _finish(result: JobResult, started: float, clock: float, timings: EpisodeTimings) -> JobResult:

@@ -5,12 +5,18 @@ from __future__ import annotations
 from pydantic import JsonValue, ValidationError
 
 from workers.agents._primitive_oracle._state import ProjectSnapshot, ScriptBlock, ScriptChain
-from workers.contract import ScratchWorldError
+from workers.contract import AgentUnableError, ScratchWorldError
 
 
-class OracleDivergenceError(ScratchWorldError):
+class OracleDivergenceError(AgentUnableError):
     """A gesture did not have the effect the oracle planned, the editor is not in the planned state,
-    or the page answered a read in a shape the oracle cannot use."""
+    or the page answered a read in a shape the oracle cannot use. The plan, the editor's layout and its
+    answers are the same on every run of the job, so a retry would diverge the same way: not retried."""
+
+
+class OracleWaitError(ScratchWorldError):
+    """A condition the oracle waits for after a gesture did not come in time: it may on another run (a
+    busy machine, the real clock), so the job is retried as any crash is."""
 
 
 def describe_difference(expected: ProjectSnapshot, actual: JsonValue) -> str:

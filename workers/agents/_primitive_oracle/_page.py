@@ -10,7 +10,7 @@ from typing import Any, TypeVar
 
 from pydantic import BaseModel, JsonValue, ValidationError
 
-from workers.agents._primitive_oracle._divergence import OracleDivergenceError, describe_difference
+from workers.agents._primitive_oracle._divergence import OracleDivergenceError, OracleWaitError, describe_difference
 from workers.agents._primitive_oracle._geometry import (
     BlockGeometry,
     DragPlan,
@@ -144,10 +144,10 @@ class Page:
     async def wait(
         self, until: str, args: dict[str, Any] | None = None, *, what: str, timeout_ms: int = WAIT_MS
     ) -> None:
-        """Wait (bounded) for a condition after a gesture; giving up is a divergence."""
+        """Wait (bounded) for a condition after a gesture; giving up may be the machine's slowness: retried."""
         result = await self.wait_result(until, args, timeout_ms)
         if not result.ok:
-            raise OracleDivergenceError(
+            raise OracleWaitError(
                 f"gave up waiting for {what} after {timeout_ms / 1000:g} s ({until}: {result.value!r})"
             )
 
