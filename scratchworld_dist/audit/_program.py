@@ -242,7 +242,7 @@ class Program:
         targets = project.get("targets")
         if not isinstance(targets, list):
             raise ProgramFormatError("project.json has no list of targets")
-        rest = {k: json_copy(v) for k, v in project.items() if k != "targets"}
+        rest = {k: None if k == "targets" else json_copy(v) for k, v in project.items()}
         return cls([_target(t, i) for i, t in enumerate(targets)], rest)
 
     def copy(self) -> Program:
@@ -251,7 +251,9 @@ class Program:
 
     def to_project(self) -> dict[str, Any]:
         """The project dict: the same keys as read, targets written from the model."""
-        return {**json_copy(self.raw), "targets": [t.to_json() for t in self.targets]}
+        out = json_copy(self.raw)
+        out["targets"] = [t.to_json() for t in self.targets]
+        return out
 
     @property
     def stage(self) -> Target:
