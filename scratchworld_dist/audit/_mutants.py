@@ -17,14 +17,21 @@ from scratchworld_dist.audit._places import (
     Place,
     as_number,
     is_cap,
-    is_hat,
     is_statement,
     js_round,
     literal_inputs,
     live_places,
     number_value,
 )
-from scratchworld_dist.audit._program import BROADCAST_CODE, LIST_CODE, VARIABLE_CODE, Field, Primitive, Program
+from scratchworld_dist.audit._program import (
+    BROADCAST_CODE,
+    LIST_CODE,
+    VARIABLE_CODE,
+    Field,
+    Primitive,
+    Program,
+    ProgramFormatError,
+)
 from scratchworld_dist.audit._variant import Candidate, Mutant, VariantMaker, sample
 
 ARITHMETIC = ("operator_add", "operator_subtract", "operator_multiply", "operator_divide", "operator_mod")
@@ -33,6 +40,9 @@ BOOLEAN = ("operator_and", "operator_or")
 
 KEYS = ("space", "up arrow", "down arrow", "left arrow", "right arrow", "a")
 """Keys a key hat is moved to (the first that is not its own)."""
+
+EVENT_HATS = ("event_whenflagclicked", "event_whenkeypressed", "event_whenbroadcastreceived")
+"""Hats ``event_hat`` changes (and the click hat of a sprite or the stage)."""
 
 NEVER_SENT = "audit: never sent"
 """The message a hat or a broadcast is moved to when the project has no other."""
@@ -176,22 +186,27 @@ def event_hat(program: Program) -> Iterator[Candidate]:
     messages = _messages(program)
     for place in live_places(program):
         block, target = place.block, place.target
-        if block.parent is not None or not is_hat(block.opcode):
+        if block.parent is not None:
             continue
         clicked = "event_whenstageclicked" if target.is_stage else "event_whenthisspriteclicked"
+        if block.opcode not in (
+            "event_whenflagclicked",
+            "event_whenkeypressed",
+            clicked,
+            "event_whenbroadcastreceived",
+        ):
+            continue
         key = block.fields.get("KEY_OPTION", Field(None)).value
         message = block.fields.get("BROADCAST_OPTION", Field(None)).value
-        options = {
-            "event_whenflagclicked": [("event_whenflagclicked", None)],
-            "event_whenkeypressed": [("event_whenkeypressed", next(k for k in KEYS if k != key))],
-            clicked: [(clicked, None)],
-            "event_whenbroadcastreceived": [("event_whenbroadcastreceived", m) for m in _others(messages, message)],
-        }
-        if block.opcode not in options:
-            continue
-        for opcode, detail in (option for kind, found in options.items() for option in found):
-            if opcode == block.opcode and opcode in ("event_whenflagclicked", clicked):
-                continue
+        options = [
+            ("event_whenflagclicked", None),
+            ("event_whenkeypressed", next(k for k in KEYS if k != key)),
+            (clicked, None),
+            *(("event_whenbroadcastreceived", m) for m in _others(messages, message)),
+        ]
+        for opcode, detail in options:
+            if opcode == block.opcode and detail is None:
+                continue  # the very same event
             edit = _hat_edit(target.name, block.id, opcode, detail)
             change = f"{block.opcode} -> {opcode}" + (f" {detail}" if detail else "")
             yield _candidate("event_hat", place, change, f"hat {change}", edit)
@@ -241,13 +256,16 @@ def _message_id(program: Program, name: str) -> str:
 def _reference_edit(place: Place, input_name: str, choose: Callable[[Program], tuple[str, str]]) -> Edit:
     def edit(program: Program) -> None:
         value = program.target(place.target.name).block(place.block.id).inputs[input_name].value
-        assert isinstance(value, Primitive)
+        if not isinstance(value, Primitive):
+            raise ProgramFormatError(f"{place.target.name}: input {input_name} of {place.block.id!r} names nothing")
         edits.set_reference(value, *choose(program))
 
     return edit
 
 
-def _other_reference(operator: str, code: int, field_name: str, opcodes: frozenset[str] | None) -> Callable[..., Any]:
+def _other_reference(
+    operator: str, code: int, field_name: str, opcodes: frozenset[str] | None
+) -> Callable[[Program], Iterator[Candidate]]:
     kind = "variable" if code == VARIABLE_CODE else "list"
 
     def propose(program: Program) -> Iterator[Candidate]:
