@@ -142,6 +142,18 @@ def test_no_counter_loop_for_a_count_a_reporter_gives() -> None:
     assert [r.target for r in made("counter_loop")] == ["Dog"]  # Owl repeats (1 + 1) times
 
 
+def test_no_counter_loop_nor_split_in_a_custom_block_definition() -> None:
+    """A recursive call would share the counter; a block run without screen refresh would not run a split-off
+    tail so. (The builder writes no custom blocks: the first script's hat is made a definition by hand.)"""
+    project = json.loads(json.dumps(ORIGINAL))
+    dog = target_of(project, "Dog")
+    hat = next(b for b in dog["blocks"].values() if b["topLevel"] and b["opcode"] == "event_whenflagclicked")
+    hat["opcode"] = "procedures_definition"
+    kinds = Counter(r.operator for r in enumerate_refactorings(project))
+    assert kinds["counter_loop"] == kinds["split_at_broadcast"] == 0
+    assert kinds["commute_operands"] == 1  # what may be rewritten there still is
+
+
 def test_operands_are_swapped_only_when_neither_has_an_effect() -> None:
     (commuted,) = made("commute_operands")
     dog_before, dog_after = target_of(ORIGINAL, "Dog"), target_of(commuted.project, "Dog")

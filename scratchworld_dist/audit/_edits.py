@@ -11,6 +11,7 @@ from typing import Any
 
 from scratchworld_dist.audit._program import (
     INPUT_BLOCK,
+    INPUT_OBSCURED,
     INPUT_SHADOW,
     REFERENCE_CODE,
     REFERENCE_FIELD,
@@ -77,7 +78,7 @@ def set_input_block(target: Target, block_id: str, input_name: str, child: str |
     if entry is None or (entry.kind == INPUT_SHADOW and not entry.has_shadow and entry.value is None):
         block.inputs[input_name] = Input(INPUT_BLOCK, child)
     elif entry.kind == INPUT_SHADOW:
-        block.inputs[input_name] = Input(3, child, entry.value, has_shadow=True)
+        block.inputs[input_name] = Input(INPUT_OBSCURED, child, entry.value, has_shadow=True)
     else:
         entry.value = child
     target.block(child).parent = block_id
