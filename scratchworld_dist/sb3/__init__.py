@@ -14,6 +14,7 @@ from scratchworld_dist.sb3._builder import (
     variable,
 )
 from scratchworld_dist.sb3._catalog import SHAPES
+from scratchworld_dist.sb3._listing import script_listing, target_listing
 from workers.contract import check_project
 
 __all__ = [
@@ -29,5 +30,7 @@ __all__ = [
     "circle_costume",
     "list_contents",
     "rect_costume",
+    "script_listing",
+    "target_listing",
     "variable",
 ]

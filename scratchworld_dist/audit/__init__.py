@@ -1,0 +1,32 @@
+"""Audits of graders: mutants (a project wrong in one small way, which a task's tests should fail) and
+refactorings (the same behaviour written otherwise, which they should pass), made from a golden project.
+
+Made through our own program model (``Program``: targets, blocks and their links), never by editing JSON.
+"""
+
+from scratchworld_dist.audit._checks import program_form, structure_problems
+from scratchworld_dist.audit._mutants import OPERATORS, enumerate_mutants, sample_mutants
+from scratchworld_dist.audit._program import Block, Field, Input, Primitive, Program, ProgramFormatError, Target
+from scratchworld_dist.audit._refactorings import REFACTORINGS, enumerate_refactorings, sample_refactorings
+from scratchworld_dist.audit._variant import Mutant, ProgramVariant, Refactoring
+
+__all__ = [
+    "OPERATORS",
+    "REFACTORINGS",
+    "Block",
+    "Field",
+    "Input",
+    "Mutant",
+    "Primitive",
+    "Program",
+    "ProgramFormatError",
+    "ProgramVariant",
+    "Refactoring",
+    "Target",
+    "enumerate_mutants",
+    "enumerate_refactorings",
+    "program_form",
+    "sample_mutants",
+    "sample_refactorings",
+    "structure_problems",
+]
