@@ -228,7 +228,7 @@ def echo_ray(echo_plugin: Path) -> Iterator[int]:
 
 @pytest.mark.ray
 def test_a_plugin_kind_is_planned_run_recorded_reported_and_resumed(tmp_path: Path, echo_ray: int) -> None:
-    assert kind_names() == ["tasks", "drag", "perception", "echo"]  # built-in ones first
+    assert kind_names() == ["tasks", "drag", "perception", "audit", "echo"]  # built-in ones first
     suite = tmp_path / "echo-suite"
     suite.mkdir()
     (suite / "items.txt").write_text("a yes\nb no\nc yes\n")

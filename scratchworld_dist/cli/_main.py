@@ -7,6 +7,7 @@ import sys
 import click
 
 from scratchworld_dist._errors import ScratchWorldError
+from scratchworld_dist.cli._audit import audit_command
 from scratchworld_dist.cli._capacity import capacity_command
 from scratchworld_dist.cli._compare import compare_command
 from scratchworld_dist.cli._drag import drag_group
@@ -42,6 +43,7 @@ cli.add_command(gui_command)
 cli.add_command(report_command)
 cli.add_command(compare_command)
 cli.add_command(run_command)
+cli.add_command(audit_command)
 cli.add_command(plan_command)
 cli.add_command(regrade_command)
 cli.add_command(replay_command)

@@ -18,7 +18,7 @@ ENTRY_POINT_GROUP = "scratchworld.kinds"
 DEFAULT_KIND = "tasks"
 """The kind of a sweep config without ``benchmark:``, and of older runs no other kind claims."""
 
-BUILT_IN_ORDER = ("tasks", "drag", "perception")
+BUILT_IN_ORDER = ("tasks", "drag", "perception", "audit")
 """The order reports show the built-in kinds in; a plugin's kinds follow, by name."""
 
 

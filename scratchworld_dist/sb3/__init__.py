@@ -1,6 +1,5 @@
 """Reading and building Scratch 3 project files (.sb3)."""
 
-from scratchworld_dist.sb3._archive import Sb3Archive
 from scratchworld_dist.sb3._builder import (
     Block,
     Costume,
@@ -15,7 +14,7 @@ from scratchworld_dist.sb3._builder import (
 )
 from scratchworld_dist.sb3._catalog import SHAPES
 from scratchworld_dist.sb3._listing import script_listing, target_listing
-from workers.contract import check_project
+from workers.contract import Sb3Archive, check_project
 
 __all__ = [
     "SHAPES",

@@ -7,6 +7,7 @@ from scratchworld_dist.sweep._config import (
     SweepConfig,
     TaskSelection,
     load_sweep_config,
+    sweep_config_from,
 )
 from scratchworld_dist.sweep._overrides import SweepOverrides
 from scratchworld_dist.sweep._plan import (
@@ -36,5 +37,6 @@ __all__ = [
     "present_suites",
     "read_project",
     "suite_hash",
+    "sweep_config_from",
     "wanted_ids",
 ]

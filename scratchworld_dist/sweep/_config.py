@@ -423,14 +423,26 @@ def load_sweep_config(
         raise ConfigError(f"not valid YAML: {_yaml_problem(exc)}", path) from exc
     if not isinstance(data, dict):
         raise ConfigError("the config must be a mapping of fields (name, suite, agent, ...)", path)
+    return sweep_config_from(data, path.parent, overrides, changes, where=path)
+
+
+def sweep_config_from(
+    data: dict[str, Any],
+    base: Path,
+    overrides: dict[str, Any] | None = None,
+    changes: SweepOverrides | None = None,
+    *,
+    where: Path | None = None,
+) -> SweepConfig:
+    """A config's fields (a file's mapping, or one a command builds) validated and resolved, relative paths
+    against ``base``; ``ConfigError`` names ``where`` the fields came from."""
     data = (changes or SweepOverrides()).apply(data)
     data.update(overrides or {})
     try:
         config = SweepConfig.model_validate(data)
     except ValidationError as exc:
         problems = "; ".join(f"{_field_path(e['loc'])}: {e['msg']}" for e in exc.errors())
-        raise ConfigError(f"invalid config: {problems}", path) from None
-    base = path.parent
+        raise ConfigError(f"invalid config: {problems}", where) from None
     resolved: dict[str, Any] = {"suite": _resolve(base, config.suite)}
     if config.output is not None and "output" not in (overrides or {}):
         resolved["output"] = _resolve(base, config.output)

@@ -18,6 +18,7 @@ from workers.contract._actions import (
     composite_action,
     primitive_action,
 )
+from workers.contract._audit import AuditSpec, VariantKind
 from workers.contract._detail import JobDetail
 from workers.contract._drag import (
     CONNECTIONS_OF,
@@ -154,6 +155,7 @@ from workers.contract._perturbation import (
 from workers.contract._preflight import ModelCheck, Preflight
 from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
+from workers.contract._sb3_archive import Sb3Archive
 from workers.contract._synthetic import SyntheticEpisodes
 
 __all__ = [
@@ -177,6 +179,7 @@ __all__ = [
     "AgentUnavailableError",
     "AnswerFormat",
     "AnswerParse",
+    "AuditSpec",
     "BridgeError",
     "CanvasSource",
     "ChromiumNotFoundError",
@@ -267,6 +270,7 @@ __all__ = [
     "RegradeSpec",
     "RendererUnavailableError",
     "RetryPolicy",
+    "Sb3Archive",
     "ScratchWorldError",
     "StepObservation",
     "StepRecord",
@@ -276,6 +280,7 @@ __all__ = [
     "TestVerdict",
     "TimerLateness",
     "ValueKind",
+    "VariantKind",
     "WorkerInfo",
     "WorkerJob",
     "WorkerLoad",

@@ -7,7 +7,7 @@ the driver never sends paths a remote node could not open, only the bytes and so
 from __future__ import annotations
 
 import re
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, SerializeAsAny, field_validator, model_validator
 
@@ -23,6 +23,9 @@ from workers.contract._observation_settings import ObservationSettings
 from workers.contract._observations import StepObservation
 from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import ProjectLimits
+
+if TYPE_CHECKING:
+    from workers.contract._audit import AuditSpec
 
 Mode = Literal["composite", "primitive"]
 Outcome = Literal["passed", "failed", "error"]
@@ -219,7 +222,7 @@ class PerceptionSpec(BaseModel):
     model_cache: ModelCacheSettings | None = None
 
 
-WorkerJob = EpisodeSpec | DragSpec | PerceptionSpec | RegradeSpec
+WorkerJob = Union[EpisodeSpec, DragSpec, PerceptionSpec, RegradeSpec, "AuditSpec"]
 """Any job a worker runs, as it is sent for one attempt."""
 
 

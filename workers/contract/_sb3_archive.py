@@ -1,5 +1,6 @@
 """A project's files with project.json swapped out: variants of one project (a connection cut, a script
-moved) written without unpacking and repacking its assets for each."""
+moved, a grader audit's mutant) written without unpacking and repacking its assets for each; shared by the
+driver, which makes variants, and the workers, which rebuild an audit's variant from its golden."""
 
 from __future__ import annotations
 

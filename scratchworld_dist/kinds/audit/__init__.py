@@ -1,0 +1,19 @@
+"""The grader audit kind (``benchmark: audit``): mutants and refactorings of goldens, judged by the tasks' tests."""
+
+from scratchworld_dist.kinds.audit._kind import AUDIT, AuditKind
+from scratchworld_dist.kinds.audit._plan import AuditBody, audit_jobs, task_variants
+from scratchworld_dist.kinds.audit._report import AuditReport, build_audit_report
+from scratchworld_dist.kinds.audit._rows import AuditRow
+from scratchworld_dist.kinds.audit._settings import AuditSweep
+
+__all__ = [
+    "AUDIT",
+    "AuditBody",
+    "AuditKind",
+    "AuditReport",
+    "AuditRow",
+    "AuditSweep",
+    "audit_jobs",
+    "build_audit_report",
+    "task_variants",
+]

@@ -1,0 +1,115 @@
+"""The grader audit (``benchmark: audit``): variants of each task's golden project (mutants, which sound tests
+fail, and refactorings, which they pass) evaluated by the task's own tests; no agent acts, no model is called."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from types import MappingProxyType
+from typing import TYPE_CHECKING, ClassVar
+
+from pydantic import BaseModel
+
+from scratchworld_dist._errors import ConfigError
+from scratchworld_dist._run_plan import ItemContent, RunPlan
+from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
+from scratchworld_dist.kinds.audit._panel import variant_panel
+from scratchworld_dist.kinds.audit._plan import AuditBody, audit_jobs
+from scratchworld_dist.kinds.audit._rows import AuditRow, audit_row
+from scratchworld_dist.kinds.audit._settings import AuditSweep
+from scratchworld_dist.kinds.tasks import read_task
+from scratchworld_dist.results import RunStore, SuiteInfo
+from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
+from workers.contract import AgentRef, AgentUnavailableError, AuditSpec, HarnessFingerprint, JobResult, ModelSpec
+
+if TYPE_CHECKING:
+    from scratchworld_dist.reports import ReportFormat
+
+DEFAULT_AGENT = AgentRef(name="oracle")
+"""The config's default agent: the audit runs none, so it takes no other."""
+
+
+class AuditKind:
+    """Task x variant: each variant of a golden evaluated once, in a clean evaluation editor."""
+
+    name = "audit"
+    title = "grader audit"
+    needs_browser = True
+    tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"audits": AuditRow})
+    config_section: type[BaseModel] | None = AuditSweep
+    regrade_refusal: str | None = "an audit run evaluates variants of goldens: run the audit again instead"
+
+    def check_agent(self, agent: AgentRef) -> None:
+        if agent != DEFAULT_AGENT:
+            raise AgentUnavailableError("the grader audit runs no agent: leave agent out")
+
+    def check_sweep(self, config: SweepConfig) -> None:
+        if config.models or config.memory is not None or config.synthetic is not None:
+            raise ValueError("the grader audit calls no model: leave models, memory and synthetic out")
+
+    def needs_model(self, config: SweepConfig) -> bool:
+        return False
+
+    def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
+        return []
+
+    def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
+        """The selected tasks' goldens and every variant the ``audit`` section asks for, one job each."""
+        suite = load_suite(config.suite, task_list=config.tasks.task_list)
+        tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
+        if not tasks:
+            raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
+        contents = [
+            read_task(task, config.profile, config.clock, config.project_limits, config.render, None, config.timing)
+            for task in tasks
+        ]
+        jobs = list(audit_jobs(contents, config.section(self.name, AuditSweep), DEFAULT_AGENT, harness.digest))
+        info = SuiteInfo(
+            name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
+        )
+        return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs)
+
+    def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> AuditSpec:
+        body = job.body
+        if not isinstance(body, AuditBody):
+            raise ValueError(f"job {job.job_id} is not an audit job")
+        return AuditSpec(**job.worker_header(attempt, timeout_s), variant=body.variant, project_json=body.project_json)
+
+    def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
+        return {"audits": [audit_row(job, result)]}
+
+    def store_shared(self, store: RunStore, contents: Sequence[ItemContent]) -> None:
+        return None  # a variant's worker gets its golden in its task's payload
+
+    def holds(self, run_dir: Path) -> bool:
+        return False  # every audit run names its kind in its rows
+
+    def report_model(self) -> type[BaseModel]:
+        from scratchworld_dist.kinds.audit._report import AuditReport
+
+        return AuditReport
+
+    def report_data(self, run_dirs: Sequence[Path], *, force: bool) -> BaseModel:
+        from scratchworld_dist.kinds.audit._report import build_audit_report
+
+        return build_audit_report(run_dirs, force=force)
+
+    def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
+        from scratchworld_dist.kinds.audit._report import build_audit_report, render_audit
+
+        report = build_audit_report(run_dirs, force=force)
+        return render_audit(report, fmt), report.warnings
+
+    def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
+        return self.report([run_dir], "html", force=False)
+
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+        return variant_panel(rows, root)
+
+    def diagnosis(self) -> DiagnosisPart | None:
+        return None
+
+
+AUDIT = AuditKind()
+"""The registered kind (entry point ``audit``)."""

@@ -1,0 +1,116 @@
+"""Planning an audit: each selected task's golden project, its variants (mutants and refactorings), one job each."""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import zipfile
+from collections.abc import Iterator
+from typing import Any
+
+from scratchworld_dist._errors import SuiteError
+from scratchworld_dist.audit import (
+    Mutant,
+    ProgramFormatError,
+    Refactoring,
+    enumerate_mutants,
+    enumerate_refactorings,
+    sample_mutants,
+    sample_refactorings,
+)
+from scratchworld_dist.kinds.audit._settings import AuditSweep
+from scratchworld_dist.kinds.tasks import TaskContent
+from scratchworld_dist.sweep import JobBody, JobSpec, identity_id
+from workers.contract import AgentRef, VariantKind
+
+
+class AuditBody(JobBody):
+    """One variant of a task's golden project: what it changed, where, and its project.json."""
+
+    kind: str = "audit"
+    variant: VariantKind
+    variant_id: str
+    operator: str
+    target: str
+    block_id: str
+    description: str
+    before: str
+    after: str
+    project_json: str
+    """The variant's project.json (compact); the worker gets the golden's assets with it."""
+
+    def columns(self) -> dict[str, Any]:
+        return {"mode": self.variant, "max_steps": 0}
+
+
+def golden_json(content: TaskContent) -> dict[str, Any]:
+    """The task's golden project.json (``SuiteError`` when the task has no readable golden)."""
+    data = content.payload.golden_project
+    where = content.task.golden_project
+    if data is None:
+        raise SuiteError(f"task {content.task.id} has no golden project to audit", where)
+    try:
+        if data[:2] == b"PK":
+            with zipfile.ZipFile(io.BytesIO(data)) as archive:
+                data = archive.read("project.json")
+        project = json.loads(data)
+    except (zipfile.BadZipFile, KeyError, ValueError) as exc:
+        raise SuiteError(f"task {content.task.id}: the golden project cannot be read ({exc})", where) from exc
+    if not isinstance(project, dict):
+        raise SuiteError(f"task {content.task.id}: the golden project.json is not an object", where)
+    return project
+
+
+def task_variants(content: TaskContent, settings: AuditSweep) -> list[Mutant | Refactoring]:
+    """The variants of one task's golden the section asks for: mutants, then refactorings."""
+    project = golden_json(content)
+    try:
+        mutants = (
+            enumerate_mutants(project)
+            if settings.mutants_per_task is None
+            else sample_mutants(project, settings.mutants_per_task, f"{settings.seed}:{content.task.id}")
+        )
+        refactorings = (
+            enumerate_refactorings(project)
+            if settings.refactorings_per_task is None
+            else sample_refactorings(project, settings.refactorings_per_task, f"{settings.seed}:{content.task.id}")
+        )
+    except ProgramFormatError as exc:
+        raise SuiteError(f"task {content.task.id}: the golden cannot be audited: {exc}") from exc
+    return [*mutants, *refactorings]
+
+
+def audit_jobs(contents: list[TaskContent], settings: AuditSweep, agent: AgentRef, harness: str) -> Iterator[JobSpec]:
+    """The golden of each task, then one job per variant: named by its project, its task and the harness (not
+    by the seed that picked it: the same variant picked again is the same job)."""
+    for content in contents:
+        golden = golden_json(content)
+        unchanged = AuditBody(
+            variant="golden", variant_id="golden", operator="golden", target="", block_id="",
+            description="the golden project, unchanged", before="", after="", project_json=_text(golden),
+        )  # fmt: skip
+        yield _job(content, unchanged, agent, harness)
+        for variant in task_variants(content, settings):
+            mutant = isinstance(variant, Mutant)
+            body = AuditBody(
+                variant="mutant" if mutant else "refactoring",
+                variant_id=variant.mutant_id if isinstance(variant, Mutant) else variant.refactoring_id,
+                operator=variant.operator, target=variant.target, block_id=variant.block_id,
+                description=variant.description, before=variant.before, after=variant.after,
+                project_json=_text(variant.project),
+            )  # fmt: skip
+            yield _job(content, body, agent, harness)
+
+
+def _text(project: dict[str, Any]) -> str:
+    return json.dumps(project, separators=(",", ":"), sort_keys=True)
+
+
+def _job(content: TaskContent, body: AuditBody, agent: AgentRef, harness: str) -> JobSpec:
+    digest = hashlib.sha256(body.project_json.encode()).hexdigest()
+    identity = {"audit": body.variant, "project": digest, "task": content.task_hash, "harness": harness}
+    return JobSpec(
+        job_id=identity_id(identity), model=None, agent=agent, task_id=content.task.id,
+        category=content.task.category, task_hash=content.task_hash, seed=0, harness=harness, body=body,
+    )  # fmt: skip

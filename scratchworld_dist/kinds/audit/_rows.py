@@ -1,0 +1,70 @@
+"""The audit kind's own table, ``audits``: one row per evaluated variant, with what the grader made of it."""
+
+from __future__ import annotations
+
+import json
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict
+
+from scratchworld_dist.kinds.audit._plan import AuditBody
+from scratchworld_dist.sweep import JobSpec
+from workers.contract import JobResult
+
+Verdict = Literal["killed", "survived", "passed", "brittle", "golden_passes", "golden_fails", "error"]
+"""A mutant is killed (a test failed: right) or survived (all passed); a refactoring passed (right) or was
+judged brittle (a test failed); the golden itself passes or fails (then its variants' verdicts measure
+nothing); error: no verdict (the evaluation itself failed)."""
+
+
+class AuditRow(BaseModel):
+    """One variant and the grader's answer to it (a row of ``audits/``)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    job_id: str
+    attempt: int
+    task_id: str
+    variant: str
+    """golden, mutant or refactoring."""
+
+    operator: str
+    variant_id: str
+    target: str
+    block_id: str
+    description: str
+    before: str
+    """Pseudocode of the changed script(s) before the change, and after it."""
+    after: str
+    tests_passed: int
+    tests_total: int
+    failing_tests: str
+    """The names of the tests that failed, as a JSON list."""
+
+    verdict: str
+
+
+def verdict_of(variant: str, result: JobResult) -> Verdict:
+    if result.outcome == "error" or result.evaluation is None:
+        return "error"
+    failed = result.outcome == "failed"
+    if variant == "golden":
+        return "golden_fails" if failed else "golden_passes"
+    if variant == "mutant":
+        return "killed" if failed else "survived"
+    return "brittle" if failed else "passed"
+
+
+def audit_row(job: JobSpec, result: JobResult) -> AuditRow:
+    body = job.body
+    if not isinstance(body, AuditBody):
+        raise ValueError(f"job {job.job_id} is not an audit job")
+    tests = result.evaluation.tests if result.evaluation is not None else []
+    return AuditRow(
+        job_id=job.job_id, attempt=result.attempt, task_id=job.task_id, variant=body.variant,
+        operator=body.operator, variant_id=body.variant_id, target=body.target, block_id=body.block_id,
+        description=body.description, before=body.before, after=body.after,
+        tests_passed=sum(test.passed for test in tests), tests_total=len(tests),
+        failing_tests=json.dumps([test.name for test in tests if not test.passed]),
+        verdict=verdict_of(body.variant, result),
+    )  # fmt: skip
