@@ -18,6 +18,7 @@ from pydantic import BaseModel
 from ray.exceptions import RayError
 from rich.console import Console
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan, plan_run
 from scratchworld_dist.kinds import job_kind
@@ -137,7 +138,7 @@ def _checked_manifest(plan: RunPlan, run_dir: Path, force: bool) -> RunManifest:
 def run_sweep(config: SweepConfig, *, force: bool = False, console: Console | None = None) -> RunSummary:
     """Run or resume the sweep. On a cluster, its nodes are checked first (the driver's code, one editor
     and one browser among them) and the jobs are planned under their environment."""
-    console = console or Console(stderr=True)
+    console = console or make_console(stderr=True)
     if config.ray.address is None:  # a private local Ray: this machine is the only node
         local = describe_node()
         return _run_plan(plan_run(config, local.harness), [local], force, console)

@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-from rich.console import Console
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.cli._timing_option import timing_option
 from scratchworld_dist.reports import report_runs
@@ -63,7 +63,7 @@ def run_command(
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
 
     config = load_sweep_config(config_file, overrides)
-    console = Console(stderr=True)
+    console = make_console(stderr=True)
     summary = run_sweep(config, force=force, console=console)
     outcomes = summary.outcomes
     console.print(
