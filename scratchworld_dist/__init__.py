@@ -2,8 +2,10 @@
 
 import os
 
-# Keep a local Ray on the loopback interface. Ray reads this once, when it is imported, and the package's
-# modules import Ray in any order, so it is set here, before any of them (1 opts out).
+# Keep a local Ray on the loopback interface: with this 0, Ray takes 127.0.0.1 as this machine's address.
+# Ray reads it once, when it is imported, and the package's modules import Ray in any order, so it is set
+# here, before any of them. A sweep's private Ray is kept on loopback even when it is 1
+# (scheduling/_ray_runtime.py); with 1, Ray places a driver that joins a cluster by this machine's address.
 os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
 
 

@@ -18,6 +18,7 @@ from pydantic import BaseModel, ValidationError
 from ray.exceptions import RayError
 from rich.console import Console
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan, plan_run
 from scratchworld_dist.kinds import job_kind
@@ -159,7 +160,7 @@ def run_sweep(
     and one browser among them) and the jobs are planned under their environment. Before any editor
     opens, the models the jobs to run call are checked (``PreflightError`` names the broken ones, unless
     ``skip_broken_models`` leaves their jobs out)."""
-    console = console or Console(stderr=True)
+    console = console or make_console(stderr=True)
     if config.ray.address is None:  # a private local Ray: this machine is the only node
         local = describe_node()
         return _run_plan(plan_run(config, local.harness), [local], force, console, skip_broken_models)

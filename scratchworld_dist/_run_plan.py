@@ -7,8 +7,8 @@ from collections.abc import Sequence
 from typing import Protocol, runtime_checkable
 
 from pydantic import BaseModel, InstanceOf
-from rich.console import Console
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist.kinds import Notice, job_kind
 from scratchworld_dist.memory import JobItems
 from scratchworld_dist.results import SuiteInfo
@@ -56,7 +56,7 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None, not
     """The sweep's jobs under ``harness`` (default: this machine's code, editor and browser); ``notice``
     hears what planning leaves out (default: standard error)."""
     if notice is None:
-        console = Console(stderr=True, soft_wrap=True)
+        console = make_console(stderr=True)
         notice = lambda message: console.print(message, markup=False)  # noqa: E731
     harness = kind_fingerprint(harness or harness_fingerprint(), config.benchmark)  # the core + this kind's code
     plan = job_kind(config.benchmark).plan(config, harness, notice)

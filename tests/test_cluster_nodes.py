@@ -4,7 +4,8 @@ The head is started from this repository with ``{"browser": 0}``; worker nodes a
 copies of the checkout in other directories (their Python imports the copy: ``PYTHONPATH``, as
 a node installed from another clone would), with token authentication on, as Ray 2.60 does once
 a token exists. A node from an identical copy runs real browser jobs; a node whose copy differs
-in one file is refused by name before any job is sent.
+in one file is refused by name before any job is sent. Every node listens on 127.0.0.1 only
+(``tests/ray_loopback.py``).
 """
 
 from __future__ import annotations
@@ -16,7 +17,6 @@ import shutil
 import signal
 import socket
 import subprocess
-import sys
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -27,6 +27,7 @@ import yaml
 from scratchworld_dist.results import RunStore, read_manifest
 from scratchworld_dist.scheduling._nodes import NodeMismatchError, agreed_harness
 from tests.conftest import REPO, copy_page_files
+from tests.ray_loopback import RAY_START
 from tests.sweep_driver import SCRATCHWORLD
 from workers.contract import NodeReport
 from workers.kinds import kind_fingerprint
@@ -35,7 +36,6 @@ from workers.node._fingerprint import EDITOR_LOCK_FILES
 
 pytestmark = [pytest.mark.ray, pytest.mark.browser]
 
-RAY = str(Path(sys.executable).with_name("ray"))
 TASKS = ["sum_two_numbers", "quiz_score", "bouncing_ball_stuck"]
 
 
@@ -71,7 +71,7 @@ class Cluster:
 
     def start(self, *args: str, checkout: Path | None = None) -> None:
         """`ray start` as the README's recipe says: token authentication on, the token from a file."""
-        command = [RAY, "start", *args, "--num-cpus", "1", "--disable-usage-stats", "--temp-dir", str(self.temp_dir)]
+        command = [*RAY_START, *args, "--num-cpus", "1", "--disable-usage-stats", "--temp-dir", str(self.temp_dir)]
         env = {**self.env(checkout), "RAY_AUTH_MODE": "token", "SCRATCHWORLD_TEST_CLUSTER": str(self.temp_dir)}
         done = subprocess.run(command, cwd=checkout or REPO, env=env, capture_output=True, text=True, timeout=120)
         assert done.returncode == 0, done.stdout + done.stderr

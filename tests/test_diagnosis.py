@@ -153,9 +153,9 @@ def test_the_gap_has_an_interval_over_two_seeds_and_none_over_one(tmp_path: Path
     rows = by_label(table_of(three_runs(tmp_path)))
     gap = rows["gpt-4o (T=0) (also named 4o)"].gap
     assert gap is not None and gap.seeds == 2
-    # per-seed gaps 2/3 - 1/3 and 1 - 1/2: mean 5/12; t(1) = 12.706 times their standard error |1/3 - 1/2| / 2.
+    # per-seed gaps 2/3 - 1/3 and 1 - 1/2: mean 5/12; t(1) = 12.7062 times their standard error |1/3 - 1/2| / 2.
     assert gap.points == pytest.approx(100 * 5 / 12)
-    assert gap.half_width == pytest.approx(100 * 12.706 / 12)
+    assert gap.half_width == pytest.approx(100 * 12.7062047 / 12)
     single = rows["claude (also named claude-3)"].gap
     assert single is not None and (single.points, single.half_width, single.seeds) == (pytest.approx(100 / 3), None, 1)
     text, _ = report_runs(three_runs(tmp_path / "again"), "md")

@@ -21,7 +21,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-RAY = str(Path(sys.executable).with_name("ray"))
+from tests.ray_loopback import RAY_START
+
 STOP_GRACE_S = 45.0
 """A node drains for up to 30 s after SIGTERM; past this it is killed."""
 
@@ -104,8 +105,7 @@ class LocalCluster:
         self.address = f"127.0.0.1:{port}"
         for index, slots in enumerate(self.slots):
             args = [
-                RAY,
-                "start",
+                *RAY_START,  # on 127.0.0.1 only
                 "--block",
                 "--num-cpus=1",
                 "--disable-usage-stats",
@@ -154,7 +154,9 @@ class LocalCluster:
         )
         left = max(deadline - time.monotonic(), 1.0)
         args = [sys.executable, "-c", probe, self.address, str(nodes), str(slots), str(left)]
-        waiting = subprocess.Popen(args, env=self.env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        # Cluster mode off: a probe in it would look for the head at this machine's network address, not 127.0.0.1.
+        env = {**self.env, "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER": "0"}
+        waiting = subprocess.Popen(args, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         try:
             while waiting.poll() is None:
                 self._check_alive()

@@ -60,14 +60,13 @@ def validate_command(suite_dir: Path, task_ids: str | None, parallel: int, json_
     region's deepest pixel to the end region's makes the expected connection. Exits 1 when a task is
     invalid or cannot be set up.
     """
-    from rich.console import Console  # the browser stack and rich: for this command only
-
+    from scratchworld_dist._console import make_console  # rich: for this command only
     from scratchworld_dist.drag import DragTaskCheck, load_drag_suite, validate_drag_tasks
 
     suite = load_drag_suite(suite_dir)
     wanted = comma_list(task_ids)
     tasks = [suite.task(task_id) for task_id in wanted] if wanted else list(suite.tasks)
-    console = Console(stderr=True)
+    console = make_console(stderr=True)
     for problem in suite.problems:
         console.print(f"{problem.effect}: {problem}", markup=False)
     viewless = [task.id for task in tasks if task.view is None]

@@ -11,6 +11,7 @@ from rich.markup import escape
 from rich.table import Table
 from rich.text import Text
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist._files import read_file
 from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.cli._timing_option import timing_option
@@ -101,7 +102,7 @@ def evaluate_command(
     from workers.evaluation import project_refusal
 
     result = project_refusal(data, ProjectLimits(), name=str(project)) or asyncio.run(_evaluate(data, spec))
-    render_result(result, Console())
+    render_result(result, make_console())
     if json_file is not None:
         json_file.write_text(result.model_dump_json(indent=2) + "\n", encoding="utf-8")
     if result.error is not None:

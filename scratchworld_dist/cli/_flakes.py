@@ -7,11 +7,11 @@ import os
 from pathlib import Path
 
 import click
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 from rich.text import Text
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.cli._suite_options import comma_list, suite_check_options
 from scratchworld_dist.flakes import (
@@ -149,7 +149,7 @@ def flakes_command(
     )
     suite = load_suite(suite_dir, task_list=task_list)
     tasks = suite.select(ids=comma_list(task_ids))
-    console = Console(stderr=True)
+    console = make_console(stderr=True)
     if not tasks:
         raise click.UsageError(f"{suite_dir} has no tasks to check")
     spec = tasks[0].evaluation_spec(profile, clock, render)  # a suite's tasks share their defaults
@@ -173,7 +173,7 @@ def flakes_command(
     rows = stability_of_tests(done)
     unstable = [row for row in rows if not row.stable]
     blocking = [row for row in unstable if row.blocking]
-    out = Console()
+    out = make_console()
     out.print(render_table(rows))
     for row in unstable:  # one line each, whole, whatever the table had to wrap
         out.print(

@@ -32,6 +32,7 @@ EXIT_INTERRUPTED = 130
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="scratchworld-dist", prog_name="scratchworld", message="%(prog)s %(version)s")
 def cli() -> None:
     """Evaluate GUI agents on ScratchWorld tasks in the Scratch 3 editor."""
 

@@ -8,11 +8,11 @@ from statistics import mean
 from typing import TYPE_CHECKING
 
 import click
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 from rich.text import Text
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist.cli._suite_options import comma_list, tasks_option
 from scratchworld_dist.suites import CATEGORIES
 
@@ -65,7 +65,7 @@ def oracle_plan_command(suite_dir: Path, task_ids: str | None, out: Path) -> Non
     suite = planning_suite(suite_dir)
     tasks = suite.select(ids=comma_list(task_ids))
     folder = plan_folder(out, suite)
-    console = Console(stderr=True)
+    console = make_console(stderr=True)
     console.print(f"planning {len(tasks)} task(s) of {suite.name} into {folder}", markup=False)
 
     def shown(record: TaskPlanRecord) -> None:
@@ -82,7 +82,7 @@ def oracle_plan_command(suite_dir: Path, task_ids: str | None, out: Path) -> Non
             console.print(Text(f"      {lack}"), highlight=False)
 
     plans = asyncio.run(plan_suite(suite, tasks, folder, on_task=shown))
-    Console().print(render_totals(plans.tasks))
+    make_console().print(render_totals(plans.tasks))
     failed = [r for r in plans.tasks if r.error is not None or not r.reached_golden or not r.replayed]
     if failed:
         console.print(f"[yellow]{len(failed)} of {len(plans.tasks)} task(s) not fully expressed[/yellow]")

@@ -2,15 +2,20 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import click
 
 
 def emit(text: str, out: Path | None, warnings: list[str], what: str) -> None:
-    """Warnings to stderr, then ``text`` to stdout or ``out`` (an unwritable file is a one-line user error)."""
-    for warning in warnings:
-        click.echo(f"warning: {warning}", err=True)
+    """Warnings to stderr, then ``text`` to stdout or ``out`` (an unwritable file is a one-line user error).
+
+    ``text`` holds the warnings too: when it is shown on this terminal they are not said twice.
+    """
+    if out is not None or not sys.stdout.isatty():
+        for warning in warnings:
+            click.echo(f"warning: {warning}", err=True)
     if out is None:
         click.echo(text, nl=False)
         return

@@ -73,8 +73,7 @@ def validate_command(suite_dir: Path, view_ids: str | None, parallel: int) -> No
     question derived again from its fact. Exits 1 naming each item that differs or cannot be derived. The
     share of pixels of a new screenshot that differ from the stored one is printed for information.
     """
-    from rich.console import Console  # the browser stack and rich: for this command only
-
+    from scratchworld_dist._console import make_console  # rich: for this command only
     from scratchworld_dist.perception import (
         ViewCheck,
         load_perception_suite,
@@ -88,7 +87,7 @@ def validate_command(suite_dir: Path, view_ids: str | None, parallel: int) -> No
     if wanted is not None:
         for view_id in wanted:
             suite.view(view_id)  # an unknown view is a one-line error
-    console = Console(stderr=True, soft_wrap=True)
+    console = make_console(stderr=True)
     for problem in suite.problems:
         console.print(f"left out: {problem}", markup=False)
     count = len(wanted) if wanted is not None else len(suite.views)

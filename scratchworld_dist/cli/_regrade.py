@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-from rich.console import Console
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.reports import report_runs
 from workers.contract import EvaluationClock, EvaluationProfile, EvaluationRender
@@ -43,7 +43,7 @@ def regrade_command(
     """
     from scratchworld_dist.regrade import run_regrade  # imports Ray: only for this command
 
-    console = Console(stderr=True)
+    console = make_console(stderr=True)
     summary = run_regrade(
         run_dir,
         out,

@@ -15,6 +15,7 @@ import click
 from rich.console import Console
 from rich.markup import escape
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ProjectFormatError
 from scratchworld_dist.cli._evaluate import EXIT_NO_VERDICT, EXIT_NOT_PASSED, read_project_file, render_result
 from scratchworld_dist.suites import load_suite, read_trajectory
@@ -76,7 +77,7 @@ def replay_command(
         actions = task.trajectory() or []
         if task.golden_trajectory is None:
             raise click.UsageError(f"task {task_id} has no golden trajectory; give a TRAJECTORY file")
-    console = Console()
+    console = make_console()
     initial = read_project(task.initial_project, ProjectLimits())
     envelopes, final, result = asyncio.run(_replay(initial, actions, task.evaluation_spec(), console, show_final))
     render_result(result, console)

@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-from rich.console import Console
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.cli._sweep_options import sweep_overrides
 from scratchworld_dist.cli._timing_option import timing_option
@@ -82,7 +82,7 @@ def run_command(
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
 
     config = load_sweep_config(config_file, fields, overrides)
-    console = Console(stderr=True)
+    console = make_console(stderr=True)
     summary = run_sweep(config, force=force, console=console, skip_broken_models=skip_broken_models)
     outcomes = summary.outcomes
     left_out = f"; {summary.left_out} left out (broken models)" if summary.left_out else ""

@@ -6,9 +6,9 @@ from collections import Counter
 from pathlib import Path
 
 import click
-from rich.console import Console
 from rich.markup import escape
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.results import RunStore, effective_rows, read_manifest
 
@@ -26,7 +26,7 @@ def status_command(run_dir: Path) -> None:
     errors = Counter(r.error_class or "?" for r in effective if r.outcome == "error")
     decided = outcomes["passed"] + outcomes["failed"]
     missing = max(manifest.planned_jobs - len(effective), 0)
-    console = Console()
+    console = make_console()
     console.print(f"[bold]{escape(manifest.run_name)}[/bold]  {escape(str(run_dir))}")
     harness = manifest.harness.digest if manifest.harness else "-"
     console.print(

@@ -7,11 +7,11 @@ import json
 from pathlib import Path
 
 import click
-from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 from rich.text import Text
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
 from scratchworld_dist.cli._render_option import render_option
 from scratchworld_dist.cli._suite_options import comma_list, suite_check_options
@@ -70,7 +70,7 @@ def validate_command(
     """
     suite = load_suite(suite_dir, task_list=task_list)
     tasks = suite.select(ids=comma_list(task_ids))
-    console = Console(stderr=True)
+    console = make_console(stderr=True)
     conditions = ""
     if tasks:  # a suite's tasks share their defaults
         spec = tasks[0].evaluation_spec(profile, clock, render, timing)
@@ -95,7 +95,7 @@ def validate_command(
             timing=timing,
         )
     )
-    Console().print(render_table(rows))
+    make_console().print(render_table(rows))
     if json_file is not None:
         json_file.write_text(json.dumps([row.model_dump() for row in rows], indent=2) + "\n", encoding="utf-8")
     invalid = [row for row in rows if row.failures()]

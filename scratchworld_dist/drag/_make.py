@@ -15,6 +15,7 @@ from pathlib import Path
 
 from pydantic import BaseModel
 
+from scratchworld_dist._errors import SuiteError
 from scratchworld_dist._files import read_file
 from scratchworld_dist.drag._generate import DragCandidate, GenerationProblem, drag_candidates, select_candidates
 from scratchworld_dist.drag._native import write_drag_suite
@@ -74,7 +75,11 @@ async def make_drag_suite(
     seed: int = 0,
     on_problem: Callable[[str], None] = lambda _: None,
 ) -> MadeSuite:
-    """Generate, frame and prove drag tasks from ``projects``; write the ones that pass as a suite at ``out``."""
+    """Generate, frame and prove drag tasks from ``projects``; write the ones that pass as a suite at ``out``.
+
+    Raises ``SuiteError``, writing nothing, when no task comes of them: a command asked for tasks that
+    made none has failed (before a browser starts when no project gives a candidate).
+    """
     limit = int(ProjectLimits().max_file_mb * MIB)
     chosen: list[DragCandidate] = []
     problems: list[str] = []
@@ -91,10 +96,21 @@ async def make_drag_suite(
         for item in trouble:
             problem(_describe(item))
         chosen.extend(select_candidates(found, limit_per_project=per_project, seed=seed))
+    if not chosen:
+        raise SuiteError(f"no drag task made: {_none_from(len(projects), problems)}")
     with tempfile.TemporaryDirectory(prefix="scratchworld-drag-") as scratch:
         tasks = await prove_tasks(chosen, Path(scratch), problem)
+        if not tasks:
+            raise SuiteError(f"no drag task made: none of {len(chosen)} candidate(s) passes the oracle in this editor")
         write_drag_suite(tasks, out, name)
     return MadeSuite(root=out, tasks=len(tasks), candidates=len(chosen), problems=problems)
+
+
+def _none_from(projects: int, problems: list[str]) -> str:
+    """Why ``projects`` gave no candidate, without repeating the problems already reported one by one."""
+    if not problems:
+        return f"the {projects} project(s) hold no script with a connection to detach"
+    return f"none of the {projects} project(s) gives a candidate ({len(problems)} problem(s) reported)"
 
 
 def _describe(problem: GenerationProblem) -> str:

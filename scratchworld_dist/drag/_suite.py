@@ -20,6 +20,8 @@ class DragSuite(BaseSuite[DragTask]):
         for task in self.items:
             if task.id == task_id:
                 return task
+        if why := self.left_out(task_id):
+            raise TaskNotFoundError(f"drag task {task_id!r} of suite {self.name} was left out: {why}")
         raise TaskNotFoundError(f"no drag task {task_id!r} in suite {self.name} ({self.root})")
 
     def of_type(self, drag_type: DragType) -> tuple[DragTask, ...]:

@@ -119,7 +119,8 @@ async def make_perception_suite(
     """Make, select and write the items of ``paths`` as a suite at ``out`` (a new or empty folder).
 
     At most ``per_view`` items ask about one view, and at most ``max_views`` views (default: all) are used.
-    Editors come from ``pool`` when given, else from a browser of its own.
+    Editors come from ``pool`` when given, else from a browser of its own. Raises ``SuiteError``, writing
+    nothing, when no item comes of them (before a browser starts when no project has a script to show).
     """
     check_destination(out)
     projects = read_projects(paths)
@@ -130,14 +131,17 @@ async def make_perception_suite(
         problems.append(message)
         on_problem(message)
 
+    targets = [(project, _targets(project, problem)) for project in projects]
+    if not any(found for _, found in targets):
+        raise SuiteError(f"no perception item made: none of the {len(projects)} project(s) has a script to show")
     shown: list[_Shown] = []
     with tempfile.TemporaryDirectory(prefix="scratchworld-perception-") as scratch:
         folder = Path(scratch)
         async with lending_pool(pool) as lender:
-            for project in projects:
+            for project, found in targets:
                 # One editor shows a project's views; a page that died takes only its project's views along.
                 async with lender.editor() as editor:
-                    for index, sprite, slug in _targets(project, problem):
+                    for index, sprite, slug in found:
                         views = await _target_views(editor, project, index, sprite, slug, folder, seed, problem)
                         for view in views:
                             on_view(view.view, len(view.candidates))
@@ -146,6 +150,10 @@ async def make_perception_suite(
         chosen = select({s.view.id: s.candidates for s in used}, per_view=per_view, seed=seed)
         views = [s.view for s in shown if s.view.id in chosen]
         items = [item for view in views for item in _items(view, chosen[view.id])]
+        if not items:
+            raise SuiteError(
+                f"no perception item made: none of the {len(shown)} view(s) shown settles a question beyond doubt"
+            )
         write_perception_suite(items, views, out, name)
     composition = Counter(f"{i.kind}/{i.tag}/{i.answer if i.answer_format == 'yes_no' else 'value'}" for i in items)
     return MadeSuite(

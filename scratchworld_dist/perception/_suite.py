@@ -17,6 +17,8 @@ class PerceptionSuite(BaseSuite[PerceptionItem]):
         for item in self.items:
             if item.id == item_id:
                 return item
+        if why := self.left_out(item_id):
+            raise TaskNotFoundError(f"perception item {item_id!r} of suite {self.name} was left out: {why}")
         raise TaskNotFoundError(f"no perception item {item_id!r} in suite {self.name} ({self.root})")
 
     def view(self, view_id: str) -> PerceptionView:

@@ -14,6 +14,7 @@ import ray
 from pydantic import BaseModel
 from rich.console import Console
 
+from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.regrade._manifest import regrade_manifest
 from scratchworld_dist.regrade._plan import RegradeJob, RegradePlan, plan_regrade
@@ -75,7 +76,7 @@ def run_regrade(
     console: Console | None = None,
 ) -> RegradeSummary:
     """Regrade ``source_dir`` into ``out``, or resume that regrade; on a cluster, its nodes are checked first."""
-    console = console or Console(stderr=True)
+    console = console or make_console(stderr=True)
     if out.resolve() == source_dir.resolve():
         raise RunDirError(f"{out}: --out is the source run itself; a regrade writes a new run directory")
     source = read_source(source_dir)

@@ -12,7 +12,8 @@ _DEFINITIONS = (
     "Differences are A - B. The interval is a percentile bootstrap over tasks: whole tasks are drawn with "
     "replacement (all their paired jobs together) and the pooled difference recomputed. McNemar's exact test "
     "asks whether the jobs only one system passed lean to one side more than chance would (two-sided binomial "
-    "test on the discordant pairs). A task is a win for A when A passed more of its paired jobs than B."
+    "test on the discordant pairs). A task (a task in one mode, when jobs are paired by mode) is a win for A when "
+    "A passed more of its paired jobs than B."
 )
 
 
@@ -44,8 +45,14 @@ def render_comparison_markdown(c: Comparison) -> str:
         f"neither {m.neither}; p = {m.p_value:.4g}"
     )
     results = Counter(t.result for t in c.per_task)
-    parts.append(f"## Per task: A wins {results['win']}, loses {results['loss']}, ties {results['tie']}")
     by_mode = "mode" in c.paired_by
+    score = f"A wins {results['win']}, loses {results['loss']}, ties {results['tie']}"
+    if by_mode:  # a row per task and mode: say so, rather than count the rows as tasks
+        modes = len({t.mode for t in c.per_task})
+        rows = f"{len(c.per_task)} rows over {c.tasks} task(s) and {modes} mode(s)"
+        parts.append(f"## Per task and mode ({rows}): {score}")
+    else:
+        parts.append(f"## Per task ({c.tasks} task(s)): {score}")
     header = ["task", *(["mode"] if by_mode else []), "category", "A passed", "B passed", "A"]
     parts.append(markdown_table(header, [_task_cells(t, by_mode) for t in c.per_task]))
     parts.append(_DEFINITIONS)

@@ -121,6 +121,37 @@ def _handshake(target: str, deadline: float, env: Mapping[str, str]) -> str | No
     return (done.stderr.strip().splitlines() or ["no output"])[-1][:300]
 
 
+def _start_private(slots: int) -> None:
+    """A private Ray whose every server listens on 127.0.0.1 only; ``RayUnavailableError`` if it would not.
+
+    Ray binds its servers to loopback only when the node's address is 127.0.0.1, and it swaps 127.0.0.1 for
+    this machine's network address unless its cluster mode is off. ``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``
+    (set by this package) turns it off, but Ray reads it once, on import, and a user may have set it to 1:
+    so the mode is off while this Ray starts, whatever the environment said, and the result is checked.
+    """
+    from ray._private import ray_constants
+
+    cluster_mode = ray_constants.ENABLE_RAY_CLUSTER
+    ray_constants.ENABLE_RAY_CLUSTER = False
+    try:
+        ray.init(
+            address="local",
+            num_cpus=max(slots, os.cpu_count() or 1),
+            resources={BROWSER_RESOURCE: slots},
+            include_dashboard=False,
+            log_to_driver=False,
+            object_store_memory=LOCAL_OBJECT_STORE_BYTES,
+            configure_logging=False,
+            _node_ip_address=LOOPBACK,  # the private Ray serves this machine only
+        )
+    finally:
+        ray_constants.ENABLE_RAY_CLUSTER = cluster_mode
+    node = ray.util.get_node_ip_address()
+    if node != LOOPBACK:  # a Ray that changed how it picks the address: fail closed, not open
+        ray.shutdown()
+        raise RayUnavailableError(f"the private Ray would listen on {node}, not on {LOOPBACK} only; not started")
+
+
 @contextmanager
 def ray_runtime(address: str | None, browser_slots: int | None, connect_timeout_s: float = 30.0) -> Iterator[int]:
     """Run Ray for the duration of the block; yields the number of browser slots available.
@@ -133,17 +164,7 @@ def ray_runtime(address: str | None, browser_slots: int | None, connect_timeout_
     if not already:
         try:
             if address is None:
-                slots = browser_slots or os.cpu_count() or 1
-                ray.init(
-                    address="local",
-                    num_cpus=max(slots, os.cpu_count() or 1),
-                    resources={BROWSER_RESOURCE: slots},
-                    include_dashboard=False,
-                    log_to_driver=False,
-                    object_store_memory=LOCAL_OBJECT_STORE_BYTES,
-                    configure_logging=False,
-                    _node_ip_address=LOOPBACK,  # the private Ray serves this machine only
-                )
+                _start_private(browser_slots or os.cpu_count() or 1)
             else:
                 check_joinable(address, connect_timeout_s)
                 ray.init(address=address, log_to_driver=False, configure_logging=False)

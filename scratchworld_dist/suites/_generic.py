@@ -31,6 +31,10 @@ class BaseSuite(BaseModel, Generic[ItemT]):
     items: tuple[ItemT, ...]
     problems: tuple[SuiteProblem, ...] = ()
 
+    def left_out(self, item_id: str) -> str:
+        """Why the item ``item_id`` is not among the items (its problems, each naming its file), or ""."""
+        return "; ".join(str(p) for p in self.problems if p.item_id == item_id and p.effect == "skipped")
+
     def raise_for_problems(self) -> None:
         """One ``SuiteError`` listing every problem, for callers that want a clean suite or nothing."""
         raise_problems(self.root, self.problems)

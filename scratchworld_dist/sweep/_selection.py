@@ -6,9 +6,12 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from scratchworld_dist._errors import ConfigError
+
+if TYPE_CHECKING:
+    from scratchworld_dist.suites import BaseSuite
 
 SuiteT = TypeVar("SuiteT")
 
@@ -32,13 +35,18 @@ def present_suites(
     return found
 
 
-def wanted_ids(ids: Sequence[str], wanted: Sequence[str], *, benchmark: str, item: str) -> set[str]:
+def wanted_ids(
+    ids: Sequence[str], wanted: Sequence[str], *, benchmark: str, item: str, suites: Sequence[BaseSuite[Any]] = ()
+) -> set[str]:
     """The ids a config names (``tasks.ids``; empty: all), checked against the suites' ``ids``: an id two suites
-    share, or one that names nothing, is a ``ConfigError``."""
+    share, or one that names nothing, is a ``ConfigError``; one that ``suites`` left out is named with why."""
     clashes = sorted(i for i, n in Counter(ids).items() if n > 1)
     if clashes:
         raise ConfigError(f"{benchmark} suites share {item} ids: {', '.join(clashes[:10])}")
     unknown = sorted(set(wanted) - set(ids))
+    left_out = [f"{i} ({why})" for i in unknown if (why := "; ".join(filter(None, (s.left_out(i) for s in suites))))]
+    if left_out:
+        raise ConfigError(f"tasks.ids names {benchmark} {item}(s) left out of their suite: {'; '.join(left_out[:3])}")
     if unknown:
         raise ConfigError(f"tasks.ids names {benchmark} {item}(s) not in the suites: {', '.join(unknown[:10])}")
     return set(wanted)

@@ -63,12 +63,15 @@ class DragKind:
         )
         tasks: list[DragTask] = []
         for suite in suites:
+            for problem in suite.problems:
+                if problem.effect == "skipped":
+                    notice(f"drag: {suite.name}: {problem} (left out)")
             for task in suite.tasks:
                 if task.view is None:
                     notice(f"drag: {suite.name} {task.id} has no usable view and is left out")
                     continue
                 tasks.append(task)
-        wanted = wanted_ids([task.id for task in tasks], config.tasks.ids, benchmark="drag", item="task")
+        wanted = wanted_ids([task.id for task in tasks], config.tasks.ids, benchmark="drag", item="task", suites=suites)
         types = section.types
         tasks = [t for t in tasks if (not wanted or t.id in wanted) and (not types or t.type in types)]
         if not tasks:

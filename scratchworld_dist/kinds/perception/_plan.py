@@ -106,7 +106,7 @@ def select_perception_items(
         for problem in loaded.problems:
             say(f"perception: {loaded.name}: {problem} (left out)")
     items = [item for loaded in suites for item in loaded.items]
-    wanted = wanted_ids([item.id for item in items], ids, benchmark="perception", item="item")
+    wanted = wanted_ids([item.id for item in items], ids, benchmark="perception", item="item", suites=suites)
     chosen = [i for i in items if (not wanted or i.id in wanted) and (not kinds or i.kind in kinds)]
     if not chosen:
         raise ConfigError(f"the selection matches no perception item of {', '.join(s.name for s in suites)}")
