@@ -1,4 +1,5 @@
-"""``scratchworld compare``: two systems on the jobs both ran, with a paired interval and test."""
+"""``scratchworld compare``: two systems on the jobs both ran, with a paired interval and test; more than two,
+ranked, every pair tested with Holm's correction."""
 
 from __future__ import annotations
 
@@ -7,19 +8,38 @@ from pathlib import Path
 import click
 
 from scratchworld_dist.cli._output import emit
-from scratchworld_dist.reports import FORMATS, ReportFormat, compare_runs, parse_selector, render_comparison
+from scratchworld_dist.reports import (
+    FORMATS,
+    ReportFormat,
+    compare_runs,
+    parse_selector,
+    rank_systems,
+    render_comparison,
+    render_ranking,
+)
 
 
 @click.command("compare")
 @click.argument("system_a", metavar="RUN_A[:SYSTEM][@MODE]")
 @click.argument("system_b", metavar="RUN_B[:SYSTEM][@MODE]")
+@click.argument("more", nargs=-1, metavar="[RUN_C[:SYSTEM][@MODE]...]")
 @click.option("--format", "fmt", type=click.Choice(FORMATS), default="md", show_default=True, help="Output format.")
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), help="Write here instead of stdout.")
 @click.option("--force", is_flag=True, help="Compare runs of different suites, harnesses or conditions anyway.")
 @click.option("--resamples", type=click.IntRange(min=100), default=10_000, show_default=True, help="Bootstrap draws.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the bootstrap's draws.")
+@click.option("--alpha", type=click.FloatRange(0, 1, min_open=True, max_open=True), default=0.05, show_default=True,
+              help="Family-wise error rate of a ranking's pairwise tests (three systems or more).")  # fmt: skip
 def compare_command(
-    system_a: str, system_b: str, fmt: ReportFormat, out: Path | None, force: bool, resamples: int, seed: int
+    system_a: str,
+    system_b: str,
+    more: tuple[str, ...],
+    fmt: ReportFormat,
+    out: Path | None,
+    force: bool,
+    resamples: int,
+    seed: int,
+    alpha: float,
 ) -> None:
     """Compare system A with system B on the jobs both ran: SR and PSR differences with a
     paired bootstrap 95% interval over tasks, McNemar's exact test, and wins/losses per task.
@@ -30,7 +50,16 @@ def compare_command(
     Runs of different suites, harnesses, evaluation profiles or clocks are refused unless --force,
     except a regrade and its source (`scratchworld regrade`): for those the output names the
     regrade's conditions and lists the jobs whose verdict changed.
+
+    With three systems or more: a ranking by SR, and every pair compared as above with McNemar's
+    p-values adjusted by Holm's method (family-wise error at --alpha).
     """
+    if more:
+        selectors = [parse_selector(text) for text in (system_a, system_b, *more)]
+        ranking = rank_systems(selectors, force=force, resamples=resamples, seed=seed, alpha=alpha)
+        text = ranking.model_dump_json(indent=2) + "\n" if fmt == "json" else render_ranking(ranking, fmt)
+        emit(text, out, ranking.warnings, f"{fmt} ranking")
+        return
     comparison = compare_runs(
         parse_selector(system_a), parse_selector(system_b), force=force, resamples=resamples, seed=seed
     )

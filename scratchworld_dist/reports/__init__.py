@@ -29,6 +29,7 @@ from scratchworld_dist.reports._metrics import (
     t_quantile_975,
 )
 from scratchworld_dist.reports._plots import Plot, plots_html, plots_of, report_plots
+from scratchworld_dist.reports._ranking import PairTest, RankedSystem, Ranking, holm, rank_systems, render_ranking
 from scratchworld_dist.reports._render import (
     FORMATS,
     Block,
@@ -89,9 +90,12 @@ __all__ = [
     "LoadedRun",
     "McNemar",
     "MeanInterval",
+    "PairTest",
     "Paragraph",
     "PerceptionRate",
     "Plot",
+    "RankedSystem",
+    "Ranking",
     "Rate",
     "ReportFormat",
     "ReportRow",
@@ -112,6 +116,7 @@ __all__ = [
     "compare_runs",
     "digest_lines",
     "error_digest",
+    "holm",
     "load_runs",
     "markdown_table",
     "mcnemar_exact",
@@ -126,6 +131,7 @@ __all__ = [
     "pct",
     "plots_html",
     "plots_of",
+    "rank_systems",
     "rate_cell",
     "read_rows",
     "render",
@@ -134,6 +140,7 @@ __all__ = [
     "render_html_body",
     "render_json",
     "render_markdown",
+    "render_ranking",
     "render_text",
     "report_data",
     "report_of",

@@ -16,6 +16,7 @@ from pydantic import BaseModel
 
 from scratchworld_dist.reports._compare import Selector, _system, compare_runs
 from scratchworld_dist.reports._compare_stats import Interval
+from scratchworld_dist.reports._render import Block, Heading, Paragraph, Table, blocks_html, blocks_markdown, html_page
 from scratchworld_dist.reports._runs import load_run
 from scratchworld_dist.reports._summary import DETERMINATE
 
@@ -112,35 +113,40 @@ def rank_systems(
     return Ranking(systems=ranked, pairs=pairs, alpha=alpha, warnings=warnings)
 
 
-def render_ranking_markdown(ranking: Ranking) -> str:
-    def pct(value: float | None) -> str:
-        return "-" if value is None else f"{100 * value:.1f}%"
+def render_ranking(ranking: Ranking, fmt: str) -> str:
+    """The ranking as Markdown, or as an HTML page of the same tables."""
+    blocks = ranking_blocks(ranking)
+    return html_page(blocks_html(blocks)) if fmt == "html" else blocks_markdown(blocks)
 
-    lines = [
-        "# Ranking",
-        "",
-        "| rank | system | mode | jobs | with verdict | SR |",
-        "| --- | --- | --- | --- | --- | --- |",
-    ]
-    lines += [
-        f"| {s.rank} | {s.label} ({s.run_dir}) | {s.mode or 'each'} | {s.jobs} | {s.determinate} | {pct(s.sr)} |"
-        for s in ranking.systems
-    ]
-    lines += [
-        "",
-        f"Every pair on the jobs both ran: SR difference A - B with its paired bootstrap 95% interval, McNemar's "
-        f"exact p-value, and that p-value adjusted by Holm's method over the {len(ranking.pairs)} pairs "
-        f"(significant: adjusted p < {ranking.alpha:g}).",
-        "",
-        "| A | B | paired jobs | SR A - B | 95% interval | p | p (Holm) | significant |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- |",
-    ]
+
+def _pct(value: float | None) -> str:
+    return "-" if value is None else f"{100 * value:.1f}%"
+
+
+def ranking_blocks(ranking: Ranking) -> list[Block]:
+    systems = Table(
+        header=["rank", "system", "mode", "jobs", "with verdict", "SR"],
+        rows=[
+            [str(s.rank), f"{s.label} ({s.run_dir})", s.mode or "each", str(s.jobs), str(s.determinate), _pct(s.sr)]
+            for s in ranking.systems
+        ],
+    )
+    pairs = []
     for p in ranking.pairs:
         interval = f"[{100 * p.interval.low:+.1f}, {100 * p.interval.high:+.1f}]" if p.interval else "-"
         difference = "-" if p.sr_difference is None else f"{100 * p.sr_difference:+.1f} pts"
-        lines.append(
-            f"| {p.a} | {p.b} | {p.paired_jobs} | {difference} | {interval} | {p.p_value:.4g} | {p.p_holm:.4g} | "
-            f"{'yes' if p.significant else 'no'} |"
+        significant = "yes" if p.significant else "no"
+        pairs.append(
+            [p.a, p.b, str(p.paired_jobs), difference, interval, f"{p.p_value:.4g}", f"{p.p_holm:.4g}", significant]
         )
-    lines += ["", *(f"Warning: {w}" for w in ranking.warnings)]
-    return "\n".join(lines).rstrip() + "\n"
+    return [
+        Heading(level=1, text="Ranking"),
+        systems,
+        Paragraph(
+            text=f"Every pair on the jobs both ran: SR difference A - B with its paired bootstrap 95% interval, "
+            f"McNemar's exact p-value, and that p-value adjusted by Holm's method over the {len(ranking.pairs)} "
+            f"pairs (significant: adjusted p < {ranking.alpha:g})."
+        ),
+        Table(header=["A", "B", "paired jobs", "SR A - B", "95% interval", "p", "p (Holm)", "significant"], rows=pairs),
+        *(Paragraph(text=f"Warning: {w}") for w in ranking.warnings),
+    ]
