@@ -45,6 +45,7 @@ from scratchworld_dist.scheduling import (
     live_progress,
     pages_per_worker,
     ray_runtime,
+    worker_logs_dir,
 )
 from scratchworld_dist.sweep import JobSpec, SweepConfig
 from workers.contract import (
@@ -267,6 +268,10 @@ def _execute(
             open_editors=any(job.needs_browser for job, _ in todo),
         )
         console.print(pool.describe(slots))
+        logs = worker_logs_dir()
+        if logs is not None:
+            where = "" if config.ray.address is None else " (that folder on each node)"
+            console.print(f"worker logs: {logs}{where}", markup=False)
         try:
             with live_progress(scheduler.stats, len(todo), console):
                 _run_waves(scheduler, todo, memory, console)

@@ -5,7 +5,12 @@ from scratchworld_dist.scheduling._admission import admitted_slots, derive_local
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.scheduling._progress import live_progress
-from scratchworld_dist.scheduling._ray_runtime import BROWSER_RESOURCE, RayUnavailableError, ray_runtime
+from scratchworld_dist.scheduling._ray_runtime import (
+    BROWSER_RESOURCE,
+    RayUnavailableError,
+    ray_runtime,
+    worker_logs_dir,
+)
 from scratchworld_dist.scheduling._scheduler import Scheduler, SchedulerStats
 
 __all__ = [
@@ -21,4 +26,5 @@ __all__ = [
     "live_progress",
     "pages_per_worker",
     "ray_runtime",
+    "worker_logs_dir",
 ]

@@ -11,6 +11,7 @@ that reason, a driver holding a token (``~/.ray/auth_token``, ``RAY_AUTH_TOKEN``
 
 from __future__ import annotations
 
+import logging
 import os
 import socket
 import subprocess
@@ -37,6 +38,9 @@ _GCS_HANDSHAKE = "import sys\nfrom ray._raylet import GcsClient\nprint(GcsClient
 class RayUnavailableError(ScratchWorldError):
     """Ray could not be started or joined, or offers no browser slots."""
 
+
+TOKEN_NOTICES = "ray._private.authentication.authentication_token_setup"
+"""The logger of Ray's notice that token authentication is on (or off), printed by every ray.init."""
 
 LOOPBACK = "127.0.0.1"
 """The address a private local Ray listens on and registers its node under."""
@@ -133,6 +137,11 @@ def _start_private(slots: int) -> None:
 
     cluster_mode = ray_constants.ENABLE_RAY_CLUSTER
     ray_constants.ENABLE_RAY_CLUSTER = False
+    notices = logging.getLogger(TOKEN_NOTICES)
+    level = notices.level
+    notices.setLevel(
+        logging.ERROR
+    )  # "token authentication is enabled for this Ray cluster": ours serves this machine only
     try:
         ray.init(
             address="local",
@@ -146,6 +155,7 @@ def _start_private(slots: int) -> None:
         )
     finally:
         ray_constants.ENABLE_RAY_CLUSTER = cluster_mode
+        notices.setLevel(level)
     node = ray.util.get_node_ip_address()
     if node != LOOPBACK:  # a Ray that changed how it picks the address: fail closed, not open
         ray.shutdown()
@@ -181,3 +191,10 @@ def ray_runtime(address: str | None, browser_slots: int | None, connect_timeout_
     finally:
         if not already:
             ray.shutdown()
+
+
+def worker_logs_dir() -> Path | None:
+    """Where this machine's Ray workers write their logs (the same folder name on every node), once Ray is up."""
+    node = getattr(ray._private.worker, "_global_node", None)  # Ray 2.60 keeps the session's node here
+    logs = node.get_logs_dir_path() if node is not None else None
+    return Path(logs) if logs else None
