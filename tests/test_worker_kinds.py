@@ -25,7 +25,7 @@ from workers.kinds import KindRegistryError, claimed_parts, kind_fingerprint, ki
 from workers.node import code_parts, harness_fingerprint
 
 WORKERS = REPO / "workers"
-KINDS = ("tasks", "drag", "perception")
+KINDS = ("tasks", "drag", "perception", "audit")
 
 
 def edited(tree: Path, relative: str) -> dict[str, str]:
@@ -63,7 +63,7 @@ def test_an_edit_to_a_kind_changes_its_fingerprint_alone_and_a_core_edit_changes
     tree = tmp_path / "workers"
     shutil.copytree(WORKERS, tree, ignore=shutil.ignore_patterns("__pycache__"))
     before = digests(code_parts(tree, REPO / "scratch-gui"))
-    assert len(set(before.values())) == 3  # three kinds, three digests
+    assert len(set(before.values())) == len(KINDS)  # a digest per kind
     after_drag = digests(edited(tree, "drag/_runner.py"))
     assert after_drag["tasks"] == before["tasks"] and after_drag["perception"] == before["perception"]
     assert after_drag["drag"] != before["drag"]
@@ -72,13 +72,23 @@ def test_an_edit_to_a_kind_changes_its_fingerprint_alone_and_a_core_edit_changes
         "tasks": True,
         "drag": True,
         "perception": False,
+        "audit": True,
     }
     after_tasks = digests(edited(tree, "kinds/tasks/_run.py"))
     assert {k: after_tasks[k] == after_perception[k] for k in KINDS} == {
         "tasks": False,
         "drag": True,
         "perception": True,
+        "audit": True,
     }
+    after_audit = digests(edited(tree, "kinds/audit/_run.py"))
+    assert {k: after_audit[k] == after_tasks[k] for k in KINDS} == {
+        "tasks": True,
+        "drag": True,
+        "perception": True,
+        "audit": False,
+    }
+    after_tasks = after_audit
     for core in ("editor/_editor.py", "agents/_coordinates.py", "episode/_runner.py", "kinds/_registry.py"):
         now = digests(edited(tree, core))
         assert all(now[kind] != after_tasks[kind] for kind in KINDS), core

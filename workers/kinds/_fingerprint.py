@@ -13,6 +13,7 @@ only when neither the core nor another kind's runner imports it; what is shared 
   and ``llm``: those stay core.
 - ``perception``: ``workers/perception/`` and ``workers/kinds/perception/_run.py``. It imports ``agents``
   (model calls) and ``llm``: core.
+- ``audit``: ``workers/kinds/audit/_run.py``; the evaluation it runs is the episodes' (core).
 - ``tasks``: only ``workers/kinds/tasks/_run.py``. The episode code cannot be claimed today:
   ``workers/episode`` holds the actor itself, whose ``EpisodeRunner`` owns the browser and editor pool
   every browser kind runs in (so ``evaluation``, ``composite``, ``ocr`` and ``agent_api``, which it
