@@ -6,7 +6,7 @@ Ray's cluster mode is off (``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``), and with it
 node but a head. So nodes are started by Ray's own CLI with that one swap left out (Ray 2.60:
 ``ray._private.services.resolve_ip_for_localhost``), and given ``--node-ip-address=127.0.0.1``; their
 processes then listen on loopback only, which ``tests/test_ray_loopback.py`` checks socket by socket.
-Users' clusters are started with plain ``ray start`` (README, Running on a cluster).
+Users' clusters are started with plain ``ray start`` (docs/cluster.md).
 """
 
 from __future__ import annotations

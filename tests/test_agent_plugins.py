@@ -1,6 +1,6 @@
-"""Agents brought by users: the README's example, installed as a package of its own, found and run.
+"""Agents brought by users: the example of docs/own-agent.md, installed as a package of its own, found and run.
 
-The package is built from the README's code block as printed and installed with pip into a
+The package is built from that page's code block as printed and installed with pip into a
 folder of its own (put on the path), so the venv is left as it was. Loading a config resolves
 the agent and validates its params; a sweep runs it through Ray, real Chromium and a real
 local OpenAI-compatible server, in both modes, with its calls retried, paced and costed.
@@ -49,10 +49,10 @@ json_agent = "my_agents:JsonAgent"
 
 
 def readme_example() -> str:
-    """The Python block of README's "Write your own agent", exactly as printed."""
-    section = (REPO / "README.md").read_text().split("## Write your own agent", 1)[1].split("\n## ", 1)[0]
+    """The Python block of docs/own-agent.md ("Write your own agent"), exactly as printed."""
+    section = (REPO / "docs" / "own-agent.md").read_text().split("\n## ", 1)[0]
     match = re.search(r"```python\n(.*?)```", section, re.S)
-    assert match is not None, "README has no example agent"
+    assert match is not None, "docs/own-agent.md has no example agent"
     return match.group(1)
 
 
@@ -179,7 +179,7 @@ def read_quiz() -> Any:
 
 
 class JsonModel:
-    """Answers the README agent: the golden trajectory in composite mode, a click then done in primitive
+    """Answers the documented agent: the golden trajectory in composite mode, a click then done in primitive
     mode; the very first call is refused with a 429, which the harness must retry."""
 
     def __init__(self) -> None:

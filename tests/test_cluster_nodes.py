@@ -70,7 +70,7 @@ class Cluster:
         return env
 
     def start(self, *args: str, checkout: Path | None = None) -> None:
-        """`ray start` as the README's recipe says: token authentication on, the token from a file."""
+        """`ray start` as docs/cluster.md's recipe says: token authentication on, the token from a file."""
         command = [*RAY_START, *args, "--num-cpus", "1", "--disable-usage-stats", "--temp-dir", str(self.temp_dir)]
         env = {**self.env(checkout), "RAY_AUTH_MODE": "token", "SCRATCHWORLD_TEST_CLUSTER": str(self.temp_dir)}
         done = subprocess.run(command, cwd=checkout or REPO, env=env, capture_output=True, text=True, timeout=120)

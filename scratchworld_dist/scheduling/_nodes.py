@@ -60,7 +60,7 @@ def agreed_harness(reports: list[NodeReport], driver: HarnessFingerprint) -> Har
         raise NodeMismatchError(
             "refusing nodes that would produce verdicts for another harness: "
             + "; ".join(problems)
-            + ". Install the same checkout on every node (see README: Running on a cluster) or remove them"
+            + ". Install the same checkout on every node (see docs/cluster.md) or remove them"
         )
     return driver.with_environment(reference.harness.environment)
 

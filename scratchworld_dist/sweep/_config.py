@@ -163,7 +163,7 @@ class Limits(BaseModel):
     browser_slots: int | None = Field(default=None, ge=1)
     """Editors the local node may hold when Ray is started here. Default: its CPU count for agents
     without a model; for agents that wait on one, what this node's CPU and memory allow, from the
-    measured cost of a waiting editor, less ``capacity_margin`` (see README, "Admission")."""
+    measured cost of a waiting editor, less ``capacity_margin`` (see docs/admission.md)."""
 
     capacity_margin: float = Field(default=0.25, ge=0, lt=1)
     """Share of the node's CPU and spare memory kept free when browser slots are derived."""

@@ -6,7 +6,7 @@ agent implements ``Agent`` (or subclasses ``AgentBase``): ``start(context)``, th
 ``context.model()``, so retries, rate limits, costs and the trajectory log apply to it too, and
 is named in a sweep config as ``agent: {name: package.module:Class, params: {...}}`` or by an
 entry point of the ``scratchworld.agents`` group. Agents of the drag and perception benchmarks answer one
-question (``DragAgentBase``, ``PerceptionAgentBase``) and register in groups of their own. See README,
+question (``DragAgentBase``, ``PerceptionAgentBase``) and register in groups of their own. See docs/own-agent.md,
 "Write your own agent".
 """
 

@@ -4,7 +4,7 @@ Upstream goldens are sensitive to the frame rate on both sides (issue 20), and r
 late, heavy ones later. ``calibrated`` makes each virtual frame late by a linear function of the work
 the VM did in it, with coefficients fitted on real runs (``benchmarks/frame_lateness.py``) and stored
 in ``frame_timing.json`` next to this module. Measured here on an idle machine, Chromium's frame loop
-keeps its 33 ms grid whatever the work, so every coefficient fits to 0 (README, "Frame timing").
+keeps its 33 ms grid whatever the work, so every coefficient fits to 0 (docs/evaluation.md, "Frame timing").
 """
 
 from __future__ import annotations
