@@ -64,7 +64,7 @@ def weak_suite(tmp_path_factory: pytest.TempPathFactory) -> Path:
         (suite / name).write_bytes((SUITE_DIR / name).read_bytes())
     folder = suite / "create" / "greeter"
     folder.mkdir(parents=True)
-    (folder / "task.json").write_text(json.dumps({"instruction": "Greet and score 10.", "timeout_s": 20}))
+    (folder / "task.json").write_text(json.dumps({"instruction": "Greet, and keep 10 points.", "timeout_s": 20}))
     (folder / "evaluate.js").write_text(WEAK_JS)
     (folder / "golden.sb3").write_bytes(greeter(True))
     (folder / "initial.sb3").write_bytes(greeter(False))
@@ -77,6 +77,10 @@ def test_variants_are_planned_from_the_golden_deterministically(weak_suite: Path
     first, again = task_variants(content, settings), task_variants(content, settings)
     assert [v.project for v in first] == [v.project for v in again] and len(first) == 7
     assert len(task_variants(content, AuditSweep())) > len(first)  # no cap: every variant
+    assert any(v.operator == "rename_variable" for v in task_variants(content, AuditSweep()))
+    named = content.model_copy(update={"payload": content.payload.model_copy(update={"instruction": "Set score."})})
+    # A variable the instruction names is part of the task: renaming it is no refactoring.
+    assert not any(v.operator == "rename_variable" for v in task_variants(named, AuditSweep()))
 
 
 @pytest.mark.ray

@@ -5,6 +5,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import re
 import zipfile
 from collections.abc import Iterator
 from typing import Any
@@ -78,7 +79,17 @@ def task_variants(content: TaskContent, settings: AuditSweep) -> list[Mutant | R
         )
     except ProgramFormatError as exc:
         raise SuiteError(f"task {content.task.id}: the golden cannot be audited: {exc}") from exc
-    return [*mutants, *refactorings]
+    named = [r for r in refactorings if not _renames_a_required_name(r, content.payload.instruction)]
+    return [*mutants, *named]
+
+
+def _renames_a_required_name(refactoring: Refactoring, instruction: str) -> bool:
+    """Whether it renames a variable or list the task's instruction names: that name is then part of the task
+    (a grader that finds it by name is right), so the rename is no behaviour-preserving rewrite."""
+    if not refactoring.operator.startswith("rename_"):
+        return False
+    old = refactoring.change.split(" -> ", 1)[0]
+    return re.search(rf"(?<!\w){re.escape(old)}(?!\w)", instruction, re.IGNORECASE) is not None
 
 
 def audit_jobs(contents: list[TaskContent], settings: AuditSweep, agent: AgentRef, harness: str) -> Iterator[JobSpec]:
