@@ -14,13 +14,14 @@ from pathlib import Path
 from typing import Any
 
 import ray
-from pydantic import BaseModel, ValidationError
+from pydantic import ValidationError
 from ray.exceptions import RayError
 from rich.console import Console
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan, plan_run
+from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
 from scratchworld_dist.preflight import refuse_broken, run_preflight, settle
@@ -56,23 +57,6 @@ from workers.contract import (
 )
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 from workers.node import describe_node, harness_fingerprint
-
-
-class RunSummary(BaseModel):
-    """What one ``run_sweep`` call did."""
-
-    run_dir: Path
-    planned: int
-    already_decided: int
-    sent: int
-    outcomes: dict[str, int]
-    attempts: int
-    retried: int
-    budget_stop: str | None = None
-    """Set when the budget left jobs unstarted."""
-
-    left_out: int = 0
-    """Jobs of models the preflight found broken, left out of this run (``--skip-broken-models``)."""
 
 
 class AttemptRecorder:

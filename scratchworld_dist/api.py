@@ -23,23 +23,18 @@ import pyarrow.compute as pc
 from pydantic import BaseModel
 
 from scratchworld_dist._plan_preview import PlanPreview, preview_plan
+from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist.results import RunStore, effective_rows, read_manifest, row_tables
 from scratchworld_dist.sweep import SweepConfig, SweepOverrides, load_sweep_config
 
 TableFormat = Literal["pyarrow", "pandas", "polars"]
 
 
-class RunResult(BaseModel):
-    """What ``run`` did: where its results are, what it ran, and its report as data."""
+class RunResult(RunSummary):
+    """What ``run`` did (where its results are, what it ran) and its report as data."""
 
-    run_dir: Path
-    planned: int
-    already_decided: int
-    sent: int
-    outcomes: dict[str, int]
-    retried: int
     report: BaseModel
-    """The run's report (``RunReport`` for task episodes, the drag or perception table...)."""
+    """The run's report (``RunReport`` for task episodes, the drag or perception table, the audit...)."""
 
 
 def sweep_config(config: SweepConfig | str | Path, **overrides: Any) -> SweepConfig:
@@ -61,11 +56,7 @@ def run(config: SweepConfig | str | Path, *, force: bool = False, **overrides: A
     from scratchworld_dist._run import run_sweep  # imports Ray: only when a sweep runs
 
     summary = run_sweep(sweep_config(config, **overrides), force=force)
-    return RunResult(
-        run_dir=summary.run_dir, planned=summary.planned, already_decided=summary.already_decided,
-        sent=summary.sent, outcomes=summary.outcomes, retried=summary.retried,
-        report=report([summary.run_dir]),
-    )  # fmt: skip
+    return RunResult(**summary.model_dump(), report=report([summary.run_dir]))
 
 
 def report(run_dirs: Sequence[str | Path], *, force: bool = False) -> BaseModel:

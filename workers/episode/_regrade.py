@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import time
 
-from workers.contract import EpisodeTimings, JobResult, RegradeSpec, TaskPayload, outcome_of
+from workers.contract import EpisodeTimings, JobResult, ProjectLimits, RegradeSpec, TaskPayload, outcome_of
 from workers.evaluation import Evaluator
 
 REGRADED = "regraded"
@@ -17,17 +17,31 @@ REGRADED = "regraded"
 
 async def regrade(evaluator: Evaluator, spec: RegradeSpec, task: TaskPayload) -> JobResult:
     """The verdict on ``spec.project`` under ``task.evaluation``, as an episode result without steps."""
+    return await judged(evaluator, spec.project, task, spec.project_limits, spec.job_id, spec.attempt, REGRADED)
+
+
+async def judged(
+    evaluator: Evaluator,
+    project: bytes,
+    task: TaskPayload,
+    limits: ProjectLimits,
+    job_id: str,
+    attempt: int,
+    stop_reason: str,
+) -> JobResult:
+    """The verdict on ``project`` under ``task.evaluation``, as a result without steps (``stop_reason``: what
+    the job was, when the evaluation gave a verdict)."""
     started, clock = time.time(), time.perf_counter()
-    evaluation = await evaluator.evaluate(spec.project, task.evaluation, spec.project_limits)
+    evaluation = await evaluator.evaluate(project, task.evaluation, limits)
     elapsed = time.perf_counter() - clock
     outcome, error_class = outcome_of(evaluation)
     return JobResult(
-        job_id=spec.job_id,
-        attempt=spec.attempt,
+        job_id=job_id,
+        attempt=attempt,
         outcome=outcome,
         error_class=error_class,
         error_message=evaluation.error.message if error_class and evaluation.error else None,
-        stop_reason=error_class or REGRADED,
+        stop_reason=error_class or stop_reason,
         evaluation=evaluation,
         timings=EpisodeTimings(evaluation_s=elapsed, total_s=elapsed),
         started_at=started,

@@ -10,16 +10,14 @@ from typing import TYPE_CHECKING, ClassVar
 
 from pydantic import BaseModel
 
-from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import ItemContent, RunPlan
 from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
 from scratchworld_dist.kinds.audit._panel import variant_panel
 from scratchworld_dist.kinds.audit._plan import AuditBody, audit_jobs
 from scratchworld_dist.kinds.audit._rows import AuditRow, audit_row
 from scratchworld_dist.kinds.audit._settings import AuditSweep
-from scratchworld_dist.kinds.tasks import read_task
+from scratchworld_dist.kinds.tasks import selected_tasks
 from scratchworld_dist.results import RunStore, SuiteInfo
-from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
 from workers.contract import AgentRef, AgentUnavailableError, AuditSpec, HarnessFingerprint, JobResult, ModelSpec
 
@@ -56,17 +54,10 @@ class AuditKind:
 
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
         """The selected tasks' goldens and every variant the ``audit`` section asks for, one job each."""
-        suite = load_suite(config.suite, task_list=config.tasks.task_list)
-        tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
-        if not tasks:
-            raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
-        contents = [
-            read_task(task, config.profile, config.clock, config.project_limits, config.render, None, config.timing)
-            for task in tasks
-        ]
+        suite, contents = selected_tasks(config, None)
         jobs = list(audit_jobs(contents, config.section(self.name, AuditSweep), DEFAULT_AGENT, harness.digest))
         info = SuiteInfo(
-            name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
+            name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(contents)
         )
         return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs)
 

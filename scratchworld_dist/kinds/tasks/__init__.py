@@ -1,6 +1,12 @@
 """The task-episodes kind (``benchmark: tasks``), the default: planning episodes on a task suite."""
 
-from scratchworld_dist.kinds.tasks._kind import TASKS, TasksKind, default_episode_clock, offline_sources
+from scratchworld_dist.kinds.tasks._kind import (
+    TASKS,
+    TasksKind,
+    default_episode_clock,
+    offline_sources,
+    selected_tasks,
+)
 from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, TaskContent, job_id, plan_jobs, read_task
 
 __all__ = [
@@ -14,4 +20,5 @@ __all__ = [
     "offline_sources",
     "plan_jobs",
     "read_task",
+    "selected_tasks",
 ]

@@ -13,10 +13,10 @@ from pydantic import BaseModel
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
 from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
-from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
 from scratchworld_dist.results import RunStore, SuiteInfo
-from scratchworld_dist.suites import load_suite
+from scratchworld_dist.suites import Suite, load_suite
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, suite_hash
 from workers.agent_api import agent_class, agent_code, agent_params, checked_agent, extra_models
 from workers.contract import (
@@ -68,22 +68,8 @@ class TasksKind:
         return extra_models(agent_params(agent_class(agent.name), agent))
 
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
-        suite = load_suite(config.suite, task_list=config.tasks.task_list)
-        tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
-        if not tasks:
-            raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
-        contents = [
-            read_task(
-                task,
-                config.profile,
-                config.clock,
-                config.project_limits,
-                config.render,
-                config.oracle_trajectories,
-                config.timing,
-            )
-            for task in tasks
-        ]
+        suite, contents = selected_tasks(config, config.oracle_trajectories)
+        tasks = [content.task for content in contents]
         unknown = sorted(set(config.synthetic.tasks or []) - {t.id for t in tasks}) if config.synthetic else []
         if unknown:
             raise ConfigError(f"synthetic.tasks names task(s) not in the selection: {', '.join(unknown)}")
@@ -170,6 +156,17 @@ class TasksKind:
 
         report = build_report([run_dir])
         return render_html_body(report), report.warnings
+
+
+def selected_tasks(config: SweepConfig, trajectories: Path | None) -> tuple[Suite, list[TaskContent]]:
+    """The config's suite and its selected tasks read under the config's evaluation conditions (``ConfigError``
+    when the selection is empty); ``trajectories``: planned golden trajectories for tasks that ship none."""
+    suite = load_suite(config.suite, task_list=config.tasks.task_list)
+    tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
+    if not tasks:
+        raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
+    conditions = (config.profile, config.clock, config.project_limits, config.render, trajectories, config.timing)
+    return suite, [read_task(task, *conditions) for task in tasks]
 
 
 def default_episode_clock(suite_kind: str) -> EpisodeClock:

@@ -1,16 +1,15 @@
 """Running an audit job on a worker: the variant evaluated in the recycled evaluation editors, under the task's
-profile and clock, exactly as an episode's final project is."""
+profile and clock, exactly as an episode's final project (or a regrade) is."""
 
 from __future__ import annotations
 
 import json
-import time
 from functools import lru_cache
 
 from pydantic import BaseModel
 
-from workers.contract import AuditSpec, EpisodeTimings, JobResult, Sb3Archive, TaskPayload, WorkerJob, outcome_of
-from workers.evaluation import Evaluator
+from workers.contract import AuditSpec, JobResult, Sb3Archive, TaskPayload, WorkerJob
+from workers.episode import judged
 from workers.kinds._protocol import WorkerHost
 
 EVALUATED = "evaluated"
@@ -22,28 +21,10 @@ async def run_variant(host: WorkerHost, spec: WorkerJob, task: BaseModel) -> Job
         return JobResult.errored(spec, "internal_error", "an audit job needs its spec and its task's payload")
     if task.golden_project is None:
         return JobResult.errored(spec, "task_invalid", f"task {task.task_id} has no golden project to vary")
+    project = _variant(task.golden_project, spec.project_json)
     runner = await host.browser()
-    return await host.in_browser(spec, runner.session, _evaluate(runner.evaluator, spec, task))
-
-
-async def _evaluate(evaluator: Evaluator, spec: AuditSpec, task: TaskPayload) -> JobResult:
-    started, clock = time.time(), time.perf_counter()
-    project = _variant(task.golden_project or b"", spec.project_json)
-    evaluation = await evaluator.evaluate(project, task.evaluation, spec.project_limits)
-    elapsed = time.perf_counter() - clock
-    outcome, error_class = outcome_of(evaluation)
-    return JobResult(
-        job_id=spec.job_id,
-        attempt=spec.attempt,
-        outcome=outcome,
-        error_class=error_class,
-        error_message=evaluation.error.message if error_class and evaluation.error else None,
-        stop_reason=error_class or EVALUATED,
-        evaluation=evaluation,
-        timings=EpisodeTimings(evaluation_s=elapsed, total_s=elapsed),
-        started_at=started,
-        finished_at=time.time(),
-    )
+    work = judged(runner.evaluator, project, task, spec.project_limits, spec.job_id, spec.attempt, EVALUATED)
+    return await host.in_browser(spec, runner.session, work)
 
 
 @lru_cache(maxsize=8)
