@@ -13,6 +13,7 @@
   let store = null;
   let projectLoads = 0;
   const projectLoadedHooks = []; // feature modules' state that belongs to one project
+  const evaluationObservers = []; // feature modules that watch a script's run (trace/record.js)
 
   // The page clock (clock.js, loaded first): real time except while an evaluation runs virtually,
   // or an agent's page runs an episode on the paused virtual clock.
@@ -282,6 +283,8 @@
     if (!RENDERS.includes(render)) throw new BridgeFailure('bad_request', 'render must be "on_demand" or "every_frame"');
     const perturbation = perturbationOf(args.perturbation, clockMode);
     const frameTiming = frameTimingOf(args.frameTiming, clockMode);
+    // Each observer checks its arguments now, before anything starts: null, or its {start, stop}.
+    const watches = evaluationObservers.map((observer) => observer(theVm, args)).filter(Boolean);
     const helperGlobal = args.helperGlobal || 'EvaluationUtils';
     if (!/^[A-Za-z_$][\w$]*$/.test(helperGlobal)) {
       throw new BridgeFailure('bad_request', 'helperGlobal must be a JavaScript identifier');
@@ -315,6 +318,7 @@
     const timedOut = new Promise((resolve) => {
       timer = setTimeout(() => resolve(TIMED_OUT), timeoutMs);
     });
+    for (const watch of watches) watch.start(); // after the recycler's snapshot: what they patch is put back
     const started = performance.now();
     let outcome;
     let durationMs;
@@ -325,6 +329,7 @@
       throw new BridgeFailure('script_error', `${scriptName} failed: ${describe(reason)}`);
     } finally {
       clearTimeout(timer);
+      for (const watch of watches) watch.stop(); // what the script saw, not what stopping the VM does
       try { theVm.runtime.stopAll(); } catch (e) { /* the verdict is already decided */ }
       durationMs = performance.now() - started;
       clock.stopVirtual();
@@ -446,6 +451,7 @@
     realNow: () => clock.realNow(), realSleep: (ms) => clock.realSleep(ms),
     pageTimeStands: () => clock.status().paused, // an episode's virtual clock, between two advances
     onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
+    onEvaluation: (observer) => evaluationObservers.push(observer), // (vm, evaluate's args) => null | {start, stop}
   };
   for (const instance of registry ? registry.createAll(context) : []) {
     for (const [name, fn] of Object.entries(instance.api || {})) {

@@ -27,7 +27,7 @@ import zipfile
 from dataclasses import dataclass, field
 from typing import Any, Union
 
-from scratchworld_dist.sb3._catalog import PRIMITIVE_CODES, SHAPES, Slot
+from scratchworld_dist.sb3._catalog import EXTENSIONS, PRIMITIVE_CODES, SHAPES, Slot
 
 Arg = Union[int, float, str, "Block", list["Block"]]
 
@@ -221,6 +221,7 @@ class _Serializer:
         self.counter = 0
         self.blocks: dict[str, dict[str, Any]] = {}
         self.target: Target = project.stage
+        self.extensions: set[str] = set()
 
     def project(self) -> dict[str, Any]:
         targets = [
@@ -230,7 +231,7 @@ class _Serializer:
         return {
             "targets": targets,
             "monitors": [],
-            "extensions": [],
+            "extensions": sorted(self.extensions),
             "meta": {"semver": "3.0.0", "vm": "0.2.0", "agent": "scratchworld_dist project builder"},
         }
 
@@ -302,6 +303,9 @@ class _Serializer:
         self, block_id: str, item: Block, parent: str | None, next_id: str | None, top: tuple[int, int] | None
     ) -> None:
         shape = SHAPES[item.opcode]
+        prefix = item.opcode.split("_", 1)[0]
+        if prefix in EXTENSIONS:
+            self.extensions.add(prefix)
         record: dict[str, Any] = {
             "opcode": item.opcode,
             "next": next_id,

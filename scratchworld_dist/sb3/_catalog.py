@@ -182,4 +182,15 @@ SHAPES: dict[str, BlockShape] = {
     "data_itemnumoflist": _shape(LIST_FIELD, ITEM=TEXT),
     "data_lengthoflist": _shape(LIST_FIELD),
     "data_listcontainsitem": _shape(LIST_FIELD, ITEM=TEXT),
+    # Pen (an extension: a project using it lists "pen" in its extensions)
+    "pen_clear": _NONE,
+    "pen_stamp": _NONE,
+    "pen_penDown": _NONE,
+    "pen_penUp": _NONE,
+    "pen_setPenColorToColor": _shape(COLOR=COLOR),
+    "pen_changePenSizeBy": _shape(SIZE=NUM),
+    "pen_setPenSizeTo": _shape(SIZE=NUM),
 }
+
+EXTENSIONS = ("pen",)
+"""Extensions whose blocks the catalog knows: an opcode ``<extension>_...`` needs it loaded."""

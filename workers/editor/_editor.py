@@ -219,9 +219,12 @@ class Editor:
         """The current project as .sb3 bytes, as the editor would save it."""
         return base64.b64decode(_Saved.model_validate(await self.call("saveProject")).sb3_base64)
 
-    async def run_evaluation(self, spec: EvaluationSpec, *, trace_frames: bool = False) -> EvaluationRun:
+    async def run_evaluation(
+        self, spec: EvaluationSpec, *, trace_frames: bool = False, observable_trace_chars: int | None = None
+    ) -> EvaluationRun:
         """Run an evaluation script on the loaded project, on the spec's clock (``trace_frames``: and
-        record every VM frame, see ``EvaluationRun.frames``).
+        record every VM frame, see ``EvaluationRun.frames``; ``observable_trace_chars``: and record what a
+        user could observe, up to that many characters of JSON, see ``take_observable_trace``).
 
         The page enforces ``spec.timeout_s`` itself (on its clock, so in simulated seconds under
         the virtual clock); a script that blocks the page entirely is the caller's to kill (by
@@ -241,8 +244,15 @@ class Editor:
             "frameTiming": spec.frame_lateness.bridge_args() if spec.frame_lateness else None,
             "traceFrames": trace_frames,
         }
+        if observable_trace_chars is not None:
+            args["observableTrace"] = {"maxChars": observable_trace_chars}
         self.uses += 1
         return EvaluationRun.model_validate(await self.call("evaluate", args))
+
+    async def take_observable_trace(self) -> JsonValue:
+        """The observable trace of the last ``run_evaluation`` that asked for one (``scratch-gui/trace/record.js``),
+        also when its script failed; None when there is none. The page forgets it once taken."""
+        return await self.call("takeObservableTrace")
 
     async def recycle(self) -> list[str]:
         """Undo what the last evaluation or episode left in the page (``scratch-gui/recycle.js``,

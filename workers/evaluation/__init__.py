@@ -3,13 +3,28 @@
 from workers.evaluation._evaluator import Evaluator, project_refusal, wall_limit_s
 from workers.evaluation._profiles import apply_profile
 from workers.evaluation._report import ReportError, TestReport, parse_report
+from workers.evaluation._trace import (
+    DEFAULT_TRACE_CHARS,
+    ObservableTrace,
+    TracedEvaluation,
+    TraceFrame,
+    with_random_seed,
+)
+from workers.evaluation._trace_compare import TraceDifference, first_difference
 
 __all__ = [
+    "DEFAULT_TRACE_CHARS",
     "Evaluator",
+    "ObservableTrace",
     "ReportError",
     "TestReport",
+    "TraceDifference",
+    "TraceFrame",
+    "TracedEvaluation",
     "apply_profile",
+    "first_difference",
     "parse_report",
     "project_refusal",
     "wall_limit_s",
+    "with_random_seed",
 ]

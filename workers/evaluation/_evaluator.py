@@ -31,6 +31,14 @@ from workers.contract import (
 from workers.editor import BrowserSession, Editor, EditorPool
 from workers.evaluation._profiles import apply_profile
 from workers.evaluation._report import ReportError, parse_report
+from workers.evaluation._trace import (
+    DEFAULT_TRACE_CHARS,
+    MAX_TRACE_CHARS,
+    MIN_TRACE_CHARS,
+    ObservableTrace,
+    TracedEvaluation,
+    with_random_seed,
+)
 
 KILL_GRACE_S = 5.0
 """Extra time past the in-page timeout before the page itself is killed (a synchronous hang)."""
@@ -75,28 +83,65 @@ class Evaluator:
 
     async def evaluate(self, project: bytes, spec: EvaluationSpec, limits: ProjectLimits | None = None) -> EvalResult:
         """The verdict on ``project``; one over ``limits`` (default: ``ProjectLimits()``) never reaches a page."""
+        result, _ = await self._evaluate(project, spec, limits, None)
+        return result
+
+    async def evaluate_traced(
+        self,
+        project: bytes,
+        spec: EvaluationSpec,
+        limits: ProjectLimits | None = None,
+        *,
+        random_seed: int | None = 0,
+        max_chars: int = DEFAULT_TRACE_CHARS,
+    ) -> TracedEvaluation:
+        """The verdict on ``project`` and the observable trace of its run (``workers.evaluation._trace``).
+
+        ``random_seed`` seeds the page's ``Math.random`` (None: as ``spec`` says), so that a golden and a
+        variant traced with one seed draw the same numbers; ``max_chars`` caps the trace's JSON. Recording
+        does not change the verdict (tests/test_observable_trace_verdicts.py).
+        """
+        if not MIN_TRACE_CHARS <= max_chars <= MAX_TRACE_CHARS:
+            raise ValueError(f"max_chars must be from {MIN_TRACE_CHARS} to {MAX_TRACE_CHARS}, got {max_chars}")
+        seeded = spec if random_seed is None else with_random_seed(spec, random_seed)
+        result, recorded = await self._evaluate(project, seeded, limits, max_chars)
+        trace, record_s = recorded or (None, None)
+        return TracedEvaluation(result=result, trace=trace, record_s=record_s)
+
+    async def _evaluate(
+        self, project: bytes, spec: EvaluationSpec, limits: ProjectLimits | None, trace_chars: int | None
+    ) -> tuple[EvalResult, tuple[ObservableTrace, float] | None]:
         started = time.perf_counter()
         timings = EvalTimings()
         limits = limits or ProjectLimits()
         refusal = project_refusal(project, limits)
         if refusal is not None:
             refusal.timings.total_s = time.perf_counter() - started
-            return refusal
+            return refusal, None
+        trace: tuple[ObservableTrace, float] | None = None
         try:
             async with (self.pool or self.session).editor() as editor:
                 timings.editor_ready_s = editor.ready_s if editor.uses == 0 else None
-                result = await self._evaluate_in(editor, project, spec, limits, timings)
+                result = await self._evaluate_in(editor, project, spec, limits, timings, trace_chars)
+                if trace_chars is not None:
+                    trace = await _taken_trace(editor)
         except EditorError as exc:
             result = EvalResult.failure("editor_failure", f"{type(exc).__name__}: {exc}", timings=timings)
         result.timings.total_s = time.perf_counter() - started
-        return result
+        return result, trace
 
     async def _evaluate_in(
-        self, editor: Editor, project: bytes, spec: EvaluationSpec, limits: ProjectLimits, timings: EvalTimings
+        self,
+        editor: Editor,
+        project: bytes,
+        spec: EvaluationSpec,
+        limits: ProjectLimits,
+        timings: EvalTimings,
+        trace_chars: int | None,
     ) -> EvalResult:
         mouse = spec.perturbation.mouse if spec.perturbation else None
         conditions = await apply_profile(editor, spec.profile, mouse)  # before the project: it may read the mouse
-        result = await self._load_and_run(editor, project, spec, limits, timings)
+        result = await self._load_and_run(editor, project, spec, limits, timings, trace_chars)
         result.conditions = conditions.model_copy(
             update={
                 "clock": spec.clock,
@@ -109,7 +154,13 @@ class Evaluator:
         return result
 
     async def _load_and_run(
-        self, editor: Editor, project: bytes, spec: EvaluationSpec, limits: ProjectLimits, timings: EvalTimings
+        self,
+        editor: Editor,
+        project: bytes,
+        spec: EvaluationSpec,
+        limits: ProjectLimits,
+        timings: EvalTimings,
+        trace_chars: int | None,
     ) -> EvalResult:
         phase_start = time.perf_counter()
         try:
@@ -123,7 +174,8 @@ class Evaluator:
         result_json: str | None = None
         limit_s = wall_limit_s(spec.timeout_s, spec.clock)
         try:
-            run = await asyncio.wait_for(editor.run_evaluation(spec), limit_s)
+            running = editor.run_evaluation(spec, observable_trace_chars=trace_chars)
+            run = await asyncio.wait_for(running, limit_s)
             result_json = run.result_json
             timings.script_clock_s = run.duration_ms / 1000
         except TimeoutError:
@@ -152,6 +204,21 @@ class Evaluator:
             console=console,
             timings=timings,
         )
+
+
+async def _taken_trace(editor: Editor) -> tuple[ObservableTrace, float] | None:
+    """The trace the page recorded and the real seconds recording took, if the page can still give them:
+    a page killed for blocking cannot, and a trace lost to a broken page leaves the verdict as it was."""
+    if not editor.reusable:
+        return None
+    try:
+        value = await editor.take_observable_trace()
+    except (BridgeError, EditorError):
+        return None
+    if not isinstance(value, dict):
+        return None
+    record_ms = value.get("recordMs")
+    return ObservableTrace.model_validate(value), float(record_ms) / 1000 if isinstance(record_ms, int | float) else 0.0
 
 
 def _kind(exc: BridgeError) -> EvalErrorKind:
