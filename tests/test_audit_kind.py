@@ -94,8 +94,10 @@ def test_the_audit_finds_the_planted_hole_and_the_brittle_test_and_resumes(
     assert done.returncode == 0, done.stderr
     rows = RunStore(out).read_table("audits").to_pylist()
     verdicts = {(row["variant"], row["operator"], row["verdict"]) for row in rows}
-    # The hole: a changed greeting is still "something"; the score's tests kill the number mutants.
-    assert ("mutant", "text_literal", "survived") in verdicts
+    # The hole: a changed greeting is still "something", and the traces show the bubble differs.
+    holes = [row for row in rows if row["verdict"] == "hole"]
+    assert holes and {row["operator"] for row in holes} == {"text_literal"}
+    assert all("Greeter, bubble" in row["evidence"] and row["observed"] == "differs" for row in holes)
     assert ("mutant", "number_literal", "killed") in verdicts
     # The brittle test: the score renamed fails "the score is 10", which looks it up by name.
     renamed = [row for row in rows if row["operator"] == "rename_variable"]
@@ -104,8 +106,9 @@ def test_the_audit_finds_the_planted_hole_and_the_brittle_test_and_resumes(
     assert ("refactoring", "move_script", "passed") in verdicts
     assert ("golden", "golden", "golden_passes") in verdicts  # so the variants measure the grader
     (task,) = json.loads(figures.read_text())
-    assert task["task_id"] == "greeter" and task["killed"] + task["survived"] == task["mutants"] > 0
+    assert task["task_id"] == "greeter" and task["holes"] == len(holes)
+    assert task["killed"] + task["holes"] + task["equivalent"] == task["mutants"] > 0
     assert task["brittle"] == len(renamed) and set(task) >= {"equivalent", "holes", "refactorings"}
-    assert "# Grader audit" in done.stdout and "## Survivors" in done.stdout and "text 'Hello' ->" in done.stdout
+    assert "# Grader audit" in done.stdout and "## Holes" in done.stdout and "text 'Hello' ->" in done.stdout
     again = invoke(*args)
     assert again.returncode == 0 and f"{len(rows)} already decided, 0 to run" in " ".join(again.stderr.split())

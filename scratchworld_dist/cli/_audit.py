@@ -60,9 +60,9 @@ def audit_command(
         assert isinstance(report, AuditReport)
         figures = [
             {
-                "task_id": task.task_id, "mutants": task.mutants, "killed": task.killed, "survived": task.survived,
-                "equivalent": None, "holes": None, "refactorings": task.refactorings, "brittle": task.brittle,
-                "errors": task.errors,
+                "task_id": task.task_id, "mutants": task.mutants, "killed": task.killed,
+                "equivalent": task.equivalent, "holes": task.holes + task.survived,
+                "refactorings": task.refactorings, "brittle": task.brittle, "errors": task.errors,
             }
             for task in report.tasks
         ]  # fmt: skip

@@ -18,7 +18,7 @@ from workers.contract._actions import (
     composite_action,
     primitive_action,
 )
-from workers.contract._audit import AuditSpec, VariantKind
+from workers.contract._audit import AuditObservation, AuditSpec, VariantKind
 from workers.contract._detail import JobDetail
 from workers.contract._drag import (
     CONNECTIONS_OF,
@@ -179,6 +179,7 @@ __all__ = [
     "AgentUnavailableError",
     "AnswerFormat",
     "AnswerParse",
+    "AuditObservation",
     "AuditSpec",
     "BridgeError",
     "CanvasSource",

@@ -7,6 +7,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from workers.contract._detail import JobDetail
 from workers.contract._episode import AgentRef
 from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
 from workers.contract._sb3 import ProjectLimits
@@ -36,3 +37,18 @@ class AuditSpec(BaseModel):
     seed: int = 0
     llm: LLMSettings | None = None
     model_cache: ModelCacheSettings | None = None
+
+
+class AuditObservation(JobDetail):
+    """What a user could observe of a variant the tests misjudged (a surviving mutant, a failed refactoring):
+    its run and the golden's, traced under the same seed and inputs, compared frame by frame."""
+
+    kind: str = "audit"
+    observed: Literal["equivalent", "differs"]
+    """``equivalent``: the two traces are the same; ``differs``: ``difference`` says where first."""
+
+    difference: str | None = None
+    """The first observable difference, as one line (``frame 12, Cat, bubble: ... vs ...``)."""
+
+    truncated: bool = False
+    """A trace reached its size cap: they were compared only as far as both were recorded."""

@@ -2,8 +2,9 @@
 written differently (refactoring pass rate), per task, per test and per operator, with every survivor and
 every brittle case listed (its change as pseudocode, the tests that passed or failed it).
 
-A survivor is not yet told apart from an equivalent mutant (that needs the observable traces of both
-programs): the mutation score here is killed / (killed + survived), a lower bound of killed / (killed + holes).
+A mutant every test passes is traced with the golden under one seed (``workers.kinds.audit``): the same
+observable trace makes it equivalent (no test can tell it apart, so it is left out of the score), another
+makes it a hole, with the first observable difference as evidence. The score is killed / (killed + holes).
 """
 
 from __future__ import annotations
@@ -25,7 +26,11 @@ from scratchworld_dist.results import effective_rows
 class Tally(BaseModel):
     mutants: int = 0
     killed: int = 0
+    equivalent: int = 0
+    holes: int = 0
     survived: int = 0
+    """Passed every test and could not be traced (counted as holes by the score: a lower bound)."""
+
     refactorings: int = 0
     passed: int = 0
     brittle: int = 0
@@ -33,7 +38,8 @@ class Tally(BaseModel):
 
     @property
     def mutation_score(self) -> float | None:
-        decided = self.killed + self.survived
+        """killed / (killed + holes): equivalent mutants can be killed by no test, untraced survivors count as holes."""
+        decided = self.killed + self.holes + self.survived
         return self.killed / decided if decided else None
 
     @property
@@ -47,10 +53,9 @@ class Tally(BaseModel):
         else:
             self.refactorings += 1
         verdict = row.verdict
-        if verdict in ("killed", "survived", "passed", "brittle", "errors"):
-            setattr(self, verdict, getattr(self, verdict) + 1)
-        elif verdict == "error":
-            self.errors += 1
+        field = {"hole": "holes", "error": "errors"}.get(verdict, verdict)
+        if field in ("killed", "equivalent", "holes", "survived", "passed", "brittle", "errors"):
+            setattr(self, field, getattr(self, field) + 1)
 
 
 class TaskAudit(Tally):
@@ -78,6 +83,8 @@ class Finding(BaseModel):
     before: str
     after: str
     failing_tests: list[str]
+    observed: str | None
+    evidence: str | None
 
 
 class AuditReport(BaseModel):
@@ -85,13 +92,16 @@ class AuditReport(BaseModel):
     warnings: list[str]
     total: Tally
     mutation_score: float | None
-    """killed / (killed + survived) over the suite (a lower bound until survivors are told from equivalents)."""
+    """killed / (killed + holes) over the suite (an untraced survivor counts as a hole)."""
 
     refactoring_pass_rate: float | None
     tasks: list[TaskAudit]
     tests: list[TestAudit]
     operators: dict[str, Tally]
-    survivors: list[Finding]
+    holes: list[Finding]
+    """Mutants every test passed whose behaviour differs from the golden's (and untraced survivors)."""
+
+    equivalent: list[Finding]
     brittle: list[Finding]
 
 
@@ -118,20 +128,21 @@ def build_audit_report(run_dirs: Sequence[Path], *, force: bool = False) -> Audi
     total, tasks, operators = Tally(), defaultdict(Tally), defaultdict(Tally)
     kills: Counter[tuple[str, str]] = Counter()
     breaks: Counter[tuple[str, str]] = Counter()
-    survivors, brittle = [], []
+    findings: dict[str, list[Finding]] = {"hole": [], "survived": [], "equivalent": [], "brittle": []}
     for row in sorted(rows, key=lambda r: (r.task_id, r.variant, r.operator, r.job_id)):
         for tally in (total, tasks[row.task_id], operators[f"{row.variant}:{row.operator}"]):
             tally.add(row)
         failing = json.loads(row.failing_tests)
         for test in failing:
             (kills if row.variant == "mutant" else breaks)[(row.task_id, test)] += 1
-        if row.verdict in ("survived", "brittle"):
-            finding = Finding(
-                task_id=row.task_id, job_id=row.job_id, operator=row.operator, target=row.target,
-                block_id=row.block_id, description=row.description, before=row.before, after=row.after,
-                failing_tests=failing,
+        if row.verdict in findings:
+            findings[row.verdict].append(
+                Finding(
+                    task_id=row.task_id, job_id=row.job_id, operator=row.operator, target=row.target,
+                    block_id=row.block_id, description=row.description, before=row.before, after=row.after,
+                    failing_tests=failing, observed=row.observed, evidence=row.evidence,
+                )
             )  # fmt: skip
-            (survivors if row.verdict == "survived" else brittle).append(finding)
     tests = [
         TestAudit(task_id=task, test=test, kills=kills[(task, test)], brittle=breaks[(task, test)])
         for task, test in sorted(set(kills) | set(breaks))
@@ -140,7 +151,8 @@ def build_audit_report(run_dirs: Sequence[Path], *, force: bool = False) -> Audi
         runs=[run.name for run in loaded], warnings=warnings, total=total, mutation_score=total.mutation_score,
         refactoring_pass_rate=total.refactoring_pass_rate,
         tasks=[TaskAudit(task_id=task, **tally.model_dump()) for task, tally in sorted(tasks.items())],
-        tests=tests, operators=dict(sorted(operators.items())), survivors=survivors, brittle=brittle,
+        tests=tests, operators=dict(sorted(operators.items())), holes=findings["hole"] + findings["survived"],
+        equivalent=findings["equivalent"], brittle=findings["brittle"],
     )  # fmt: skip
 
 
@@ -151,24 +163,27 @@ def _pct(value: float | None) -> str:
 def audit_blocks(report: AuditReport) -> list[ReportBlock]:
     """The report as blocks (Markdown or HTML alike)."""
     t = report.total
+    untraced = f", {t.survived} survivor(s) not traced, counted as holes" if t.survived else ""
     blocks: list[ReportBlock] = [
         Heading(level=1, text="Grader audit"),
         Paragraph(
-            text=f"Mutation score {_pct(report.mutation_score)} ({t.killed} of {t.killed + t.survived} mutants "
-            f"killed; survivors not yet told from equivalent mutants, so this is a lower bound); refactoring "
-            f"pass rate {_pct(report.refactoring_pass_rate)} ({t.passed} of {t.passed + t.brittle}); "
-            f"{t.errors} variant(s) without a verdict."
+            text=f"Mutation score {_pct(report.mutation_score)}: {t.killed} mutants killed, {t.holes} holes (a "
+            f"mutant every test passes that behaves otherwise than the golden){untraced}; {t.equivalent} "
+            f"equivalent (the golden's observable trace, which no test can tell apart) left out. Refactoring pass "
+            f"rate {_pct(report.refactoring_pass_rate)} ({t.passed} of {t.passed + t.brittle}); {t.errors} "
+            "variant(s) without a verdict."
         ),
         *(Paragraph(text=f"Warning: {warning}") for warning in report.warnings),
         Heading(level=2, text="Per task"),
         Table(
-            header=["task", "mutants", "killed", "survived", "score", "refactorings", "passed", "brittle"],
+            header=["task", "mutants", "killed", "equivalent", "holes", "score", "refactorings", "passed", "brittle"],
             rows=[
                 [
                     a.task_id,
                     str(a.mutants),
                     str(a.killed),
-                    str(a.survived),
+                    str(a.equivalent),
+                    str(a.holes + a.survived),
                     _pct(a.mutation_score),
                     str(a.refactorings),
                     str(a.passed),
@@ -179,9 +194,17 @@ def audit_blocks(report: AuditReport) -> list[ReportBlock]:
         ),
         Heading(level=2, text="Per operator"),
         Table(
-            header=["operator", "variants", "killed", "survived", "passed", "brittle"],
+            header=["operator", "variants", "killed", "equivalent", "holes", "passed", "brittle"],
             rows=[
-                [name, str(o.mutants + o.refactorings), str(o.killed), str(o.survived), str(o.passed), str(o.brittle)]
+                [
+                    name,
+                    str(o.mutants + o.refactorings),
+                    str(o.killed),
+                    str(o.equivalent),
+                    str(o.holes + o.survived),
+                    str(o.passed),
+                    str(o.brittle),
+                ]
                 for name, o in report.operators.items()
             ],
         ),
@@ -191,14 +214,15 @@ def audit_blocks(report: AuditReport) -> list[ReportBlock]:
             rows=[[s.task_id, s.test, str(s.kills), str(s.brittle)] for s in report.tests],
         ),
     ]
-    for title, findings in (("Survivors", report.survivors), ("Brittle", report.brittle)):
+    for title, findings in (("Holes", report.holes), ("Brittle", report.brittle), ("Equivalent", report.equivalent)):
         blocks.append(Heading(level=2, text=f"{title} ({len(findings)})"))
         for f in findings:
             failing = ", ".join(f.failing_tests) or "none"
+            seen = f"; first observable difference: {f.evidence}" if f.evidence else ""
             blocks.append(
                 Paragraph(
                     text=f"{f.task_id} · {f.operator} at {f.target}/{f.block_id}: {f.description} "
-                    f"(job {f.job_id}; failing tests: {failing})\nbefore:\n{f.before}\nafter:\n{f.after}"
+                    f"(job {f.job_id}; failing tests: {failing}{seen})\nbefore:\n{f.before}\nafter:\n{f.after}"
                 )
             )
     return blocks

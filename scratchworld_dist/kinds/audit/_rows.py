@@ -9,12 +9,15 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.kinds.audit._plan import AuditBody
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import JobResult
+from workers.contract import AuditObservation, JobResult
 
-Verdict = Literal["killed", "survived", "passed", "brittle", "golden_passes", "golden_fails", "error"]
-"""A mutant is killed (a test failed: right) or survived (all passed); a refactoring passed (right) or was
-judged brittle (a test failed); the golden itself passes or fails (then its variants' verdicts measure
-nothing); error: no verdict (the evaluation itself failed)."""
+Verdict = Literal[
+    "killed", "equivalent", "hole", "survived", "passed", "brittle", "golden_passes", "golden_fails", "error"
+]
+"""A mutant is killed (a test failed: right); one that passes every test is equivalent (its observable trace is
+the golden's) or a hole (it differs: the tests pass a wrong program), or survived when it could not be traced;
+a refactoring passed (right) or was judged brittle (a test failed it); the golden itself passes or fails (then
+its variants' verdicts measure nothing); error: no verdict (the evaluation itself failed)."""
 
 
 class AuditRow(BaseModel):
@@ -42,6 +45,11 @@ class AuditRow(BaseModel):
     """The names of the tests that failed, as a JSON list."""
 
     verdict: str
+    observed: str | None = None
+    """For a misjudged variant: ``equivalent`` (its trace and the golden's are the same) or ``differs``."""
+
+    evidence: str | None = None
+    """The first observable difference from the golden, when there is one."""
 
 
 def verdict_of(variant: str, result: JobResult) -> Verdict:
@@ -51,7 +59,11 @@ def verdict_of(variant: str, result: JobResult) -> Verdict:
     if variant == "golden":
         return "golden_fails" if failed else "golden_passes"
     if variant == "mutant":
-        return "killed" if failed else "survived"
+        if failed:
+            return "killed"
+        if isinstance(result.detail, AuditObservation):
+            return "equivalent" if result.detail.observed == "equivalent" else "hole"
+        return "survived"
     return "brittle" if failed else "passed"
 
 
@@ -60,6 +72,7 @@ def audit_row(job: JobSpec, result: JobResult) -> AuditRow:
     if not isinstance(body, AuditBody):
         raise ValueError(f"job {job.job_id} is not an audit job")
     tests = result.evaluation.tests if result.evaluation is not None else []
+    observation = result.detail if isinstance(result.detail, AuditObservation) else None
     return AuditRow(
         job_id=job.job_id, attempt=result.attempt, task_id=job.task_id, variant=body.variant,
         operator=body.operator, variant_id=body.variant_id, target=body.target, block_id=body.block_id,
@@ -67,4 +80,6 @@ def audit_row(job: JobSpec, result: JobResult) -> AuditRow:
         tests_passed=sum(test.passed for test in tests), tests_total=len(tests),
         failing_tests=json.dumps([test.name for test in tests if not test.passed]),
         verdict=verdict_of(body.variant, result),
+        observed=observation.observed if observation else None,
+        evidence=observation.difference if observation else None,
     )  # fmt: skip
