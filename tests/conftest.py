@@ -18,8 +18,8 @@ from workers.evaluation import Evaluator
 from workers.node import OWN_FILES
 
 if TYPE_CHECKING:
-    from tests.openai_server import OpenAIServer
-    from tests.sweep_driver import Driver
+    from tests.support.openai_server import OpenAIServer
+    from tests.support.sweep_driver import Driver
 
 REPO = Path(__file__).resolve().parents[1]
 SUITE_DIR = REPO / "tasks"
@@ -155,7 +155,7 @@ def upstream_clone(tmp_path: Path, upstream_dir: Path) -> Path:
 
 @pytest.fixture(scope="module")
 def shared_ray() -> Iterator[int]:
-    """One private local Ray for a module's drivers run in this process (``tests.sweep_driver.run_here``).
+    """One private local Ray for a module's drivers run in this process (``tests.support.sweep_driver.run_here``).
 
     It is started as ``scratchworld run`` starts its own, and a driver that finds Ray running uses
     it, so the module pays for one Ray instead of one per run. Yields its browser slots.
@@ -174,7 +174,7 @@ MODEL_KEY = "sk-test-0b7e4c2a91"
 def model_server() -> Iterator[OpenAIServer]:
     """A module's OpenAI-compatible server (``reset`` it per test), its address and ``MODEL_KEY`` in the
     environment (``SCRATCHWORLD_LLM_BASE_URL``, ``SCRATCHWORLD_LLM_API_KEY``) while the module runs."""
-    from tests.openai_server import OpenAIServer
+    from tests.support.openai_server import OpenAIServer
 
     with OpenAIServer() as running, pytest.MonkeyPatch.context() as patch:
         patch.setenv("SCRATCHWORLD_LLM_BASE_URL", running.url)

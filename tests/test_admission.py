@@ -19,8 +19,8 @@ from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, admitted_slots, pages_per_worker
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, Limits
-from tests.cli_runner import invoke
 from tests.conftest import REPO, pooled_editor
+from tests.support.cli_runner import invoke
 from workers.contract import MIB, AgentRef, EpisodeClock, JobResult, ModelSpec, SyntheticEpisodes
 from workers.editor import EditorPool, cached_editor_cost, measure_editor_cost
 from workers.editor._cost import cost_cache_path

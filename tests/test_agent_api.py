@@ -10,7 +10,7 @@ import pytest
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
-from tests.openai_server import OpenAIServer, reply
+from tests.support.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentBase, EpisodeEnd, StepResult, TaskContext
 from workers.contract import Action, CompositeAction, Done, EpisodeSpec, LoadProject, ModelSpec, Observation
 from workers.episode import EpisodeRunner

@@ -25,8 +25,8 @@ from scratchworld_dist.results import RunStore
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import REPO
-from tests.openai_server import Behaviour, OpenAIServer, reply, status
-from tests.sweep_driver import Driver, run
+from tests.support.openai_server import Behaviour, OpenAIServer, reply, status
+from tests.support.sweep_driver import Driver, run
 from workers.agent_api import AgentBase, agent_class, agent_code
 
 TASK = "quiz_score"

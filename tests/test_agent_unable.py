@@ -12,7 +12,7 @@ import yaml
 
 from scratchworld_dist.results import RunStore
 from tests.conftest import SUITE_DIR
-from tests.sweep_driver import run_here
+from tests.support.sweep_driver import run_here
 from workers.agent_api import Action, AgentBase, AgentUnableError, Observation, StepResult
 
 

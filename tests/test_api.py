@@ -14,9 +14,9 @@ from scratchworld_dist import api
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.reports import RunReport, report_schemas
 from scratchworld_dist.results import JobRecord, RunStore
-from tests.cli_runner import invoke
 from tests.conftest import REPO
-from tests.run_dirs import job
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import job
 
 DEMO = REPO / "configs" / "demo.yaml"
 TASKS = ["countdown_launch", "sum_two_numbers"]

@@ -18,8 +18,8 @@ from scratchworld_dist.audit import (
     sample_mutants,
 )
 from scratchworld_dist.sb3 import Sb3Archive
-from tests.audit_projects import mutation_project, refactoring_project
 from tests.conftest import pooled_editor
+from tests.support.audit_projects import mutation_project, refactoring_project
 from workers.editor import EditorPool
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]

@@ -15,8 +15,8 @@ from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.sb3 import Project, block, rect_costume
 from scratchworld_dist.suites import load_suite
-from tests.cli_runner import invoke
 from tests.conftest import SUITE_DIR
+from tests.support.cli_runner import invoke
 
 WEAK_JS = """
 module.exports = async (vm) => Harness.runTests(vm, [

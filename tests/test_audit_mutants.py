@@ -18,7 +18,7 @@ from scratchworld_dist.audit import (
     structure_problems,
 )
 from scratchworld_dist.sb3 import Project, Sb3Archive, block, check_project, circle_costume
-from tests.audit_projects import mutation_project
+from tests.support.audit_projects import mutation_project
 
 PROJECT = mutation_project()
 ORIGINAL = PROJECT.to_project_json()

@@ -11,9 +11,9 @@ import pytest
 
 from scratchworld_dist.audit import Program, ProgramFormatError, program_form, structure_problems
 from scratchworld_dist.audit import _edits as edits
-from tests.audit_projects import mutation_project, refactoring_project, with_monitor
 from tests.conftest import SUITE_DIR
-from tests.projects import counter_project, timing_project
+from tests.support.audit_projects import mutation_project, refactoring_project, with_monitor
+from tests.support.projects import counter_project, timing_project
 
 
 def project_of(sb3: bytes) -> dict:

@@ -17,7 +17,7 @@ from scratchworld_dist.audit import (
     structure_problems,
 )
 from scratchworld_dist.sb3 import Sb3Archive, check_project, script_listing
-from tests.audit_projects import refactoring_project, with_monitor
+from tests.support.audit_projects import refactoring_project, with_monitor
 
 PROJECT = refactoring_project()
 ORIGINAL = with_monitor(PROJECT.to_project_json(), "points")

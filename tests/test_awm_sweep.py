@@ -20,8 +20,8 @@ from scratchworld_dist.memory import MEMORY_DIR, MemoryFolder
 from scratchworld_dist.results import JobRow, RunStore
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
-from tests.openai_server import Behaviour, OpenAIServer, reply
-from tests.sweep_driver import Driver, run_here
+from tests.support.openai_server import Behaviour, OpenAIServer, reply
+from tests.support.sweep_driver import Driver, run_here
 from workers.agents._awm_prompts import JUDGE_SYSTEM
 from workers.contract import memory_digest
 

@@ -1,7 +1,7 @@
 """Bad input, systematically: every command refuses what it cannot use, in one line naming the culprit.
 
-The catalog's inputs are built in ``tests/bad_inputs.py`` (configs, suites, project files,
-arguments) and ``tests/bad_inputs_runtime.py`` (run directories, scripts, agent actions).
+The catalog's inputs are built in ``tests/support/bad_inputs.py`` (configs, suites, project files,
+arguments) and ``tests/support/bad_inputs_runtime.py`` (run directories, scripts, agent actions).
 Commands run in-process through ``scratchworld_dist.cli._main.main`` (the real entry point: it ends
 in ``sys.exit``), a few as real processes. Every case checks the exit status, a one-line message
 naming the file, field or argument, no traceback, nothing lost from a run directory involved, and
@@ -29,13 +29,13 @@ import yaml
 from scratchworld_dist.cli._main import main
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
-from tests import bad_inputs as bad
-from tests import bad_inputs_perception as bad_perception
-from tests import bad_inputs_runtime as live
 from tests.conftest import SUITE_DIR, pooled_editor
-from tests.loopback import LoopbackListener
-from tests.projects import counter_project, with_entry
-from tests.sweep_driver import SCRATCHWORLD
+from tests.support import bad_inputs as bad
+from tests.support import bad_inputs_perception as bad_perception
+from tests.support import bad_inputs_runtime as live
+from tests.support.loopback import LoopbackListener
+from tests.support.projects import counter_project, with_entry
+from tests.support.sweep_driver import SCRATCHWORLD
 from workers import composite
 from workers.agent_api import AgentBase
 from workers.contract import (

@@ -17,7 +17,7 @@ from scratchworld_dist import (
 )
 from scratchworld_dist.sb3 import Project, block, check_project, circle_costume
 from tests.conftest import copy_page_files, pooled_editor
-from tests.projects import counter_project
+from tests.support.projects import counter_project
 from workers.contract import EvaluationSpec
 from workers.editor import BrowserConfig, BrowserSession, EditorAssets, EditorPool
 from workers.evaluation import Evaluator

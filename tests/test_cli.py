@@ -1,4 +1,4 @@
-"""The command line as a user runs it, through its entry point (in this process, see ``tests/cli_runner.py``);
+"""The command line as a user runs it, through its entry point (in this process, see ``tests/support/cli_runner.py``);
 ``gui``, a server that must outlive its caller, runs as a process of its own."""
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist.sb3 import check_project
-from tests.cli_runner import Done, invoke
 from tests.conftest import REPO, SUITE_DIR
+from tests.support.cli_runner import Done, invoke
 
 pytestmark = pytest.mark.browser
 

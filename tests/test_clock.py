@@ -19,7 +19,7 @@ import pytest
 from scratchworld_dist import load_suite
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from tests.conftest import DATA, SUITE_DIR, pooled_editor
-from tests.projects import counter_project, timing_project
+from tests.support.projects import counter_project, timing_project
 from workers.contract import EvalResult, EvaluationClock, EvaluationSpec
 from workers.editor import EditorPool
 from workers.evaluation import Evaluator, wall_limit_s

@@ -5,7 +5,7 @@ copies of the checkout in other directories (their Python imports the copy: ``PY
 a node installed from another clone would), with token authentication on, as Ray 2.60 does once
 a token exists. A node from an identical copy runs real browser jobs; a node whose copy differs
 in one file is refused by name before any job is sent. Every node listens on 127.0.0.1 only
-(``tests/ray_loopback.py``).
+(``tests/support/ray_loopback.py``).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ import yaml
 from scratchworld_dist.results import RunStore, read_manifest
 from scratchworld_dist.scheduling._nodes import NodeMismatchError, agreed_harness
 from tests.conftest import REPO, copy_page_files
-from tests.ray_loopback import RAY_START
-from tests.sweep_driver import SCRATCHWORLD
+from tests.support.ray_loopback import RAY_START
+from tests.support.sweep_driver import SCRATCHWORLD
 from workers.contract import NodeReport
 from workers.kinds import kind_fingerprint
 from workers.node import OWN_FILES, harness_fingerprint

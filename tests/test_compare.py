@@ -26,7 +26,7 @@ from scratchworld_dist.reports import (
     render_comparison,
 )
 from scratchworld_dist.results import JobRow
-from tests.run_dirs import HARNESS, OTHER_HARNESS, T0, job, make_run, regrade_run
+from tests.support.run_dirs import HARNESS, OTHER_HARNESS, T0, job, make_run, regrade_run
 
 # -- the statistics, against computations of this file ----------------------------------------
 

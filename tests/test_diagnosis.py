@@ -16,8 +16,8 @@ from scratchworld_dist.reports._diagnosis_cells import MISSING
 from scratchworld_dist.reports._model_identity import ModelResolver
 from scratchworld_dist.reports._run_groups import run_benchmark
 from scratchworld_dist.results import RunManifest, SuiteInfo
-from tests.cli_runner import invoke
-from tests.run_dirs import drag_record, job, make_run, perception_record
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import drag_record, job, make_run, perception_record
 
 GPT_T0 = {"model": "openai/gpt-4o", "name": "gpt-4o", "temperature": 0}
 CLAUDE = {"model": "openai/claude", "name": "claude"}

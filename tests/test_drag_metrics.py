@@ -14,9 +14,9 @@ from scratchworld_dist.cli._main import cli
 from scratchworld_dist.kinds.drag._metrics import DragRun, DragTable, drag_cell, drag_rows, join_runs
 from scratchworld_dist.kinds.drag._table import build_drag_report, is_drag_run, render_drag_markdown
 from scratchworld_dist.results import JobRecord
-from tests.run_dirs import HARNESS, make_run
-from tests.run_dirs import drag_job as job
-from tests.run_dirs import drag_row as drag_of
+from tests.support.run_dirs import HARNESS, make_run
+from tests.support.run_dirs import drag_job as job
+from tests.support.run_dirs import drag_row as drag_of
 
 
 def run(task: str, seed: int, outcome: str, **drag: Any) -> DragRun:

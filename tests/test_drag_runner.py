@@ -14,7 +14,7 @@ import pytest
 from scratchworld_dist.drag import load_drag_suite
 from scratchworld_dist.kinds.drag import plan_drag_jobs, read_drag_task
 from tests.conftest import REPO
-from tests.openai_server import OpenAIServer, reply, status
+from tests.support.openai_server import OpenAIServer, reply, status
 from workers.contract import AgentRef, DragPayload, DragRegions, DragSpec, LLMSettings, ModelSpec, RetryPolicy
 from workers.drag import _page as page
 from workers.drag._runner import DragRunner

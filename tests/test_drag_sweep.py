@@ -13,7 +13,7 @@ from scratchworld_dist._run import plan_run
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import REPO
-from tests.sweep_driver import run_here
+from tests.support.sweep_driver import run_here
 from workers.contract import DragRegions
 
 SUITE = REPO / "drag-tasks"

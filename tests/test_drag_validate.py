@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist.drag import load_drag_suite
-from tests.cli_runner import invoke
 from tests.conftest import REPO
+from tests.support.cli_runner import invoke
 from workers.contract import DragRegions
 
 pytestmark = [pytest.mark.browser]

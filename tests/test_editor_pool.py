@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-from tests.projects import counter_project
+from tests.support.projects import counter_project
 from tests.test_evaluation import CHECK_CLEAN, LEAKY, evaluate, spec
 from workers.contract import EpisodeClock
 from workers.editor import BrowserSession, Editor, EditorPool

@@ -17,7 +17,7 @@ import pytest
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
-from tests.openai_server import Behaviour, OpenAIServer
+from tests.support.openai_server import Behaviour, OpenAIServer
 from workers.agents import LLMAgent
 from workers.contract import EpisodeClock, ModelSpec, ObservationSettings, RetryPolicy
 from workers.editor import BrowserSession, EditorPool

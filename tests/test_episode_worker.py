@@ -17,7 +17,7 @@ from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs,
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec
 from tests.conftest import REPO, SUITE_DIR
-from tests.openai_server import OpenAIServer, reply
+from tests.support.openai_server import OpenAIServer, reply
 from workers.actor import JobWorker
 from workers.agent_api import AgentBase, StepResult, build_agent
 from workers.contract import (

@@ -7,7 +7,7 @@ import json
 import pytest
 
 from scratchworld_dist.sb3 import Project
-from tests.projects import counter_project, with_declared_size, with_entry
+from tests.support.projects import counter_project, with_declared_size, with_entry
 from workers.contract import MIB, EvalResult, EvaluationSpec, ProjectLimits, outcome_of
 from workers.evaluation import Evaluator
 

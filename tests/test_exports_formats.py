@@ -14,9 +14,9 @@ from pydantic import ValidationError
 
 from scratchworld_dist.exports import AtifTrajectory, wilson_interval
 from scratchworld_dist.results import JobRecord, RunStore, StepRow
-from tests.cli_runner import invoke
 from tests.conftest import REPO
-from tests.run_dirs import drag_record, job, make_run
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import drag_record, job, make_run
 from workers.contract import StepRecord
 
 ROWS = [  # (job, attempt, outcome, model, mode, tests passed, cost)

@@ -1,6 +1,6 @@
 """``scratchworld flakes`` as a user runs it: a phase-sensitive script is caught, a stable one is not.
 
-The suites are written by ``tests/flaky_suite.py`` with the sb3 builder; ``--axes`` and ``--runs``
+The suites are written by ``tests/support/flaky_suite.py`` with the sb3 builder; ``--axes`` and ``--runs``
 keep each run to a few dozen evaluations.
 """
 
@@ -12,9 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from tests.cli_runner import Done, invoke
 from tests.conftest import REPO
-from tests.flaky_suite import write_flaky_suite
+from tests.support.cli_runner import Done, invoke
+from tests.support.flaky_suite import write_flaky_suite
 
 pytestmark = pytest.mark.browser
 

@@ -22,9 +22,9 @@ from scratchworld_dist.results import RunStore
 from scratchworld_dist.results._schema import row_tables
 from scratchworld_dist.sweep import SweepConfig, load_sweep_config
 from scratchworld_dist.viewer import ViewerSite
-from tests.cli_runner import invoke
 from tests.conftest import REPO
-from tests.sweep_driver import run_here
+from tests.support.cli_runner import invoke
+from tests.support.sweep_driver import run_here
 
 PLUGIN = '''
 """Echo: each item names a word; a job passes when the word is "yes"."""

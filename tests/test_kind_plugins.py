@@ -22,8 +22,8 @@ from scratchworld_dist._run import plan_run
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import REPO
-from tests.perception_suites import ITEMS, write_suite
-from tests.sweep_driver import run_here
+from tests.support.perception_suites import ITEMS, write_suite
+from tests.support.sweep_driver import run_here
 from workers.agent_api import (
     DragAgentBase,
     DragAnswer,

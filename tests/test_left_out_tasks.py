@@ -9,8 +9,8 @@ from pathlib import Path
 
 import yaml
 
-from tests.cli_runner import invoke
 from tests.conftest import REPO
+from tests.support.cli_runner import invoke
 
 SHIPPED = REPO / "drag-tasks"
 

@@ -11,7 +11,7 @@ import pytest
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
-from tests.openai_server import OpenAIServer, reply, status
+from tests.support.openai_server import OpenAIServer, reply, status
 from workers.agent_api import TaskContext
 from workers.agents import EpisodeModels, LLMAgent
 from workers.agents._coordinates import smart_resize, to_page

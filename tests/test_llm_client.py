@@ -10,7 +10,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from tests.openai_server import (
+from tests.support.openai_server import (
     OpenAIServer,
     context_length_error,
     drop,

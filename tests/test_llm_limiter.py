@@ -9,7 +9,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from tests.openai_server import OpenAIServer, reply, status
+from tests.support.openai_server import OpenAIServer, reply, status
 from workers.contract import ModelSpec, RateLimits, RetryPolicy
 from workers.llm import (
     CircuitBreaker,

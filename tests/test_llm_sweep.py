@@ -17,10 +17,10 @@ import yaml
 
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.suites import load_suite
-from tests.cli_runner import invoke
 from tests.conftest import MODEL_KEY, REPO
-from tests.openai_server import Behaviour, OpenAIServer, reply, status
-from tests.sweep_driver import run_here
+from tests.support.cli_runner import invoke
+from tests.support.openai_server import Behaviour, OpenAIServer, reply, status
+from tests.support.sweep_driver import run_here
 
 pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow]
 

@@ -19,7 +19,7 @@ from scratchworld_dist.memory import JobItems, MemoryFolder, MemoryKeeper, Store
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import SUITE_DIR
-from tests.openai_server import OpenAIServer, reply
+from tests.support.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentRef
 from workers.contract import MemoryItem, MemorySettings, ModelSpec, RetryPolicy, memory_digest
 

@@ -16,7 +16,7 @@ from typing import Any
 
 import pytest
 
-from tests.openai_server import OpenAIServer, reply, status
+from tests.support.openai_server import OpenAIServer, reply, status
 from workers.agents import EpisodeModels
 from workers.contract import ModelCallError, ModelSpec, RetryPolicy, StepRecord
 from workers.llm import CircuitBreaker, ModelCache, ModelClient, load_litellm, uncacheable

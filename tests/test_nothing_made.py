@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist.sb3 import Project, Sb3Archive, block, circle_costume
-from tests.cli_runner import invoke
+from tests.support.cli_runner import invoke
 
 
 def _unusable(tmp: Path) -> Path:

@@ -11,9 +11,9 @@ import pytest
 
 from scratchworld_dist.kinds import kind_of_run
 from scratchworld_dist.results import SCHEMA_VERSION, RunStore
-from tests.cli_runner import invoke
 from tests.conftest import DATA
-from tests.sweep_driver import run_here
+from tests.support.cli_runner import invoke
+from tests.support.sweep_driver import run_here
 
 OLD_RUNS = DATA / "runs_v3"
 KINDS = {"episodes": "tasks", "drag": "drag", "perception": "perception"}

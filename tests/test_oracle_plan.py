@@ -27,8 +27,8 @@ from scratchworld_dist.oracle_plan import (
 from scratchworld_dist.sb3 import Project, block, circle_costume, variable
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.suites._task import read_trajectory
-from tests.cli_runner import invoke
 from tests.conftest import SUITE_DIR, pooled_editor
+from tests.support.cli_runner import invoke
 from workers import composite
 from workers.editor import Editor, EditorPool
 from workers.evaluation import Evaluator

@@ -19,8 +19,8 @@ from collections.abc import AsyncIterator, Callable, Iterator
 
 import pytest
 
-from tests.loopback import LoopbackListener
-from tests.projects import counter_project
+from tests.support.loopback import LoopbackListener
+from tests.support.projects import counter_project
 from workers.contract import EvaluationSpec, ObservationSettings, primitive_action
 from workers.editor import BrowserConfig, BrowserSession
 from workers.episode import PrimitiveEnvironment

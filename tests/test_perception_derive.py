@@ -12,7 +12,7 @@ from scratchworld_dist.perception._names import kind_name, look_alikes, opcodes_
 from scratchworld_dist.perception._questions import question
 from scratchworld_dist.perception._refs import reference_to, resolve
 from scratchworld_dist.perception._validate import recheck
-from tests.perception_facts import block, changed, field, slot, view
+from tests.support.perception_facts import block, changed, field, slot, view
 
 # A script: when flag clicked / move (10) steps / forever { say [Hi] / if <touching [edge]?> then { turn } }
 HAT = block("hat", "event_whenflagclicked", (400, 100, 110, 50), next="move")

@@ -14,8 +14,8 @@ import pytest
 
 from scratchworld_dist.perception import load_perception_suite
 from scratchworld_dist.suites._task import task_id_problem
-from tests.cli_runner import invoke
 from tests.conftest import REPO, SUITE_DIR
+from tests.support.cli_runner import invoke
 from workers.editor import BrowserSession, EditorPool
 
 SHIPPED = REPO / "perception-items"

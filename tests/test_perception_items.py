@@ -13,7 +13,7 @@ import pytest
 
 from scratchworld_dist._errors import SuiteError
 from scratchworld_dist.perception import PerceptionItem, load_perception_suite, read_screenshot, write_perception_suite
-from tests.perception_suites import ITEMS, png, write_suite
+from tests.support.perception_suites import ITEMS, png, write_suite
 from workers.perception import perception_messages, score_reply, strict_correct
 
 

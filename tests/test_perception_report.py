@@ -22,8 +22,8 @@ from scratchworld_dist.kinds.perception._table import build_perception_report, i
 from scratchworld_dist.reports import report_runs
 from scratchworld_dist.results import JobRecord
 from scratchworld_dist.viewer import ViewerSite
-from tests.cli_runner import invoke
-from tests.run_dirs import job, make_run, perception_record
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import job, make_run, perception_record
 
 PERCEPTION_CONFIG = {"benchmark": "perception", "models": [{"model": "openai/gpt"}], "seeds": [0, 1]}
 

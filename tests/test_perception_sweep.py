@@ -22,9 +22,9 @@ from scratchworld_dist.scheduling._admission import BROWSERLESS_PER_CORE, admitt
 from scratchworld_dist.sweep import load_sweep_config
 from scratchworld_dist.viewer import ViewerSite, export_site
 from tests.conftest import MODEL_KEY
-from tests.openai_server import Behaviour, OpenAIServer, reply, status
-from tests.perception_suites import ITEMS, write_suite
-from tests.sweep_driver import run_here
+from tests.support.openai_server import Behaviour, OpenAIServer, reply, status
+from tests.support.perception_suites import ITEMS, write_suite
+from tests.support.sweep_driver import run_here
 
 SECRET = MODEL_KEY
 

@@ -13,8 +13,8 @@ from scratchworld_dist.perception._facts import Point
 from scratchworld_dist.perception._perturb import CUT, SIDEWAYS, ZOOM_OUT, bumped, cut_view, perturbations, zoom_view
 from scratchworld_dist.perception._select import select
 from scratchworld_dist.sb3 import Project, block, circle_costume
-from tests.perception_facts import block as facts_block
-from tests.perception_facts import changed, slot, view
+from tests.support.perception_facts import block as facts_block
+from tests.support.perception_facts import changed, slot, view
 from workers.contract import DragView
 
 

@@ -14,9 +14,9 @@ from scratchworld_dist._plan_preview import preview_plan
 from scratchworld_dist._run_plan import plan_run
 from scratchworld_dist.results import JobRecord, RunStore
 from scratchworld_dist.sweep import SweepOverrides, load_sweep_config
-from tests.cli_runner import invoke
 from tests.conftest import SUITE_DIR
-from tests.run_dirs import job
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import job
 
 MODEL = {"model": "openai/scripted", "name": "scripted", "api_base": "http://127.0.0.1:9/v1"}
 

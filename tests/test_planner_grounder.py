@@ -19,7 +19,7 @@ import pytest
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
-from tests.openai_server import OpenAIServer, reply
+from tests.support.openai_server import OpenAIServer, reply
 from workers.agent_api import build_agent
 from workers.agents import OracleAgent
 from workers.contract import AgentRef, JobResult, LLMSettings, ModelSpec, ObservationSettings, RetryPolicy

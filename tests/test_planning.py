@@ -21,7 +21,7 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import NO_MODEL, JobSpec
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
 from tests.conftest import SUITE_DIR
-from tests.projects import with_entry
+from tests.support.projects import with_entry
 from workers.contract import (
     MIB,
     EpisodeClock,

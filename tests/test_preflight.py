@@ -19,10 +19,10 @@ import yaml
 from scratchworld_dist._run import plan_run
 from scratchworld_dist.preflight import ModelCalls, run_preflight
 from scratchworld_dist.sweep import load_sweep_config
-from tests.cli_runner import invoke
 from tests.conftest import SUITE_DIR
-from tests.openai_server import Behaviour, OpenAIServer, reply, status
-from tests.perception_suites import write_suite
+from tests.support.cli_runner import invoke
+from tests.support.openai_server import Behaviour, OpenAIServer, reply, status
+from tests.support.perception_suites import write_suite
 from workers.contract import ModelSpec, RetryPolicy
 from workers.llm import PROBE_MESSAGES, check_models
 

@@ -17,9 +17,9 @@ import yaml
 
 from scratchworld_dist.results import RunStore, read_manifest
 from tests.conftest import REPO
-from tests.openai_server import Behaviour, OpenAIServer, reply, status
-from tests.perception_suites import ITEMS, write_suite
-from tests.sweep_driver import SCRATCHWORLD
+from tests.support.openai_server import Behaviour, OpenAIServer, reply, status
+from tests.support.perception_suites import ITEMS, write_suite
+from tests.support.sweep_driver import SCRATCHWORLD
 from tests.test_cluster_nodes import Cluster
 from workers.llm import PROBE_MESSAGES
 

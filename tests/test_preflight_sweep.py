@@ -16,9 +16,9 @@ import yaml
 
 from scratchworld_dist.results import RunStore, read_manifest
 from tests.conftest import MODEL_KEY
-from tests.openai_server import Behaviour, OpenAIServer, reply, status
-from tests.perception_suites import CONNECTED, ITEMS, write_suite
-from tests.sweep_driver import run_here
+from tests.support.openai_server import Behaviour, OpenAIServer, reply, status
+from tests.support.perception_suites import CONNECTED, ITEMS, write_suite
+from tests.support.sweep_driver import run_here
 from workers.llm import PROBE_MESSAGES
 
 pytestmark = [pytest.mark.ray, pytest.mark.slow]

@@ -7,7 +7,7 @@ import pytest
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
-from tests.projects import counter_project
+from tests.support.projects import counter_project
 from workers.contract import EvaluationSpec
 from workers.evaluation import Evaluator
 

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist.reports import holm
-from tests.cli_runner import invoke
-from tests.run_dirs import job, make_run
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import job, make_run
 
 
 def run_of(tmp_path: Path, model: str, passes: int, tasks: int = 12) -> Path:

@@ -25,7 +25,7 @@ from pathlib import Path
 import psutil
 import pytest
 
-from tests.ray_loopback import RAY_START
+from tests.support.ray_loopback import RAY_START
 
 REPO = Path(__file__).resolve().parents[1]
 

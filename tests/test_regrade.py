@@ -14,10 +14,10 @@ import pytest
 import yaml
 
 from scratchworld_dist.results import JobRow, RunStore, effective_rows, read_manifest
-from tests.cli_runner import invoke
 from tests.conftest import REPO
-from tests.run_dirs import job, make_run
-from tests.sweep_driver import run_here
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import job, make_run
+from tests.support.sweep_driver import run_here
 
 REAL = ["sum_two_numbers", "bouncing_ball_stuck", "quiz_score"]
 SYNTHETIC = "star_shower"

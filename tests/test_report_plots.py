@@ -13,8 +13,8 @@ import pytest
 from scratchworld_dist.reports import Plot, plots_html, report_plots
 from scratchworld_dist.reports._plot_data import bin_width, pareto_front
 from scratchworld_dist.results import JobRow
-from tests.cli_runner import invoke
-from tests.run_dirs import T0, job, make_run
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import T0, job, make_run
 
 TASKS = {"t0": "create", "t1": "debug", "t2": "extend", "t3": "compute"}
 SEEDS = (0, 1, 2)

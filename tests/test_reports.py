@@ -27,7 +27,7 @@ from scratchworld_dist.reports import (
     render_markdown,
     t_quantile_975,
 )
-from tests.run_dirs import HARNESS, OTHER_HARNESS, job, make_run
+from tests.support.run_dirs import HARNESS, OTHER_HARNESS, job, make_run
 
 # -- metrics -------------------------------------------------------------------------------
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from tests.conftest import REPO
-from tests.sweep_driver import Driver, run
+from tests.support.sweep_driver import Driver, run
 
 
 @pytest.mark.ray

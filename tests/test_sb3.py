@@ -10,7 +10,7 @@ import pytest
 
 from scratchworld_dist import ProjectFormatError, ProjectTooLargeError
 from scratchworld_dist.sb3 import Project, block, check_project, circle_costume, variable
-from tests.projects import counter_project, with_declared_size, with_entry
+from tests.support.projects import counter_project, with_declared_size, with_entry
 from workers.contract import MIB, ProjectLimits
 
 

@@ -23,9 +23,9 @@ import yaml
 from scratchworld_dist.reports._runs import load_run
 from scratchworld_dist.results import RunStore, effective_rows, read_manifest
 from scratchworld_dist.suites import load_suite
-from tests.cli_runner import invoke
 from tests.conftest import REPO, copy_page_files
-from tests.sweep_driver import SCRATCHWORLD, Driver, run, run_here
+from tests.support.cli_runner import invoke
+from tests.support.sweep_driver import SCRATCHWORLD, Driver, run, run_here
 from workers.node import OWN_FILES
 from workers.node._fingerprint import EDITOR_LOCK_FILES
 

@@ -12,9 +12,9 @@ import subprocess
 from importlib.metadata import version
 from pathlib import Path
 
-from tests.cli_runner import invoke
-from tests.run_dirs import job, make_run
-from tests.sweep_driver import SCRATCHWORLD
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import job, make_run
+from tests.support.sweep_driver import SCRATCHWORLD
 
 ANSI_ESCAPE = "\x1b["
 

@@ -24,12 +24,12 @@ from scratchworld_dist.results import JobRecord, RunStore
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.viewer import ViewerSite, export_site
 from scratchworld_dist.viewer._server import serve
-from tests.cli_runner import invoke
 from tests.conftest import REPO
-from tests.openai_server import Behaviour, OpenAIServer, reply
-from tests.projects import counter_project
-from tests.run_dirs import job, make_run, regrade_run
-from tests.sweep_driver import run_here
+from tests.support.cli_runner import invoke
+from tests.support.openai_server import Behaviour, OpenAIServer, reply
+from tests.support.projects import counter_project
+from tests.support.run_dirs import job, make_run, regrade_run
+from tests.support.sweep_driver import run_here
 from workers.node import default_chromium
 
 SOLVED, FUMBLED = "quiz_score", "sum_two_numbers"

@@ -14,7 +14,7 @@ import pytest
 
 from scratchworld_dist.viewer import ViewerSite
 from scratchworld_dist.viewer._server import serve
-from tests.run_dirs import job, make_run
+from tests.support.run_dirs import job, make_run
 
 
 @pytest.fixture

@@ -16,8 +16,8 @@ import sys
 import time
 from pathlib import Path
 
-from tests.cli_runner import invoke
 from tests.conftest import REPO
+from tests.support.cli_runner import invoke
 
 SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))
 

@@ -1,5 +1,5 @@
 """The catalog's perception-suite inputs: what `perception make` and `perception validate` refuse before a browser
-starts. Tables of cases for ``tests/test_bad_inputs.py``, built with the helpers of ``tests/bad_inputs.py``."""
+starts. Tables of cases for ``tests/test_bad_inputs.py``, built with the helpers of ``tests/support/bad_inputs.py``."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
-from tests.bad_inputs import GOLDEN, SUITE_DIR, CliCase, _args, _write
+from tests.support.bad_inputs import GOLDEN, SUITE_DIR, CliCase, _args, _write
 
 PERCEPTION_ITEMS = SUITE_DIR.parent / "perception-items"
 

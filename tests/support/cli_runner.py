@@ -2,7 +2,7 @@
 
 Click's test runner captures what it prints; this saves booting Python (and importing Ray, Playwright
 and LiteLLM) for each command. Tests of what only a process shows (killing or resuming a driver, a
-server that must outlive its caller) run it as a process instead (``tests/sweep_driver.py``).
+server that must outlive its caller) run it as a process instead (``tests/support/sweep_driver.py``).
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 Everything is built under a test's tmp folder from small real parts (our suite's files, projects
 made with the builder), so every case runs without network or upstream data. Each table row is
 one case: what to build, the command line, the exit status and the words its message must hold.
-The builders here also serve ``tests/bad_inputs_runtime.py``; the checks live in
+The builders here also serve ``tests/support/bad_inputs_runtime.py``; the checks live in
 ``tests/test_bad_inputs.py``.
 """
 
@@ -23,7 +23,7 @@ import yaml
 
 from scratchworld_dist.results import JobRecord, RunStore, StepRow, TestRow
 from tests.conftest import DATA, SUITE_DIR
-from tests.projects import counter_project, with_declared_size, with_entry
+from tests.support.projects import counter_project, with_declared_size, with_entry
 
 CANARY_ENV = "OPENAI_API_KEY"
 CANARY = "sk-bad-input-canary-5e0d7c21b9f4"

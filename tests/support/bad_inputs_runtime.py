@@ -1,7 +1,7 @@
 """The catalog's run-time inputs: damaged run directories, evaluation scripts, hostile projects and agent actions.
 
 Tables of cases for ``tests/test_bad_inputs.py``; the inputs met before anything runs (configs,
-suites, project files, arguments) are in ``tests/bad_inputs.py``.
+suites, project files, arguments) are in ``tests/support/bad_inputs.py``.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from tests.bad_inputs import tear_line, uncompact
+from tests.support.bad_inputs import tear_line, uncompact
 
 # -- projects that load, and evaluation scripts ----------------------------------------------------
 
