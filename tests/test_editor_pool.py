@@ -11,8 +11,8 @@ import time
 
 import pytest
 
+from tests.support.evaluations import CHECK_CLEAN, LEAKY, evaluate, spec
 from tests.support.projects import counter_project
-from tests.test_evaluation import CHECK_CLEAN, LEAKY, evaluate, spec
 from workers.contract import EpisodeClock
 from workers.editor import BrowserSession, Editor, EditorPool
 from workers.evaluation import Evaluator

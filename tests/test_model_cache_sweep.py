@@ -20,7 +20,7 @@ from scratchworld_dist.results import RunStore, record_of, table_schema
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, load_sweep_config
 from tests.conftest import SUITE_DIR
-from tests.test_reports import job, make_run
+from tests.support.run_dirs import job, make_run
 from workers.contract import AgentRef, JobResult, ModelCacheSettings, ModelSpec, StepRecord
 
 UNSEEDED = "anthropic/claude-3-5-sonnet-20240620"

@@ -19,8 +19,8 @@ from scratchworld_dist.results import RunStore, read_manifest
 from tests.conftest import REPO
 from tests.support.openai_server import Behaviour, OpenAIServer, reply, status
 from tests.support.perception_suites import ITEMS, write_suite
+from tests.support.ray_cluster import Cluster
 from tests.support.sweep_driver import SCRATCHWORLD
-from tests.test_cluster_nodes import Cluster
 from workers.llm import PROBE_MESSAGES
 
 pytestmark = [pytest.mark.ray, pytest.mark.slow]
