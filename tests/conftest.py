@@ -59,10 +59,10 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             item.add_marker(pytest.mark.browser)
         if RAY_FIXTURES & fixtures:
             item.add_marker(pytest.mark.ray)
-    modules: Counter[str] = Counter()
+    modules: Counter[Path] = Counter()  # by path: modules in different folders may share a name
     for item in items:
-        modules[item.path.name] += expected_seconds(item)
-    items.sort(key=lambda item: -modules[item.path.name])  # stable: a module's own order stays
+        modules[item.path] += expected_seconds(item)
+    items.sort(key=lambda item: -modules[item.path])  # stable: a module's own order stays
 
 
 @pytest.fixture(scope="session")
