@@ -76,8 +76,8 @@ async def session() -> AsyncIterator[BrowserSession]:
 async def shared_pool(session: BrowserSession) -> AsyncIterator[EditorPool]:
     """The run's editors, reused when they recycle clean: for evaluations, episodes and tests' own pages.
 
-    Opening an editor costs ten times what most evaluations do, so tests share them; whether reuse
-    is safe is what tests/test_editor_pool.py and tests/test_agent_editor_recycling.py check.
+    Opening an editor costs ten times what most evaluations do, so tests share them; whether reuse is
+    safe is what test_editor_pool.py and test_agent_editor_recycling.py (tests/workers/editor/) check.
     """
     async with EditorPool(session, spare=0) as pool:
         yield pool
@@ -114,8 +114,8 @@ async def episode_runner(session: BrowserSession, shared_pool: EditorPool) -> As
     """Episodes as workers run them: agent and evaluation pages from ``shared_pool``, recycled.
 
     Whether a recycled agent page starts an episode as a fresh one would is what
-    tests/test_agent_editor_recycling.py checks; a test of a fresh page or of a runner's own pool
-    makes its own ``EpisodeRunner``.
+    tests/workers/editor/test_agent_editor_recycling.py checks; a test of a fresh page or of a runner's
+    own pool makes its own ``EpisodeRunner``.
     """
     runner = EpisodeRunner(session, shared_pool)
     yield runner

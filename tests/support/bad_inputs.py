@@ -4,7 +4,7 @@ Everything is built under a test's tmp folder from small real parts (our suite's
 made with the builder), so every case runs without network or upstream data. Each table row is
 one case: what to build, the command line, the exit status and the words its message must hold.
 The builders here also serve ``tests/support/bad_inputs_runtime.py``; the checks live in
-``tests/test_bad_inputs.py``.
+``tests/scratchworld_dist/cli/test_bad_inputs.py``.
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
 """The catalog's perception-suite inputs: what `perception make` and `perception validate` refuse before a browser
-starts. Tables of cases for ``tests/test_bad_inputs.py``, built with the helpers of ``tests/support/bad_inputs.py``."""
+starts. Tables of cases for ``tests/scratchworld_dist/cli/test_bad_inputs.py``, built with the helpers of
+``tests/support/bad_inputs.py``."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """The catalog's run-time inputs: damaged run directories, evaluation scripts, hostile projects and agent actions.
 
-Tables of cases for ``tests/test_bad_inputs.py``; the inputs met before anything runs (configs,
-suites, project files, arguments) are in ``tests/support/bad_inputs.py``.
+Tables of cases for ``tests/scratchworld_dist/cli/test_bad_inputs.py``; the inputs met before anything
+runs (configs, suites, project files, arguments) are in ``tests/support/bad_inputs.py``.
 """
 
 from __future__ import annotations

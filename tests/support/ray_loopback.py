@@ -5,7 +5,8 @@ Ray binds its servers to loopback only when a node's address is 127.0.0.1. ``ray
 Ray's cluster mode is off (``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``), and with it off it refuses to start any
 node but a head. So nodes are started by Ray's own CLI with that one swap left out (Ray 2.60:
 ``ray._private.services.resolve_ip_for_localhost``), and given ``--node-ip-address=127.0.0.1``; their
-processes then listen on loopback only, which ``tests/test_ray_loopback.py`` checks socket by socket.
+processes then listen on loopback only, which ``tests/scratchworld_dist/scheduling/test_ray_loopback.py``
+checks socket by socket.
 Users' clusters are started with plain ``ray start`` (docs/cluster.md).
 """
 
