@@ -3,7 +3,7 @@
     .venv/bin/python benchmarks/chaos.py [--seed 7] [--jobs 156] [--fault-rate 0.3] [--workdir DIR]
 
 The sweep (llm agent, composite mode) runs ``--real-tasks`` as real browser episodes whose model
-is a local OpenAI-compatible server (``tests/openai_server.py``) replaying each task's golden
+is a local OpenAI-compatible server (``tests/support/openai_server.py``) replaying each task's golden
 trajectory, or answering ``done`` at once for ``--lazy-tasks`` (a failed verdict), and every other
 task as a synthetic episode. Two ``ray start`` nodes on this host hold the workers; each driver
 is ``scratchworld run`` in its own process group. While it runs, a seeded schedule tied to
@@ -32,7 +32,7 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.openai_server, the tests' model server
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.support.openai_server, the tests' model server
 
 import yaml
 from _chaos.cluster import LocalCluster
@@ -44,7 +44,7 @@ from scratchworld_dist._run import RunPlan, plan_run
 from scratchworld_dist.results import RunStore, effective_rows
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import load_sweep_config
-from tests.openai_server import OpenAIServer
+from tests.support.openai_server import OpenAIServer
 
 REPO = Path(__file__).resolve().parents[1]
 SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))

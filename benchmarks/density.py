@@ -6,7 +6,7 @@ For each episode clock and each N, one real sweep of N jobs (tasks x seeds of ou
 ``llm`` agent in composite mode runs on a private local Ray with two workers (one Chromium each)
 holding N/2 pages (N = 1: one worker, one page, and 4 jobs one after the other, so that its
 baseline has more than one episode's steps), so that all N episodes are in flight at once. The
-model is ``tests/openai_server.py`` answering every request exactly ``--delay`` seconds after it
+model is ``tests/support/openai_server.py`` answering every request exactly ``--delay`` seconds after it
 arrived with a valid ``add_block`` (a "when green flag clicked" hat), so every episode runs
 ``--steps`` steps and stops at the step limit (outcome ``failed``, never ``error``). While a sweep
 runs, a thread reads every 0.5 s the CPU seconds of each Chromium process descending from this
@@ -61,7 +61,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.openai_server, the tests' model server
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.support.openai_server, the tests' model server
 
 import numpy as np
 import psutil
@@ -71,7 +71,7 @@ from scratchworld_dist._run import run_sweep
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import SweepConfig
-from tests.openai_server import Behaviour, OpenAIServer
+from tests.support.openai_server import Behaviour, OpenAIServer
 
 REPO = Path(__file__).resolve().parents[1]
 TASKS = [task.id for task in load_suite(REPO / "tasks").tasks]

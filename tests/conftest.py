@@ -18,8 +18,8 @@ from workers.evaluation import Evaluator
 from workers.node import OWN_FILES
 
 if TYPE_CHECKING:
-    from tests.openai_server import OpenAIServer
-    from tests.sweep_driver import Driver
+    from tests.support.openai_server import OpenAIServer
+    from tests.support.sweep_driver import Driver
 
 REPO = Path(__file__).resolve().parents[1]
 SUITE_DIR = REPO / "tasks"
@@ -59,10 +59,10 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             item.add_marker(pytest.mark.browser)
         if RAY_FIXTURES & fixtures:
             item.add_marker(pytest.mark.ray)
-    modules: Counter[str] = Counter()
+    modules: Counter[Path] = Counter()  # by path: modules in different folders may share a name
     for item in items:
-        modules[item.path.name] += expected_seconds(item)
-    items.sort(key=lambda item: -modules[item.path.name])  # stable: a module's own order stays
+        modules[item.path] += expected_seconds(item)
+    items.sort(key=lambda item: -modules[item.path])  # stable: a module's own order stays
 
 
 @pytest.fixture(scope="session")
@@ -76,8 +76,8 @@ async def session() -> AsyncIterator[BrowserSession]:
 async def shared_pool(session: BrowserSession) -> AsyncIterator[EditorPool]:
     """The run's editors, reused when they recycle clean: for evaluations, episodes and tests' own pages.
 
-    Opening an editor costs ten times what most evaluations do, so tests share them; whether reuse
-    is safe is what tests/test_editor_pool.py and tests/test_agent_editor_recycling.py check.
+    Opening an editor costs ten times what most evaluations do, so tests share them; whether reuse is
+    safe is what test_editor_pool.py and test_agent_editor_recycling.py (tests/workers/editor/) check.
     """
     async with EditorPool(session, spare=0) as pool:
         yield pool
@@ -114,8 +114,8 @@ async def episode_runner(session: BrowserSession, shared_pool: EditorPool) -> As
     """Episodes as workers run them: agent and evaluation pages from ``shared_pool``, recycled.
 
     Whether a recycled agent page starts an episode as a fresh one would is what
-    tests/test_agent_editor_recycling.py checks; a test of a fresh page or of a runner's own pool
-    makes its own ``EpisodeRunner``.
+    tests/workers/editor/test_agent_editor_recycling.py checks; a test of a fresh page or of a runner's
+    own pool makes its own ``EpisodeRunner``.
     """
     runner = EpisodeRunner(session, shared_pool)
     yield runner
@@ -155,7 +155,7 @@ def upstream_clone(tmp_path: Path, upstream_dir: Path) -> Path:
 
 @pytest.fixture(scope="module")
 def shared_ray() -> Iterator[int]:
-    """One private local Ray for a module's drivers run in this process (``tests.sweep_driver.run_here``).
+    """One private local Ray for a module's drivers run in this process (``tests.support.sweep_driver.run_here``).
 
     It is started as ``scratchworld run`` starts its own, and a driver that finds Ray running uses
     it, so the module pays for one Ray instead of one per run. Yields its browser slots.
@@ -174,7 +174,7 @@ MODEL_KEY = "sk-test-0b7e4c2a91"
 def model_server() -> Iterator[OpenAIServer]:
     """A module's OpenAI-compatible server (``reset`` it per test), its address and ``MODEL_KEY`` in the
     environment (``SCRATCHWORLD_LLM_BASE_URL``, ``SCRATCHWORLD_LLM_API_KEY``) while the module runs."""
-    from tests.openai_server import OpenAIServer
+    from tests.support.openai_server import OpenAIServer
 
     with OpenAIServer() as running, pytest.MonkeyPatch.context() as patch:
         patch.setenv("SCRATCHWORLD_LLM_BASE_URL", running.url)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.run_dirs import job, make_run
+from tests.support.run_dirs import job, make_run
 
 BROWSER_STACK = ("playwright", "cv2", "numpy", "rapidocr", "onnxruntime", "litellm", "ray", "pyarrow", "matplotlib")
 

@@ -21,7 +21,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from tests.ray_loopback import RAY_START
+from tests.support.ray_loopback import RAY_START
 
 STOP_GRACE_S = 45.0
 """A node drains for up to 30 s after SIGTERM; past this it is killed."""

@@ -1,6 +1,6 @@
 """The model the chaos sweep talks to: a task's golden trajectory as replies, and a seeded share of faults.
 
-A responder of the test OpenAI server (``tests/openai_server.py``). Requests are taken in blocks
+A responder of the test OpenAI server (``tests/support/openai_server.py``). Requests are taken in blocks
 of ``BLOCK``; in each, a seeded shuffle picks ``fault_rate`` of them to get a 429 (with
 ``Retry-After``), a 500, or no answer until the client's request timeout has passed, so the
 share of faulty calls is the rate itself rather than a draw around it. The others are answered
@@ -16,7 +16,7 @@ import random
 from collections import Counter
 from typing import Any
 
-from tests.openai_server import Behaviour, hang, reply, status
+from tests.support.openai_server import Behaviour, hang, reply, status
 
 FAULTS = ("429", "500", "timeout")
 BLOCK = 20

@@ -1,4 +1,4 @@
-// Timing-sensitive behaviours of tests.projects.timing_project, measured on the page's clock: the
+// Timing-sensitive behaviours of tests.support.projects.timing_project, measured on the page's clock: the
 // verdicts (and the times, within a frame or two) must be the same under the real and the virtual
 // clock. Each test starts its script with a broadcast and watches what the VM does.
 'use strict';

@@ -22,7 +22,7 @@ only when neither the core nor another kind's runner imports it; what is shared 
 
 Everything under ``workers/`` that no kind claims is core: contract, node, editor, llm, agents,
 the actor, this package, and the page JavaScript, packages, editor bundle and browser parts.
-``tests/test_worker_kinds.py`` checks the claims against the imports.
+``tests/workers/test_worker_kinds.py`` checks the claims against the imports.
 """
 
 from __future__ import annotations

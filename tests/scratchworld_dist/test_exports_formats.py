@@ -1,0 +1,153 @@
+"""``scratchworld export``: a leaderboard that a recomputation from the Parquet (DuckDB, effective attempts by
+SQL) agrees with, upstream's submission lines of executed actions, and ATIF trajectories that validate against
+the published schema and the format's own rules."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import duckdb
+import jsonschema
+import pytest
+from pydantic import ValidationError
+
+from scratchworld_dist.exports import AtifTrajectory, wilson_interval
+from scratchworld_dist.results import JobRecord, RunStore, StepRow
+from tests.conftest import REPO
+from tests.support.cli_runner import invoke
+from tests.support.run_dirs import drag_record, job, make_run
+from workers.contract import StepRecord
+
+ROWS = [  # (job, attempt, outcome, model, mode, tests passed, cost)
+    ("a1", 1, "error", "gpt", "composite", 0, 0.01),
+    ("a1", 2, "passed", "gpt", "composite", 2, 0.02),
+    ("a2", 1, "failed", "gpt", "composite", 1, 0.03),
+    ("a3", 1, "passed", "gpt", "composite", 2, 0.04),
+    ("a3", 2, "error", "gpt", "composite", 0, 0.05),  # a later error does not undo a verdict
+    ("b1", 1, "passed", "claude", "composite", 2, 0.10),
+    ("b2", 1, "error", "claude", "composite", 0, 0.20),  # no verdict: out of SR
+    ("c1", 1, "failed", "gpt", "primitive", 0, 0.30),
+]
+
+
+def step_rows(job_id: str, attempt: int) -> list[StepRow]:
+    actions = [("add_block", {"blockType": "event_whenflagclicked"}), ("done", {})]
+    return [
+        StepRow(
+            job_id=job_id, attempt=attempt, step=index, action=action, args_json=json.dumps(args), ok=True,
+            error_code=None, error_message=None, latency_s=0.1, observation_s=0.0, warnings=None, llm_calls=1,
+            input_tokens=50, output_tokens=5, cost_usd=0.001, llm_cache_hits=None,
+        )
+        for index, (action, args) in enumerate(actions)
+    ]  # fmt: skip
+
+
+@pytest.fixture
+def run(tmp_path: Path) -> Path:
+    run_dir = tmp_path / "run"
+    store = RunStore(run_dir)  # one attempt keeps its whole trajectory: it wins over its steps rows
+    store.open_for_writing()
+    kept = StepRecord(index=0, action="click", args={"x": 10, "y": 20}, ok=True, reply="I click the flag")
+    folder = store.write_artifact("b1", 1, "trajectory.jsonl", kept.model_dump_json().encode() + b"\n")
+    store.close()
+    records = []
+    for job_id, attempt, outcome, model, mode, passed, cost in ROWS:
+        decided = outcome != "error"
+        row = job(
+            job_id, outcome, attempt=attempt, model=model, litellm_model=f"openai/{model}", mode=mode,
+            task_id=f"task-{job_id}", tests_passed=passed, tests_total=2 if decided else 0,
+            psr=passed / 2 if decided else None, cost_usd=cost, artifact_dir=folder if job_id == "b1" else None,
+        )  # fmt: skip
+        records.append(JobRecord(job=row, steps=step_rows(job_id, attempt)))
+    return make_run(run_dir, records, planned=6, tasks=6)
+
+
+def sql_leaderboard(run_dir: Path) -> dict[tuple[str, str], tuple[int, int]]:
+    """(model, mode) -> (passed, determinate) over effective attempts, computed by DuckDB from the shards."""
+    query = f"""
+        with ranked as (
+            select *, row_number() over (
+                partition by job_id order by (outcome <> 'error') desc, attempt desc) as rank
+            from read_parquet('{run_dir}/jobs/*.parquet'))
+        select model, mode, count(*) filter (where outcome = 'passed'), count(*) filter (where outcome <> 'error')
+        from ranked where rank = 1 group by model, mode"""
+    return {(m, mode): (p, d) for m, mode, p, d in duckdb.sql(query).fetchall()}
+
+
+def test_the_leaderboard_agrees_with_a_recomputation_from_the_parquet(run: Path, tmp_path: Path) -> None:
+    done = invoke("export", str(run), "--format", "leaderboard", "--out", str(tmp_path / "out"))
+    assert done.returncode == 0, done.stderr
+    entries = json.loads((tmp_path / "out" / "leaderboard.json").read_text())["entries"]
+    assert {(e["model"], e["mode"]): (e["passed"], e["determinate"]) for e in entries} == sql_leaderboard(run)
+    for entry in entries:
+        low, high = wilson_interval(entry["passed"], entry["determinate"])
+        assert entry["sr"] == pytest.approx(entry["passed"] / entry["determinate"])
+        assert (entry["sr_low"], entry["sr_high"]) == (pytest.approx(low), pytest.approx(high))
+        assert entry["sr_low"] <= entry["sr"] <= entry["sr_high"]
+    assert [(e["rank"], e["model"], e["mode"]) for e in entries] == [
+        (1, "claude", "composite"), (2, "gpt", "composite"), (3, "gpt", "primitive"),
+    ]  # fmt: skip
+    csv_lines = (tmp_path / "out" / "leaderboard.csv").read_text().splitlines()
+    assert csv_lines[0].startswith("rank,label,agent,model,mode") and len(csv_lines) == 4
+
+
+def test_the_submission_has_one_line_per_task_with_the_executed_actions(run: Path, tmp_path: Path) -> None:
+    done = invoke("export", str(run), "--format", "upstream-submission", "--out", str(tmp_path / "out"))
+    assert done.returncode == 0, done.stderr
+    files = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert files == [
+        "openai_claude_composite_llm_seed0.jsonl", "openai_gpt_composite_llm_seed0.jsonl",
+        "openai_gpt_primitive_llm_seed0.jsonl",
+    ]  # fmt: skip
+    lines = [json.loads(line) for line in (tmp_path / "out" / files[1]).read_text().splitlines()]
+    assert [line["take"] for line in lines] == ["task-a1", "task-a2", "task-a3"]
+    assert set(lines[0]) == {"take", "type", "mode", "interactions", "source_interaction_log", "source_task_dir"}
+    assert lines[0]["interactions"] == [
+        {"turn": 1, "action": {"api": "add_block", "args": {"blockType": "event_whenflagclicked"}}},
+        {"turn": 2, "action": {"api": "done", "args": {}}},
+    ]
+    claude = [json.loads(line) for line in (tmp_path / "out" / files[0]).read_text().splitlines()]
+    assert [line["take"] for line in claude] == ["task-b1", "task-b2"]  # errors too, as upstream's script does
+    claude = claude[0]
+    assert claude["interactions"] == [{"turn": 1, "action": {"api": "click", "args": {"x": 10, "y": 20}}}]
+    assert claude["source_interaction_log"].endswith("trajectory.jsonl")
+
+
+def test_atif_trajectories_validate_against_the_published_schema(run: Path, tmp_path: Path) -> None:
+    done = invoke("export", str(run), "--format", "atif", "--out", str(tmp_path / "out"))
+    assert done.returncode == 0, done.stderr
+    schema = json.loads((REPO / "docs" / "schemas" / "atif-v1.4.schema.json").read_text())
+    files = sorted((tmp_path / "out").rglob("*.json"))
+    assert len(files) == 6  # one per job, at its counted attempt
+    for path in files:
+        data = json.loads(path.read_text())
+        jsonschema.validate(data, schema)
+        trajectory = AtifTrajectory.model_validate(data)
+        assert trajectory.schema_version == "ATIF-v1.4" and trajectory.steps[0].source == "user"
+        assert trajectory.final_metrics is not None and trajectory.final_metrics.total_steps == len(trajectory.steps)
+    a1 = json.loads((tmp_path / "out" / "sweep" / "a1-2.json").read_text())
+    assert [s["tool_calls"][0]["function_name"] for s in a1["steps"][1:]] == ["add_block", "done"]
+    assert a1["final_metrics"]["extra"]["outcome"] == "passed" and a1["agent"]["model_name"] == "openai/gpt"
+    b1 = json.loads((tmp_path / "out" / "sweep" / "b1-1.json").read_text())
+    assert b1["steps"][1]["message"] == "I click the flag"  # the reply, kept in the trajectory artifact
+
+
+def test_atif_rules_beyond_field_types_are_enforced() -> None:
+    agent = {"name": "a", "version": "1"}
+    user = {"step_id": 1, "source": "user", "message": "x"}
+    gap = {"session_id": "s", "agent": agent, "steps": [user, {"step_id": 3, "source": "agent", "message": ""}]}
+    with pytest.raises(ValidationError, match="step ids must count from 1"):
+        AtifTrajectory.model_validate(gap)
+    orphan = {"step_id": 1, "source": "agent", "message": "", "observation": {"results": [{"source_call_id": "x"}]}}
+    with pytest.raises(ValidationError, match="names tool call 'x'"):
+        AtifTrajectory.model_validate({"session_id": "s", "agent": agent, "steps": [orphan]})
+    user_metrics = {**user, "metrics": {"prompt_tokens": 1}}
+    with pytest.raises(ValidationError, match="agent-only field"):
+        AtifTrajectory.model_validate({"session_id": "s", "agent": agent, "steps": [user_metrics]})
+
+
+def test_runs_of_another_kind_are_refused_in_one_line(tmp_path: Path) -> None:
+    drag = make_run(tmp_path / "drag", [drag_record("t1", 0, "passed")], planned=1, tasks=1)
+    done = invoke("export", str(drag), "--format", "atif", "--out", str(tmp_path / "out"))
+    assert done.returncode != 0 and "holds single-step drag jobs; export writes task-episode runs" in done.stderr

@@ -1,0 +1,186 @@
+"""The browser session and the editor page: readiness, loud failures, offline, the bridge."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from pathlib import Path
+
+import pytest
+
+from scratchworld_dist import (
+    BridgeError,
+    ChromiumNotFoundError,
+    EditorCrashedError,
+    EditorNotReadyError,
+    RendererUnavailableError,
+)
+from scratchworld_dist.sb3 import Project, block, check_project, circle_costume
+from tests.conftest import copy_page_files, pooled_editor
+from tests.support.projects import counter_project
+from workers.contract import EvaluationSpec
+from workers.editor import BrowserConfig, BrowserSession, EditorAssets, EditorPool
+from workers.evaluation import Evaluator
+
+pytestmark = pytest.mark.browser
+
+
+async def test_ready_editor_has_vm_workspace_and_swiftshader(session: BrowserSession) -> None:
+    async with session.editor() as editor:
+        status = await editor.status()
+        assert status.vm and status.workspace and status.project_loads >= 1
+        assert status.renderer and "SwiftShader" in (status.renderer_name or "")
+        assert status.stage_canvas == (480, 360)
+        assert editor.ready_s is not None and editor.ready_s < 60
+        assert editor.page.viewport_size == {"width": 1280, "height": 720}
+
+
+async def test_missing_chromium_is_named(tmp_path: Path) -> None:
+    session = BrowserSession(BrowserConfig(executable_path=tmp_path / "chromium"))
+    with pytest.raises(ChromiumNotFoundError, match=str(tmp_path / "chromium")):
+        await session.start()
+
+
+async def test_without_webgl_the_editor_fails_loudly() -> None:
+    config = BrowserConfig(extra_args=("--disable-software-rasterizer",))
+    async with BrowserSession(config) as session:
+        with pytest.raises(RendererUnavailableError, match="no WebGL renderer"):
+            await session.open_editor()
+
+
+async def test_a_page_that_never_gets_ready_times_out_with_the_cause(tmp_path: Path) -> None:
+    real = EditorAssets()
+    copy_page_files(tmp_path)
+    # The bridge loads, the editor bundle never does.
+    (tmp_path / "index.html").write_text('<!DOCTYPE html><script src="bridge.js"></script><p>no editor</p>')
+    (tmp_path / "node_modules").symlink_to(real.gui_dir / "node_modules")
+    config = BrowserConfig(ready_timeout_s=2)
+    async with BrowserSession(config, EditorAssets(tmp_path)) as session:
+        started = time.monotonic()
+        with pytest.raises(
+            EditorNotReadyError, match="not ready after 2 s; still missing: VM, rendered workspace, default project"
+        ):
+            await session.open_editor()
+        assert time.monotonic() - started < 15
+
+
+@pytest.mark.parametrize(
+    ("modules", "cause"),
+    [
+        (
+            "{name: 'probe', requires: ['nothing'], create() {}}",
+            r"page module nothing \(required by probe\) is not loaded",
+        ),
+        (
+            "{name: 'a', requires: ['b'], create() {}}); scratchworldModule({name: 'b', requires: ['a'], create() {}}",
+            "page modules require each other in a cycle",
+        ),
+    ],
+)
+async def test_a_page_module_that_cannot_be_created_fails_the_opening_with_the_cause(
+    tmp_path: Path, modules: str, cause: str
+) -> None:
+    real = EditorAssets()
+    copy_page_files(tmp_path)
+    page = (tmp_path / "index.html").read_text()
+    registration = f'<script src="modules.js"></script>\n  <script>scratchworldModule({modules});</script>'
+    (tmp_path / "index.html").write_text(page.replace('<script src="modules.js"></script>', registration))
+    (tmp_path / "node_modules").symlink_to(real.gui_dir / "node_modules")
+    async with BrowserSession(BrowserConfig(ready_timeout_s=3), EditorAssets(tmp_path)) as session:
+        with pytest.raises(EditorNotReadyError, match=cause):
+            await session.open_editor()
+
+
+async def test_cdn_requests_fail_at_once_and_do_not_break_the_editor(session: BrowserSession) -> None:
+    async with session.editor() as editor:
+        failed: list[str] = []
+        finished: list[str] = []
+        enough = asyncio.Event()
+
+        def on_failed(request) -> None:
+            if "cdn.assets.scratch.mit.edu" in request.url:
+                failed.append(request.failure or "")
+                if len(failed) >= 100:
+                    enough.set()
+
+        editor.page.on("requestfailed", on_failed)
+        editor.page.on("requestfinished", lambda r: finished.append(r.url) if "scratch.mit.edu" in r.url else None)
+        started = time.monotonic()
+        await editor.page.click('button[aria-label="Choose a Sprite"]')  # opens the sprite library
+        await asyncio.wait_for(enough.wait(), 20)
+        assert time.monotonic() - started < 10
+        assert set(failed) == {"net::ERR_TUNNEL_CONNECTION_FAILED"}  # the editor server, the page's proxy, refused
+        assert finished == []
+        assert "CONNECT cdn.assets.scratch.mit.edu:443" in session.refused_requests
+        assert (await editor.status()).vm  # still answering
+
+
+async def test_load_and_save_round_trip(shared_pool: EditorPool) -> None:
+    async with pooled_editor(shared_pool) as editor:
+        assert await editor.load_project(counter_project("Counter").to_sb3()) == ["Stage", "Counter"]
+        saved = check_project(await editor.save_project())
+        assert [t["name"] for t in saved["targets"]] == ["Stage", "Counter"]
+        opcodes = {b["opcode"] for b in saved["targets"][1]["blocks"].values() if isinstance(b, dict)}
+        assert {"event_whenflagclicked", "control_repeat", "looks_say"} <= opcodes
+
+
+HOSTILE = [
+    "'); window.pwned = true; ('",
+    '"; window.pwned = true; "',
+    "</script><script>window.pwned = true</script>",
+    "${window.pwned = true}",
+    "\\'); window.pwned = true; //",
+]
+
+
+async def test_strings_cannot_break_out_of_javascript(evaluator: Evaluator) -> None:
+    project = Project()
+    for index, name in enumerate(HOSTILE):
+        project.sprite(name, costume=circle_costume("c", 5, "#000"), x=index)
+    script = (
+        "module.exports = async (vm, config) => ({details: [{name: config.label, passed: "
+        "typeof window.pwned === 'undefined', meta: {names: vm.runtime.targets.map(t => t.getName())}}]})"
+    )
+    spec = EvaluationSpec(script_name="x.js", script_source=script, timeout_s=10, config={"label": HOSTILE[0]})
+    result = await evaluator.evaluate(project.to_sb3(), spec)
+    assert result.error is None, result.error
+    assert result.tests[0].name == HOSTILE[0]
+    assert result.tests[0].passed  # nothing was executed from the strings
+    assert result.tests[0].meta == {"names": ["Stage", *HOSTILE]}
+
+
+async def test_bridge_rejects_unknown_functions_and_bad_arguments(shared_pool: EditorPool) -> None:
+    async with pooled_editor(shared_pool) as editor:
+        with pytest.raises(BridgeError) as caught:
+            await editor.call("eval", {"code": "1"})
+        assert caught.value.kind == "bad_request"
+        with pytest.raises(BridgeError) as caught:
+            await editor.call("loadProject", {"sb3Base64": 42})
+        assert caught.value.kind == "bad_request"
+
+
+async def test_scripts_cannot_replace_the_bridge(evaluator: Evaluator) -> None:
+    script = (
+        "module.exports = async () => { try { window.scratchworld = null; } catch (e) {} "
+        "return {details: [{name: 'bridge intact', passed: window.scratchworld !== null}]}; }"
+    )
+    project = Project()
+    project.sprite("S", costume=circle_costume("c", 5, "#000")).script(block("event_whenflagclicked"))
+    result = await evaluator.evaluate(
+        project.to_sb3(), EvaluationSpec(script_name="x.js", script_source=script, timeout_s=10)
+    )
+    assert result.success, result
+
+
+async def test_a_crashed_page_is_reported_as_such(session: BrowserSession) -> None:
+    async with session.editor() as editor:
+        crashed = asyncio.Event()
+        editor.page.on("crash", lambda _page: crashed.set())
+        cdp = await editor.context.new_cdp_session(editor.page)
+        crash = asyncio.ensure_future(cdp.send("Page.crash"))  # never answers: the renderer dies
+        await asyncio.wait_for(crashed.wait(), 20)
+        crash.cancel()
+        with pytest.raises(EditorCrashedError, match="crashed during status"):
+            await editor.status()
+    async with session.editor() as editor:  # the browser itself is fine
+        assert (await editor.status()).vm
