@@ -99,7 +99,7 @@ class Evaluator:
 
         ``random_seed`` seeds the page's ``Math.random`` (None: as ``spec`` says), so that a golden and a
         variant traced with one seed draw the same numbers; ``max_chars`` caps the trace's JSON. Recording
-        does not change the verdict (tests/test_observable_trace_verdicts.py).
+        does not change the verdict (tests/workers/evaluation/test_observable_trace_verdicts.py).
         """
         if not MIN_TRACE_CHARS <= max_chars <= MAX_TRACE_CHARS:
             raise ValueError(f"max_chars must be from {MIN_TRACE_CHARS} to {MAX_TRACE_CHARS}, got {max_chars}")

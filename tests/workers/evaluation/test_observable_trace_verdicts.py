@@ -8,18 +8,17 @@ must be identical. The same seed twice gives the same trace.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 
 from scratchworld_dist import load_suite
 from scratchworld_dist.suites import Task
+from tests.conftest import REPO
 from workers.contract import EvalResult
 from workers.evaluation import Evaluator, first_difference, with_random_seed
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
-SUITE = Path(__file__).resolve().parents[1] / "tasks"
+SUITE = REPO / "tasks"
 SEED = 11
 
 

@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from scratchworld_dist.sb3 import Block, Project, Sb3Archive, block, circle_costume
-from tests.projects import with_sound
+from tests.support.projects import with_sound
 from workers.contract import EvaluationSpec
 from workers.editor import BrowserSession, EditorPool
 from workers.evaluation import Evaluator, ObservableTrace, TracedEvaluation, TraceDifference, first_difference
