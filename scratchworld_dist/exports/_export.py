@@ -17,7 +17,7 @@ from scratchworld_dist._files import write_atomic
 from scratchworld_dist.exports._atif import atif_trajectory
 from scratchworld_dist.exports._leaderboard import leaderboard, leaderboard_csv
 from scratchworld_dist.exports._submission import SubmissionLine, submission_file_name, submission_line
-from scratchworld_dist.kinds import DEFAULT_KIND, kind_of_run
+from scratchworld_dist.kinds import kind_of_run
 from scratchworld_dist.results import JobRow, RunStore, StepRow, attempt_steps, effective_rows, require_manifest
 from workers.contract import StepRecord
 
@@ -36,7 +36,7 @@ def export_runs(run_dirs: Sequence[Path], fmt: ExportFormat, out: Path, *, force
         raise RunDirError("no run directory given")
     for run_dir in run_dirs:
         kind = kind_of_run(run_dir)
-        if kind.name != DEFAULT_KIND:
+        if not getattr(kind, "episodes", False):
             raise RunDirError(f"{run_dir}: holds {kind.title} jobs; export writes task-episode runs")
     try:
         out.mkdir(parents=True, exist_ok=True)

@@ -51,6 +51,10 @@ class JobKind(Protocol):
     needs_browser: bool
     """Whether its jobs open an editor (admission and warm editors count only those that do)."""
 
+    episodes: bool
+    """Whether its jobs are agent episodes (steps, a final project, tests): the run plots and the exports
+    (leaderboard, upstream submission, ATIF) are made of those."""
+
     tables: Mapping[str, type[BaseModel]]
     """Result tables of its own besides ``jobs``, ``steps`` and ``tests``: folder name and row model (with
     ``job_id`` and ``attempt``; a run holds the tables of its kind)."""

@@ -17,7 +17,7 @@ from typing import Literal
 
 from pydantic import BaseModel
 
-from scratchworld_dist.kinds import DEFAULT_KIND
+from scratchworld_dist.kinds import DEFAULT_KIND, UnknownKindError, job_kind
 from scratchworld_dist.reports._metrics import mean_pass_at_k
 from scratchworld_dist.reports._summary import DETERMINATE, ReportRow, ordered_categories, summarize
 from scratchworld_dist.results import JobRow, effective_rows
@@ -83,10 +83,19 @@ class PlotData(BaseModel):
     rows: list[list[str]]
 
 
+def _episodes(kind: str) -> bool:
+    """Whether jobs of ``kind`` are episodes (a kind no longer installed: not known to be)."""
+    try:
+        return bool(getattr(job_kind(kind), "episodes", False))
+    except UnknownKindError:
+        return False
+
+
 def plot_data(attempts: Sequence[JobRow]) -> list[PlotData]:
     """Every plot the attempt rows of an episode run can show; ``[]`` for runs of another kind (a drag run has
     Table 2)."""
-    if not attempts or any(r.benchmark != DEFAULT_KIND for r in attempts):
+    kinds = {r.benchmark or DEFAULT_KIND for r in attempts}  # rows older than the column: the default kind's
+    if not attempts or not all(_episodes(name) for name in kinds):
         return []
     effective = list(effective_rows(list(attempts)))
     groups: dict[tuple[str, str, str], list[JobRow]] = defaultdict(list)

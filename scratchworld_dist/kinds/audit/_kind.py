@@ -34,6 +34,7 @@ class AuditKind:
     name = "audit"
     title = "grader audit"
     needs_browser = True
+    episodes = False
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"audits": AuditRow})
     config_section: type[BaseModel] | None = AuditSweep
     regrade_refusal: str | None = "an audit run evaluates variants of goldens: run the audit again instead"

@@ -34,6 +34,7 @@ class DragKind:
     name = "drag"
     title = "single-step drag"
     needs_browser = True
+    episodes = False
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"drags": DragRow})
     config_section: type[BaseModel] | None = DragSweep
     regrade_refusal: str | None = "a drag benchmark run stores drags, not projects: nothing to regrade"

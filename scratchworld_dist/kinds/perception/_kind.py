@@ -41,6 +41,7 @@ class PerceptionJobKind:
     name = "perception"
     title = "perception"
     needs_browser = False
+    episodes = False
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"perception": PerceptionRow})
     config_section: type[BaseModel] | None = PerceptionSweep
     regrade_refusal: str | None = "a perception benchmark run stores answers, not projects: nothing to regrade"

@@ -40,6 +40,7 @@ class TasksKind:
     name = "tasks"
     title = "task episodes"
     needs_browser = True
+    episodes = True
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({})
     config_section: type[BaseModel] | None = None  # its axes are the config's own fields (modes, tasks...)
     regrade_refusal: str | None = None
