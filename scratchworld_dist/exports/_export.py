@@ -19,6 +19,7 @@ from scratchworld_dist.exports._leaderboard import leaderboard, leaderboard_csv
 from scratchworld_dist.exports._submission import SubmissionLine, submission_file_name, submission_line
 from scratchworld_dist.kinds import kind_of_run
 from scratchworld_dist.results import JobRow, RunStore, StepRow, attempt_steps, effective_rows, require_manifest
+from scratchworld_dist.suites import suite_instructions
 from workers.contract import StepRecord
 
 ExportFormat = Literal["leaderboard", "upstream-submission", "atif"]
@@ -92,24 +93,14 @@ def _submission(attempts: list[tuple[Path, JobRow, list[StepRecord]]], out: Path
 
 def _atif(attempts: list[tuple[Path, JobRow, list[StepRecord]]], out: Path) -> ExportSummary:
     ours = version("scratchworld-dist")
-    instructions: dict[Path, dict[str, str]] = {}
+    suites = {run_dir: require_manifest(run_dir).suite for run_dir in {run for run, _, _ in attempts}}
     written = []
     for run_dir, row, steps in attempts:
-        if run_dir not in instructions:
-            instructions[run_dir] = _instructions(run_dir)
-        trajectory = atif_trajectory(row, steps, instructions[run_dir].get(row.task_id), ours)
+        suite = suites[run_dir]
+        instruction = suite_instructions(suite.root, suite.hash).get(row.task_id)
+        trajectory = atif_trajectory(row, steps, instruction, ours)
         path = out / row.run_name / f"{row.job_id}-{row.attempt}.json"
         path.parent.mkdir(parents=True, exist_ok=True)
         write_atomic(path, (trajectory.model_dump_json(indent=2, exclude_none=True) + "\n").encode())
         written.append(path)
     return ExportSummary(files=written, warnings=[])
-
-
-def _instructions(run_dir: Path) -> dict[str, str]:
-    """The instructions of the run's suite, by task id (none when the suite is no longer where it was)."""
-    from scratchworld_dist.suites import load_suite
-
-    try:
-        return {task.id: task.instruction for task in load_suite(Path(require_manifest(run_dir).suite.root)).tasks}
-    except (ScratchWorldError, OSError):
-        return {}

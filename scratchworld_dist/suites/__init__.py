@@ -1,6 +1,6 @@
 """Suites of every benchmark (one generic layer) and the task suites: our own format and upstream clones."""
 
-from scratchworld_dist.suites._detect import LOADERS, load_suite, loader_for
+from scratchworld_dist.suites._detect import LOADERS, load_suite, loader_for, suite_instructions
 from scratchworld_dist.suites._generic import BaseSuite, SuiteKind, SuiteLoader
 from scratchworld_dist.suites._loading import find_loader, load_with
 from scratchworld_dist.suites._native import NativeSuiteLoader
@@ -39,5 +39,6 @@ __all__ = [
     "loader_for",
     "raise_problems",
     "read_trajectory",
+    "suite_instructions",
     "task_id_problem",
 ]

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from pathlib import Path
 
+from scratchworld_dist._errors import ScratchWorldError
 from scratchworld_dist.suites._generic import SuiteLoader
 from scratchworld_dist.suites._loading import find_loader, load_with
 from scratchworld_dist.suites._native import SUITE_FILE, NativeSuiteLoader
@@ -33,3 +35,13 @@ def load_suite(path: str | Path, task_list: str | None = None) -> Suite:
     """Load the suite at ``path``, detecting its layout; ``task_list`` picks an upstream list."""
     loaders = (NativeSuiteLoader(task_list), UpstreamSuiteLoader(task_list=task_list))
     return load_with(path, loaders, NOT_A_SUITE, _clone_above)
+
+
+@functools.lru_cache(maxsize=16)
+def suite_instructions(root: str, suite_hash: str) -> dict[str, str]:
+    """The instructions of the suite a run found at ``root``, by task id, read once per suite content
+    (``suite_hash``: a changed suite is read again); none when the suite is no longer there."""
+    try:
+        return {task.id: task.instruction for task in load_suite(Path(root)).tasks}
+    except (ScratchWorldError, OSError):
+        return {}

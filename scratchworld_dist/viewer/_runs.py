@@ -9,7 +9,6 @@ an attempt without one falls back to its ``steps`` rows.
 from __future__ import annotations
 
 import contextlib
-import functools
 import re
 from collections import defaultdict
 from pathlib import Path
@@ -18,7 +17,6 @@ from typing import TypeVar
 import pyarrow.compute as pc
 from pydantic import BaseModel, Field, SerializeAsAny
 
-from scratchworld_dist._errors import ScratchWorldError
 from scratchworld_dist.kinds import JobKind, kind_of_run
 from scratchworld_dist.results import (
     MANIFEST_NAME,
@@ -151,7 +149,9 @@ class ViewedRun:
         manifest = self.manifest()
         if manifest is None:
             return None
-        return _instructions(manifest.suite.root, manifest.suite.hash).get(task_id)
+        from scratchworld_dist.suites import suite_instructions
+
+        return suite_instructions(manifest.suite.root, manifest.suite.hash).get(task_id)
 
     def _rows_of(self, table: str, model: type[_Row], job_id: str) -> dict[int, list[_Row]]:
         data = self.store.read_table(table)
@@ -160,14 +160,3 @@ class ViewedRun:
         for row in picked:
             by_attempt[row["attempt"]].append(model.model_validate(row))
         return by_attempt
-
-
-@functools.lru_cache(maxsize=16)
-def _instructions(root: str, suite_hash: str) -> dict[str, str]:
-    """Instructions per task id of the suite at ``root`` (keyed by hash too: a changed suite is read again)."""
-    from scratchworld_dist.suites import load_suite
-
-    try:
-        return {task.id: task.instruction for task in load_suite(Path(root)).tasks}
-    except (ScratchWorldError, OSError):
-        return {}

@@ -56,7 +56,11 @@ class AuditKind:
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
         """The selected tasks' goldens and every variant the ``audit`` section asks for, one job each."""
         suite, contents = selected_tasks(config, None)
-        jobs = list(audit_jobs(contents, config.section(self.name, AuditSweep), DEFAULT_AGENT, harness.digest))
+        jobs = list(
+            audit_jobs(
+                contents, config.section(self.name, AuditSweep), DEFAULT_AGENT, harness.digest, config.project_limits
+            )
+        )
         info = SuiteInfo(
             name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(contents)
         )

@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import hashlib
-import io
 import json
 import re
-import zipfile
 from collections.abc import Iterator
 from typing import Any
 
@@ -23,7 +21,7 @@ from scratchworld_dist.audit import (
 from scratchworld_dist.kinds.audit._settings import AuditSweep
 from scratchworld_dist.kinds.tasks import TaskContent
 from scratchworld_dist.sweep import JobBody, JobSpec, identity_id
-from workers.contract import AgentRef, VariantKind
+from workers.contract import AgentRef, ProjectLimits, ScratchWorldError, VariantKind, check_project
 
 
 class AuditBody(JobBody):
@@ -45,27 +43,24 @@ class AuditBody(JobBody):
         return {"mode": self.variant, "max_steps": 0}
 
 
-def golden_json(content: TaskContent) -> dict[str, Any]:
-    """The task's golden project.json (``SuiteError`` when the task has no readable golden)."""
+def golden_json(content: TaskContent, limits: ProjectLimits | None = None) -> dict[str, Any]:
+    """The task's golden project.json, read as a worker checks a project (``SuiteError`` when it has none or
+    it is not one)."""
     data = content.payload.golden_project
     where = content.task.golden_project
     if data is None:
         raise SuiteError(f"task {content.task.id} has no golden project to audit", where)
     try:
-        if data[:2] == b"PK":
-            with zipfile.ZipFile(io.BytesIO(data)) as archive:
-                data = archive.read("project.json")
-        project = json.loads(data)
-    except (zipfile.BadZipFile, KeyError, ValueError) as exc:
+        return check_project(data, limits)
+    except ScratchWorldError as exc:  # ProjectFormatError, ProjectTooLargeError
         raise SuiteError(f"task {content.task.id}: the golden project cannot be read ({exc})", where) from exc
-    if not isinstance(project, dict):
-        raise SuiteError(f"task {content.task.id}: the golden project.json is not an object", where)
-    return project
 
 
-def task_variants(content: TaskContent, settings: AuditSweep) -> list[Mutant | Refactoring]:
+def task_variants(
+    content: TaskContent, settings: AuditSweep, limits: ProjectLimits | None = None
+) -> list[Mutant | Refactoring]:
     """The variants of one task's golden the section asks for: mutants, then refactorings."""
-    project = golden_json(content)
+    project = golden_json(content, limits)
     try:
         mutants = (
             enumerate_mutants(project)
@@ -92,17 +87,23 @@ def _renames_a_required_name(refactoring: Refactoring, instruction: str) -> bool
     return re.search(rf"(?<!\w){re.escape(old)}(?!\w)", instruction, re.IGNORECASE) is not None
 
 
-def audit_jobs(contents: list[TaskContent], settings: AuditSweep, agent: AgentRef, harness: str) -> Iterator[JobSpec]:
+def audit_jobs(
+    contents: list[TaskContent],
+    settings: AuditSweep,
+    agent: AgentRef,
+    harness: str,
+    limits: ProjectLimits | None = None,
+) -> Iterator[JobSpec]:
     """The golden of each task, then one job per variant: named by its project, its task and the harness (not
     by the seed that picked it: the same variant picked again is the same job)."""
     for content in contents:
-        golden = golden_json(content)
+        golden = golden_json(content, limits)
         unchanged = AuditBody(
             variant="golden", variant_id="golden", operator="golden", target="", block_id="",
             description="the golden project, unchanged", before="", after="", project_json=_text(golden),
         )  # fmt: skip
         yield _job(content, unchanged, agent, harness)
-        for variant in task_variants(content, settings):
+        for variant in task_variants(content, settings, limits):
             mutant = isinstance(variant, Mutant)
             body = AuditBody(
                 variant="mutant" if mutant else "refactoring",
