@@ -54,8 +54,11 @@ class AuditKind:
         return []
 
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
-        """The selected tasks' goldens and every variant the ``audit`` section asks for, one job each."""
-        suite, contents = selected_tasks(config, None)
+        """The selected tasks' goldens and every variant the ``audit`` section asks for, one job each, evaluated
+        on the virtual clock unless the config names one (an upstream clone's real-clock default would make
+        verdicts depend on the machine's load, and a grader's strength is a property of its tests)."""
+        virtual = config if config.clock is not None else config.model_copy(update={"clock": "virtual"})
+        suite, contents = selected_tasks(virtual, None)
         jobs = list(
             audit_jobs(
                 contents, config.section(self.name, AuditSweep), DEFAULT_AGENT, harness.digest, config.project_limits
