@@ -96,6 +96,20 @@ function sampleFrames(vm, onFrame) {
   return {stop: () => { runtime._step = original; }};
 }
 
+/**
+ * Runs `fn` with `Math.random` returning `value` (0 <= value < 1), then restores it: "pick random
+ * 1 to 100" gives 1 under 0 and 100 under 0.999999, so a test can check both ends of a range.
+ */
+async function withRandom(value, fn) {
+  const original = Math.random;
+  Math.random = () => value;
+  try {
+    return await fn();
+  } finally {
+    Math.random = original;
+  }
+}
+
 /** Records what sprites say or think: `texts(spriteName?)` lists them in order. */
 function recordSpeech(vm) {
   const events = [];
@@ -128,14 +142,18 @@ function recordBroadcasts(vm) {
 /**
  * Answers "ask and wait" prompts in order. A sprite shows its question in a speech bubble (the
  * VM emits it as SAY and the prompt as an empty QUESTION); the stage's question arrives as text.
- * `answered` counts answers given; `speechMark` is the speech count when the last one was given.
+ * `answered` counts answers given; `speechMark` is the speech count when the last one was given;
+ * `asked` lists the questions' texts ('' for a question asked with no text).
  */
 function answerQuestions(vm, answers, speech = null) {
   const queue = answers.map(String);
-  const state = {prompts: 0, answered: 0, speechMark: null};
+  const state = {prompts: 0, answered: 0, speechMark: null, asked: []};
+  let lastSaid = '';
+  const onSay = (target, type, text) => { lastSaid = text === null || text === undefined ? '' : String(text); };
   const listener = (question) => {
     if (question === null || question === undefined) return; // the prompt was cleared
     state.prompts += 1;
+    state.asked.push(question !== '' ? String(question) : lastSaid); // a sprite's question is in its bubble
     if (!queue.length) return;
     const answer = queue.shift();
     setTimeout(() => {
@@ -144,14 +162,18 @@ function answerQuestions(vm, answers, speech = null) {
       vm.runtime.emit('ANSWER', answer);
     }, 30);
   };
+  vm.runtime.on('SAY', onSay);
   vm.runtime.on('QUESTION', listener);
-  state.stop = () => vm.runtime.removeListener('QUESTION', listener);
+  state.stop = () => {
+    vm.runtime.removeListener('QUESTION', listener);
+    vm.runtime.removeListener('SAY', onSay);
+  };
   return state;
 }
 
 /**
  * Clicks the green flag, answers each prompt in turn and resolves with what `spriteName` says
- * after the last answer: `{prompts, replies}`. Waits at most `timeoutMs` for the first reply.
+ * after the last answer: `{prompts, replies, asked}`. Waits at most `timeoutMs` for the first reply.
  */
 async function askAndListen(vm, spriteName, answers, {timeoutMs = 4000, settleMs = 200} = {}) {
   const speech = recordSpeech(vm);
@@ -162,7 +184,7 @@ async function askAndListen(vm, spriteName, answers, {timeoutMs = 4000, settleMs
     await start(vm, 0);
     await waitUntil(() => replies().length > 0, {timeoutMs});
     await wait(settleMs); // a second, later reply would make the answer ambiguous
-    return {prompts: questions.prompts, replies: replies()};
+    return {prompts: questions.prompts, replies: replies(), asked: questions.asked.slice()};
   } finally {
     speech.stop();
     questions.stop();
@@ -241,5 +263,5 @@ async function runTests(vm, tests) {
 module.exports = {
   STAGE_WIDTH, STAGE_HEIGHT,
   wait, waitUntil, sprite, stage, clones, findVariable, valueOf, start,
-  sampleFrames, recordSpeech, recordBroadcasts, answerQuestions, askAndListen, pressKey, clickSprite, moveMouse, runTests,
+  sampleFrames, withRandom, recordSpeech, recordBroadcasts, answerQuestions, askAndListen, pressKey, clickSprite, moveMouse, runTests,
 };

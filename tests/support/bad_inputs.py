@@ -12,7 +12,6 @@ from __future__ import annotations
 import io
 import json
 import os
-import shutil
 import zipfile
 from collections import defaultdict
 from collections.abc import Callable
@@ -22,8 +21,9 @@ from pathlib import Path
 import yaml
 
 from scratchworld_dist.results import JobRecord, RunStore, StepRow, TestRow
-from tests.conftest import DATA, SUITE_DIR
+from tests.conftest import SUITE_DIR
 from tests.support.projects import counter_project, with_declared_size, with_entry
+from tests.support.small_suites import GOLDEN, TASK, native_suite, upstream_clone
 
 CANARY_ENV = "OPENAI_API_KEY"
 CANARY = "sk-bad-input-canary-5e0d7c21b9f4"
@@ -31,10 +31,6 @@ CANARY = "sk-bad-input-canary-5e0d7c21b9f4"
 
 PASTED = "sk-pasted-into-config-93c1"
 """A key a user wrote into a config by mistake: refused, and never echoed back."""
-
-TASK = "sum_two_numbers"
-TASK_DIR = SUITE_DIR / "compute" / TASK
-GOLDEN = TASK_DIR / "golden.sb3"
 
 
 @dataclass(frozen=True)
@@ -54,33 +50,6 @@ class CliCase:
 
 
 # -- builders --------------------------------------------------------------------------------------
-
-
-def native_suite(root: Path, task_name: str = TASK) -> Path:
-    """A one-task suite in our layout (a copy of sum_two_numbers, named ``task_name``); returns the task folder."""
-    (root / "compute").mkdir(parents=True)
-    for name in ("suite.json", "harness.js"):
-        shutil.copy(SUITE_DIR / name, root / name)
-    task = root / "compute" / task_name
-    task.mkdir()
-    for name in ("task.json", "evaluate.js", "initial.sb3", "golden.sb3", "golden_trajectory.json"):
-        if (TASK_DIR / name).exists():
-            shutil.copy(TASK_DIR / name, task / name)
-    return task
-
-
-def upstream_clone(root: Path, name: str = "calc") -> Path:
-    """A minimal clone of the upstream layout: one compute task, its project, its script and the helper."""
-    (root / "tasks" / "compute").mkdir(parents=True)
-    (root / "scratch-gui" / "static").mkdir(parents=True)
-    scripts = root / "scratch-bench-api" / "api" / "evaluation_scripts"
-    scripts.mkdir(parents=True)
-    shutil.copy(DATA / "upstream_scripts" / "evaluation_utils.js", scripts)
-    shutil.copy(DATA / "loads_only.js", scripts / f"{name}.js")
-    shutil.copy(TASK_DIR / "initial.sb3", root / "scratch-gui" / "static" / f"{name}.sb3")
-    task = {"type": "compute", "instruction": "Add two numbers.", "initial_project": f"{name}.sb3"}
-    (root / "tasks" / "compute" / f"{name}.json").write_text(json.dumps(task))
-    return root
 
 
 def write_config(path: Path, **fields: object) -> Path:

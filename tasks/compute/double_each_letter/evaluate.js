@@ -5,10 +5,12 @@ module.exports = async (vm) => {
     name: `"${word}" becomes "${expected}"`,
     timeoutMs: 8000,
     run: async () => {
-      const {prompts, replies} = await Harness.askAndListen(vm, 'Parrot', [word]);
-      // One prompt, exactly one reply, equal to the expected text (case and inner spaces count).
-      return {passed: prompts === 1 && replies.length === 1 && replies[0].trim() === expected,
-              meta: {prompts, replies}};
+      const {prompts, replies, asked} = await Harness.askAndListen(vm, 'Parrot', [word]);
+      // One prompt, with a text (an empty prompt asks for nothing); exactly one reply, equal to the expected
+      // text (case and inner spaces count).
+      return {passed: prompts === 1 && asked.every(q => q.trim() !== '') && replies.length === 1 &&
+                      replies[0].trim() === expected,
+              meta: {prompts, asked, replies}};
     },
   })));
 };

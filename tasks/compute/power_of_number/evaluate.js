@@ -5,11 +5,13 @@ module.exports = async (vm) => {
     name: `${inputs[0]} to the power ${inputs[1]} = ${expected}`,
     timeoutMs: 8000,
     run: async () => {
-      const {prompts, replies} = await Harness.askAndListen(vm, 'Robot', inputs);
-      // Two prompts, exactly one reply, and it is the number itself.
-      return {passed: prompts === 2 && replies.length === 1 && replies[0].trim() !== '' &&
+      const {prompts, replies, asked} = await Harness.askAndListen(vm, 'Robot', inputs);
+      // Two prompts, each with a text (an empty prompt asks for nothing); exactly one reply, and it is the
+      // number itself.
+      return {passed: prompts === 2 && asked.every(q => q.trim() !== '') &&
+                      replies.length === 1 && replies[0].trim() !== '' &&
                       Number(replies[0]) === expected,
-              meta: {prompts, replies}};
+              meta: {prompts, asked, replies}};
     },
   })));
 };

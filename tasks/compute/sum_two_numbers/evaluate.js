@@ -5,10 +5,12 @@ module.exports = async (vm) => {
     name: `${inputs.join(' + ')} = ${expected}`,
     timeoutMs: 8000,
     run: async () => {
-      const {prompts, replies} = await Harness.askAndListen(vm, 'Calculator', inputs);
-      // Exactly one reply, and it is the number itself (not "6.9" for 6, not "the sum is 7").
-      return {passed: replies.length === 1 && replies[0].trim() !== '' && Number(replies[0]) === expected,
-              meta: {prompts, replies}};
+      const {prompts, replies, asked} = await Harness.askAndListen(vm, 'Calculator', inputs);
+      // Two questions, each with a text (an empty prompt asks for nothing); exactly one reply, and it is the
+      // number itself (not "6.9" for 6, not "the sum is 7").
+      return {passed: asked.length === 2 && asked.every(q => q.trim() !== '') &&
+                      replies.length === 1 && replies[0].trim() !== '' && Number(replies[0]) === expected,
+              meta: {prompts, asked, replies}};
     },
   })));
 };

@@ -11,7 +11,11 @@ function recordLaunch(vm) {
   const onSay = (target, type, text) => {
     if (text === '' || text === null || text === undefined || !target.sprite) return;
     const count = num(Harness.valueOf(vm, 'count', {spriteName: 'Commander'}));
-    log.push({kind: 'say', sprite: target.sprite.name, text: String(text).trim(), count, t: Date.now() - started});
+    const entry = {kind: 'say', sprite: target.sprite.name, text: String(text).trim(), count, countLater: null,
+                   t: Date.now() - started};
+    log.push(entry);
+    // Halfway through the step's 0.3 s wait, `count` still holds the number said (it changes after the wait).
+    setTimeout(() => { entry.countLater = num(Harness.valueOf(vm, 'count', {spriteName: 'Commander'})); }, 150);
   };
   const runtime = vm.runtime;
   const original = runtime.startHats;
@@ -58,13 +62,15 @@ module.exports = async (vm) => Harness.runTests(vm, [
         const says = distinctSays(rec);
         const texts = says.map(e => e.text);
         const order = texts.length === EXPECTED.length && texts.every((t, i) => sameText(t, EXPECTED[i]));
-        // Every time a number is said, `count` holds that number.
+        // Every time a number is said, `count` holds that number, and still does halfway through its wait.
         const numbers = rec.says().filter(e => e.text !== 'Liftoff!');
-        const counted = numbers.length > 0 && numbers.every(e => e.count === num(e.text));
-        // 4+ waits of 0.3 s between "5" and "Liftoff!": not all at once.
-        const span = order ? says[5].t - says[0].t : null;
-        return {passed: order && counted && span >= 1000,
-                meta: {texts, counts: numbers.map(e => e.count), span_ms: span}};
+        const counted = numbers.length > 0 && numbers.every(e => e.count === num(e.text) && e.countLater === e.count);
+        // "5" at once, then 0.3 s between one step's words and the next, "1" and "Liftoff!" included.
+        const gaps = says.slice(1).map((e, i) => e.t - says[i].t);
+        const paced = order && says[0].t < 200 && gaps.every(gap => gap >= 200 && gap <= 450);
+        return {passed: order && counted && paced,
+                meta: {texts, counts: numbers.map(e => [e.count, e.countLater]), first_ms: says.length ? says[0].t : null,
+                       gaps_ms: gaps}};
       } finally {
         rec.stop();
       }
@@ -102,8 +108,9 @@ module.exports = async (vm) => Harness.runTests(vm, [
       const rec = recordLaunch(vm);
       try {
         await Harness.start(vm, 0);
-        if (!(await Harness.waitUntil(() => near(0, -120), {timeoutMs: 2000}))) {
-          return {passed: false, meta: {reason: 'Rocket did not go to (0, -120)', x: rocket.x, y: rocket.y}};
+        // On the pad at once, on the green flag (long before the countdown ends).
+        if (!(await Harness.waitUntil(() => near(0, -120), {timeoutMs: 500})) || rec.launches().length) {
+          return {passed: false, meta: {reason: 'Rocket did not go to (0, -120) on the flag', x: rocket.x, y: rocket.y}};
         }
         // Until launch, it stays on the pad.
         let leftEarly = false;
@@ -122,8 +129,8 @@ module.exports = async (vm) => Harness.runTests(vm, [
           return near(0, 150);
         }, {timeoutMs: 5000, intervalMs: 10});
         const took = Date.now() - launchedAt;
-        // A glide, not a jump: seen on the way up, and it takes a while.
-        return {passed: arrived && between.length >= 3 && took >= 600,
+        // A glide, not a jump: seen on the way up, and it takes about 1 second.
+        return {passed: arrived && between.length >= 3 && took >= 700 && took <= 1400,
                 meta: {arrived, took_ms: took, seen_between: between.length, x: rocket.x, y: rocket.y}};
       } finally {
         rec.stop();

@@ -13,6 +13,32 @@ module.exports = async (vm) => {
 
   return Harness.runTests(vm, [
     {
+      name: 'the ball starts in the centre and flies off diagonally',
+      timeoutMs: 8000,
+      run: async () => {
+        // Put it somewhere else first; then its first two frames' positions: the first step goes from
+        // (0, 0) along a diagonal (direction 45, 135, -45 or -135), so both lie on that ray.
+        ball().setXY(100, -50);
+        ball().setDirection(90);
+        const seen = [];
+        const sampler = Harness.sampleFrames(vm, () => { if (seen.length < 2) seen.push([ball().x, ball().y]); });
+        try {
+          await Harness.start(vm, 0);
+          await Harness.waitUntil(() => seen.length >= 2, {timeoutMs: 3000});
+        } finally {
+          sampler.stop();
+        }
+        if (seen.length < 2) return {passed: false, meta: {seen}};
+        const [[x1, y1], [x2, y2]] = seen;
+        const [vx, vy] = [x2 - x1, y2 - y1];
+        const step = Math.hypot(vx, vy);
+        const diagonal = step > 0 && Math.abs(Math.abs(vx) - Math.abs(vy)) < 1e-3 * step;
+        const fromCentre = Math.abs(x1 * vy - y1 * vx) < 1e-3 * step && x1 * vx + y1 * vy > 0 &&
+          Math.hypot(x1, y1) <= step + 1e-3;
+        return {passed: diagonal && fromCentre, meta: {seen, diagonal, fromCentre}};
+      },
+    },
+    {
       name: 'the ball moves after the green flag',
       timeoutMs: 8000,
       run: async () => {

@@ -5,6 +5,23 @@ module.exports = async (vm) => {
   // Guesses inside 1..100 (a game may reject others); the edge numbers fall back to 0 and 101.
   const lowGuess = s => (s > 1 ? Math.max(1, s - 17) : 0);
   const highGuess = s => (s < 100 ? Math.min(100, s + 17) : 101);
+  const HINTS = ['Too low!', 'Too high!', 'You got it!'];
+
+  // The secret picked with Math.random fixed at `value`, read when the first question is asked.
+  async function secretUnder(value) {
+    let asked = false;
+    const onQuestion = (question) => { if (question !== null && question !== undefined) asked = true; };
+    vm.runtime.on('QUESTION', onQuestion);
+    try {
+      return await Harness.withRandom(value, async () => {
+        await Harness.start(vm, 0);
+        return (await Harness.waitUntil(() => asked, {timeoutMs: 4000})) ? secretNow() : null;
+      });
+    } finally {
+      vm.runtime.removeListener('QUESTION', onQuestion);
+      vm.runtime.stopAll();
+    }
+  }
 
   // Green flag, then answer each prompt with pick(secret, index) until `count` answers are given.
   // A reply is the first thing the Owl says after an answer. Resolves once every answer has a
@@ -31,14 +48,32 @@ module.exports = async (vm) => {
       const reply = speech.events.slice(mark).find(e => e.sprite === OWL);
       return reply ? reply.text : null;
     });
+    // Every change of the Owl's bubble (cleared ones too), timed, with the secret at that moment.
+    const bubbles = [];
+    const onSay = (target, type, text) => {
+      if (target.sprite && target.sprite.name === OWL) {
+        bubbles.push({text: text === null || text === undefined ? '' : String(text).trim(), t: Date.now(),
+                      secret: secretNow()});
+      }
+    };
     vm.runtime.on('QUESTION', onQuestion);
+    vm.runtime.on('SAY', onSay);
+    const stale = Harness.findVariable(vm, 'secret', {spriteName: OWL});
+    if (stale) stale.value = 0; // the green flag must pick a new one
     try {
       await Harness.start(vm, 0);
       await Harness.waitUntil(() => marks.length === picks.length && replies().every(r => r !== null),
                               {timeoutMs});
       await Harness.wait(settleMs);
-      return {secret, guesses, prompts, replies: replies()};
+      // What the Owl said before the first answer: its hints and "You got it!" must wait for a guess.
+      const early = speech.events.slice(0, marks.length ? marks[0] : speech.events.length)
+        .filter(e => e.sprite === OWL && HINTS.includes(e.text.trim())).map(e => e.text);
+      // How long each "Too high!"/"Too low!" stayed (until the bubble next changed).
+      const hints = bubbles.flatMap((b, i) => (['Too low!', 'Too high!'].includes(b.text)
+        ? [i + 1 < bubbles.length ? bubbles[i + 1].t - b.t : null] : []));
+      return {secret, guesses, prompts, replies: replies(), early, hints_ms: hints, opening: bubbles.slice(0, 2)};
     } finally {
+      vm.runtime.removeListener('SAY', onSay);
       vm.runtime.removeListener('QUESTION', onQuestion);
       speech.stop();
     }
@@ -46,11 +81,33 @@ module.exports = async (vm) => {
 
   return Harness.runTests(vm, [
     {
+      name: 'the secret number is picked from 1 to 100, both ends included',
+      timeoutMs: 12000,
+      run: async () => {
+        const lowest = await secretUnder(0);
+        const highest = await secretUnder(0.9999999);
+        return {passed: lowest === 1 && highest === 100, meta: {lowest, highest}};
+      },
+    },
+    {
+      name: 'the game opens as before: the secret picked, "I\'m thinking of a number..." for 0.5 s, then the question',
+      timeoutMs: 10000,
+      run: async () => {
+        const game = await play([lowGuess]);
+        const [intro, question] = game.opening;
+        const passed = intro !== undefined && question !== undefined && intro.text === "I'm thinking of a number..." &&
+          intro.secret >= 1 && intro.secret <= 100 && Math.abs(question.t - intro.t - 500) <= 150 &&
+          question.text === 'Guess my number between 1 and 100!';
+        return {passed, meta: {opening: game.opening.map(b => ({text: b.text, secret: b.secret}))}};
+      },
+    },
+    {
       name: 'a guess below the secret number gets "Too low!"',
       timeoutMs: 10000,
       run: async () => {
         const game = await play([lowGuess]);
-        return {passed: game.replies.length === 1 && game.replies[0] !== null && game.replies[0].trim() === 'Too low!',
+        return {passed: game.replies.length === 1 && game.replies[0] !== null && game.replies[0].trim() === 'Too low!' &&
+                        game.early.length === 0,
                 meta: game};
       },
     },
@@ -70,7 +127,9 @@ module.exports = async (vm) => {
         const game = await play([lowGuess, highGuess, s => s], {timeoutMs: 8000});
         const expected = ['Too low!', 'Too high!', 'You got it!'];
         const replies = game.replies.map(r => (r === null ? null : r.trim()));
-        return {passed: JSON.stringify(replies) === JSON.stringify(expected) && game.prompts === 3, meta: game};
+        const halfSecond = game.hints_ms.length === 2 && game.hints_ms.every(ms => ms !== null && Math.abs(ms - 500) <= 150);
+        return {passed: JSON.stringify(replies) === JSON.stringify(expected) && game.prompts === 3 && halfSecond,
+                meta: game};
       },
     },
   ]);

@@ -54,6 +54,28 @@ module.exports = async (vm) => {
       },
     },
     {
+      name: 'each colour lasts as long as it should: green 0.6 s, yellow 0.3 s, red 0.6 s',
+      timeoutMs: 12000,
+      run: async () => {
+        // Every change of colour, timed; the phases of the first full cycle and the next green.
+        const changes = [];
+        const sampler = Harness.sampleFrames(vm, () => {
+          const now = colour();
+          if (!changes.length || changes[changes.length - 1].colour !== now) changes.push({colour: now, t: Date.now()});
+        });
+        try {
+          await watch(cs => fromGreen(cs).length >= 5 || !legal(cs), 6000);
+        } finally {
+          sampler.stop();
+        }
+        const cycle = changes.slice(Math.max(0, changes.findIndex(c => c.colour === 'green')));
+        const phases = cycle.slice(1).map((c, i) => ({colour: cycle[i].colour, ms: c.t - cycle[i].t}));
+        const WANT = {green: 600, yellow: 300, red: 600};
+        const timed = phases.length >= 3 && phases.slice(0, 3).every(p => Math.abs(p.ms - WANT[p.colour]) <= 120);
+        return {passed: timed && phases[0].colour === 'green', meta: {phases}};
+      },
+    },
+    {
       name: 'the messages go, slow, stop are broadcast in that order, then go again',
       timeoutMs: 8000,
       run: async () => {

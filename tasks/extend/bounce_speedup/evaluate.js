@@ -73,8 +73,13 @@ module.exports = async (vm) => {
         const xs = frames.map(f => f.x);
         const flat = frames.every(f => Math.abs(f.y) < 1);
         const inside = xs.every(x => x >= -240 && x <= 240);
-        return {passed: frames.length > 0 && flips >= 2 && flat && inside && Math.max(...xs) > 200 && Math.min(...xs) < -200,
-                meta: {frames: frames.length, flips, flat, inside,
+        // Exactly from (0, 0): the first frame shows it there, or one 15-step move to the right of it.
+        const first = frames.length ? frames[0] : null;
+        const fromOrigin = first !== null && Math.abs(first.y) < 1e-6 &&
+          (Math.abs(first.x) < 1e-6 || Math.abs(first.x - 15) < 1e-6);
+        return {passed: frames.length > 0 && flips >= 2 && flat && inside && fromOrigin &&
+                        Math.max(...xs) > 200 && Math.min(...xs) < -200,
+                meta: {frames: frames.length, flips, flat, inside, first,
                        minX: frames.length ? Math.min(...xs) : null, maxX: frames.length ? Math.max(...xs) : null}};
       },
     },

@@ -15,6 +15,14 @@ async function playQuiz(vm, answers, {waitForScore = true} = {}) {
   const onQuestion = (question) => { if (question !== null && question !== undefined) scoresAtPrompts.push(score()); };
   vm.runtime.on('QUESTION', onQuestion);
   const questions = Harness.answerQuestions(vm, answers, speech);
+  // Everything Quizzer's bubble shows, cleared bubbles included, with its time and the score then.
+  const timeline = [];
+  const onSay = (target, type, text) => {
+    if (target.sprite && target.sprite.name === 'Quizzer') {
+      timeline.push({text: text === null || text === undefined ? '' : String(text).trim(), t: Date.now(), score: score()});
+    }
+  };
+  vm.runtime.on('SAY', onSay);
   const said = () => speech.texts('Quizzer').map(t => t.trim());
   const feedback = () => said().filter(t => FEEDBACK.includes(t));
   const scoreLine = () => said().slice(-1).filter(t => /^Score:/.test(t))[0];
@@ -29,8 +37,9 @@ async function playQuiz(vm, answers, {waitForScore = true} = {}) {
     const line = scoreLine();
     const match = line === undefined ? null : /^Score:\s*(-?\d+)$/.exec(line);
     return {feedback: feedback(), said: said(), scoresAtPrompts, finalScore: score(),
-            announced: match ? num(match[1]) : null};
+            announced: match ? num(match[1]) : null, timeline};
   } finally {
+    vm.runtime.removeListener('SAY', onSay);
     vm.runtime.removeListener('QUESTION', onQuestion);
     questions.stop();
     speech.stop();
@@ -39,7 +48,7 @@ async function playQuiz(vm, answers, {waitForScore = true} = {}) {
 
 function scoreTest(vm, answers, expectedAtPrompts, expected) {
   return async () => {
-    const result = await playQuiz(vm, answers);
+    const {timeline, ...result} = await playQuiz(vm, answers);
     const passed = result.scoresAtPrompts.length === 2 &&
       result.scoresAtPrompts.every((s, i) => s === expectedAtPrompts[i]) &&
       result.finalScore === expected && result.announced === expected;
@@ -47,7 +56,35 @@ function scoreTest(vm, answers, expectedAtPrompts, expected) {
   };
 }
 
+// Each feedback's bubble: how long it stayed (until the bubble next changed) and the score when it appeared.
+function feedbackShown(timeline) {
+  return timeline.flatMap((e, i) => (FEEDBACK.includes(e.text)
+    ? [{text: e.text, ms: i + 1 < timeline.length ? timeline[i + 1].t - e.t : null, score: e.score}] : []));
+}
+
 module.exports = async (vm) => Harness.runTests(vm, [
+  {
+    name: 'base: the two questions as written, each feedback shown for 0.5 seconds',
+    timeoutMs: 25000,
+    run: async () => {
+      // Right then wrong, and wrong then right: all four feedback blocks show once.
+      const games = [await playQuiz(vm, [12, 4]), await playQuiz(vm, [5, 6])];
+      const asked = games.map(game => game.timeline.map(e => e.text).filter(t => /^what is/i.test(t)).join('|'));
+      const shown = games.map(game => feedbackShown(game.timeline));
+      const passed = asked.every(a => a === 'What is 7 + 5?|What is 9 - 3?') &&
+        shown.every(fs => fs.length === 2 && fs.every(f => f.ms !== null && Math.abs(f.ms - 500) <= 150));
+      return {passed, meta: {asked, shown}};
+    },
+  },
+  {
+    name: 'score goes up right after a correct answer, before its feedback',
+    timeoutMs: 15000,
+    run: async () => {
+      const game = await playQuiz(vm, [12, 6]);
+      const scores = feedbackShown(game.timeline).map(f => f.score);
+      return {passed: scores.join(',') === '1,2', meta: {scores}};
+    },
+  },
   {
     name: 'base: each answer gets "Correct!" or "Wrong!" feedback',
     timeoutMs: 20000,

@@ -10,13 +10,16 @@ from pathlib import Path
 
 import pytest
 
+from scratchworld_dist._run_plan import plan_run
 from scratchworld_dist.kinds.audit import AuditSweep, task_variants
 from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.sb3 import Project, block, rect_costume
 from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import sweep_config_from
 from tests.conftest import SUITE_DIR
 from tests.support.cli_runner import invoke
+from tests.support.small_suites import TASK_DIR, upstream_clone
 
 WEAK_JS = """
 module.exports = async (vm) => Harness.runTests(vm, [
@@ -112,3 +115,19 @@ def test_the_audit_finds_the_planted_hole_and_the_brittle_test_and_resumes(
     assert "# Grader audit" in done.stdout and "## Holes" in done.stdout and "text 'Hello' ->" in done.stdout
     again = invoke(*args)
     assert again.returncode == 0 and f"{len(rows)} already decided, 0 to run" in " ".join(again.stderr.split())
+
+
+def test_upstream_goldens_are_audited_on_the_virtual_clock_unless_the_config_says(tmp_path: Path) -> None:
+    clone = upstream_clone(tmp_path / "ScratchWorld")
+    (clone / "scratch-gui" / "static" / "calc_golden.sb3").write_bytes((TASK_DIR / "golden.sb3").read_bytes())
+    audit = {"mutants_per_task": 2, "refactorings_per_task": 0}
+    base = {"name": "a", "benchmark": "audit", "suite": str(clone), "audit": audit}
+
+    def clocks(**fields: object) -> set[str]:
+        plan = plan_run(sweep_config_from({**base, **fields}, tmp_path), notice=lambda _: None)
+        assert len(plan.jobs) == 3  # the golden and two mutants
+        return {content.payload.evaluation.clock for content in plan.contents}
+
+    # An upstream clone's episodes default to the real clock; its audit does not (verdicts would follow load).
+    assert clocks() == {"virtual"}
+    assert clocks(clock="real") == {"real"}
