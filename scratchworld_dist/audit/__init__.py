@@ -8,7 +8,7 @@ from scratchworld_dist.audit._checks import program_form, structure_problems
 from scratchworld_dist.audit._mutants import OPERATORS, enumerate_mutants, sample_mutants
 from scratchworld_dist.audit._program import Block, Field, Input, Primitive, Program, ProgramFormatError, Target
 from scratchworld_dist.audit._refactorings import REFACTORINGS, enumerate_refactorings, sample_refactorings
-from scratchworld_dist.audit._variant import Mutant, ProgramVariant, Refactoring
+from scratchworld_dist.audit._variant import Listings, Mutant, ProgramVariant, Refactoring, ScriptText, script_listings
 
 __all__ = [
     "OPERATORS",
@@ -16,17 +16,20 @@ __all__ = [
     "Block",
     "Field",
     "Input",
+    "Listings",
     "Mutant",
     "Primitive",
     "Program",
     "ProgramFormatError",
     "ProgramVariant",
     "Refactoring",
+    "ScriptText",
     "Target",
     "enumerate_mutants",
     "enumerate_refactorings",
     "program_form",
     "sample_mutants",
     "sample_refactorings",
+    "script_listings",
     "structure_problems",
 ]

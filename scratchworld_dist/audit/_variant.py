@@ -21,7 +21,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from scratchworld_dist.audit._checks import Form, program_form, structure_problems, target_form
 from scratchworld_dist.audit._program import Block, Program
-from scratchworld_dist.sb3 import script_listing
+from scratchworld_dist.sb3 import script_lines
 
 
 class ProgramVariant(BaseModel):
@@ -165,11 +165,13 @@ def _differs(old: dict[str, Any] | None, new: dict[str, Any]) -> bool:
 
 @dataclass(frozen=True)
 class ScriptText:
-    """A script as listed: where it is, its rank among its sprite's scripts (the order they start in), its lines."""
+    """A script as listed: where it is, its rank among its sprite's scripts (the order they start in), its lines
+    and the blocks each line shows."""
 
     head: str
     rank: int
     lines: tuple[str, ...]
+    blocks: tuple[frozenset[str], ...] = ()
 
     def same(self, other: ScriptText | None) -> bool:
         """The same script in the same place; a rank shifted by another script's move is not a change."""
@@ -204,8 +206,9 @@ def script_listings(project: dict[str, Any], only: Collection[str] | None = None
         for rank, block_id in enumerate(tops, 1):
             block = blocks[block_id]
             head = f"== {kind}: {target.get('name')} (at {block.get('x')}, {block.get('y')})"
-            lines = tuple(script_listing(blocks, block_id))
-            found[(str(target.get("name")), block_id)] = ScriptText(head, rank, lines)
+            listed = script_lines(blocks, block_id)
+            lines, shown = tuple(line.text for line in listed), tuple(line.blocks for line in listed)
+            found[(str(target.get("name")), block_id)] = ScriptText(head, rank, lines, shown)
     return found
 
 

@@ -117,9 +117,10 @@ class JobKind(Protocol):
         """The body of one run's page in the viewer (HTML, escaped), and its warnings."""
         ...
 
-    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
         """What the viewer's job page shows of one attempt's rows in this kind's ``tables`` (None: nothing);
-        ``root`` is the run directory as the page links to it (``../``)."""
+        ``root`` is the run directory as the page links to it (``../``), ``run_dir`` where it is on disk (for what
+        the rows only refer to: the audit reads its run's manifest to show the programs a row names)."""
         ...
 
     def diagnosis(self) -> DiagnosisPart | None:

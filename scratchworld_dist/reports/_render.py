@@ -8,6 +8,7 @@ diagnosis reports are drawn from blocks too (``blocks_markdown``, ``blocks_html`
 from __future__ import annotations
 
 import html
+import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
@@ -57,7 +58,23 @@ class Table:
     rows: list[list[str]]
 
 
-Block = Heading | Paragraph | Table
+@dataclass(frozen=True)
+class Linked:
+    """A paragraph that ends in a link: ``text``, then ``label`` pointing at ``href`` (a relative path we made)."""
+
+    text: str
+    label: str
+    href: str
+
+
+@dataclass(frozen=True)
+class Code:
+    """Preformatted text (pseudocode): a fenced block in Markdown, ``<pre>`` in HTML."""
+
+    text: str
+
+
+Block = Heading | Paragraph | Linked | Code | Table
 
 
 def render(report: RunReport, fmt: ReportFormat, plots: Sequence[Plot] = ()) -> str:
@@ -102,6 +119,11 @@ def blocks_markdown(blocks: Sequence[Block]) -> str:
             parts.append(f"{'#' * block.level} {block.text}")
         elif isinstance(block, Paragraph):
             parts.append(block.text)
+        elif isinstance(block, Linked):
+            parts.append(f"{block.text} [{block.label}](<{block.href}>)")
+        elif isinstance(block, Code):
+            fence = "`" * max(3, 1 + max((len(run) for run in re.findall(r"`+", block.text)), default=0))
+            parts.append(f"{fence}\n{block.text}\n{fence}")
         else:
             lines = [_md_row(block.header), _md_row(["---"] * len(block.header))]
             lines += [_md_row(row) for row in block.rows]
@@ -133,6 +155,11 @@ def blocks_html(blocks: Sequence[Block]) -> str:
             body.append(f"<h{block.level}>{html.escape(block.text)}</h{block.level}>")
         elif isinstance(block, Paragraph):
             body.append(f"<p>{html.escape(block.text)}</p>")
+        elif isinstance(block, Linked):
+            link = f'<a href="{html.escape(block.href)}">{html.escape(block.label)}</a>'
+            body.append(f"<p>{html.escape(block.text)} {link}</p>")
+        elif isinstance(block, Code):
+            body.append(f"<pre>{html.escape(block.text)}</pre>")
         else:
             head = "".join(f"<th>{html.escape(cell)}</th>" for cell in block.header)
             rows = "".join(

@@ -13,13 +13,14 @@ from scratchworld_dist.sb3._builder import (
     variable,
 )
 from scratchworld_dist.sb3._catalog import SHAPES
-from scratchworld_dist.sb3._listing import script_listing, target_listing
+from scratchworld_dist.sb3._listing import ListedLine, script_lines, script_listing, target_listing
 from workers.contract import Sb3Archive, check_project
 
 __all__ = [
     "SHAPES",
     "Block",
     "Costume",
+    "ListedLine",
     "Project",
     "Sb3Archive",
     "Target",
@@ -29,6 +30,7 @@ __all__ = [
     "circle_costume",
     "list_contents",
     "rect_costume",
+    "script_lines",
     "script_listing",
     "target_listing",
     "variable",

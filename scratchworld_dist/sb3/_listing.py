@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Mapping
+from dataclasses import dataclass
 from typing import Any
 
 MAX_DEPTH = 64
@@ -39,40 +40,55 @@ def target_listing(target: Mapping[str, Any]) -> str:
     return "\n".join(lines)
 
 
+@dataclass(frozen=True)
+class ListedLine:
+    """One line of a listing and the blocks it shows: its stack block, and the reporters and menus of its inputs
+    (so a page can mark the line a block is on)."""
+
+    text: str
+    blocks: frozenset[str]
+
+
 def script_listing(blocks: Mapping[str, Any], top_id: str) -> list[str]:
     """The lines of the stack that starts at ``top_id`` (following ``next``, substacks indented)."""
+    return [line.text for line in script_lines(blocks, top_id)]
+
+
+def script_lines(blocks: Mapping[str, Any], top_id: str) -> list[ListedLine]:
+    """``script_listing`` with the blocks each line shows."""
     return _stack(blocks, top_id, 0, set())
 
 
-def _stack(blocks: Mapping[str, Any], block_id: str | None, depth: int, seen: set[str]) -> list[str]:
-    lines: list[str] = []
+def _stack(blocks: Mapping[str, Any], block_id: str | None, depth: int, seen: set[str]) -> list[ListedLine]:
+    lines: list[ListedLine] = []
     while isinstance(block_id, str) and block_id in blocks and block_id not in seen:
         seen.add(block_id)
         block = blocks[block_id]
         if not isinstance(block, dict):
             break
         if depth >= MAX_DEPTH:
-            return [*lines, "  " * depth + "..."]
-        lines.append("  " * depth + _describe(blocks, block, depth, seen))
+            return [*lines, ListedLine("  " * depth + "...", frozenset())]
+        shown = [block_id]
+        lines.append(ListedLine("  " * depth + _describe(blocks, block, depth, seen, shown), frozenset(shown)))
         for name, value in sorted(_inputs(block).items()):
             if name.startswith("SUBSTACK") and isinstance(value, list) and len(value) > 1:
                 if name == "SUBSTACK2":
-                    lines.append("  " * depth + "else")
+                    lines.append(ListedLine("  " * depth + "else", frozenset()))
                 lines += _stack(blocks, value[1], depth + 1, seen)
         block_id = block.get("next")
     return lines
 
 
-def _describe(blocks: Mapping[str, Any], block: dict[str, Any], depth: int, seen: set[str]) -> str:
+def _describe(blocks: Mapping[str, Any], block: dict[str, Any], depth: int, seen: set[str], shown: list[str]) -> str:
     parts = [str(block.get("opcode", "?"))]
     fields = block.get("fields")
     if isinstance(fields, dict):
         for name, value in fields.items():
-            shown = value[0] if isinstance(value, list) and value else value
-            parts.append(f"{name}={shown}")
+            value_shown = value[0] if isinstance(value, list) and value else value
+            parts.append(f"{name}={value_shown}")
     for name, value in _inputs(block).items():
         if not name.startswith("SUBSTACK"):
-            parts.append(f"{name}={_input(blocks, value, depth, seen)}")
+            parts.append(f"{name}={_input(blocks, value, depth, seen, shown)}")
     return " ".join(parts)
 
 
@@ -81,8 +97,9 @@ def _inputs(block: dict[str, Any]) -> dict[str, Any]:
     return inputs if isinstance(inputs, dict) else {}
 
 
-def _input(blocks: Mapping[str, Any], value: Any, depth: int, seen: set[str]) -> str:
-    """An input's content: a literal, a variable, or a nested reporter in parentheses."""
+def _input(blocks: Mapping[str, Any], value: Any, depth: int, seen: set[str], shown: list[str]) -> str:
+    """An input's content: a literal, a variable, or a nested reporter in parentheses (its blocks added to
+    ``shown``)."""
     if not isinstance(value, list) or len(value) < 2:
         return "?"
     content = value[1]
@@ -97,10 +114,12 @@ def _input(blocks: Mapping[str, Any], value: Any, depth: int, seen: set[str]) ->
         if nested.get("shadow"):  # a menu: its field is the value
             fields = nested.get("fields")
             if isinstance(fields, dict) and fields:
+                shown.append(content)
                 first = next(iter(fields.values()))
                 return json.dumps(first[0] if isinstance(first, list) and first else first)
         if content in seen:
             return "(...)"
         seen.add(content)
-        return f"({_describe(blocks, nested, depth + 1, seen)})"
+        shown.append(content)
+        return f"({_describe(blocks, nested, depth + 1, seen, shown)})"
     return "empty"

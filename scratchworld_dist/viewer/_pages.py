@@ -236,7 +236,7 @@ def job_page(index: int, run: ViewedRun, job_id: str) -> JobPage | None:
 
     (best,) = effective_rows([a.row for a in found])
     kind = run.kind()
-    views = [_attempt_view(run, attempt, kind.attempt_panel(attempt.kind_rows, "../")) for attempt in found]
+    views = [_attempt_view(run, attempt, kind.attempt_panel(attempt.kind_rows, "../", run.path)) for attempt in found]
     own = next((v.panel.instruction for v in views if v.panel is not None and v.panel.instruction), None)
     return JobPage(
         run=run_card(index, run),

@@ -2,7 +2,7 @@
 
 from scratchworld_dist.kinds.audit._kind import AUDIT, AuditKind
 from scratchworld_dist.kinds.audit._plan import AuditBody, audit_jobs, task_variants
-from scratchworld_dist.kinds.audit._report import AuditReport, build_audit_report
+from scratchworld_dist.kinds.audit._report import AuditReport, build_audit_report, render_audit
 from scratchworld_dist.kinds.audit._rows import AuditRow
 from scratchworld_dist.kinds.audit._settings import AuditSweep
 
@@ -15,5 +15,6 @@ __all__ = [
     "AuditSweep",
     "audit_jobs",
     "build_audit_report",
+    "render_audit",
     "task_variants",
 ]

@@ -13,7 +13,7 @@ from pydantic import BaseModel
 from scratchworld_dist._run_plan import ItemContent, RunPlan
 from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
 from scratchworld_dist.kinds.audit._panel import variant_panel
-from scratchworld_dist.kinds.audit._plan import AuditBody, audit_jobs
+from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, audit_jobs, evaluated_under
 from scratchworld_dist.kinds.audit._rows import AuditRow, audit_row
 from scratchworld_dist.kinds.audit._settings import AuditSweep
 from scratchworld_dist.kinds.tasks import selected_tasks
@@ -23,9 +23,6 @@ from workers.contract import AgentRef, AgentUnavailableError, AuditSpec, Harness
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
-
-DEFAULT_AGENT = AgentRef(name="oracle")
-"""The config's default agent: the audit runs none, so it takes no other."""
 
 
 class AuditKind:
@@ -55,10 +52,8 @@ class AuditKind:
 
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
         """The selected tasks' goldens and every variant the ``audit`` section asks for, one job each, evaluated
-        on the virtual clock unless the config names one (an upstream clone's real-clock default would make
-        verdicts depend on the machine's load, and a grader's strength is a property of its tests)."""
-        virtual = config if config.clock is not None else config.model_copy(update={"clock": "virtual"})
-        suite, contents = selected_tasks(virtual, None)
+        under ``evaluated_under(config)``."""
+        suite, contents = selected_tasks(evaluated_under(config), None)
         jobs = list(
             audit_jobs(
                 contents, config.section(self.name, AuditSweep), DEFAULT_AGENT, harness.digest, config.project_limits
@@ -101,10 +96,14 @@ class AuditKind:
         return render_audit(report, fmt), report.warnings
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
-        return self.report([run_dir], "html", force=False)
+        """The report on the run's page, its findings linking to their job pages next to it."""
+        from scratchworld_dist.kinds.audit._report import build_audit_report, job_page, render_audit
 
-    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
-        return variant_panel(rows, root)
+        report = build_audit_report([run_dir], force=False)
+        return render_audit(report, "html", link=lambda finding: job_page(finding.job_id)), report.warnings
+
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
+        return variant_panel(rows, run_dir)
 
     def diagnosis(self) -> DiagnosisPart | None:
         return None

@@ -1,33 +1,95 @@
-"""An audit job on the viewer's job page: the change (pseudocode before and after) and the grader's verdict."""
+"""An audit job on the viewer's job page: the first observable difference from the golden, the grader's verdict,
+and the golden and the variant side by side (every script, the change marked), which the report's findings link to.
+"""
 
 from __future__ import annotations
 
 import json
 from collections.abc import Mapping, Sequence
 from html import escape
+from pathlib import Path
 
 from pydantic import BaseModel
 
 from scratchworld_dist.kinds._protocol import AttemptPanel
+from scratchworld_dist.kinds.audit._programs import programs_html
+from scratchworld_dist.kinds.audit._remake import ProgramsUnavailableError, remade_programs
 from scratchworld_dist.kinds.audit._rows import AuditRow
 
 GOOD = {"killed", "passed", "golden_passes"}
+"""Verdicts of a grader that judged right (a green badge); a hole, a brittle test or a failing golden are red,
+an equivalent mutant (no test could kill it) grey."""
+
+WRONG = {"hole", "survived", "brittle", "golden_fails"}
+
+MEANING = {
+    "killed": "a test failed this mutant, as a sound grader should",
+    "equivalent": "every test passed this mutant, and it behaves as the golden does: no test could tell them apart",
+    "hole": "a grader hole: every test passed this mutant, which behaves otherwise than the golden",
+    "survived": "every test passed this mutant, and it could not be traced to tell whether it behaves as the golden",
+    "passed": "every test passed this refactoring, as a sound grader should",
+    "brittle": "a brittle grader: a test failed this refactoring, which was written to behave as the golden does",
+    "golden_passes": "the golden passes its own tests, so its variants' verdicts measure the grader",
+    "golden_fails": "the golden fails its own tests: its variants' verdicts measure nothing",
+    "error": "no verdict: the evaluation itself failed",
+}
 
 
-def variant_panel(rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+def variant_panel(rows: Mapping[str, Sequence[BaseModel]], run_dir: Path) -> AttemptPanel | None:
     row = next((r for r in rows.get("audits", ()) if isinstance(r, AuditRow)), None)
     if row is None:
         return None
-    badge = "passed" if row.verdict in GOOD else "failed"
+    body = _evidence(row) + _verdict(row) + _programs(row, run_dir)
+    return AttemptPanel(title="Golden" if row.variant == "golden" else "Variant", html=body, shows_project=False)
+
+
+def _evidence(row: AuditRow) -> str:
+    """The first observable difference, first: what the tests let through (or that there is none)."""
+    if row.evidence:
+        return (
+            '<p class="audit-evidence"><strong>First observable difference from the golden:</strong> '
+            f"<code>{escape(row.evidence)}</code></p>\n"
+        )
+    if row.observed == "equivalent":
+        return '<p class="audit-evidence">Observably the same as the golden: both traces agree frame by frame.</p>\n'
+    return ""
+
+
+def _verdict(row: AuditRow) -> str:
+    badge = "passed" if row.verdict in GOOD else "failed" if row.verdict in WRONG else row.verdict
     failing = ", ".join(escape(name) for name in json.loads(row.failing_tests)) or "none"
-    body = (
-        '<table class="kv audit">\n'
-        f"<tr><th>{escape(row.variant)}</th><td>{escape(row.operator)} at {escape(row.target)} / "
-        f"{escape(row.block_id)}: {escape(row.description)}</td></tr>\n"
-        f'<tr><th>verdict</th><td><span class="badge {badge}">{escape(row.verdict)}</span> '
-        f"({row.tests_passed} of {row.tests_total} tests passed; failing: {failing})</td></tr>\n"
-        f'<tr><th>before</th><td><pre class="listing">{escape(row.before)}</pre></td></tr>\n'
-        f'<tr><th>after</th><td><pre class="listing">{escape(row.after)}</pre></td></tr>\n'
-        "</table>"
+    change = (
+        "the golden project, unchanged"
+        if row.variant == "golden"
+        else f"{escape(row.variant)} {escape(row.operator)} at {escape(row.target)} / {escape(row.block_id)}: "
+        f"{escape(row.description)}"
     )
-    return AttemptPanel(title="Variant", html=body, shows_project=False)
+    return (
+        '<table class="kv audit">\n'
+        f"<tr><th>change</th><td>{change}</td></tr>\n"
+        f'<tr><th>verdict</th><td><span class="badge {badge}">{escape(row.verdict)}</span> '
+        f"{escape(MEANING.get(row.verdict, ''))}</td></tr>\n"
+        f"<tr><th>tests</th><td>{row.tests_passed} of {row.tests_total} passed; failing: {failing}</td></tr>\n"
+        "</table>\n"
+    )
+
+
+def _programs(row: AuditRow, run_dir: Path) -> str:
+    """Both programs in full, or (when they cannot be made again) the changed scripts the row recorded."""
+    try:
+        programs = remade_programs(run_dir, row.task_id, row.job_id)
+    except ProgramsUnavailableError as exc:
+        note = f'<p class="warning">Programs not shown: {escape(str(exc))}</p>\n'
+        if row.variant == "golden":
+            return note
+        return (
+            f'{note}<table class="kv audit">\n'
+            f'<tr><th>before</th><td><pre class="listing">{escape(row.before)}</pre></td></tr>\n'
+            f'<tr><th>after</th><td><pre class="listing">{escape(row.after)}</pre></td></tr>\n'
+            "</table>"
+        )
+    if programs.variant is None:
+        return "<h4>The golden</h4>\n" + programs_html(programs.golden, None, None, "")
+    label = f"{row.variant}: {row.operator}"
+    table = programs_html(programs.golden, programs.variant, (row.target, row.block_id), label)
+    return "<h4>The golden and the variant</h4>\n" + table

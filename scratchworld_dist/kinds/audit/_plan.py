@@ -20,8 +20,11 @@ from scratchworld_dist.audit import (
 )
 from scratchworld_dist.kinds.audit._settings import AuditSweep
 from scratchworld_dist.kinds.tasks import TaskContent
-from scratchworld_dist.sweep import JobBody, JobSpec, identity_id
+from scratchworld_dist.sweep import JobBody, JobSpec, SweepConfig, identity_id
 from workers.contract import AgentRef, ProjectLimits, ScratchWorldError, VariantKind, check_project
+
+DEFAULT_AGENT = AgentRef(name="oracle")
+"""The config's default agent: the audit runs none, so it takes no other."""
 
 
 class AuditBody(JobBody):
@@ -41,6 +44,13 @@ class AuditBody(JobBody):
 
     def columns(self) -> dict[str, Any]:
         return {"mode": self.variant, "max_steps": 0}
+
+
+def evaluated_under(config: SweepConfig) -> SweepConfig:
+    """The config its variants are evaluated under: on the virtual clock unless it names one (an upstream clone's
+    real-clock default would make verdicts depend on the machine's load, and a grader's strength is a property of
+    its tests)."""
+    return config if config.clock is not None else config.model_copy(update={"clock": "virtual"})
 
 
 def golden_json(content: TaskContent, limits: ProjectLimits | None = None) -> dict[str, Any]:

@@ -11,15 +11,26 @@ from __future__ import annotations
 
 import json
 from collections import Counter, defaultdict
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from urllib.parse import quote
 
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.kinds.audit._rows import AuditRow
 from scratchworld_dist.reports import Block as ReportBlock
-from scratchworld_dist.reports import Heading, Paragraph, Table, blocks_html, blocks_markdown, load_runs, read_rows
+from scratchworld_dist.reports import (
+    Code,
+    Heading,
+    Linked,
+    Paragraph,
+    Table,
+    blocks_html,
+    blocks_markdown,
+    load_runs,
+    read_rows,
+)
 from scratchworld_dist.results import effective_rows
 
 
@@ -85,6 +96,9 @@ class Finding(BaseModel):
     failing_tests: list[str]
     observed: str | None
     evidence: str | None
+    page: str
+    """Its job's page in the viewer of these runs (``scratchworld view`` with the runs in this order), relative to
+    the viewer's root: ``runs/<k>/jobs/<job_id>.html``. The page shows the golden and the variant side by side."""
 
 
 class AuditReport(BaseModel):
@@ -109,12 +123,14 @@ def build_audit_report(run_dirs: Sequence[Path], *, force: bool = False) -> Audi
     """The audit of ``run_dirs`` at each job's effective attempt (``RunDirError`` when they hold no audit job)."""
     loaded, warnings = load_runs(list(run_dirs), force=force)
     counted = {(row.job_id, row.attempt) for run in loaded for row in effective_rows(run.rows)}
-    rows = [
-        row
-        for run in loaded
+    found = [
+        (index, row)
+        for index, run in enumerate(loaded)
         for row in read_rows(run.path, "audits", AuditRow, "an audit")
         if (row.job_id, row.attempt) in counted
     ]
+    run_of = {row.job_id: index for index, row in found}
+    rows = [row for _, row in found]
     if not rows:
         raise RunDirError(f"{', '.join(str(run.path) for run in loaded)}: no audit results")
     goldens = [row for row in rows if row.variant == "golden"]
@@ -141,6 +157,7 @@ def build_audit_report(run_dirs: Sequence[Path], *, force: bool = False) -> Audi
                     task_id=row.task_id, job_id=row.job_id, operator=row.operator, target=row.target,
                     block_id=row.block_id, description=row.description, before=row.before, after=row.after,
                     failing_tests=failing, observed=row.observed, evidence=row.evidence,
+                    page=viewer_page(run_of[row.job_id], row.job_id),
                 )
             )  # fmt: skip
     tests = [
@@ -156,12 +173,24 @@ def build_audit_report(run_dirs: Sequence[Path], *, force: bool = False) -> Audi
     )  # fmt: skip
 
 
+def job_page(job_id: str) -> str:
+    """A job's page in the viewer, relative to its run's page (the site's layout: ``scratchworld_dist.viewer``)."""
+    return f"jobs/{quote(job_id, safe='')}.html"
+
+
+def viewer_page(run: int, job_id: str) -> str:
+    """A job's page in the viewer, relative to its root."""
+    return f"runs/{run}/{job_page(job_id)}"
+
+
 def _pct(value: float | None) -> str:
     return "-" if value is None else f"{100 * value:.1f}%"
 
 
-def audit_blocks(report: AuditReport) -> list[ReportBlock]:
-    """The report as blocks (Markdown or HTML alike)."""
+def audit_blocks(report: AuditReport, link: Callable[[Finding], str] | None = None) -> list[ReportBlock]:
+    """The report as blocks (Markdown or HTML alike); each finding links to ``link(finding)`` (default: its
+    ``page``, relative to the viewer's root)."""
+    href = link or (lambda finding: finding.page)
     t = report.total
     untraced = f", {t.survived} survivor(s) not traced, counted as holes" if t.survived else ""
     blocks: list[ReportBlock] = [
@@ -214,22 +243,35 @@ def audit_blocks(report: AuditReport) -> list[ReportBlock]:
             rows=[[s.task_id, s.test, str(s.kills), str(s.brittle)] for s in report.tests],
         ),
     ]
+    if report.holes or report.brittle or report.equivalent:
+        where = "" if link is not None else " (paths under the viewer of these runs: `scratchworld view RUN_DIR...`)"
+        blocks.append(
+            Paragraph(
+                text=f"Each finding links to its job's page{where}: the golden and the variant side by side, every "
+                "script, the change marked, with the verdict and the first observable difference."
+            )
+        )
     for title, findings in (("Holes", report.holes), ("Brittle", report.brittle), ("Equivalent", report.equivalent)):
         blocks.append(Heading(level=2, text=f"{title} ({len(findings)})"))
         for f in findings:
             failing = ", ".join(f.failing_tests) or "none"
             seen = f"; first observable difference: {f.evidence}" if f.evidence else ""
             blocks.append(
-                Paragraph(
+                Linked(
                     text=f"{f.task_id} · {f.operator} at {f.target}/{f.block_id}: {f.description} "
-                    f"(job {f.job_id}; failing tests: {failing}{seen})\nbefore:\n{f.before}\nafter:\n{f.after}"
+                    f"(job {f.job_id}; failing tests: {failing}{seen})",
+                    label="golden and variant side by side",
+                    href=href(f),
                 )
             )
+            blocks.append(Code(text=f"before:\n{f.before}\n\nafter:\n{f.after}"))
     return blocks
 
 
-def render_audit(report: AuditReport, fmt: str) -> str:
+def render_audit(report: AuditReport, fmt: str, link: Callable[[Finding], str] | None = None) -> str:
+    """The report in ``fmt``; ``link``: where a finding's page is from where the report is read (default: its
+    ``page``, from the viewer's root)."""
     if fmt == "json":
         return report.model_dump_json(indent=2) + "\n"
-    blocks = audit_blocks(report)
+    blocks = audit_blocks(report, link)
     return blocks_html(blocks) if fmt == "html" else blocks_markdown(blocks)

@@ -144,7 +144,7 @@ class DragKind:
 
         return build_drag_report(list(run_dirs), force=force)
 
-    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
         return None  # the page's tests, steps and final project say it all
 
     def diagnosis(self) -> DiagnosisPart | None:

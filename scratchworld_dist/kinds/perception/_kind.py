@@ -134,7 +134,7 @@ class PerceptionJobKind:
         perception = build_perception_report([run_dir])
         return blocks_html(perception_blocks(perception)), perception.warnings
 
-    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
         return answer_panel(rows, root)
 
 

@@ -149,7 +149,7 @@ class TasksKind:
 
         return DIAGNOSIS
 
-    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str) -> AttemptPanel | None:
+    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
         return None  # the page's tests, steps and final project say it all
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:

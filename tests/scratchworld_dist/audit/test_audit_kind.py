@@ -1,25 +1,37 @@
 """The grader audit as a job kind, end to end on a hand-made task with two planted weaknesses: a test that
 accepts any greeting (a grader hole: a mutant of the greeting survives) and a test that finds the score by
 its variable's name (brittle: renaming the variable, which changes no behaviour, fails it). The audit runs as
-a sweep (``scratchworld audit``), lands in its own table, reports both, and resumes."""
+a sweep (``scratchworld audit``, once for the module), lands in its own table, reports both, resumes, and its
+findings link to viewer pages that show the golden and the variant. The golden's texts are markup, as a
+hostile project's could be."""
 
 from __future__ import annotations
 
 import json
+import shutil
+from dataclasses import dataclass
+from html import escape
 from pathlib import Path
 
 import pytest
 
 from scratchworld_dist._run_plan import plan_run
-from scratchworld_dist.kinds.audit import AuditSweep, task_variants
+from scratchworld_dist.kinds.audit import AuditSweep, build_audit_report, render_audit, task_variants
 from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.sb3 import Project, block, rect_costume
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import sweep_config_from
+from scratchworld_dist.viewer import ViewerSite
 from tests.conftest import SUITE_DIR
-from tests.support.cli_runner import invoke
+from tests.support.cli_runner import Done, invoke
 from tests.support.small_suites import TASK_DIR, upstream_clone
+
+GREETING = '<script>alert("Hello")</script>'
+"""What the golden's greeter says: markup that must reach every page as text."""
+
+LOOSE = "<img src=x onerror=alert(1)>"
+"""A loose stage block's value (no hat: it never runs, and no variant changes it), listed on every page."""
 
 WEAK_JS = """
 module.exports = async (vm) => Harness.runTests(vm, [
@@ -47,15 +59,16 @@ module.exports = async (vm) => Harness.runTests(vm, [
 """
 
 
-def greeter(done: bool) -> bytes:
+def greeter(done: bool, greeting: str = GREETING) -> bytes:
     project = Project()
     project.stage.variable("score", 0)
+    project.stage.script(block("data_setvariableto", VARIABLE="score", VALUE=LOOSE), x=400, y=300)
     sprite = project.sprite("Greeter", costume=rect_costume("box", 20, 20, "#33aa55"))
     if done:
         sprite.script(
             block("event_whenflagclicked"),
             block("data_setvariableto", VARIABLE="score", VALUE=10),
-            block("looks_say", MESSAGE="Hello"),
+            block("looks_say", MESSAGE=greeting),
         )
     return project.to_sb3()
 
@@ -74,6 +87,23 @@ def weak_suite(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return suite
 
 
+@dataclass(frozen=True)
+class Audited:
+    args: list[str]
+    out: Path
+    figures: Path
+    done: Done
+
+
+@pytest.fixture(scope="module")
+def audited(weak_suite: Path, tmp_path_factory: pytest.TempPathFactory, shared_ray: int) -> Audited:
+    """The weak suite audited once (``scratchworld audit``) for the module's tests."""
+    folder = tmp_path_factory.mktemp("audit")
+    out, figures = folder / "audit", folder / "audit.json"
+    args = ["audit", str(weak_suite), "--out", str(out), "--json", str(figures)]
+    return Audited(args, out, figures, invoke(*args))
+
+
 def test_variants_are_planned_from_the_golden_deterministically(weak_suite: Path) -> None:
     content = read_task(load_suite(weak_suite).task("greeter"))
     settings = AuditSweep(mutants_per_task=5, refactorings_per_task=2, seed=3)
@@ -88,12 +118,8 @@ def test_variants_are_planned_from_the_golden_deterministically(weak_suite: Path
 
 @pytest.mark.ray
 @pytest.mark.browser
-def test_the_audit_finds_the_planted_hole_and_the_brittle_test_and_resumes(
-    weak_suite: Path, tmp_path: Path, shared_ray: int
-) -> None:
-    out, figures = tmp_path / "audit", tmp_path / "audit.json"
-    args = ["audit", str(weak_suite), "--out", str(out), "--json", str(figures)]
-    done = invoke(*args)
+def test_the_audit_finds_the_planted_hole_and_the_brittle_test_and_resumes(audited: Audited) -> None:
+    out, figures, done = audited.out, audited.figures, audited.done
     assert done.returncode == 0, done.stderr
     rows = RunStore(out).read_table("audits").to_pylist()
     verdicts = {(row["variant"], row["operator"], row["verdict"]) for row in rows}
@@ -112,9 +138,67 @@ def test_the_audit_finds_the_planted_hole_and_the_brittle_test_and_resumes(
     assert task["task_id"] == "greeter" and task["holes"] == len(holes)
     assert task["killed"] + task["holes"] + task["equivalent"] == task["mutants"] > 0
     assert task["brittle"] == len(renamed) and set(task) >= {"equivalent", "holes", "refactorings"}
-    assert "# Grader audit" in done.stdout and "## Holes" in done.stdout and "text 'Hello' ->" in done.stdout
-    again = invoke(*args)
+    assert "# Grader audit" in done.stdout and "## Holes" in done.stdout and f"text {GREETING!r} ->" in done.stdout
+    again = invoke(*audited.args)
     assert again.returncode == 0 and f"{len(rows)} already decided, 0 to run" in " ".join(again.stderr.split())
+
+
+@pytest.mark.ray
+@pytest.mark.browser
+def test_findings_link_to_a_page_with_both_programs_the_change_and_the_evidence(
+    audited: Audited, weak_suite: Path, tmp_path: Path
+) -> None:
+    assert audited.done.returncode == 0, audited.done.stderr
+    report = build_audit_report([audited.out])
+    findings = [*report.holes, *report.brittle, *report.equivalent]
+    assert report.holes and report.brittle
+    # The report links every finding: from the viewer's root (Markdown, HTML), and from the run's own page.
+    markdown, html = render_audit(report, "md"), render_audit(report, "html")
+    site = ViewerSite([audited.out])
+    run_page = site.get("runs/0/index.html")
+    assert run_page is not None and run_page.body is not None
+    for finding in findings:
+        assert finding.page == f"runs/0/jobs/{finding.job_id}.html"
+        assert f"](<{finding.page}>)" in markdown and f'<a href="{finding.page}">' in html
+        assert f'<a href="jobs/{finding.job_id}.html">' in run_page.body.decode()
+    assert "<script>" not in html and escape(GREETING) in html
+
+    hole = report.holes[0]
+    page = site.get(hole.page)
+    assert page is not None and page.body is not None
+    text = page.body.decode()
+    # The evidence first, then the verdict and both programs in full: the loose stage script no variant touched
+    # is listed in each column, and the changed greeting is marked in each.
+    assert hole.evidence and GREETING in hole.evidence
+    evidence = text.index('class="audit-evidence"')
+    assert escape(hole.evidence) in text[evidence : text.index("</p>", evidence)]
+    assert evidence < text.index('class="badge failed">hole<') < text.index("audit-programs")
+    assert "<th>golden</th><th>mutant: text_literal</th>" in text
+    assert text.count(escape(json.dumps(LOOSE))) == 2
+    marked = [part.split("</mark>")[0] for part in text.split('<mark class="changed-block"')[1:]]
+    assert len(marked) == 2 and escape(json.dumps(GREETING)) in marked[0] and "looks_say" in marked[1]
+    assert escape(json.dumps(GREETING)) not in marked[1]  # the mutant's greeting differs from the golden's
+    assert "<script>" not in text and "<img" not in text  # hostile text arrives as text only
+
+    # The golden's own page lists it alone; a run whose suite is gone or changed shows the change as recorded.
+    (golden_row,) = [r for r in RunStore(audited.out).read_table("audits").to_pylist() if r["variant"] == "golden"]
+    golden_page = site.get(f"runs/0/jobs/{golden_row['job_id']}.html")
+    assert golden_page is not None and golden_page.body is not None
+    assert "<h4>The golden</h4>" in golden_page.body.decode() and "columns-1" in golden_page.body.decode()
+    changed_suite = tmp_path / "suite"
+    shutil.copytree(weak_suite, changed_suite)
+    (changed_suite / "create" / "greeter" / "golden.sb3").write_bytes(greeter(True, "Bye"))
+    for suite, why in ((tmp_path / "gone", "cannot be read as it was planned"), (changed_suite, "changed since")):
+        moved = tmp_path / f"run-{suite.name}"
+        shutil.copytree(audited.out, moved)
+        manifest = json.loads((moved / "manifest.json").read_text())
+        manifest["config"]["suite"] = str(suite)
+        (moved / "manifest.json").write_text(json.dumps(manifest))
+        shown = ViewerSite([moved]).get(hole.page)
+        assert shown is not None and shown.body is not None
+        body = shown.body.decode()
+        assert "Programs not shown" in body and why in body and "audit-programs" not in body
+        assert escape(hole.before) in body and escape(hole.evidence) in body
 
 
 def test_upstream_goldens_are_audited_on_the_virtual_clock_unless_the_config_says(tmp_path: Path) -> None:

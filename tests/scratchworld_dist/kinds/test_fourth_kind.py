@@ -148,7 +148,7 @@ class EchoKind:
         row = EchoRow(job_id=job.job_id, attempt=result.attempt, word=job.body.word, passing_word=job.body.passing_word)
         return {"echoes": [row]}
 
-    def attempt_panel(self, rows, root):
+    def attempt_panel(self, rows, root, run_dir):
         (row,) = rows["echoes"]
         return AttemptPanel(title="Echoed", html=f"<p class=echoed>{escape(row.word)}</p>", shows_project=False)
 
