@@ -71,6 +71,9 @@ class Tally(BaseModel):
 
 class TaskAudit(Tally):
     task_id: str
+    category: str = ""
+    golden_fails: bool = False
+    """Its golden fails its own tests: its variants' verdicts measure nothing, and no suite figure counts them."""
 
 
 class TestAudit(BaseModel):
@@ -109,6 +112,9 @@ class AuditReport(BaseModel):
     """killed / (killed + holes) over the suite (an untraced survivor counts as a hole)."""
 
     refactoring_pass_rate: float | None
+    categories: dict[str, Tally] = {}
+    """The same figures per task category (create, debug, ...), over the tasks whose golden passes."""
+
     tasks: list[TaskAudit]
     tests: list[TestAudit]
     operators: dict[str, Tally]
@@ -130,6 +136,7 @@ def build_audit_report(run_dirs: Sequence[Path], *, force: bool = False) -> Audi
         if (row.job_id, row.attempt) in counted
     ]
     run_of = {row.job_id: index for index, row in found}
+    category = {row.task_id: row.category for run in loaded for row in run.rows}
     rows = [row for _, row in found]
     if not rows:
         raise RunDirError(f"{', '.join(str(run.path) for run in loaded)}: no audit results")
@@ -140,13 +147,17 @@ def build_audit_report(run_dirs: Sequence[Path], *, force: bool = False) -> Audi
         for row in goldens
         if row.verdict == "golden_fails"
     ]
+    unmeasured = {row.task_id for row in goldens if row.verdict == "golden_fails"}
     rows = [row for row in rows if row.variant != "golden"]
-    total, tasks, operators = Tally(), defaultdict(Tally), defaultdict(Tally)
+    total, tasks, operators, categories = Tally(), defaultdict(Tally), defaultdict(Tally), defaultdict(Tally)
     kills: Counter[tuple[str, str]] = Counter()
     breaks: Counter[tuple[str, str]] = Counter()
     findings: dict[str, list[Finding]] = {"hole": [], "survived": [], "equivalent": [], "brittle": []}
     for row in sorted(rows, key=lambda r: (r.task_id, r.variant, r.operator, r.job_id)):
-        for tally in (total, tasks[row.task_id], operators[f"{row.variant}:{row.operator}"]):
+        tasks[row.task_id].add(row)
+        if row.task_id in unmeasured:
+            continue  # its golden fails: nothing here says whether the tests are sound
+        for tally in (total, operators[f"{row.variant}:{row.operator}"], categories[category.get(row.task_id, "")]):
             tally.add(row)
         failing = json.loads(row.failing_tests)
         for test in failing:
@@ -167,10 +178,21 @@ def build_audit_report(run_dirs: Sequence[Path], *, force: bool = False) -> Audi
     return AuditReport(
         runs=[run.name for run in loaded], warnings=warnings, total=total, mutation_score=total.mutation_score,
         refactoring_pass_rate=total.refactoring_pass_rate,
-        tasks=[TaskAudit(task_id=task, **tally.model_dump()) for task, tally in sorted(tasks.items())],
+        categories={name: categories[name] for name in sorted(categories, key=_category_order)},
+        tasks=[
+            TaskAudit(
+                task_id=task, category=category.get(task, ""), golden_fails=task in unmeasured, **tally.model_dump()
+            )
+            for task, tally in sorted(tasks.items())
+        ],
         tests=tests, operators=dict(sorted(operators.items())), holes=findings["hole"] + findings["survived"],
         equivalent=findings["equivalent"], brittle=findings["brittle"],
     )  # fmt: skip
+
+
+def _category_order(name: str) -> tuple[int, str]:
+    order = ("create", "debug", "extend", "compute")
+    return (order.index(name) if name in order else len(order), name)
 
 
 def job_page(job_id: str) -> str:
@@ -203,21 +225,26 @@ def audit_blocks(report: AuditReport, link: Callable[[Finding], str] | None = No
             "variant(s) without a verdict."
         ),
         *(Paragraph(text=f"Warning: {warning}") for warning in report.warnings),
+        Heading(level=2, text="Per category"),
+        Table(
+            header=[
+                "category",
+                "mutants",
+                "killed",
+                "equivalent",
+                "holes",
+                "score",
+                "refactorings",
+                "passed",
+                "brittle",
+            ],
+            rows=[[name or "-", *_figures(c)] for name, c in report.categories.items()],
+        ),
         Heading(level=2, text="Per task"),
         Table(
             header=["task", "mutants", "killed", "equivalent", "holes", "score", "refactorings", "passed", "brittle"],
             rows=[
-                [
-                    a.task_id,
-                    str(a.mutants),
-                    str(a.killed),
-                    str(a.equivalent),
-                    str(a.holes + a.survived),
-                    _pct(a.mutation_score),
-                    str(a.refactorings),
-                    str(a.passed),
-                    str(a.brittle),
-                ]
+                [a.task_id + (" (golden fails: not counted)" if a.golden_fails else ""), *_figures(a)]
                 for a in report.tasks
             ],
         ),
@@ -266,6 +293,12 @@ def audit_blocks(report: AuditReport, link: Callable[[Finding], str] | None = No
             )
             blocks.append(Code(text=f"before:\n{f.before}\n\nafter:\n{f.after}"))
     return blocks
+
+
+def _figures(t: Tally) -> list[str]:
+    """mutants, killed, equivalent, holes, score, refactorings, passed, brittle."""
+    counts = (t.mutants, t.killed, t.equivalent, t.holes + t.survived)
+    return [*map(str, counts), _pct(t.mutation_score), *map(str, (t.refactorings, t.passed, t.brittle))]
 
 
 def render_audit(report: AuditReport, fmt: str, link: Callable[[Finding], str] | None = None) -> str:

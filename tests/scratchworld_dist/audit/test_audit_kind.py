@@ -13,6 +13,9 @@ from dataclasses import dataclass
 from html import escape
 from pathlib import Path
 
+import pyarrow as pa
+import pyarrow.compute as pc
+import pyarrow.parquet as pq
 import pytest
 
 from scratchworld_dist._run_plan import plan_run
@@ -215,3 +218,27 @@ def test_upstream_goldens_are_audited_on_the_virtual_clock_unless_the_config_say
     # An upstream clone's episodes default to the real clock; its audit does not (verdicts would follow load).
     assert clocks() == {"virtual"}
     assert clocks(clock="real") == {"real"}
+
+
+@pytest.mark.ray
+@pytest.mark.browser
+def test_a_task_whose_golden_fails_is_shown_but_not_counted(audited: Audited, tmp_path: Path) -> None:
+    report = build_audit_report([audited.out])
+    assert list(report.categories) == ["create"] and report.categories["create"] == report.total
+    (task,) = report.tasks
+    assert task.category == "create" and not task.golden_fails and report.total.mutants == task.mutants > 0
+    # The same run, had its golden failed its own tests: the task is listed with its verdicts, flagged, and no
+    # suite figure counts them (they say nothing of the tests).
+    failed = tmp_path / "failed"
+    shutil.copytree(audited.out, failed)
+    for shard in (failed / "audits").glob("*.parquet"):
+        table = pq.read_table(shard)
+        golden = pc.equal(table["variant"], "golden")
+        verdicts = pc.if_else(golden, pa.scalar("golden_fails"), table["verdict"])
+        pq.write_table(table.set_column(table.schema.get_field_index("verdict"), "verdict", verdicts), shard)
+    flagged = build_audit_report([failed])
+    (task,) = flagged.tasks
+    assert task.golden_fails and task.mutants == report.total.mutants
+    assert flagged.total.mutants == 0 and flagged.mutation_score is None and flagged.categories == {}
+    assert flagged.holes == [] and flagged.brittle == [] and any("golden fails" in w for w in flagged.warnings)
+    assert "(golden fails: not counted)" in render_audit(flagged, "md")
