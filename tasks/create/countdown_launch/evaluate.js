@@ -8,11 +8,13 @@ const num = v => (typeof v === 'number' ? v : (typeof v === 'string' && v.trim()
 function recordLaunch(vm) {
   const log = [];
   const started = Date.now();
+  let frames = 0; // VM steps since recording began: "at once" counted in frames, which load cannot stretch
+  const sampler = Harness.sampleFrames(vm, () => { frames += 1; });
   const onSay = (target, type, text) => {
     if (text === '' || text === null || text === undefined || !target.sprite) return;
     const count = num(Harness.valueOf(vm, 'count', {spriteName: 'Commander'}));
     const entry = {kind: 'say', sprite: target.sprite.name, text: String(text).trim(), count, countLater: null,
-                   t: Date.now() - started};
+                   t: Date.now() - started, frame: frames};
     log.push(entry);
     // Halfway through the step's 0.3 s wait, `count` still holds the number said (it changes after the wait).
     setTimeout(() => { entry.countLater = num(Harness.valueOf(vm, 'count', {spriteName: 'Commander'})); }, 150);
@@ -30,7 +32,7 @@ function recordLaunch(vm) {
     log,
     says: () => log.filter(e => e.kind === 'say' && e.sprite === 'Commander'),
     launches: () => log.filter(e => e.kind === 'broadcast' && e.name === 'launch'),
-    stop: () => { runtime.removeListener('SAY', onSay); runtime.startHats = original; },
+    stop: () => { runtime.removeListener('SAY', onSay); runtime.startHats = original; sampler.stop(); },
   };
 }
 
@@ -66,10 +68,11 @@ module.exports = async (vm) => Harness.runTests(vm, [
         const numbers = rec.says().filter(e => e.text !== 'Liftoff!');
         const counted = numbers.length > 0 && numbers.every(e => e.count === num(e.text) && e.countLater === e.count);
         // "5" at once, then 0.3 s between one step's words and the next, "1" and "Liftoff!" included.
+        // (Windows leave a loaded machine's real clock room; a wrong wait, 0.6 s or more, is still outside.)
         const gaps = says.slice(1).map((e, i) => e.t - says[i].t);
-        const paced = order && says[0].t < 200 && gaps.every(gap => gap >= 200 && gap <= 450);
+        const paced = order && says[0].frame <= 2 && gaps.every(gap => gap >= 200 && gap <= 550);
         return {passed: order && counted && paced,
-                meta: {texts, counts: numbers.map(e => [e.count, e.countLater]), first_ms: says.length ? says[0].t : null,
+                meta: {texts, counts: numbers.map(e => [e.count, e.countLater]), first_frame: says.length ? says[0].frame : null,
                        gaps_ms: gaps}};
       } finally {
         rec.stop();
@@ -130,7 +133,7 @@ module.exports = async (vm) => Harness.runTests(vm, [
         }, {timeoutMs: 5000, intervalMs: 10});
         const took = Date.now() - launchedAt;
         // A glide, not a jump: seen on the way up, and it takes about 1 second.
-        return {passed: arrived && between.length >= 3 && took >= 700 && took <= 1400,
+        return {passed: arrived && between.length >= 3 && took >= 700 && took <= 1600,
                 meta: {arrived, took_ms: took, seen_between: between.length, x: rocket.x, y: rocket.y}};
       } finally {
         rec.stop();

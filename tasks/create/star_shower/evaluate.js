@@ -8,12 +8,14 @@ async function watchShower(vm) {
   let alive = 0;
   let started = 0;
   let originalShownFrames = 0;
+  let frame = 0;
   const sampler = Harness.sampleFrames(vm, () => {
+    frame += 1;
     if (star.visible) originalShownFrames += 1;
     const live = Harness.clones(vm, 'Star');
     alive = live.length;
     for (const clone of live) {
-      if (!seen.has(clone)) seen.set(clone, {order: seen.size, firstMs: Date.now() - started, samples: []});
+      if (!seen.has(clone)) seen.set(clone, {order: seen.size, firstMs: Date.now() - started, firstFrame: frame, samples: []});
       seen.get(clone).samples.push({x: clone.x, y: clone.y, visible: clone.visible});
     }
   });
@@ -32,6 +34,7 @@ async function watchShower(vm) {
     const shown = c.samples.filter(s => s.visible);
     return {
       firstMs: c.firstMs,
+      firstFrame: c.firstFrame,
       frames: c.samples.length,
       shownFrames: shown.length,
       firstShown: shown.length ? {x: Math.round(shown[0].x), y: Math.round(shown[0].y)} : null,
@@ -66,10 +69,12 @@ module.exports = async (vm) => {
         const {clones, originalVisible, originalShownFrames} = await watch();
         const times = clones.map(c => c.firstMs).sort((a, b) => a - b);
         const gaps = times.slice(1).map((t, i) => t - times[i]);
-        // The first clone at once, then one every 0.2 s; the original hidden from the first frame on.
-        const paced = times.length > 0 && times[0] < 150 && gaps.every(gap => gap >= 150 && gap <= 350);
+        const first = Math.min(...clones.map(c => c.firstFrame));
+        // The first clone at once (in the first frames), then one every 0.2 s (room for a loaded real clock; a
+        // 0.4 s wait is still outside); the original hidden from the first frame on.
+        const paced = clones.length > 0 && first <= 2 && gaps.every(gap => gap >= 150 && gap <= 400);
         return {passed: clones.length === 5 && paced && originalVisible === false && originalShownFrames === 0,
-                meta: {clones: clones.length, first_ms: times[0] ?? null, gaps_ms: gaps, originalVisible,
+                meta: {clones: clones.length, first_frame: clones.length ? first : null, gaps_ms: gaps, originalVisible,
                        originalShownFrames}};
       },
     },

@@ -32,7 +32,8 @@ def run(monkeypatch: pytest.MonkeyPatch) -> Callable[..., Done]:
 def test_validate_our_suite_is_green_under_both_clocks(tmp_path: Path, run: Callable[..., Done]) -> None:
     """The main job: every golden passes, every initial falls short, JSON as documented.
 
-    Our suite's default clock is virtual; real time must give the same verdicts, test for test.
+    Our suite's default clock is virtual; real time must give the same verdicts, test for test, once load
+    did not delay it.
     """
     verdicts: dict[str, list[tuple[object, ...]]] = {}
     for clock in ("default", "real"):
@@ -40,24 +41,40 @@ def test_validate_our_suite_is_green_under_both_clocks(tmp_path: Path, run: Call
         # Real-clock evaluations mostly wait out their scripts' own time, so more run at once.
         choice = ["--parallel", "2"] if clock == "default" else ["--parallel", "4", "--clock", clock]
         done = run("validate", str(SUITE_DIR), *choice, "--json", str(out))
-        assert done.returncode == 0, done.stdout + done.stderr
         rows = json.loads(out.read_text())
         assert len(rows) >= 12
         for row in rows:
             assert set(row) == {"task_id", "category", "golden", "initial"}
             assert set(row["golden"]) == {"success", "passed", "total", "psr", "error", "wall_s"}
-            assert row["golden"]["success"] and row["golden"]["error"] is None, row
-            assert row["initial"]["psr"] < 1, row
-            if row["category"] == "debug":
-                assert not row["initial"]["success"], row
-        assert "all" in done.stderr and "valid" in done.stderr
+        if clock == "default":  # the real clock's verdicts are compared with these below
+            assert done.returncode == 0, done.stdout + done.stderr
+            assert "all" in done.stderr and "valid" in done.stderr
+            for row in rows:
+                assert row["golden"]["success"] and row["golden"]["error"] is None, row
+                assert row["initial"]["psr"] < 1, row
+                if row["category"] == "debug":
+                    assert not row["initial"]["success"], row
         assert f"profile native, clock {'virtual' if clock == 'default' else clock}" in " ".join(done.stderr.split())
         verdicts[clock] = [
             (row["task_id"], which, *(row[which][key] for key in ("success", "passed", "total", "error")))
             for row in rows
             for which in ("golden", "initial")
         ]
-    assert verdicts["default"] == verdicts["real"]
+    # A real-clock verdict on a timing test depends on load (four editors on two cores, beside the other tests):
+    # a task whose verdicts differ is validated again alone, up to twice, as ``undelayed`` does in test_clock.
+    for task in sorted({row[0] for row in set(verdicts["default"]) ^ set(verdicts["real"])}):
+        for _ in range(2):
+            out = tmp_path / f"validate-real-{task}.json"
+            done = run("validate", str(SUITE_DIR), "--tasks", task, "--clock", "real", "--json", str(out))
+            again = [
+                (row["task_id"], which, *(row[which][key] for key in ("success", "passed", "total", "error")))
+                for row in json.loads(out.read_text())
+                for which in ("golden", "initial")
+            ]
+            if again == [v for v in verdicts["default"] if v[0] == task]:
+                break
+        verdicts["real"] = [v for v in verdicts["real"] if v[0] != task] + again
+    assert sorted(verdicts["default"]) == sorted(verdicts["real"])
 
 
 def test_validate_exits_1_when_a_golden_fails(tmp_path: Path, run: Callable[..., Done]) -> None:
