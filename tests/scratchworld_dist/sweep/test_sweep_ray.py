@@ -298,8 +298,8 @@ def test_real_episodes_in_the_browser_mixed_with_synthetic_ones(tmp_path: Path, 
     assert sorted(
         (row.task_id, row.steps, row.tests_total) for row in real if row.task_id == "bouncing_ball_stuck"
     ) == [
-        ("bouncing_ball_stuck", 3, 3),  # the oracle's two actions, then done; the task's own tests
-        ("bouncing_ball_stuck", 3, 3),
+        ("bouncing_ball_stuck", 3, 4),  # the oracle's two actions, then done; the task's own tests
+        ("bouncing_ball_stuck", 3, 4),
     ]
     assert sorted((row.task_id, row.outcome, row.steps, row.tests_total) for row in rows if row not in real) == [
         ("quiz_score", "failed", 1, 2),  # synthetic: one step, two tests
