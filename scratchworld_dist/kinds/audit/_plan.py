@@ -70,7 +70,11 @@ def task_variants(
     content: TaskContent, settings: AuditSweep, limits: ProjectLimits | None = None
 ) -> list[Mutant | Refactoring]:
     """The variants of one task's golden the section asks for: mutants, then refactorings."""
-    project = golden_json(content, limits)
+    return _variants(golden_json(content, limits), content, settings)
+
+
+def _variants(project: dict[str, Any], content: TaskContent, settings: AuditSweep) -> list[Mutant | Refactoring]:
+    """``task_variants`` of the golden ``project`` already read."""
     try:
         mutants = (
             enumerate_mutants(project)
@@ -113,7 +117,7 @@ def audit_jobs(
             description="the golden project, unchanged", before="", after="", project_json=_text(golden),
         )  # fmt: skip
         yield _job(content, unchanged, agent, harness)
-        for variant in task_variants(content, settings, limits):
+        for variant in _variants(golden, content, settings):
             mutant = isinstance(variant, Mutant)
             body = AuditBody(
                 variant="mutant" if mutant else "refactoring",
