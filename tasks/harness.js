@@ -125,6 +125,26 @@ function recordSpeech(vm) {
   };
 }
 
+/**
+ * Records every change of `spriteName`'s speech bubble, cleared ones included (text ''), with its time and
+ * `snapshot()` at that moment: `changes` in order, and `shown(texts)`: how long each bubble showing one
+ * of `texts` stayed (until the bubble next changed; null if it had not yet), `[{text, ms, value}]`.
+ */
+function recordBubbles(vm, spriteName, snapshot = () => null) {
+  const changes = [];
+  const listener = (target, type, text) => {
+    if (!target.sprite || target.sprite.name !== spriteName) return;
+    changes.push({text: text === null || text === undefined ? '' : String(text).trim(), t: Date.now(), value: snapshot()});
+  };
+  vm.runtime.on('SAY', listener);
+  return {
+    changes,
+    shown: (texts) => changes.flatMap((c, i) => (texts.includes(c.text)
+      ? [{text: c.text, ms: i + 1 < changes.length ? changes[i + 1].t - c.t : null, value: c.value}] : [])),
+    stop: () => vm.runtime.removeListener('SAY', listener),
+  };
+}
+
 /** Records broadcast messages as they start their receivers: `names()` lists them in order. */
 function recordBroadcasts(vm) {
   const names = [];
@@ -263,5 +283,5 @@ async function runTests(vm, tests) {
 module.exports = {
   STAGE_WIDTH, STAGE_HEIGHT,
   wait, waitUntil, sprite, stage, clones, findVariable, valueOf, start,
-  sampleFrames, withRandom, recordSpeech, recordBroadcasts, answerQuestions, askAndListen, pressKey, clickSprite, moveMouse, runTests,
+  sampleFrames, withRandom, recordSpeech, recordBubbles, recordBroadcasts, answerQuestions, askAndListen, pressKey, clickSprite, moveMouse, runTests,
 };

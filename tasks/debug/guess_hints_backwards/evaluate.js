@@ -48,16 +48,8 @@ module.exports = async (vm) => {
       const reply = speech.events.slice(mark).find(e => e.sprite === OWL);
       return reply ? reply.text : null;
     });
-    // Every change of the Owl's bubble (cleared ones too), timed, with the secret at that moment.
-    const bubbles = [];
-    const onSay = (target, type, text) => {
-      if (target.sprite && target.sprite.name === OWL) {
-        bubbles.push({text: text === null || text === undefined ? '' : String(text).trim(), t: Date.now(),
-                      secret: secretNow()});
-      }
-    };
     vm.runtime.on('QUESTION', onQuestion);
-    vm.runtime.on('SAY', onSay);
+    const bubbles = Harness.recordBubbles(vm, OWL, secretNow); // every bubble, with the secret then
     const stale = Harness.findVariable(vm, 'secret', {spriteName: OWL});
     if (stale) stale.value = 0; // the green flag must pick a new one
     try {
@@ -69,11 +61,10 @@ module.exports = async (vm) => {
       const early = speech.events.slice(0, marks.length ? marks[0] : speech.events.length)
         .filter(e => e.sprite === OWL && HINTS.includes(e.text.trim())).map(e => e.text);
       // How long each "Too high!"/"Too low!" stayed (until the bubble next changed).
-      const hints = bubbles.flatMap((b, i) => (['Too low!', 'Too high!'].includes(b.text)
-        ? [i + 1 < bubbles.length ? bubbles[i + 1].t - b.t : null] : []));
-      return {secret, guesses, prompts, replies: replies(), early, hints_ms: hints, opening: bubbles.slice(0, 2)};
+      const hints = bubbles.shown(['Too low!', 'Too high!']).map(h => h.ms);
+      return {secret, guesses, prompts, replies: replies(), early, hints_ms: hints, opening: bubbles.changes.slice(0, 2)};
     } finally {
-      vm.runtime.removeListener('SAY', onSay);
+      bubbles.stop();
       vm.runtime.removeListener('QUESTION', onQuestion);
       speech.stop();
     }
@@ -96,9 +87,9 @@ module.exports = async (vm) => {
         const game = await play([lowGuess]);
         const [intro, question] = game.opening;
         const passed = intro !== undefined && question !== undefined && intro.text === "I'm thinking of a number..." &&
-          intro.secret >= 1 && intro.secret <= 100 && question.t - intro.t >= 350 && question.t - intro.t <= 900 &&
+          intro.value >= 1 && intro.value <= 100 && question.t - intro.t >= 350 && question.t - intro.t <= 900 &&
           question.text === 'Guess my number between 1 and 100!';
-        return {passed, meta: {opening: game.opening.map(b => ({text: b.text, secret: b.secret}))}};
+        return {passed, meta: {opening: game.opening.map(b => ({text: b.text, secret: b.value}))}};
       },
     },
     {

@@ -15,14 +15,7 @@ async function playQuiz(vm, answers, {waitForScore = true} = {}) {
   const onQuestion = (question) => { if (question !== null && question !== undefined) scoresAtPrompts.push(score()); };
   vm.runtime.on('QUESTION', onQuestion);
   const questions = Harness.answerQuestions(vm, answers, speech);
-  // Everything Quizzer's bubble shows, cleared bubbles included, with its time and the score then.
-  const timeline = [];
-  const onSay = (target, type, text) => {
-    if (target.sprite && target.sprite.name === 'Quizzer') {
-      timeline.push({text: text === null || text === undefined ? '' : String(text).trim(), t: Date.now(), score: score()});
-    }
-  };
-  vm.runtime.on('SAY', onSay);
+  const bubbles = Harness.recordBubbles(vm, 'Quizzer', score); // every bubble, with the score then
   const said = () => speech.texts('Quizzer').map(t => t.trim());
   const feedback = () => said().filter(t => FEEDBACK.includes(t));
   const scoreLine = () => said().slice(-1).filter(t => /^Score:/.test(t))[0];
@@ -37,9 +30,9 @@ async function playQuiz(vm, answers, {waitForScore = true} = {}) {
     const line = scoreLine();
     const match = line === undefined ? null : /^Score:\s*(-?\d+)$/.exec(line);
     return {feedback: feedback(), said: said(), scoresAtPrompts, finalScore: score(),
-            announced: match ? num(match[1]) : null, timeline};
+            announced: match ? num(match[1]) : null, bubbles};
   } finally {
-    vm.runtime.removeListener('SAY', onSay);
+    bubbles.stop();
     vm.runtime.removeListener('QUESTION', onQuestion);
     questions.stop();
     speech.stop();
@@ -48,18 +41,12 @@ async function playQuiz(vm, answers, {waitForScore = true} = {}) {
 
 function scoreTest(vm, answers, expectedAtPrompts, expected) {
   return async () => {
-    const {timeline, ...result} = await playQuiz(vm, answers);
+    const {bubbles, ...result} = await playQuiz(vm, answers);
     const passed = result.scoresAtPrompts.length === 2 &&
       result.scoresAtPrompts.every((s, i) => s === expectedAtPrompts[i]) &&
       result.finalScore === expected && result.announced === expected;
     return {passed, meta: result};
   };
-}
-
-// Each feedback's bubble: how long it stayed (until the bubble next changed) and the score when it appeared.
-function feedbackShown(timeline) {
-  return timeline.flatMap((e, i) => (FEEDBACK.includes(e.text)
-    ? [{text: e.text, ms: i + 1 < timeline.length ? timeline[i + 1].t - e.t : null, score: e.score}] : []));
 }
 
 module.exports = async (vm) => Harness.runTests(vm, [
@@ -69,8 +56,9 @@ module.exports = async (vm) => Harness.runTests(vm, [
     run: async () => {
       // Right then wrong, and wrong then right: all four feedback blocks show once.
       const games = [await playQuiz(vm, [12, 4]), await playQuiz(vm, [5, 6])];
-      const asked = games.map(game => game.timeline.map(e => e.text).filter(t => /^what is/i.test(t)).join('|'));
-      const shown = games.map(game => feedbackShown(game.timeline));
+      const asked = games.map(game => game.bubbles.changes.map(e => e.text).filter(t => /^what is/i.test(t)).join('|'));
+      // Each feedback's bubble: how long it stayed, and the score when it appeared.
+      const shown = games.map(game => game.bubbles.shown(FEEDBACK));
       const passed = asked.every(a => a === 'What is 7 + 5?|What is 9 - 3?') &&
         shown.every(fs => fs.length === 2 && fs.every(f => f.ms !== null && f.ms >= 350 && f.ms <= 900));
       return {passed, meta: {asked, shown}};
@@ -81,7 +69,7 @@ module.exports = async (vm) => Harness.runTests(vm, [
     timeoutMs: 15000,
     run: async () => {
       const game = await playQuiz(vm, [12, 6]);
-      const scores = feedbackShown(game.timeline).map(f => f.score);
+      const scores = game.bubbles.shown(FEEDBACK).map(f => f.value);
       return {passed: scores.join(',') === '1,2', meta: {scores}};
     },
   },
