@@ -38,6 +38,8 @@
     const stepThreads = sequencer.stepThreads;
     sequencer.stepThreads = function () {
       const outside = Math.random;
+      // A script that fixed Math.random itself (Harness.withRandom) has the VM draw from what it set.
+      if (outside !== pageStream) return stepThreads.apply(this, arguments);
       Math.random = vmStream;
       try {
         return stepThreads.apply(this, arguments);
