@@ -126,15 +126,17 @@ function recordSpeech(vm) {
 }
 
 /**
- * Records every change of `spriteName`'s speech bubble, cleared ones included (text ''), with its time and
- * `snapshot()` at that moment: `changes` in order, and `shown(texts)`: how long each bubble showing one
- * of `texts` stayed (until the bubble next changed; null if it had not yet), `[{text, ms, value}]`.
+ * Records every change of `spriteName`'s speech bubble, cleared ones included (text ''), with its
+ * time (ms since recording began) and `snapshot()` at that moment: `changes` in order, and
+ * `shown(texts)`: how long each bubble showing one of `texts` stayed (until the bubble next
+ * changed; null if it had not yet), `[{text, ms, value}]`.
  */
 function recordBubbles(vm, spriteName, snapshot = () => null) {
   const changes = [];
+  const start = Date.now(); // times are kept relative so a test's details never carry the wall date
   const listener = (target, type, text) => {
     if (!target.sprite || target.sprite.name !== spriteName) return;
-    changes.push({text: text === null || text === undefined ? '' : String(text).trim(), t: Date.now(), value: snapshot()});
+    changes.push({text: text === null || text === undefined ? '' : String(text).trim(), t: Date.now() - start, value: snapshot()});
   };
   vm.runtime.on('SAY', listener);
   return {
