@@ -6,7 +6,8 @@
 #     here) nothing else would write it, and every Ray worker and CLI process would compile its imports.
 #   - the Scratch editor bundle from npm (scratch-gui/node_modules), the one package pinned by
 #     package-lock.json and checked against the lock's integrity; its ~740 dependencies are built
-#     into the bundle's dist already, so `npm ci` (1.1 GB, 24 s) would fetch them for nothing.
+#     into the bundle's dist already, so `npm ci` (1.1 GB, 24 s) would fetch them for nothing,
+#   - the bare evaluation page's packages (scratch-gui/bare, its own lock) and its scratch-audio build.
 # Safe to re-run: steps that are already done are skipped.
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -59,5 +60,17 @@ if [ ! -f "$bundle" ] || [ ! -f "$lock_stamp" ]; then
   rm -rf scratch-gui/node_modules && mkdir -p "$target"
   tar -xzf "$download"/*.tgz -C "$target" --strip-components=1
   touch "$lock_stamp"
+fi
+# The bare evaluation page (scratch-gui/bare.html): the VM, renderer, storage and SVG renderer packages,
+# whose browser builds it loads as they are, and scratch-audio, which esbuild bundles into one browser
+# script. Their own lock; ~250 packages, ~25 s.
+bare=scratch-gui/bare
+bare_stamp=$bare/node_modules/.installed-$(sha256sum $bare/package-lock.json | cut -c1-16)
+if [ ! -f "$bare_stamp" ] || [ ! -f "$bare/build/scratch-audio.js" ]; then
+  say "npm ci in $bare (the bare evaluation page's packages)"
+  (cd "$bare" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error >/dev/null \
+    && node_modules/.bin/esbuild node_modules/scratch-audio/dist.js --bundle --format=iife --global-name=AudioEngine \
+      --platform=browser --log-level=warning --outfile=build/scratch-audio.js)
+  touch "$bare_stamp"
 fi
 say "done: chromium $(/usr/bin/chromium --version 2>/dev/null | awk '{print $2}'), $(.venv/bin/python --version)"

@@ -11,6 +11,7 @@
 
   let vm = null;
   let store = null;
+  let bareStage = null; // the bare page's stage (bare/stage.js); null on the editor page
   let projectLoads = 0;
   const projectLoadedHooks = []; // feature modules' state that belongs to one project
   const evaluationObservers = []; // feature modules that watch a script's run (trace/record.js)
@@ -29,7 +30,9 @@
   const recycler = window.__scratchworldRecycler;
   delete window.__scratchworldRecycler;
   // Resetting and checking the editor's own UI state (menus, modals, tabs, palette...), after an episode.
-  const guiState = window.__scratchworldGuiState;
+  // The bare evaluation page (bare.html) has no editor UI, so nothing to reset there.
+  const NO_GUI = {markClean() {}, showTargetPosition() {}, reset: async () => [], compare: () => []};
+  const guiState = window.__scratchworldGuiState || NO_GUI;
   delete window.__scratchworldGuiState;
 
   // Results larger than this are refused rather than shipped across the protocol.
@@ -78,8 +81,10 @@
   }
 
   // Ready for use, apart from the renderer, which Python checks separately to fail with a
-  // specific error instead of waiting for something that will never come.
+  // specific error instead of waiting for something that will never come. The bare page has no
+  // workspace and no default project: its VM is all there is.
   function settled() {
+    if (bareStage) return !!vm;
     return !!vm && projectLoads >= 1 && workspaceRendered();
   }
 
@@ -87,6 +92,7 @@
     const renderer = vm ? vm.renderer : null;
     const canvas = renderer && renderer.gl ? renderer.gl.canvas : null;
     return {
+      page: bareStage ? 'bare' : 'editor',
       vm: !!vm,
       workspace: workspaceRendered(),
       projectLoads: projectLoads,
@@ -133,6 +139,7 @@
       throw new BridgeFailure('bad_request', 'size must be "small" or "large"');
     }
     const theVm = requireVm();
+    if (bareStage) return bareStage.setSize(...STAGE_CANVAS[size]); // sized at once, as the GUI's stage ends up
     if (!store) throw new BridgeFailure('editor_not_ready', 'the GUI store is not attached');
     store.dispatch({type: 'scratch-gui/StageSize/SET_STAGE_SIZE', stageSize: size});
     const canvas = theVm.renderer.gl.canvas;
@@ -479,6 +486,7 @@
       settled: settled,
       attachVm: (theVm) => { clock.attachVm(theVm); vm = theVm; },
       attachStore: (theStore) => { store = theStore; },
+      attachStage: (stage) => { bareStage = stage; },
       noteProjectLoaded: () => { projectLoads += 1; },
     }),
     writable: false,

@@ -17,6 +17,7 @@ from scratchworld_dist.suites import Task
 from workers.contract import (
     EvalResult,
     EvaluationClock,
+    EvaluationPage,
     EvaluationProfile,
     EvaluationRender,
     EvaluationSpec,
@@ -89,10 +90,11 @@ async def validate_tasks(
     clock: EvaluationClock | None = None,
     render: EvaluationRender | None = None,
     timing: EvaluationTiming | None = None,
+    page: EvaluationPage | None = None,
 ) -> list[TaskValidation]:
-    """Evaluate each task's golden and initial project, ``parallel`` editors at a time.
+    """Evaluate each task's golden and initial project, ``parallel`` pages at a time.
 
-    ``profile``, ``clock``, ``render`` and ``timing`` override each task's defaults.
+    ``profile``, ``clock``, ``render``, ``timing`` and ``page`` override each task's defaults.
     """
     if parallel < 1:
         raise ValueError("parallel must be at least 1")
@@ -117,7 +119,7 @@ async def validate_tasks(
             pending = []
             for task in tasks:
                 # Files are read here, before the evaluations start; the script and helper once per task.
-                spec = task.evaluation_spec(profile, clock, render, timing)
+                spec = task.evaluation_spec(profile, clock, render, timing, page=page)
                 golden_path = task.golden_project
                 golden = group.create_task(run(task, "golden", golden_path.read_bytes(), spec)) if golden_path else None
                 initial = group.create_task(run(task, "initial", task.initial_project.read_bytes(), spec))

@@ -13,13 +13,14 @@ from rich.text import Text
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._files import read_file
-from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._evaluation_options import page_option, render_option
 from scratchworld_dist.cli._timing_option import timing_option
 from scratchworld_dist.suites import load_suite
 from workers.contract import (
     MIB,
     EvalResult,
     EvaluationClock,
+    EvaluationPage,
     EvaluationProfile,
     EvaluationRender,
     EvaluationSpec,
@@ -56,7 +57,7 @@ def render_result(result: EvalResult, console: Console) -> None:
         c = result.conditions
         console.print(
             f"profile {c.profile}: stage canvas {c.stage_canvas[0]}x{c.stage_canvas[1]}, mouse known {c.mouse_known}; "
-            f"clock {c.clock}; render {c.render}; timing {c.timing}"
+            f"clock {c.clock}; render {c.render}; page {c.page}; timing {c.timing}"
         )
     if result.error:
         # One line whatever the terminal's width, so logs and pipes keep the cause whole.
@@ -79,6 +80,7 @@ def render_result(result: EvalResult, console: Console) -> None:
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (default: the suite's).")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (default: the suite's).")
 @render_option
+@page_option
 @timing_option
 def evaluate_command(
     suite_dir: Path,
@@ -88,6 +90,7 @@ def evaluate_command(
     profile: EvaluationProfile | None,
     clock: EvaluationClock | None,
     render: EvaluationRender | None,
+    page: EvaluationPage | None,
     timing: EvaluationTiming | None,
 ) -> None:
     """Evaluate PROJECT (.sb3) against TASK_ID of the suite in SUITE_DIR.
@@ -96,7 +99,7 @@ def evaluate_command(
     PROJECT is not a loadable project), 2 unusable arguments (e.g. a PROJECT file over the project
     size limit, or not a regular file).
     """
-    spec = load_suite(suite_dir).task(task_id).evaluation_spec(profile, clock, render, timing)
+    spec = load_suite(suite_dir).task(task_id).evaluation_spec(profile, clock, render, timing, page=page)
     data = read_project_file(project)
     # A project no page may see is refused here, naming the file, before a browser starts.
     from workers.evaluation import project_refusal

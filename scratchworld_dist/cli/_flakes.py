@@ -12,7 +12,7 @@ from rich.table import Table
 from rich.text import Text
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._evaluation_options import page_option, render_option
 from scratchworld_dist.cli._suite_options import comma_list, suite_check_options
 from scratchworld_dist.flakes import (
     AXES,
@@ -29,7 +29,7 @@ from scratchworld_dist.flakes import (
     stability_of_tests,
 )
 from scratchworld_dist.suites import default_timing, load_suite
-from workers.contract import EvaluationClock, EvaluationProfile, EvaluationRender
+from workers.contract import EvaluationClock, EvaluationPage, EvaluationProfile, EvaluationRender
 
 EXIT_UNSTABLE = 1
 MAX_FLIPS_SHOWN = 3
@@ -103,6 +103,7 @@ def _levels(text: str) -> tuple[float, ...]:
     help="Baseline clock (default: the suite's); the clock axis runs the other one.",
 )
 @render_option
+@page_option
 @click.option(
     "--runs", type=click.IntRange(1, 50), default=3, show_default=True, help="Runs per axis with drawn values."
 )
@@ -128,6 +129,7 @@ def flakes_command(
     profile: EvaluationProfile | None,
     clock: EvaluationClock | None,
     render: EvaluationRender | None,
+    page: EvaluationPage | None,
     runs: int,
     axes: str,
     lateness: str,
@@ -152,13 +154,13 @@ def flakes_command(
     console = make_console(stderr=True)
     if not tasks:
         raise click.UsageError(f"{suite_dir} has no tasks to check")
-    spec = tasks[0].evaluation_spec(profile, clock, render)  # a suite's tasks share their defaults
-    conditions = FlakeConditions(profile=spec.profile, clock=spec.clock, render=spec.render)
+    spec = tasks[0].evaluation_spec(profile, clock, render, page=page)  # a suite's tasks share their defaults
+    conditions = FlakeConditions(profile=spec.profile, clock=spec.clock, render=spec.render, page=spec.page)
     variants = plan_variants(settings, spec.clock, spec.render, default_timing(spec.profile, "virtual"))
     projects = sum(2 if task.golden_project else 1 for task in tasks)
     console.print(
         f"checking {len(tasks)} task(s) of {suite.name} ({projects} projects x {len(variants)} runs) "
-        f"with {parallel} editor(s), profile {spec.profile}, clock {spec.clock}, render {spec.render}, "
+        f"with {parallel} page(s), profile {spec.profile}, clock {spec.clock}, render {spec.render}, page {spec.page}, "
         f"axes {','.join(settings.axes)}",
         markup=False,
     )
@@ -169,7 +171,7 @@ def flakes_command(
             f"  {run.task_id} {run.which} [{run.variant.label}]: {verdict} in {run.wall_s:.1f}s", markup=False
         )
 
-    done = asyncio.run(run_flakes(tasks, variants, profile=spec.profile, parallel=parallel, on_run=progress))
+    done = asyncio.run(run_flakes(tasks, variants, profile=spec.profile, page=page, parallel=parallel, on_run=progress))
     rows = stability_of_tests(done)
     unstable = [row for row in rows if not row.stable]
     blocking = [row for row in unstable if row.blocking]

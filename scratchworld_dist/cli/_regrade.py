@@ -7,9 +7,9 @@ from pathlib import Path
 import click
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._evaluation_options import page_option, render_option
 from scratchworld_dist.reports import report_runs
-from workers.contract import EvaluationClock, EvaluationProfile, EvaluationRender
+from workers.contract import EvaluationClock, EvaluationPage, EvaluationProfile, EvaluationRender
 
 EXIT_ERRORS = 1
 
@@ -23,6 +23,7 @@ EXIT_ERRORS = 1
 )
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (default: the source's).")
 @render_option
+@page_option
 @click.option("--ray-address", help="Ray cluster to join (default: a private local Ray).")
 @click.option("--force", is_flag=True, help="Continue in an --out that holds another regrade or run.")
 def regrade_command(
@@ -32,6 +33,7 @@ def regrade_command(
     profile: EvaluationProfile | None,
     clock: EvaluationClock | None,
     render: EvaluationRender | None,
+    page: EvaluationPage | None,
     ray_address: str | None,
     force: bool,
 ) -> None:
@@ -51,6 +53,7 @@ def regrade_command(
         profile=profile,
         clock=clock,
         render=render,
+        page=page,
         address=ray_address,
         force=force,
         console=console,

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._evaluation_options import page_option, render_option
 from scratchworld_dist.cli._sweep_options import sweep_overrides
 from scratchworld_dist.cli._timing_option import timing_option
 from scratchworld_dist.reports import digest_lines, report_runs, run_error_digest
@@ -23,6 +23,7 @@ EXIT_ERRORS = 1
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (overrides profile).")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (overrides clock).")
 @render_option
+@page_option
 @timing_option
 @click.option(
     "--model-cache",
@@ -48,6 +49,7 @@ def run_command(
     profile: str | None,
     clock: str | None,
     render: str | None,
+    page: str | None,
     timing: str | None,
     model_cache: Path | None,
     probe: bool | None,
@@ -73,6 +75,8 @@ def run_command(
         fields["clock"] = clock
     if render is not None:
         fields["render"] = render
+    if page is not None:
+        fields["evaluation_page"] = page
     if timing is not None:
         fields["timing"] = timing
     if model_cache is not None:  # relative to the working directory, like --out; workers get it absolute

@@ -13,11 +13,18 @@ from rich.text import Text
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
-from scratchworld_dist.cli._render_option import render_option
+from scratchworld_dist.cli._evaluation_options import page_option, render_option
 from scratchworld_dist.cli._suite_options import comma_list, suite_check_options
 from scratchworld_dist.cli._timing_option import timing_option
 from scratchworld_dist.suites import Task, load_suite
-from workers.contract import EvalResult, EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationTiming
+from workers.contract import (
+    EvalResult,
+    EvaluationClock,
+    EvaluationPage,
+    EvaluationProfile,
+    EvaluationRender,
+    EvaluationTiming,
+)
 
 EXIT_INVALID = 1
 
@@ -51,6 +58,7 @@ def render_table(rows: list[TaskValidation]) -> Table:
     help="Evaluation clock (default: virtual for our suites, real for upstream clones).",
 )
 @render_option
+@page_option
 @timing_option
 @click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the rows as JSON.")
 def validate_command(
@@ -61,6 +69,7 @@ def validate_command(
     profile: EvaluationProfile | None,
     clock: EvaluationClock | None,
     render: EvaluationRender | None,
+    page: EvaluationPage | None,
     timing: EvaluationTiming | None,
     json_file: Path | None,
 ) -> None:
@@ -73,8 +82,13 @@ def validate_command(
     console = make_console(stderr=True)
     conditions = ""
     if tasks:  # a suite's tasks share their defaults
-        spec = tasks[0].evaluation_spec(profile, clock, render, timing)
+        spec = tasks[0].evaluation_spec(profile, clock, render, timing, page=page)
         conditions = f", profile {spec.profile}, clock {spec.clock}, render {spec.render}, timing {spec.timing}"
+        conditions += f", page {spec.page}"
+    for task in tasks:
+        need = task.editor_need()
+        if need is not None and page != "editor":
+            console.print(f"  {task.id} runs in the editor page: its script names {need}", markup=False)
     console.print(
         f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s){conditions}",
         markup=False,
@@ -93,6 +107,7 @@ def validate_command(
             clock=clock,
             render=render,
             timing=timing,
+            page=page,
         )
     )
     make_console().print(render_table(rows))

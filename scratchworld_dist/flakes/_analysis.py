@@ -12,7 +12,7 @@ from pydantic import BaseModel
 from scratchworld_dist._validation import Which
 from scratchworld_dist.flakes._plan import Axis, FlakeSettings
 from scratchworld_dist.flakes._runner import ERROR_VERDICT, FlakeRun
-from workers.contract import EvaluationClock, EvaluationProfile, EvaluationRender, frames_per_second
+from workers.contract import EvaluationClock, EvaluationPage, EvaluationProfile, EvaluationRender, frames_per_second
 
 EVALUATION_TEST = "(evaluation)"
 """The one test of a project none of whose runs produced a report."""
@@ -72,6 +72,8 @@ class FlakeConditions(BaseModel):
     profile: EvaluationProfile
     clock: EvaluationClock
     render: EvaluationRender
+    page: EvaluationPage = "editor"
+    """The page every run used (reports made before the bare page existed: the editor)."""
 
 
 class FlakeReport(BaseModel):

@@ -12,7 +12,7 @@ from scratchworld_dist._validation import Which
 from scratchworld_dist.flakes._load import cpu_load, load_average
 from scratchworld_dist.flakes._plan import Variant
 from scratchworld_dist.suites import Task
-from workers.contract import EvalResult, EvaluationProfile, EvaluationSpec, calibrated_frame_lateness
+from workers.contract import EvalResult, EvaluationPage, EvaluationProfile, EvaluationSpec, calibrated_frame_lateness
 
 if TYPE_CHECKING:
     from workers.editor import BrowserConfig
@@ -67,6 +67,7 @@ async def run_flakes(
     variants: list[Variant],
     *,
     profile: EvaluationProfile | None = None,
+    page: EvaluationPage | None = None,
     parallel: int = 1,
     browser: BrowserConfig | None = None,
     on_run: Callable[[FlakeRun], None] | None = None,
@@ -83,7 +84,7 @@ async def run_flakes(
 
     jobs: list[tuple[Task, Which, bytes, EvaluationSpec]] = []
     for task in tasks:  # files are read before any evaluation starts
-        base = task.evaluation_spec(profile)
+        base = task.evaluation_spec(profile, page=page)
         projects: list[tuple[Which, bytes]] = [("initial", task.initial_project.read_bytes())]
         if task.golden_project:
             projects.insert(0, ("golden", task.golden_project.read_bytes()))

@@ -33,6 +33,7 @@ def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
         "profile": plan.profile,
         "clock": plan.clock,
         "render": plan.render,
+        "evaluation_page": plan.page,
         "output": str(out),
     }
     conditions = {
@@ -41,6 +42,7 @@ def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
         "profile": plan.profile,
         "clock": plan.clock,
         "render": plan.render,
+        "evaluation_page": plan.page,
         "project_limits": plan.project_limits.model_dump(mode="json"),
     }
     info = RegradeInfo(
@@ -52,6 +54,7 @@ def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
         profile=plan.profile,
         clock=plan.clock,
         render=plan.render,
+        evaluation_page=plan.page,
         regraded_jobs=len(plan.jobs),
         without_project=len(plan.source.without_project),
     )

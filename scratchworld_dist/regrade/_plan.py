@@ -21,6 +21,7 @@ from scratchworld_dist.sweep import Limits, identity_id, suite_hash
 from workers.contract import (
     MIB,
     EvaluationClock,
+    EvaluationPage,
     EvaluationProfile,
     EvaluationRender,
     HarnessFingerprint,
@@ -77,6 +78,7 @@ class RegradePlan(BaseModel):
     profile: EvaluationProfile
     clock: EvaluationClock
     render: EvaluationRender
+    page: EvaluationPage = "bare"
     contents: list[TaskContent]
     jobs: list[RegradeJob]
     limits: Limits
@@ -112,9 +114,10 @@ def plan_regrade(
     profile: EvaluationProfile | None = None,
     clock: EvaluationClock | None = None,
     render: EvaluationRender | None = None,
+    page: EvaluationPage | None = None,
 ) -> RegradePlan:
-    """The source's projects against ``suite_dir`` (default: the source's suite) under ``profile`` and
-    ``clock`` (default: the source sweep's, else the suite's own defaults)."""
+    """The source's projects against ``suite_dir`` (default: the source's suite) under ``profile``,
+    ``clock``, ``render`` and ``page`` (default: the source sweep's, else the suite's own defaults)."""
     config = source.manifest.config
     suite = load_suite(suite_dir or Path(source.manifest.suite.root))
     known = {task.id for task in suite.tasks}
@@ -127,7 +130,10 @@ def plan_regrade(
     profile = profile or config.get("profile")
     clock = clock or config.get("clock")
     render = render or config.get("render")
-    contents = {task_id: read_task(suite.task(task_id), profile, clock, limits, render) for task_id in needed}
+    page = page or config.get("evaluation_page")
+    contents = {
+        task_id: read_task(suite.task(task_id), profile, clock, limits, render, page=page) for task_id in needed
+    }
     specs = [content.payload.evaluation for content in contents.values()]
     resolved_profile = specs[0].profile if specs else (profile or "native")
     resolved_clock = specs[0].clock if specs else (clock or "virtual")
@@ -153,6 +159,7 @@ def plan_regrade(
         profile=resolved_profile,
         clock=resolved_clock,
         render=specs[0].render if specs else (render or "on_demand"),
+        page=specs[0].page if specs else (page or "bare"),
         contents=list(contents.values()),
         jobs=jobs,
         limits=_limits(config.get("limits") or {}),

@@ -31,7 +31,7 @@ from scratchworld_dist.scheduling import (
     pages_per_worker,
     ray_runtime,
 )
-from workers.contract import MIB, EvaluationClock, EvaluationProfile, EvaluationRender, NodeReport
+from workers.contract import MIB, EvaluationClock, EvaluationPage, EvaluationProfile, EvaluationRender, NodeReport
 from workers.kinds import kind_fingerprint
 from workers.node import describe_node, harness_fingerprint
 
@@ -70,6 +70,7 @@ def run_regrade(
     profile: EvaluationProfile | None = None,
     clock: EvaluationClock | None = None,
     render: EvaluationRender | None = None,
+    page: EvaluationPage | None = None,
     address: str | None = None,
     connect_timeout_s: float = 30.0,
     force: bool = False,
@@ -82,12 +83,12 @@ def run_regrade(
     source = read_source(source_dir)
     if address is None:  # a private local Ray: this machine is the only node
         local = describe_node()
-        plan = plan_regrade(source, kind_fingerprint(local.harness, "tasks"), suite, profile, clock, render)
+        plan = plan_regrade(source, kind_fingerprint(local.harness, "tasks"), suite, profile, clock, render, page)
         return _run_plan(plan, out, [local], None, connect_timeout_s, force, console)
     with ray_runtime(address, None, connect_timeout_s):
         nodes = inspect_nodes()
         harness = kind_fingerprint(agreed_harness(nodes, harness_fingerprint()), "tasks")  # regrades: tasks
-        plan = plan_regrade(source, harness, suite, profile, clock, render)
+        plan = plan_regrade(source, harness, suite, profile, clock, render, page)
         return _run_plan(plan, out, nodes, address, connect_timeout_s, force, console)
 
 
@@ -114,7 +115,7 @@ def _run_plan(
         write_manifest(out, manifest)
         console.print(
             f"regrade of {plan.source.path} under {plan.suite.name} "
-            f"({plan.profile}, {plan.clock} clock, render {plan.render}): "
+            f"({plan.profile}, {plan.clock} clock, render {plan.render}, {plan.page} page): "
             f"{len(plan.jobs)} job(s), {len(plan.jobs) - len(todo)} already decided, {len(todo)} to run -> {out}",
             markup=False,
         )

@@ -273,7 +273,7 @@ def _condition_problems(
         budget = _differs("max_steps", rows_a, rows_b)
         return [f"{budget}: the systems had different step budgets"] if budget else []
     problems = incompatibilities([run_a, run_b]) if run_a.path.resolve() != run_b.path.resolve() else []
-    for field in ("eval_profile", "eval_clock", "eval_render", "eval_timing"):
+    for field in ("eval_profile", "eval_clock", "eval_render", "eval_page", "eval_timing"):
         if differs := _differs(field, rows_a, rows_b):
             problems.append(differs)
     hashes_b = {r.task_id: r.task_hash for r in rows_b}

@@ -79,6 +79,9 @@ class RegradeInfo(BaseModel):
     render: str | None = None
     """When the regrade's evaluations drew the stage (None in regrades made before the choice existed)."""
 
+    evaluation_page: str | None = None
+    """The page the regrade's evaluations ran in (None in regrades made before the bare page existed: the editor)."""
+
     regraded_jobs: int
     """Source jobs whose stored final project is regraded (one job each here)."""
 

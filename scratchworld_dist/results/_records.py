@@ -56,6 +56,10 @@ class JobRow(BaseModel):
     """When the evaluation drew the stage (on_demand | every_frame); null if no verdict was reached (and in
     older runs, whose evaluations drew every frame)."""
 
+    eval_page: str | None = None
+    """The page the evaluation ran in (bare | editor); null if no verdict was reached (and in older runs,
+    whose evaluations ran in the editor)."""
+
     eval_timing: str | None = None
     """How the VM's frames were timed (ideal | calibrated under the virtual clock, real on the real clock);
     null if no verdict was reached (and in older runs, whose virtual frames were ideal)."""
@@ -219,6 +223,7 @@ def record_of(
         eval_profile=evaluation.conditions.profile if evaluation is not None and evaluation.conditions else None,
         eval_clock=evaluation.conditions.clock if evaluation is not None and evaluation.conditions else None,
         eval_render=evaluation.conditions.render if evaluation is not None and evaluation.conditions else None,
+        eval_page=evaluation.conditions.page if evaluation is not None and evaluation.conditions else None,
         eval_timing=evaluation.conditions.timing if evaluation is not None and evaluation.conditions else None,
         stop_reason=result.stop_reason,
         tests_passed=evaluation.passed if evaluation is not None else 0,

@@ -14,11 +14,13 @@ from scratchworld_dist.suites._generic import BaseSuite
 from workers.contract import (
     CompositeAction,
     EvaluationClock,
+    EvaluationPage,
     EvaluationProfile,
     EvaluationRender,
     EvaluationSpec,
     EvaluationTiming,
     calibrated_frame_lateness,
+    editor_need,
 )
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
@@ -93,9 +95,11 @@ class Task(BaseModel):
         clock: EvaluationClock | None = None,
         render: EvaluationRender | None = None,
         timing: EvaluationTiming | None = None,
+        *,
+        page: EvaluationPage | None = None,
     ) -> EvaluationSpec:
         """The script and helper sources, read now, ready to send to a worker (render: on demand by default;
-        timing: see ``default_timing``)."""
+        timing: see ``default_timing``; page: bare, unless the script needs the editor)."""
         profile = profile or self.default_profile
         clock = clock or self.default_clock
         timing = timing or default_timing(profile, clock)
@@ -105,6 +109,7 @@ class Task(BaseModel):
             profile=profile,
             clock=clock,
             render=render or "on_demand",
+            page=page or "bare",
             timing=timing,
             frame_lateness=calibrated_frame_lateness() if timing == "calibrated" else None,
             script_name=self.evaluation_script.name,
@@ -114,6 +119,11 @@ class Task(BaseModel):
             helper_global=self.helper_global,
             timeout_s=self.timeout_s,
         )
+
+    def editor_need(self) -> str | None:
+        """What in the task's scripts only the editor page has (its evaluations then run there), or None."""
+        helper = _read_text(self.helper_script) if self.helper_script else None
+        return editor_need(_read_text(self.evaluation_script), helper)
 
     def trajectory(self) -> list[CompositeAction] | None:
         """The golden trajectory, read and checked now."""

@@ -38,6 +38,7 @@ from workers.contract import (
     CoordinateSystem,
     EpisodeClock,
     EvaluationClock,
+    EvaluationPage,
     EvaluationProfile,
     EvaluationRender,
     EvaluationTiming,
@@ -243,6 +244,10 @@ class SweepConfig(BaseModel):
 
     render: EvaluationRender | None = None
     """When evaluations draw the stage (on_demand | every_frame); default: on demand."""
+
+    evaluation_page: EvaluationPage | None = None
+    """The page evaluations run in (bare | editor); default: bare, the editor for a script that needs it
+    (part of each job's identity)."""
 
     timing: EvaluationTiming | None = None
     """How virtual-clock frames are timed (ideal | calibrated); default: calibrated for upstream in virtual

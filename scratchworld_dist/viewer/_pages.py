@@ -174,6 +174,7 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
         "evaluation profile": str(config.get("profile") or "the suite's"),
         "evaluation clock": str(config.get("clock") or "the suite's"),
         "evaluation render": str(config.get("render") or "on_demand"),
+        "evaluation page": str(config.get("evaluation_page") or "bare (the editor for a script that needs it)"),
         "evaluation timing": str(config.get("timing") or "the profile's (upstream in virtual time: calibrated)"),
     }
     if manifest.regrade is not None:  # the new verdicts' conditions, and what they re-evaluated
@@ -183,6 +184,7 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
             "evaluation profile": regrade.profile,
             "evaluation clock": regrade.clock,
             "evaluation render": regrade.render or "every_frame",
+            "evaluation page": regrade.evaluation_page or "editor",
             "evaluation suite": f"{regrade.suite.name} ({regrade.suite.root}, hash {regrade.suite.hash})",
             "regraded jobs": f"{regrade.regraded_jobs} ({regrade.without_project} without a final project left out)",
         }

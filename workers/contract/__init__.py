@@ -88,7 +88,14 @@ from workers.contract._eval_result import (
     ProfileConditions,
     TestVerdict,
 )
-from workers.contract._evaluation_spec import EvaluationClock, EvaluationProfile, EvaluationRender, EvaluationSpec
+from workers.contract._evaluation_page import editor_need
+from workers.contract._evaluation_spec import (
+    EvaluationClock,
+    EvaluationPage,
+    EvaluationProfile,
+    EvaluationRender,
+    EvaluationSpec,
+)
 from workers.contract._frame_timing import (
     EvaluationTiming,
     FrameLateness,
@@ -214,6 +221,7 @@ __all__ = [
     "EvalResult",
     "EvalTimings",
     "EvaluationClock",
+    "EvaluationPage",
     "EvaluationPerturbation",
     "EvaluationProfile",
     "EvaluationRender",
@@ -290,6 +298,7 @@ __all__ = [
     "check_project",
     "composite_action",
     "describe_differences",
+    "editor_need",
     "fingerprint",
     "frames_per_second",
     "memory_digest",

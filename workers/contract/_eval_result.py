@@ -17,6 +17,7 @@ from pydantic import (
 
 from workers.contract._evaluation_spec import (
     EvaluationClock,
+    EvaluationPage,
     EvaluationProfile,
     EvaluationRender,
     drop_unset_perturbation,
@@ -59,6 +60,9 @@ class ProfileConditions(BaseModel):
 
     render: EvaluationRender = "every_frame"
     """When the stage was drawn (results made before ``on_demand`` existed drew every frame)."""
+
+    page: EvaluationPage = "editor"
+    """The page the script ran in (results made before the bare page existed ran in the editor)."""
 
     timing: RecordedTiming | None = None
     """How the VM's frames were timed: ``real`` on the real clock, else the virtual model (None: recorded

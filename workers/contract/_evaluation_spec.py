@@ -14,6 +14,7 @@ from pydantic import (
     model_validator,
 )
 
+from workers.contract._evaluation_page import editor_need
 from workers.contract._frame_timing import EvaluationTiming, FrameLateness
 from workers.contract._perturbation import EvaluationPerturbation
 
@@ -22,6 +23,10 @@ EvaluationClock = Literal["virtual", "real"]
 
 EvaluationProfile = Literal["native", "upstream"]
 """The page conditions of an evaluation (see ``workers.evaluation._profiles``)."""
+
+EvaluationPage = Literal["bare", "editor"]
+"""The page an evaluation runs in: the VM, renderer and audio engine alone (``scratch-gui/bare.html``),
+or the whole Scratch editor (``index.html``), the reference."""
 
 EvaluationRender = Literal["on_demand", "every_frame"]
 """When the stage is drawn during an evaluation: only when something reads the picture (a snapshot,
@@ -62,6 +67,11 @@ class EvaluationSpec(BaseModel):
     Touching, colour sensing and the pen do not read the drawn stage, so skipping the frames nobody
     looks at halves an evaluation's work without changing what a script sees."""
 
+    page: EvaluationPage = "bare"
+    """The page the script runs in; part of a job's identity. The bare page gives the verdicts of the editor
+    page (README, "Evaluation page") for less CPU; a script that needs the editor runs there whatever is asked
+    (``workers.contract._evaluation_page``)."""
+
     timing: EvaluationTiming = "ideal"
     """How the VM's frames are timed in virtual time (``workers.contract._frame_timing``); part of a
     job's identity, left out of the dump when ``ideal`` (today's exact timing) so that job ids stay as they were."""
@@ -75,6 +85,15 @@ class EvaluationSpec(BaseModel):
     perturbation: EvaluationPerturbation | None = None
     """Conditions varied on purpose by ``scratchworld flakes`` (seeded randomness, frame phase, mouse,
     timer lateness); None, the default, is left out of the dump so that job ids stay as they were."""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _editor_for_a_script_that_needs_it(cls, data: object) -> object:
+        """A script that names the editor's DOM or blocks runs in the editor page (``_evaluation_page``)."""
+        if not isinstance(data, dict) or data.get("page", "bare") != "bare":
+            return data
+        needs = editor_need(data.get("script_source"), data.get("helper_source")) is not None
+        return {**data, "page": "editor"} if needs else data
 
     @model_validator(mode="after")
     def _timing_needs_virtual_time(self) -> EvaluationSpec:

@@ -25,7 +25,13 @@ from playwright.async_api import Browser, BrowserContext, Playwright, async_play
 from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel, ConfigDict, Field
 
-from workers.contract import ChromiumNotFoundError, EditorCrashedError, EditorError
+from workers.contract import (
+    ChromiumNotFoundError,
+    EditorBundleMissingError,
+    EditorCrashedError,
+    EditorError,
+    EvaluationPage,
+)
 from workers.editor._editor import Editor, opened
 from workers.editor._server import EditorAssets, EditorServer
 from workers.node import default_chromium, idle_priority
@@ -268,13 +274,19 @@ class BrowserSession:
             opening.add_done_callback(_close_orphan)
             raise
 
-    async def open_editor(self) -> Editor:
-        """A fresh context with a ready editor; the caller closes it. Waits its turn among this
-        browser's openings (``BrowserConfig.concurrent_opens``)."""
+    async def open_editor(self, kind: EvaluationPage = "editor") -> Editor:
+        """A fresh context with a ready editor (or bare evaluation page); the caller closes it. Waits its
+        turn among this browser's openings (``BrowserConfig.concurrent_opens``)."""
+        if self._server is None:
+            raise RuntimeError("the browser session is not open")
+        if kind == "bare" and self._server.assets.bare_missing:
+            raise EditorBundleMissingError(self._server.assets.bare_missing)
         async with self._opening:
-            return await self._open_editor()
+            return await self._open_editor(kind)
 
-    async def _open_editor(self) -> Editor:
+    async def _open_editor(self, kind: EvaluationPage) -> Editor:
+        assert self._server is not None
+        url = self._server.page_url(kind)
         context = await self.new_context()
         try:
             page = await context.new_page()
@@ -284,17 +296,17 @@ class BrowserSession:
         except BaseException:  # cancelled: the context must not outlive the episode
             await _close_quietly(context)
             raise
-        editor = Editor(context, page)
+        editor = Editor(context, page, kind)
         try:
-            await editor.open(self.editor_url, self.config.ready_timeout_s)
+            await editor.open(url, self.config.ready_timeout_s)
         except BaseException:
             await editor.close()
             raise
         return editor
 
-    def editor(self) -> AbstractAsyncContextManager[Editor]:
-        """A ready editor in a fresh context, closed on exit."""
-        return opened(self.open_editor())
+    def editor(self, kind: EvaluationPage = "editor") -> AbstractAsyncContextManager[Editor]:
+        """A ready editor (or bare evaluation page) in a fresh context, closed on exit."""
+        return opened(self.open_editor(kind))
 
     async def close(self) -> None:
         """Close the browser, Playwright's driver and the editor server; each step bounded, so a browser

@@ -26,6 +26,7 @@ from workers.contract import (
     EditorError,
     EditorNotReadyError,
     EpisodeClock,
+    EvaluationPage,
     EvaluationPerturbation,
     EvaluationSpec,
     ProjectLimits,
@@ -50,6 +51,8 @@ class EditorStatus(BaseModel):
 
     model_config = ConfigDict(alias_generator=to_camel, populate_by_name=True)
 
+    page: EvaluationPage = "editor"
+    """The editor, or the bare evaluation page (no workspace, no default project)."""
     vm: bool
     workspace: bool
     project_loads: int
@@ -64,8 +67,11 @@ class EditorStatus(BaseModel):
     audio: str | None = None
     """The AudioContext's state: "running", or "suspended" while the page waits (or on the virtual clock)."""
 
-    def missing(self) -> list[str]:
-        parts = {"VM": self.vm, "rendered workspace": self.workspace, "default project": self.project_loads >= 1}
+    def missing(self, kind: EvaluationPage = "editor") -> list[str]:
+        """What a page of ``kind`` still lacks to be ready (the bare page needs its VM only)."""
+        parts = {"VM": self.vm}
+        if kind == "editor":
+            parts |= {"rendered workspace": self.workspace, "default project": self.project_loads >= 1}
         return [name for name, present in parts.items() if not present]
 
 
@@ -114,11 +120,13 @@ class EvaluationRun(BaseModel):
 
 
 class Editor:
-    """A Scratch editor in its own browser context; close it to free the context."""
+    """A Scratch editor (or a bare evaluation page) in its own browser context; close it to free the context."""
 
-    def __init__(self, context: BrowserContext, page: Page) -> None:
+    def __init__(self, context: BrowserContext, page: Page, kind: EvaluationPage = "editor") -> None:
         self.context = context
         self.page = page
+        self.kind: EvaluationPage = kind
+        """The editor page, or the bare evaluation page (evaluations only: no blocks, no GUI)."""
         self.console: list[str] = []
         self.ready_s: float | None = None
         """Seconds from navigation to a ready editor, once ``open`` succeeded."""
@@ -184,7 +192,7 @@ class Editor:
             reason = f"the editor page failed to load after {elapsed_s:.1f} s"
         try:
             status = await self.status()
-            reason += f"; still missing: {', '.join(status.missing()) or 'nothing'}"
+            reason += f"; still missing: {', '.join(status.missing(self.kind)) or 'nothing'}"
         except (EditorError, BridgeError, ValidationError):
             reason += f" ({exc.message.splitlines()[0]})"
         if self.page_errors:

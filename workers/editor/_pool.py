@@ -10,6 +10,8 @@ does three things:
 - it opens ``spare`` fresh editors ahead, in their own browser contexts, for when no used editor
   is ready. A fresh editor waits with its VM stepping, about a third of a core, so keep ``spare``
   small;
+- bare evaluation pages (``open_editor("bare")``) are reused the same way, apart from editors; the
+  spares opened ahead are of the kind last asked for;
 - ``fill`` opens editors ahead of a run of episodes, all at once, and parks them (VM stopped) like
   recycled ones: opening one costs ~7 s of CPU here, and opened while other episodes run, it
   slows their steps down by seconds.
@@ -25,7 +27,7 @@ from collections import Counter, deque
 from collections.abc import AsyncIterator
 from types import TracebackType
 
-from workers.contract import BridgeError, EditorError
+from workers.contract import BridgeError, EditorError, EvaluationPage
 from workers.editor._browser import BrowserSession
 from workers.editor._editor import Editor
 
@@ -56,10 +58,12 @@ class EditorPool:
         self.discarded: Counter[str] = Counter()
         """Why used editors were closed instead of reused (first difference, or the reason)."""
 
-        self._ready: deque[Editor] = deque()
+        self._ready: dict[EvaluationPage, deque[Editor]] = {"editor": deque(), "bare": deque()}
         self._lent: weakref.WeakKeyDictionary[Editor, int] = weakref.WeakKeyDictionary()
         """Editors handed out, with their evaluation count at the time (callers may close them instead)."""
         self._opening: deque[asyncio.Task[Editor]] = deque()
+        self._spare_kind: EvaluationPage = "editor"
+        """What the spares are: the kind of page last asked for."""
         self._filling = 0
         """Editors ``fill`` is opening."""
         self._closed = False
@@ -67,7 +71,8 @@ class EditorPool:
     @property
     def held(self) -> int:
         """Editors this pool holds: waiting, lent out or still opening."""
-        return len(self._ready) + len(self._lent) + len(self._opening) + self._filling
+        waiting = sum(len(ready) for ready in self._ready.values())
+        return waiting + len(self._lent) + len(self._opening) + self._filling
 
     async def fill(self, count: int) -> int:
         """Open editors until the pool holds ``count``; each waits parked (VM stopped) until it is lent.
@@ -82,7 +87,7 @@ class EditorPool:
                 await asyncio.gather(*(self._open_parked() for _ in range(missing)))
             finally:
                 self._filling -= missing
-        return len(self._ready)
+        return len(self._ready["editor"])
 
     async def _open_parked(self) -> None:
         self.opened += 1
@@ -100,14 +105,15 @@ class EditorPool:
         if self._closed:
             await editor.close()
         else:
-            self._ready.append(editor)
+            self._ready["editor"].append(editor)
 
-    async def open_editor(self) -> Editor:
-        """A ready editor, clean as if fresh; hand it back with ``release`` (or close it)."""
+    async def open_editor(self, kind: EvaluationPage = "editor") -> Editor:
+        """A ready editor (or bare evaluation page), clean as if fresh; hand it back with ``release`` (or close it)."""
         if self._closed:
             raise RuntimeError("the editor pool is closed")
-        while self._ready:
-            editor = self._ready.popleft()
+        ready = self._ready[kind]
+        while ready:
+            editor = ready.popleft()
             try:
                 await editor.resume()
             except (EditorError, BridgeError):
@@ -116,6 +122,9 @@ class EditorPool:
                 continue
             self.reused += 1
             return self._lend(editor)
+        if kind != self._spare_kind:  # the spares opening are of the other kind: they wait for their turn
+            self._spare_kind = kind
+            await self._drop_spares()
         while self._opening:
             prepared = self._opening.popleft()
             self._refill()
@@ -128,7 +137,7 @@ class EditorPool:
             await editor.close()
         self._refill()
         self.opened += 1
-        return self._lend(await self.session.open_editor())
+        return self._lend(await self.session.open_editor(kind))
 
     def _lend(self, editor: Editor) -> Editor:
         self._lent[editor] = editor.uses
@@ -143,7 +152,7 @@ class EditorPool:
             except (EditorError, BridgeError, TimeoutError) as exc:
                 differences = [f"recycling failed: {type(exc).__name__}"]
             if not differences and not self._closed:
-                self._ready.append(editor)
+                self._ready[editor.kind].append(editor)
                 return
             reason = differences[0] if differences else "the pool closed"
             log.info("editor not reused: %s", "; ".join(differences) or reason)
@@ -163,9 +172,9 @@ class EditorPool:
         return None
 
     @contextlib.asynccontextmanager
-    async def editor(self) -> AsyncIterator[Editor]:
-        """A ready editor for one evaluation; released on a normal exit, closed on an exception."""
-        editor = await self.open_editor()
+    async def editor(self, kind: EvaluationPage = "editor") -> AsyncIterator[Editor]:
+        """A ready editor (or bare page) for one evaluation; released on a normal exit, closed on an exception."""
+        editor = await self.open_editor(kind)
         try:
             yield editor
         except BaseException:
@@ -181,21 +190,26 @@ class EditorPool:
     def _refill(self) -> None:
         while not self._closed and len(self._opening) < self.spare:
             self.opened += 1
-            self._opening.append(asyncio.ensure_future(self.session.open_editor()))
+            self._opening.append(asyncio.ensure_future(self.session.open_editor(self._spare_kind)))
 
-    async def close(self) -> None:
-        """Close the editors waiting, recycled or still opening."""
-        self._closed = True
-        ready, self._ready = list(self._ready), deque()
+    async def _drop_spares(self) -> None:
+        """Close the spares opening (or opened) ahead: they are of a kind no longer asked for."""
         opening, self._opening = list(self._opening), deque()
         for task in opening:
             task.cancel()
-        for editor in ready:
-            await editor.close()
         for task in opening:
             with contextlib.suppress(BaseException):
                 editor = await task
                 await editor.close()
+
+    async def close(self) -> None:
+        """Close the editors waiting, recycled or still opening."""
+        self._closed = True
+        ready = [editor for waiting in self._ready.values() for editor in waiting]
+        self._ready = {"editor": deque(), "bare": deque()}
+        for editor in ready:
+            await editor.close()
+        await self._drop_spares()
 
     async def __aenter__(self) -> EditorPool:
         return self

@@ -27,7 +27,18 @@ from typing import BinaryIO
 from urllib.parse import unquote, urlsplit
 
 from workers.contract import EditorBundleMissingError
-from workers.node import BUNDLE_FILE, BUNDLE_PACKAGE, OWN_FILES, default_gui_dir
+from workers.node import (
+    BARE_BUILT_FILES,
+    BARE_DIR,
+    BARE_PAGE,
+    BARE_VENDOR_PACKAGES,
+    BARE_VENDOR_URL,
+    BUNDLE_FILE,
+    BUNDLE_PACKAGE,
+    EDITOR_PAGE,
+    OWN_FILES,
+    default_gui_dir,
+)
 
 log = logging.getLogger(__name__)
 
@@ -36,7 +47,11 @@ REFUSALS_KEPT = 200
 
 
 class EditorAssets:
-    """Where the editor's files are on disk; checked once so a missing install fails early."""
+    """Where the pages' files are on disk; checked once so a missing install fails early.
+
+    The editor bundle must be installed. The bare evaluation page's packages may be missing (a
+    checkout copied without them): ``bare_missing`` then says why, and opening a bare page fails with it.
+    """
 
     def __init__(self, gui_dir: Path | None = None) -> None:
         self.gui_dir = (gui_dir or default_gui_dir()).resolve()
@@ -50,11 +65,29 @@ class EditorAssets:
                 f"the Scratch editor bundle is not installed: {self.dist_dir / BUNDLE_FILE} is missing; "
                 f"run `npm ci --ignore-scripts` in {self.gui_dir} (the README's install command does it)"
             )
+        packages = self.gui_dir / BARE_DIR / "node_modules" / "@scratch"
+        self.vendor_dirs = {name: (packages / name / "dist" / "web").resolve() for name in BARE_VENDOR_PACKAGES}
+        missing = [str(self.gui_dir / name) for name in BARE_BUILT_FILES if not (self.gui_dir / name).is_file()]
+        missing += [str(path) for path in self.vendor_dirs.values() if not path.is_dir()]
+        self.bare_missing = (
+            f"the bare evaluation page is not installed ({', '.join(missing)} missing); run ./install.sh"
+            if missing
+            else None
+        )
+
+    def page_path(self, page: str) -> str:
+        """The URL path of the editor page or the bare evaluation page."""
+        return f"/{BARE_PAGE if page == 'bare' else EDITOR_PAGE}"
 
     def resolve(self, url_path: str) -> Path | None:
-        """Map a request path to a file, refusing anything outside the two roots."""
-        relative = unquote(urlsplit(url_path).path).lstrip("/") or "index.html"
-        root = self.gui_dir if relative in OWN_FILES else self.dist_dir
+        """Map a request path to a file, refusing anything outside the roots."""
+        relative = unquote(urlsplit(url_path).path).lstrip("/") or EDITOR_PAGE
+        root = self.gui_dir if relative in OWN_FILES or relative in BARE_BUILT_FILES else self.dist_dir
+        if relative.startswith(BARE_VENDOR_URL):
+            package, _, relative = relative.removeprefix(BARE_VENDOR_URL).partition("/")
+            if package not in self.vendor_dirs:
+                return None
+            root = self.vendor_dirs[package]
         candidate = (root / relative).resolve()
         if not candidate.is_relative_to(root) or not candidate.is_file():
             return None
@@ -157,10 +190,15 @@ class EditorServer:
 
     @property
     def url(self) -> str:
+        """The editor page's address."""
+        return self.page_url("editor")
+
+    def page_url(self, page: str) -> str:
+        """The address of the editor page (``editor``) or the bare evaluation page (``bare``)."""
         if self._httpd is None:
             raise RuntimeError("the editor server is not running")
         host, port = self._httpd.server_address[:2]
-        return f"http://{host}:{port}/index.html"
+        return f"http://{host}:{port}{self.assets.page_path(page)}"
 
     @property
     def proxy(self) -> str:

@@ -120,7 +120,7 @@ class Evaluator:
             return refusal, None
         trace: tuple[ObservableTrace, float] | None = None
         try:
-            async with (self.pool or self.session).editor() as editor:
+            async with (self.pool or self.session).editor(spec.page) as editor:
                 timings.editor_ready_s = editor.ready_s if editor.uses == 0 else None
                 result = await self._evaluate_in(editor, project, spec, limits, timings, trace_chars)
                 if trace_chars is not None:
@@ -146,6 +146,7 @@ class Evaluator:
             update={
                 "clock": spec.clock,
                 "render": spec.render,
+                "page": spec.page,
                 "timing": spec.timing if spec.clock == "virtual" else "real",
                 "frame_lateness": spec.frame_lateness,
                 "perturbation": spec.perturbation,

@@ -5,8 +5,14 @@ from workers.node._capacity import EditorCost, SlotDerivation, derive_slots
 from workers.node._describe import describe_node
 from workers.node._fingerprint import code_parts, environment_parts, harness_fingerprint
 from workers.node._installation import (
+    BARE_BUILT_FILES,
+    BARE_DIR,
+    BARE_PAGE,
+    BARE_VENDOR_PACKAGES,
+    BARE_VENDOR_URL,
     BUNDLE_FILE,
     BUNDLE_PACKAGE,
+    EDITOR_PAGE,
     OWN_FILES,
     REPO_DIR,
     default_chromium,
@@ -16,8 +22,14 @@ from workers.node._priority import idle_priority, thread_policies
 from workers.node._usage import BrowserUsage, NodeMemory, browser_usage, node_memory
 
 __all__ = [
+    "BARE_BUILT_FILES",
+    "BARE_DIR",
+    "BARE_PAGE",
+    "BARE_VENDOR_PACKAGES",
+    "BARE_VENDOR_URL",
     "BUNDLE_FILE",
     "BUNDLE_PACKAGE",
+    "EDITOR_PAGE",
     "OWN_FILES",
     "REPO_DIR",
     "BrowserUsage",

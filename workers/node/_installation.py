@@ -15,19 +15,38 @@ REPO_DIR = Path(__file__).resolve().parents[2]
 BUNDLE_PACKAGE = "@scratch/scratch-gui-standalone"
 BUNDLE_FILE = "scratch-gui-standalone.js"
 
+EDITOR_PAGE = "index.html"
+"""The Scratch editor (agents' episodes; the reference page for evaluations)."""
+BARE_PAGE = "bare.html"
+"""The evaluation page without the editor GUI (``scratch-gui/bare/``)."""
+
+BARE_DIR = "bare"
+"""The bare page's own npm install (``bare/package.json``) and what ``install.sh`` builds from it."""
+BARE_VENDOR_URL = "bare/vendor/"
+"""Where the bare page loads npm packages' browser builds: ``bare/vendor/<name>/<file>`` is
+``bare/node_modules/@scratch/<name>/dist/web/<file>``."""
+BARE_VENDOR_PACKAGES = ("scratch-vm", "scratch-render", "scratch-storage", "scratch-svg-renderer")
+BARE_BUILT_FILES = ("bare/build/scratch-audio.js",)
+"""Files ``install.sh`` builds (scratch-audio is CommonJS; esbuild makes it one browser script)."""
+
 _SCRIPT = re.compile(r'<script src="([^"]+)"></script>')
 
 
 def _own_files() -> tuple[str, ...]:
-    """``index.html`` and the scripts it loads but the bundle: one list, kept in the page itself."""
-    page = REPO_DIR / "scratch-gui" / "index.html"
-    scripts = _SCRIPT.findall(page.read_text(encoding="utf-8")) if page.is_file() else []
-    return ("index.html", *(name for name in scripts if name != BUNDLE_FILE))
+    """The two pages and the scripts they load but installed packages: one list, kept in the pages."""
+    files: list[str] = []
+    installed = (BUNDLE_FILE, *BARE_BUILT_FILES)
+    for name in (EDITOR_PAGE, BARE_PAGE):
+        page = REPO_DIR / "scratch-gui" / name
+        scripts = _SCRIPT.findall(page.read_text(encoding="utf-8")) if page.is_file() else []
+        mine = [s for s in scripts if s not in installed and not s.startswith(BARE_VENDOR_URL)]
+        files += [f for f in (name, *mine) if f not in files]
+    return tuple(files)
 
 
 OWN_FILES = _own_files()
-"""Files of ours that shadow the bundle's web root (paths relative to ``scratch-gui/``), in the
-order ``index.html`` loads its scripts."""
+"""Files of ours that shadow the bundle's web root (paths relative to ``scratch-gui/``): each page,
+then the scripts it loads in order."""
 
 DEFAULT_CHROMIUM = Path("/usr/bin/chromium")
 

@@ -166,7 +166,15 @@ def selected_tasks(config: SweepConfig, trajectories: Path | None) -> tuple[Suit
     tasks = suite.select(ids=config.tasks.ids or None, categories=config.tasks.categories or None)
     if not tasks:
         raise ConfigError(f"the task selection matches no task of {suite.name} ({suite.root})")
-    conditions = (config.profile, config.clock, config.project_limits, config.render, trajectories, config.timing)
+    conditions = (
+        config.profile,
+        config.clock,
+        config.project_limits,
+        config.render,
+        trajectories,
+        config.timing,
+        config.evaluation_page,
+    )
     return suite, [read_task(task, *conditions) for task in tasks]
 
 

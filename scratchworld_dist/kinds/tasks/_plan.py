@@ -21,6 +21,7 @@ from workers.contract import (
     ClockMode,
     EpisodeClock,
     EvaluationClock,
+    EvaluationPage,
     EvaluationProfile,
     EvaluationRender,
     EvaluationTiming,
@@ -78,6 +79,7 @@ def read_task(
     render: EvaluationRender | None = None,
     trajectories: Path | None = None,
     timing: EvaluationTiming | None = None,
+    page: EvaluationPage | None = None,
 ) -> TaskContent:
     """Read a task's files once; the hash covers every byte a worker will see (and profile and clock).
 
@@ -86,7 +88,7 @@ def read_task(
     oracle-plan``'s output) when a folder is given.
     """
     limits = limits or ProjectLimits()
-    spec = task.evaluation_spec(profile, clock, render, timing)
+    spec = task.evaluation_spec(profile, clock, render, timing, page=page)
     golden = read_project(task.golden_project, limits) if task.golden_project is not None else None
     trajectory = task.trajectory()
     if trajectory is None and trajectories is not None:

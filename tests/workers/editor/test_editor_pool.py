@@ -144,13 +144,14 @@ async def test_editors_opened_ahead_wait_parked_and_run_again_when_lent(session:
     async with EditorPool(session, spare=0) as pool:
         assert await pool.fill(2) == 2
         assert await pool.fill(2) == 2 and pool.opened == 2  # held already: nothing more opens
-        assert [await running(editor) for editor in pool._ready] == [(False, "suspended")] * 2
+        assert [await running(editor) for editor in pool._ready["editor"]] == [(False, "suspended")] * 2
 
         evaluator = Evaluator(session, pool)
-        result = await evaluate(evaluator, CHECK_CLEAN, counter_project("Counter"))
+        result = await evaluate(evaluator, CHECK_CLEAN, counter_project("Counter"), page="editor")
         assert result.success and result.timings.editor_ready_s is not None, result  # a fresh page, opened ahead
-        assert (pool.opened, pool.reused, len(pool._ready)) == (2, 1, 2)
-        assert [await running(editor) for editor in pool._ready] == [(False, "suspended")] * 2  # the recycled one too
+        assert (pool.opened, pool.reused, len(pool._ready["editor"])) == (2, 1, 2)
+        waiting = [await running(editor) for editor in pool._ready["editor"]]
+        assert waiting == [(False, "suspended")] * 2  # the recycled one too
 
         async with pool.editor() as editor:
             assert await running(editor) == (True, "running")

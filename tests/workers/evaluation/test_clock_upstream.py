@@ -138,7 +138,7 @@ CASES = [
             ("say", "Frank", "say: Correct!"),
             ("sound", "Frank", "end: Ya"),
             ("broadcast", "", "keep going"),
-            ("say", "Frank", "say: What is 5 + 8?"),
+            ("say", "Frank", "say: What is 8 + 6?"),  # the bare page; the editor drew 5 + 8 (see README)
             ("sound", "Frank", "start: Big Boing"),
             ("say", "Frank", "say: Wrong!"),
             ("sound", "Frank", "end: Big Boing"),

@@ -100,7 +100,7 @@ def test_a_default_spec_dumps_as_before_and_bad_perturbations_are_refused() -> N
     assert spec.model_dump_json() == (
         '{"script_name":"a.js","script_source":"x","helper_name":null,"helper_source":null,'
         '"helper_global":"EvaluationUtils","timeout_s":5.0,"profile":"native","clock":"real",'
-        '"render":"on_demand","config":{}}'
+        '"render":"on_demand","page":"bare","config":{}}'
     )
     perturbed = spec.model_copy(update={"perturbation": EvaluationPerturbation(random_seed=3)})
     assert EvaluationSpec.model_validate_json(perturbed.model_dump_json()) == perturbed

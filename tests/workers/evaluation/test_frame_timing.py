@@ -45,8 +45,9 @@ HEAVY_BLOCKS = 400
 # ~12 ms late (about 22 frames per second instead of 30.3).
 LATENESS = FrameLateness(fixed_ms=0.5, per_block_ms=0.025, per_redraw_ms=2)
 
-# The keys of an evaluation spec's JSON before timing existed, in order: job identity hashes this JSON.
-SPEC_KEYS_BEFORE_TIMING = [
+# The keys of an evaluation spec's JSON under ideal timing (as before timing existed, with the page since),
+# in order: job identity hashes this JSON.
+SPEC_KEYS_UNDER_IDEAL_TIMING = [
     "script_name",
     "script_source",
     "helper_name",
@@ -56,6 +57,7 @@ SPEC_KEYS_BEFORE_TIMING = [
     "profile",
     "clock",
     "render",
+    "page",
     "config",
 ]
 
@@ -157,7 +159,7 @@ def test_our_suite_keeps_ideal_timing_and_its_job_identity() -> None:
     for task in load_suite(REPO / "tasks").select():
         spec = task.evaluation_spec()
         assert (spec.clock, spec.timing, spec.frame_lateness) == ("virtual", "ideal", None)
-        assert list(json.loads(spec.model_dump_json())) == SPEC_KEYS_BEFORE_TIMING
+        assert list(json.loads(spec.model_dump_json())) == SPEC_KEYS_UNDER_IDEAL_TIMING
     task = load_suite(REPO / "tasks").select()[0]
     assert read_task(task).task_hash == read_task(task, timing="ideal").task_hash
     assert read_task(task).task_hash != read_task(task, timing="calibrated").task_hash
