@@ -34,6 +34,13 @@ def copy_page_files(gui_dir: Path, names: tuple[str, ...] = OWN_FILES) -> None:
         shutil.copyfile(REPO / "scratch-gui" / name, gui_dir / name)
 
 
+def link_installed_packages(gui_dir: Path) -> None:
+    """The npm installs (the editor bundle, the bare page's packages and build) linked into another editor folder."""
+    for name in ("node_modules", "bare/node_modules", "bare/build"):
+        (gui_dir / name).parent.mkdir(parents=True, exist_ok=True)
+        (gui_dir / name).symlink_to(REPO / "scratch-gui" / name)
+
+
 BROWSER_FIXTURES = frozenset({"session", "shared_pool", "evaluator", "fresh_evaluator", "episode_runner"})
 RAY_FIXTURES = frozenset({"shared_ray", "model_ray"})
 

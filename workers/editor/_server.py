@@ -66,6 +66,7 @@ class EditorAssets:
                 f"run `npm ci --ignore-scripts` in {self.gui_dir} (the README's install command does it)"
             )
         packages = self.gui_dir / BARE_DIR / "node_modules" / "@scratch"
+        self.build_dir = (self.gui_dir / BARE_DIR / "build").resolve()  # may be a link, like node_modules
         self.vendor_dirs = {name: (packages / name / "dist" / "web").resolve() for name in BARE_VENDOR_PACKAGES}
         missing = [str(self.gui_dir / name) for name in BARE_BUILT_FILES if not (self.gui_dir / name).is_file()]
         missing += [str(path) for path in self.vendor_dirs.values() if not path.is_dir()]
@@ -82,8 +83,10 @@ class EditorAssets:
     def resolve(self, url_path: str) -> Path | None:
         """Map a request path to a file, refusing anything outside the roots."""
         relative = unquote(urlsplit(url_path).path).lstrip("/") or EDITOR_PAGE
-        root = self.gui_dir if relative in OWN_FILES or relative in BARE_BUILT_FILES else self.dist_dir
-        if relative.startswith(BARE_VENDOR_URL):
+        root = self.gui_dir if relative in OWN_FILES else self.dist_dir
+        if relative in BARE_BUILT_FILES:
+            root, relative = self.build_dir, relative.rsplit("/", 1)[-1]
+        elif relative.startswith(BARE_VENDOR_URL):
             package, _, relative = relative.removeprefix(BARE_VENDOR_URL).partition("/")
             if package not in self.vendor_dirs:
                 return None

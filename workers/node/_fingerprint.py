@@ -35,7 +35,7 @@ from workers.node._installation import (
 
 WORKERS_DIR = REPO_DIR / "workers"
 
-EDITOR_LOCK_FILES = ("package.json", "package-lock.json")
+EDITOR_LOCK_FILES = ("package.json", "package-lock.json", "bare/package.json", "bare/package-lock.json")
 """Which editor bundle ``npm ci`` installs, byte for byte."""
 
 EPISODE_PACKAGES = ("playwright", "litellm", "rapidocr", "onnxruntime", "opencv-python-headless", "numpy")

@@ -85,7 +85,7 @@ def test_a_stable_suite_is_reported_stable_with_every_perturbation_recorded(
     assert set(report) == {
         "suite", "conditions", "settings", "evaluations", "unstable", "blocking", "tests", "runs"
     }  # fmt: skip
-    assert report["conditions"] == {"profile": "native", "clock": "virtual", "render": "on_demand"}
+    assert report["conditions"] == {"profile": "native", "clock": "virtual", "render": "on_demand", "page": "bare"}
     assert report["settings"]["axes"] == ["seed", "phase", "mouse", "lateness", "clock", "render", "load"]
     # baseline + seed, phase, mouse, 2 lateness levels, calibrated timing, clock, render, load: 10 runs each.
     assert report["evaluations"] == 20 == len(report["runs"])

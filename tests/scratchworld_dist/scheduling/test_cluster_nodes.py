@@ -20,7 +20,7 @@ import yaml
 
 from scratchworld_dist.results import RunStore, read_manifest
 from scratchworld_dist.scheduling._nodes import NodeMismatchError, agreed_harness
-from tests.conftest import REPO, copy_page_files
+from tests.conftest import REPO, copy_page_files, link_installed_packages
 from tests.support.ray_cluster import Cluster
 from tests.support.sweep_driver import SCRATCHWORLD
 from workers.contract import NodeReport
@@ -34,11 +34,11 @@ TASKS = ["sum_two_numbers", "quiz_score", "bouncing_ball_stuck"]
 
 
 def checkout_copy(target: Path) -> Path:
-    """The harness as another clone would hold it: sources copied, the npm editor bundle linked."""
+    """The harness as another clone would hold it: sources copied, the npm installs linked."""
     for package in ("workers", "scratchworld_dist"):
         shutil.copytree(REPO / package, target / package, ignore=shutil.ignore_patterns("__pycache__"))
     copy_page_files(target / "scratch-gui", (*OWN_FILES, *EDITOR_LOCK_FILES))
-    (target / "scratch-gui" / "node_modules").symlink_to(REPO / "scratch-gui" / "node_modules")
+    link_installed_packages(target / "scratch-gui")
     return target
 
 

@@ -23,7 +23,7 @@ import yaml
 from scratchworld_dist.reports._runs import load_run
 from scratchworld_dist.results import RunStore, effective_rows, read_manifest
 from scratchworld_dist.suites import load_suite
-from tests.conftest import REPO, copy_page_files
+from tests.conftest import REPO, copy_page_files, link_installed_packages
 from tests.support.cli_runner import invoke
 from tests.support.sweep_driver import SCRATCHWORLD, Driver, run, run_here
 from workers.node import OWN_FILES
@@ -144,7 +144,7 @@ def edited_editor(tmp_path: Path) -> Path:
     gui = tmp_path / "gui"
     gui.mkdir()
     copy_page_files(gui, (*OWN_FILES, *EDITOR_LOCK_FILES))
-    (gui / "node_modules").symlink_to(REPO / "scratch-gui" / "node_modules")
+    link_installed_packages(gui)
     (gui / "clock.js").write_text((gui / "clock.js").read_text() + "\n// changed\n")
     return gui
 

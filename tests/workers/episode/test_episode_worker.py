@@ -158,7 +158,7 @@ async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
     assert session._browser is not None
     # The cancelled episode closed its pages; only evaluation pages waiting for reuse stay open.
     assert worker._runner is not None and worker._runner.evaluator.pool is not None
-    waiting = [editor.context for editor in worker._runner.evaluator.pool._ready]
+    waiting = [editor.context for pages in worker._runner.evaluator.pool._ready.values() for editor in pages]
     assert session._browser.contexts == waiting
     again = await worker.run(*episode(contents["sum_two_numbers"]))
     assert again.outcome == "passed"
