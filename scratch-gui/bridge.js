@@ -486,7 +486,11 @@
       settled: settled,
       attachVm: (theVm) => { clock.attachVm(theVm); vm = theVm; },
       attachStore: (theStore) => { store = theStore; },
-      attachStage: (stage) => { bareStage = stage; },
+      // Only before the VM (bare/stage.js does so): a script that runs later cannot swap the stage.
+      attachStage: (stage) => {
+        if (vm) throw new Error('the stage must be attached before the VM');
+        bareStage = stage;
+      },
       noteProjectLoaded: () => { projectLoads += 1; },
     }),
     writable: false,

@@ -90,7 +90,7 @@ def validate_command(
         if need is not None and page != "editor":
             console.print(f"  {task.id} runs in the editor page: its script names {need}", markup=False)
     console.print(
-        f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} editor(s){conditions}",
+        f"validating {len(tasks)} task(s) of {suite.name} ({suite.kind}) with {parallel} page(s){conditions}",
         markup=False,
     )
 

@@ -11,7 +11,8 @@ does three things:
   is ready. A fresh editor waits with its VM stepping, about a third of a core, so keep ``spare``
   small;
 - bare evaluation pages (``open_editor("bare")``) are reused the same way, apart from editors; the
-  spares opened ahead are of the kind last asked for;
+  spares opened ahead are of the kind last asked for (a pool that lends both kinds in turn, as an
+  episode runner's does, keeps ``spare`` at 0, or its spares would be closed as often as opened);
 - ``fill`` opens editors ahead of a run of episodes, all at once, and parks them (VM stopped) like
   recycled ones: opening one costs ~7 s of CPU here, and opened while other episodes run, it
   slows their steps down by seconds.

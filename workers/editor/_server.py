@@ -26,7 +26,7 @@ from types import TracebackType
 from typing import BinaryIO
 from urllib.parse import unquote, urlsplit
 
-from workers.contract import EditorBundleMissingError
+from workers.contract import EditorBundleMissingError, EvaluationPage
 from workers.node import (
     BARE_BUILT_FILES,
     BARE_DIR,
@@ -76,7 +76,7 @@ class EditorAssets:
             else None
         )
 
-    def page_path(self, page: str) -> str:
+    def page_path(self, page: EvaluationPage) -> str:
         """The URL path of the editor page or the bare evaluation page."""
         return f"/{BARE_PAGE if page == 'bare' else EDITOR_PAGE}"
 
@@ -196,7 +196,7 @@ class EditorServer:
         """The editor page's address."""
         return self.page_url("editor")
 
-    def page_url(self, page: str) -> str:
+    def page_url(self, page: EvaluationPage) -> str:
         """The address of the editor page (``editor``) or the bare evaluation page (``bare``)."""
         if self._httpd is None:
             raise RuntimeError("the editor server is not running")
