@@ -30,6 +30,7 @@ from scratchworld_dist.results import (
     RunManifest,
     RunStore,
     Session,
+    SuiteInfo,
     continued,
     git_commit,
     now,
@@ -62,11 +63,11 @@ from workers.node import describe_node, harness_fingerprint
 class AttemptRecorder:
     """Commits every finished attempt: artifacts first, then its rows (the commit point)."""
 
-    def __init__(self, store: RunStore, run_name: str, suite_hash: str, memory: Any = None) -> None:
+    def __init__(self, store: RunStore, run_name: str, suite: SuiteInfo, memory: Any = None) -> None:
         """``memory``: the memory service, handed each job's proposals before its rows are committed."""
         self.store = store
         self.run_name = run_name
-        self.suite_hash = suite_hash
+        self.suite = suite
         self.memory = memory
 
     def __call__(self, job: JobSpec, result: JobResult) -> None:
@@ -86,8 +87,9 @@ class AttemptRecorder:
             job,
             result,
             run_name=self.run_name,
-            suite_hash=self.suite_hash,
+            suite_hash=self.suite.hash,
             artifact_dir=artifact_dir,
+            stability=self.suite.stability,
         )
         self.store.commit(record)
 
@@ -231,7 +233,7 @@ def _execute(
             memory = start_memory_service(
                 store.run_dir, config.agent, config.memory, config.llm.retry, plan.memory_sources
             )
-        commit = AttemptRecorder(store, config.name, manifest.suite.hash, memory)
+        commit = AttemptRecorder(store, config.name, manifest.suite, memory)
         cores = os.cpu_count() or 1
         if local_slots is None:  # a cluster: the cores of all its nodes
             cores = int(ray.cluster_resources().get("CPU", cores))

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Literal
 
 from pydantic import BaseModel
 
-from scratchworld_dist.suites import Task
+from scratchworld_dist.suites import SuiteStability, Task, UnstableTest
 from workers.contract import (
     EvalResult,
     EvaluationClock,
@@ -40,6 +40,8 @@ class ProjectCheck(BaseModel):
     error: str | None
     """``kind: message`` when the evaluation produced no report."""
     wall_s: float
+    failed_tests: list[str] = []
+    """The names of the tests that did not pass."""
 
     @classmethod
     def of(cls, result: EvalResult) -> ProjectCheck:
@@ -50,6 +52,7 @@ class ProjectCheck(BaseModel):
             psr=result.psr,
             error=f"{result.error.kind}: {result.error.message}" if result.error else None,
             wall_s=round(result.timings.total_s, 3),
+            failed_tests=[test.name for test in result.tests if not test.passed],
         )
 
 
@@ -61,11 +64,18 @@ class TaskValidation(BaseModel):
     golden: ProjectCheck | None
     """None when the suite has no golden for the task."""
     initial: ProjectCheck
+    unstable_tests: dict[str, str] | None = None
+    """The task's tests known to be unstable, each with its note ({} when none is); None when the suite's
+    known test stability does not cover the task (see ``scratchworld_dist.suites.known_stability``)."""
+
+    def _fails_only_unstable(self, check: ProjectCheck) -> bool:
+        failed = check.failed_tests
+        return check.error is None and bool(failed) and all(name in (self.unstable_tests or {}) for name in failed)
 
     def failures(self) -> list[str]:
-        """Reasons that make the suite invalid."""
+        """Reasons that make the suite invalid (a golden failing only unstable tests is a warning instead)."""
         reasons = []
-        if self.golden is not None and not self.golden.success:
+        if self.golden is not None and not self.golden.success and not self._fails_only_unstable(self.golden):
             reasons.append("golden does not pass")
         if self.category == "debug" and self.initial.success:
             reasons.append("debug initial already passes")
@@ -73,6 +83,9 @@ class TaskValidation(BaseModel):
 
     def warnings(self) -> list[str]:
         reasons = []
+        if self.golden is not None and not self.golden.success and self._fails_only_unstable(self.golden):
+            names = ", ".join(repr(name) for name in self.golden.failed_tests)
+            reasons.append(f"golden fails only unstable test(s) {names}")
         if self.golden is None:
             reasons.append("no golden project")
         if self.category != "debug" and self.initial.success:
@@ -91,10 +104,12 @@ async def validate_tasks(
     render: EvaluationRender | None = None,
     timing: EvaluationTiming | None = None,
     page: EvaluationPage | None = None,
+    stability: SuiteStability | None = None,
 ) -> list[TaskValidation]:
     """Evaluate each task's golden and initial project, ``parallel`` pages at a time.
 
-    ``profile``, ``clock``, ``render``, ``timing`` and ``page`` override each task's defaults.
+    ``profile``, ``clock``, ``render``, ``timing`` and ``page`` override each task's defaults;
+    ``stability``, the suite's known test stability, marks the rows' unstable tests.
     """
     if parallel < 1:
         raise ValueError("parallel must be at least 1")
@@ -133,6 +148,11 @@ async def validate_tasks(
                 category=task.category,
                 golden=ProjectCheck.of(golden.result()) if golden else None,
                 initial=ProjectCheck.of(initial.result()),
+                unstable_tests=_notes(stability.unstable_tests(task)) if stability else None,
             )
         )
     return rows
+
+
+def _notes(tests: dict[str, UnstableTest] | None) -> dict[str, str] | None:
+    return None if tests is None else {name: test.note() for name, test in tests.items()}

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import asyncio
 import os
+import shlex
+import sys
 from pathlib import Path
 
 import click
@@ -22,31 +24,17 @@ from scratchworld_dist.flakes import (
     FlakeReport,
     FlakeRun,
     FlakeSettings,
-    LatenessBand,
     TestStability,
     plan_variants,
     run_flakes,
     stability_of_tests,
+    suite_stability,
 )
 from scratchworld_dist.suites import default_timing, load_suite
 from workers.contract import EvaluationClock, EvaluationPage, EvaluationProfile, EvaluationRender
 
 EXIT_UNSTABLE = 1
 MAX_FLIPS_SHOWN = 3
-
-
-def _band(band: LatenessBand | None) -> str:
-    if band is None:
-        return "-"
-    if band.min_fps is None:
-        text = "passes at no lateness"
-    elif not band.fails_ms:
-        text = f"all ({band.min_fps:g}-{band.max_fps:g} fps)"
-    else:
-        text = f"{band.min_fps:g}-{band.max_fps:g} fps (fails at {', '.join(f'{ms:g}' for ms in band.fails_ms)} ms)"
-    if band.calibrated is not None:
-        text += f"; calibrated: {band.calibrated}{' (depends on frame timing)' if band.depends_on_timing else ''}"
-    return text
 
 
 def _flips(row: TestStability) -> str:
@@ -71,7 +59,7 @@ def render_table(rows: list[TestStability]) -> Table:
             row.baseline,
             stability,
             Text(_flips(row)),
-            Text(_band(row.lateness_band)),
+            Text(row.lateness_band.describe() if row.lateness_band else "-"),
         )
     return table
 
@@ -121,6 +109,11 @@ def _levels(text: str) -> tuple[float, ...]:
     help="Busy processes during the load runs (default: one per CPU).",
 )
 @click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the report as JSON.")
+@click.option(
+    "--stability-out",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Write what was found as the suite's known test stability (see docs/evaluation.md), replacing that file.",
+)
 def flakes_command(
     suite_dir: Path,
     task_ids: str | None,
@@ -136,6 +129,7 @@ def flakes_command(
     seed: int,
     load_processes: int | None,
     json_file: Path | None,
+    stability_out: Path | None,
 ) -> None:
     """Evaluate every golden and initial in SUITE_DIR under perturbations that must not change a verdict.
 
@@ -192,18 +186,23 @@ def flakes_command(
                 markup=False,
                 soft_wrap=True,
             )
+    report = FlakeReport(
+        suite=suite.name,
+        conditions=conditions,
+        settings=settings,
+        evaluations=len(done),
+        unstable=len(unstable),
+        blocking=len(blocking),
+        tests=rows,
+        runs=done,
+    )
     if json_file is not None:
-        report = FlakeReport(
-            suite=suite.name,
-            conditions=conditions,
-            settings=settings,
-            evaluations=len(done),
-            unstable=len(unstable),
-            blocking=len(blocking),
-            tests=rows,
-            runs=done,
-        )
         json_file.write_text(report.model_dump_json(indent=2) + "\n", encoding="utf-8")
+    if stability_out is not None:
+        command = shlex.join(["scratchworld", *sys.argv[1:]])
+        found = suite_stability(report, tasks, command)
+        stability_out.write_text(found.model_dump_json(indent=2) + "\n", encoding="utf-8")
+        console.print(f"known test stability of {len(found.scripts)} task(s) written to {stability_out}", markup=False)
     summary = f"{len(unstable)} of {len(rows)} test(s) unstable over {len(done)} evaluation(s)"
     if blocking:
         console.print(f"[red]{escape(summary)}; {len(blocking)} in goldens or debug initials[/red]")

@@ -16,7 +16,7 @@ from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, v
 from scratchworld_dist.cli._evaluation_options import page_option, render_option
 from scratchworld_dist.cli._suite_options import comma_list, suite_check_options
 from scratchworld_dist.cli._timing_option import timing_option
-from scratchworld_dist.suites import Task, load_suite
+from scratchworld_dist.suites import SuiteStability, Task, known_stability, load_suite, stability_file
 from workers.contract import (
     EvalResult,
     EvaluationClock,
@@ -38,6 +38,10 @@ def _cell(check: ProjectCheck | None) -> str:
     return f"[{colour}]{check.passed}/{check.total}[/{colour}] ({check.wall_s:.1f}s)"
 
 
+UNSTABLE_MARK = "~"
+"""Beside a task whose tests include one known to be unstable (listed under the table)."""
+
+
 def render_table(rows: list[TaskValidation]) -> Table:
     table = Table("task", "category", "golden", "initial", "verdict")
     for row in rows:
@@ -45,8 +49,25 @@ def render_table(rows: list[TaskValidation]) -> Table:
         verdict = "[red]" + escape("; ".join(failures)) + "[/red]" if failures else "ok"
         if warnings:
             verdict += " [yellow](" + escape("; ".join(warnings)) + ")[/yellow]"
-        table.add_row(Text(row.task_id), row.category, _cell(row.golden), _cell(row.initial), verdict)
+        task = Text(row.task_id + (f" {UNSTABLE_MARK}" if row.unstable_tests else ""))
+        table.add_row(task, row.category, _cell(row.golden), _cell(row.initial), verdict)
     return table
+
+
+def stability_lines(rows: list[TaskValidation], stability: SuiteStability | None, source: Path) -> list[str]:
+    """What the suite's known test stability says of these tasks: its source, then each unstable test."""
+    if stability is None:
+        return [f"test stability: none known for this suite ({source} is absent; see scratchworld flakes)"]
+    unchecked = [row.task_id for row in rows if row.unstable_tests is None]
+    lines = [
+        f"test stability: {source} (made {stability.made_on}, {stability.clock} clock); "
+        f"{len(rows) - len(unchecked)} of {len(rows)} task(s) checked"
+        + (f", not checked or changed since: {', '.join(unchecked)}" if unchecked else "")
+    ]
+    for row in rows:
+        for name, note in (row.unstable_tests or {}).items():
+            lines.append(f"{UNSTABLE_MARK} {row.task_id} {name!r}: {note}")
+    return lines
 
 
 @click.command("validate")
@@ -79,6 +100,7 @@ def validate_command(
     """
     suite = load_suite(suite_dir, task_list=task_list)
     tasks = suite.select(ids=comma_list(task_ids))
+    stability = known_stability(suite)
     console = make_console(stderr=True)
     conditions = ""
     if tasks:  # a suite's tasks share their defaults
@@ -108,9 +130,13 @@ def validate_command(
             render=render,
             timing=timing,
             page=page,
+            stability=stability,
         )
     )
-    make_console().print(render_table(rows))
+    out = make_console()
+    out.print(render_table(rows))
+    for line in stability_lines(rows, stability, stability_file(suite)):
+        out.print(line, markup=False, soft_wrap=True)
     if json_file is not None:
         json_file.write_text(json.dumps([row.model_dump() for row in rows], indent=2) + "\n", encoding="utf-8")
     invalid = [row for row in rows if row.failures()]

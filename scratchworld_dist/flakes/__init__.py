@@ -9,6 +9,7 @@ from scratchworld_dist.flakes._analysis import (
     TestStability,
     stability_of_tests,
 )
+from scratchworld_dist.flakes._findings import suite_stability
 from scratchworld_dist.flakes._plan import AXES, DEFAULT_LATENESS_MS, Axis, FlakeSettings, Variant, plan_variants
 from scratchworld_dist.flakes._runner import FlakeRun, run_flakes, variant_spec
 
@@ -28,5 +29,6 @@ __all__ = [
     "plan_variants",
     "run_flakes",
     "stability_of_tests",
+    "suite_stability",
     "variant_spec",
 ]

@@ -40,6 +40,19 @@ class LatenessBand(BaseModel):
     """Whether the verdict under calibrated timing differs from the one at 0 ms on ideal timing (None: one
     of the two was not run): a test that does depends on the lateness model at all."""
 
+    def describe(self) -> str:
+        """The band for people: the frame rates where it passes, and its verdict under calibrated timing."""
+        if self.min_fps is None:
+            text = "passes at no lateness"
+        elif not self.fails_ms:
+            text = f"all ({self.min_fps:g}-{self.max_fps:g} fps)"
+        else:
+            fails = ", ".join(f"{ms:g}" for ms in self.fails_ms)
+            text = f"{self.min_fps:g}-{self.max_fps:g} fps (fails at {fails} ms)"
+        if self.calibrated is not None:
+            text += f"; calibrated: {self.calibrated}{' (depends on frame timing)' if self.depends_on_timing else ''}"
+        return text
+
 
 class TestStability(BaseModel):
     """One test of one project over all runs of a flake run."""

@@ -16,7 +16,7 @@ from scratchworld_dist._files import FileTooLargeError, read_file
 from scratchworld_dist.kinds.tasks import TaskContent, read_task
 from scratchworld_dist.regrade._source import FINAL_PROJECT, SourceJob, SourceRun
 from scratchworld_dist.results import SuiteInfo
-from scratchworld_dist.suites import load_suite
+from scratchworld_dist.suites import load_suite, stability_marks
 from scratchworld_dist.sweep import Limits, identity_id, suite_hash
 from workers.contract import (
     MIB,
@@ -150,7 +150,12 @@ def plan_regrade(
         for job in source.jobs
     ]
     info = SuiteInfo(
-        name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents.values()), tasks=len(needed)
+        name=suite.name,
+        kind=suite.kind,
+        root=str(suite.root),
+        hash=suite_hash(contents.values()),
+        tasks=len(needed),
+        stability=stability_marks(suite, [suite.task(task_id) for task_id in needed]),
     )
     return RegradePlan(
         source=source,

@@ -11,17 +11,17 @@ from __future__ import annotations
 from datetime import UTC, datetime
 
 from scratchworld_dist.regrade._plan import RegradeJob
-from scratchworld_dist.results import JobRecord, JobRow, RunStore, StepRow, test_rows
+from scratchworld_dist.results import JobRecord, JobRow, RunStore, StepRow, SuiteInfo, test_rows
 from workers.contract import MIB, JobResult
 
 
 class RegradeRecorder:
     """Commits every finished regrade attempt to ``store``."""
 
-    def __init__(self, store: RunStore, run_name: str, suite_hash: str, steps: dict[str, list[StepRow]]) -> None:
+    def __init__(self, store: RunStore, run_name: str, suite: SuiteInfo, steps: dict[str, list[StepRow]]) -> None:
         self.store = store
         self.run_name = run_name
-        self.suite_hash = suite_hash
+        self.suite = suite
         self.steps = steps
 
     def __call__(self, job: RegradeJob, result: JobResult) -> None:
@@ -37,9 +37,9 @@ class RegradeRecorder:
             for s in self.steps.get(source.job_id, [])
         ]
         record = JobRecord(
-            job=regraded_row(job, result, self.run_name, self.suite_hash, artifact_dir),
+            job=regraded_row(job, result, self.run_name, self.suite.hash, artifact_dir),
             steps=steps,
-            tests=test_rows(job.job_id, result.attempt, job.task_id, result.evaluation),
+            tests=test_rows(job.job_id, result.attempt, job.task_id, result.evaluation, self.suite.stability),
         )
         self.store.commit(record)
 

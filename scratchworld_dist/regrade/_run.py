@@ -166,7 +166,7 @@ def _execute(
         pages = pages_per_worker(limits, slots, cores)
         pool = WorkerPool(slots, pages, None, limits.memory_reserve_mb * MIB, at_once)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
-        record = RegradeRecorder(store, manifest.run_name, manifest.suite.hash, plan.source.steps)
+        record = RegradeRecorder(store, manifest.run_name, manifest.suite, plan.source.steps)
         scheduler = Scheduler(
             pool,
             payloads,

@@ -13,6 +13,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, SerializeAsAny, model_validator
 
 from scratchworld_dist.kinds import job_kind
+from scratchworld_dist.suites import StabilityMarks
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import MIB, EvalResult, JobResult
 
@@ -157,6 +158,9 @@ class TestRow(BaseModel):
     passed: bool
     error: str | None
     duration_ms: float | None
+    unstable: bool | None = None
+    """Whether the suite's known test stability named this test unstable when the run was planned (see
+    ``SuiteInfo.stability``); null when it did not cover the task (and in older runs)."""
 
 
 class JobRecord(BaseModel):
@@ -197,6 +201,7 @@ def record_of(
     run_name: str,
     suite_hash: str,
     artifact_dir: str | None,
+    stability: StabilityMarks | None = None,
 ) -> JobRecord:
     """Flatten a worker's result into rows; the job's identity comes from the plan, not the worker, and the
     rows of its kind's own tables from its kind."""
@@ -275,14 +280,20 @@ def record_of(
         )
         for step in result.steps
     ]
-    tests = test_rows(job.job_id, result.attempt, job.task_id, evaluation)
+    tests = test_rows(job.job_id, result.attempt, job.task_id, evaluation, stability)
     kind = job_kind(job.benchmark)
     kind_rows = {table: [] for table in kind.tables} | kind.own_rows(job, result, artifact_dir)
     return JobRecord(job=row, steps=steps, tests=tests, kind_rows=kind_rows)
 
 
-def test_rows(job_id: str, attempt: int, task_id: str, evaluation: EvalResult | None) -> list[TestRow]:
-    """One row per unit test of an attempt's verdict (none without one)."""
+def test_rows(
+    job_id: str,
+    attempt: int,
+    task_id: str,
+    evaluation: EvalResult | None,
+    stability: StabilityMarks | None,
+) -> list[TestRow]:
+    """One row per unit test of an attempt's verdict (none without one), marked from the run's ``stability``."""
     return [
         TestRow(
             job_id=job_id,
@@ -293,6 +304,7 @@ def test_rows(job_id: str, attempt: int, task_id: str, evaluation: EvalResult | 
             passed=test.passed,
             error=test.error,
             duration_ms=test.duration_ms,
+            unstable=stability.is_unstable(task_id, test.name) if stability is not None else None,
         )
         for index, test in enumerate(evaluation.tests if evaluation is not None else [])
     ]

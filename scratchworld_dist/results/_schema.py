@@ -13,10 +13,10 @@ from pydantic import BaseModel
 from scratchworld_dist.kinds import job_kinds
 from scratchworld_dist.results._records import JobRow, StepRow, TestRow
 
-SCHEMA_VERSION = 4
-"""Bumped on any change to a table; stored in every shard's metadata. 4: ``jobs.benchmark``."""
+SCHEMA_VERSION = 5
+"""Bumped on any change to a table; stored in every shard's metadata. 4: ``jobs.benchmark``; 5: ``tests.unstable``."""
 
-CONTINUABLE_SCHEMAS = frozenset({3, 4})
+CONTINUABLE_SCHEMAS = frozenset({3, 4, 5})
 """Schemas whose run directories this code reads and adds to: each later one only adds nullable columns,
 which the older shards read as null (see ``RunStore.job_rows``)."""
 

@@ -16,7 +16,7 @@ from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notic
 from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
 from scratchworld_dist.results import RunStore, SuiteInfo
-from scratchworld_dist.suites import Suite, load_suite
+from scratchworld_dist.suites import Suite, load_suite, stability_marks
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, suite_hash
 from workers.agent_api import agent_class, agent_code, agent_params, checked_agent, extra_models
 from workers.contract import (
@@ -75,7 +75,12 @@ class TasksKind:
         if unknown:
             raise ConfigError(f"synthetic.tasks names task(s) not in the selection: {', '.join(unknown)}")
         info = SuiteInfo(
-            name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(tasks)
+            name=suite.name,
+            kind=suite.kind,
+            root=str(suite.root),
+            hash=suite_hash(contents),
+            tasks=len(tasks),
+            stability=stability_marks(suite, tasks),
         )
         found = agent_class(config.agent.name)
         sources = offline_sources(config) if config.memory is not None else {}
