@@ -15,7 +15,7 @@ from scratchworld_dist._console import make_console
 from scratchworld_dist._files import read_file
 from scratchworld_dist.cli._evaluation_options import page_option, render_option
 from scratchworld_dist.cli._timing_option import timing_option
-from scratchworld_dist.suites import load_suite
+from scratchworld_dist.suites import UnstableTest, known_stability, load_suite
 from workers.contract import (
     MIB,
     EvalResult,
@@ -46,11 +46,14 @@ def read_project_file(path: Path) -> bytes:
     return read_file(path, int(ProjectLimits().max_file_mb * MIB))
 
 
-def render_result(result: EvalResult, console: Console) -> None:
-    """The verdict; what the script or project wrote is shown as text, never read as markup."""
+def render_result(result: EvalResult, console: Console, unstable: dict[str, UnstableTest] | None = None) -> None:
+    """The verdict, tests known to be unstable marked (``unstable``: the task's, by name); what the script or
+    project wrote is shown as text, never read as markup."""
     table = Table("test", "passed", "note")
     for test in result.tests:
-        table.add_row(Text(test.name), "yes" if test.passed else "no", Text(test.error or ""))
+        known = (unstable or {}).get(test.name)
+        note = " ".join(part for part in (test.error or "", known.note() if known else "") if part)
+        table.add_row(Text(test.name), "yes" if test.passed else "no", Text(note))
     if result.tests:
         console.print(table)
     if result.conditions is not None:
@@ -99,13 +102,16 @@ def evaluate_command(
     PROJECT is not a loadable project), 2 unusable arguments (e.g. a PROJECT file over the project
     size limit, or not a regular file).
     """
-    spec = load_suite(suite_dir).task(task_id).evaluation_spec(profile, clock, render, timing, page=page)
+    suite = load_suite(suite_dir)
+    task = suite.task(task_id)
+    spec = task.evaluation_spec(profile, clock, render, timing, page=page)
+    known = known_stability(suite)
     data = read_project_file(project)
     # A project no page may see is refused here, naming the file, before a browser starts.
     from workers.evaluation import project_refusal
 
     result = project_refusal(data, ProjectLimits(), name=str(project)) or asyncio.run(_evaluate(data, spec))
-    render_result(result, make_console())
+    render_result(result, make_console(), known.unstable_tests(task) if known is not None else None)
     if json_file is not None:
         json_file.write_text(result.model_dump_json(indent=2) + "\n", encoding="utf-8")
     if result.error is not None:

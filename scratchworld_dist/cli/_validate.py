@@ -76,7 +76,7 @@ def stability_lines(rows: list[TaskValidation], stability: SuiteStability | None
 @click.option(
     "--clock",
     type=click.Choice(["virtual", "real"]),
-    help="Evaluation clock (default: virtual for our suites, real for upstream clones).",
+    help="Evaluation clock (default: the suite's, virtual for ours and upstream clones).",
 )
 @render_option
 @page_option

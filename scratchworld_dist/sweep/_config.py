@@ -240,7 +240,7 @@ class SweepConfig(BaseModel):
     profile: EvaluationProfile | None = None
     """Evaluation profile (native | upstream); default: the suite's (upstream clones: upstream)."""
     clock: EvaluationClock | None = None
-    """Evaluation clock (virtual | real); default: the suite's (ours: virtual; upstream clones: real)."""
+    """Evaluation clock (virtual | real); default: the suite's (virtual, for ours and upstream clones alike)."""
 
     render: EvaluationRender | None = None
     """When evaluations draw the stage (on_demand | every_frame); default: on demand."""

@@ -20,12 +20,14 @@ from scratchworld_dist.flakes import (
 )
 from scratchworld_dist.suites import (
     SuiteStability,
+    UpstreamSuiteLoader,
     known_stability,
     load_suite,
     stability_file,
     stability_marks,
 )
 from scratchworld_dist.suites._stability import PACKAGED_DIR
+from tests.conftest import SUITE_DIR
 from tests.support.small_suites import TASK, native_suite, upstream_clone
 from workers.contract import EvalResult, TestVerdict
 
@@ -161,3 +163,23 @@ def test_validate_warns_instead_of_failing_when_a_golden_fails_only_unstable_tes
     assert also_stable.failures() == ["golden does not pass"]
     unknown = row.model_copy(update={"unstable_tests": None})
     assert unknown.failures() == ["golden does not pass"]
+
+
+def test_our_suite_keeps_its_known_stability_current() -> None:
+    """A task whose script changes must be checked again: the failure says how."""
+    suite = load_suite(SUITE_DIR)
+    known = known_stability(suite)
+    assert known is not None, f"{stability_file(suite)} is missing: make it with scratchworld flakes --stability-out"
+    stale = [task.id for task in suite.tasks if known.standing(task) != "checked"]
+    assert not stale, f"{stale} changed since {known.made_on}: regenerate with {known.command}"
+
+
+@pytest.mark.upstream
+def test_the_shipped_upstream_data_covers_every_task_whose_script_is_in_shared(upstream_dir: Path) -> None:
+    suite = UpstreamSuiteLoader(require_scripts=False).load(upstream_dir)
+    with_scripts = [task for task in suite.tasks if task.evaluation_script.is_file()]
+    if not with_scripts:
+        pytest.skip(f"no evaluation scripts under {upstream_dir}")
+    known = known_stability(suite)
+    assert known is not None
+    assert [task.id for task in with_scripts if known.standing(task) != "checked"] == []

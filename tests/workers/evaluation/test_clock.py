@@ -165,7 +165,7 @@ def test_the_clock_is_part_of_a_jobs_identity_and_suites_pick_their_default(upst
     task = load_suite(SUITE_DIR).tasks[0]
     assert task.evaluation_spec().clock == "virtual"
     assert task.evaluation_spec(clock="real").clock == "real"
-    assert load_suite(upstream_clone).tasks[0].evaluation_spec().clock == "real"
+    assert load_suite(upstream_clone).tasks[0].evaluation_spec().clock == "virtual"
     ids = {
         clock: next(
             iter(
