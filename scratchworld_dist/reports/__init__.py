@@ -53,6 +53,7 @@ from scratchworld_dist.reports._report_runs import report_data, report_runs
 from scratchworld_dist.reports._run_groups import RunGroup
 from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
 from scratchworld_dist.reports._schemas import report_schemas, write_report_schemas
+from scratchworld_dist.reports._stability_section import StabilitySection, UnstableTask
 from scratchworld_dist.reports._summary import (
     CATEGORIES,
     DETERMINATE,
@@ -110,8 +111,10 @@ __all__ = [
     "SeedStats",
     "Selector",
     "SideInfo",
+    "StabilitySection",
     "Table",
     "TaskOutcome",
+    "UnstableTask",
     "VerdictChange",
     "blocks_html",
     "blocks_markdown",
