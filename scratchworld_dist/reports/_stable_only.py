@@ -86,6 +86,8 @@ def stable_verdicts(
         if not recorded:
             side.kept += 1
             recomputed.append(row)
+        elif len(remaining) == len(recorded):  # it ran none of the tests left out
+            recomputed.append(row)
         elif not remaining:
             side.without_test += 1
             update = {"outcome": NO_STABLE_TEST, "tests_passed": 0, "tests_total": 0, "psr": None}
