@@ -10,8 +10,11 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist.reports import build_report, render_markdown
+from scratchworld_dist.reports._runs import load_run
+from scratchworld_dist.reports._stable_only import left_out_tests, stable_verdicts
 from tests.support.cli_runner import invoke
-from tests.support.unstable_runs import BEAT_NOTE, HOSTILE, HOSTILE_NOTE, STRONG, WEAK, marked_run
+from tests.support.run_dirs import job, job_with_tests, make_run
+from tests.support.unstable_runs import BEAT_NOTE, HOSTILE, HOSTILE_NOTE, MARKS, STRONG, WEAK, marked_run
 
 
 def test_the_report_names_unstable_tests_once_per_task_and_counts_the_verdicts_resting_on_them(
@@ -119,3 +122,18 @@ def test_a_ranking_leaves_the_same_tests_out_for_every_system(tmp_path: Path) ->
     assert (pair["paired_jobs"], pair["sr_difference"]) == (4, -0.5)
     text = _compare(str(weak), str(strong), str(unmarked), "--stable-only")
     assert "Stable tests only (--stable-only)" in text and "Runs without stability data" in text
+
+
+def test_stable_only_keeps_verdicts_it_cannot_recompute(tmp_path: Path) -> None:
+    """A job without test rows, and one whose project broke the evaluation script, keep what they recorded."""
+    rows = [
+        job("bare", "failed", task_id="t1", tests_passed=0, tests_total=2, psr=0.0),  # no test rows
+        job_with_tests("broke", {"moves on the beat": False}, MARKS, task_id="t1", eval_error_kind="script_error"),
+        job_with_tests("beat", {"moves on the beat": False, "score shown": True}, MARKS, task_id="t1"),
+    ]
+    run = load_run(make_run(tmp_path / "run", rows, planned=3, tasks=1, stability=MARKS))
+    left_out = left_out_tests([run])
+    assert left_out == {"t1": ["moves on the beat"], "t4": [HOSTILE]}
+    recomputed, side = stable_verdicts(run, run.rows, left_out, "A")
+    assert {row.job_id: row.outcome for row in recomputed} == {"bare": "failed", "broke": "failed", "beat": "passed"}
+    assert (side.changed, side.without_test, side.kept) == (1, 0, 1)
