@@ -54,6 +54,7 @@ from scratchworld_dist.reports._run_groups import RunGroup
 from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
 from scratchworld_dist.reports._schemas import report_schemas, write_report_schemas
 from scratchworld_dist.reports._stability_section import StabilitySection, UnstableTask
+from scratchworld_dist.reports._stable_only import NO_STABLE_TEST, StableOnly, StableSide
 from scratchworld_dist.reports._summary import (
     CATEGORIES,
     DETERMINATE,
@@ -75,6 +76,7 @@ __all__ = [
     "DETERMINATE",
     "FORMATS",
     "MISSING",
+    "NO_STABLE_TEST",
     "REPORT_VERSION",
     "Block",
     "CategoryStats",
@@ -112,6 +114,8 @@ __all__ = [
     "Selector",
     "SideInfo",
     "StabilitySection",
+    "StableOnly",
+    "StableSide",
     "Table",
     "TaskOutcome",
     "UnstableTask",
