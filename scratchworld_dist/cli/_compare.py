@@ -30,6 +30,7 @@ from scratchworld_dist.reports import (
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the bootstrap's draws.")
 @click.option("--alpha", type=click.FloatRange(0, 1, min_open=True, max_open=True), default=0.05, show_default=True,
               help="Family-wise error rate of a ranking's pairwise tests (three systems or more).")  # fmt: skip
+@click.option("--stable-only", is_flag=True, help="Judge every job without the tests a compared run marks unstable.")
 def compare_command(
     system_a: str,
     system_b: str,
@@ -40,6 +41,7 @@ def compare_command(
     resamples: int,
     seed: int,
     alpha: float,
+    stable_only: bool,
 ) -> None:
     """Compare system A with system B on the jobs both ran: SR and PSR differences with a
     paired bootstrap 95% interval over tasks, McNemar's exact test, and wins/losses per task.
@@ -53,14 +55,25 @@ def compare_command(
 
     With three systems or more: a ranking by SR, and every pair compared as above with McNemar's
     p-values adjusted by Holm's method (family-wise error at --alpha).
+
+    With --stable-only, each job's verdict and PSR are recomputed from its tests without those any compared
+    run marks unstable (their verdict can change with frame timing or phase); a job left with no test has no
+    verdict. The output names the tests left out and how many verdicts changed.
     """
     if more:
         selectors = [parse_selector(text) for text in (system_a, system_b, *more)]
-        ranking = rank_systems(selectors, force=force, resamples=resamples, seed=seed, alpha=alpha)
+        ranking = rank_systems(
+            selectors, force=force, resamples=resamples, seed=seed, alpha=alpha, stable_only=stable_only
+        )
         text = ranking.model_dump_json(indent=2) + "\n" if fmt == "json" else render_ranking(ranking, fmt)
         emit(text, out, ranking.warnings, f"{fmt} ranking")
         return
     comparison = compare_runs(
-        parse_selector(system_a), parse_selector(system_b), force=force, resamples=resamples, seed=seed
+        parse_selector(system_a),
+        parse_selector(system_b),
+        force=force,
+        resamples=resamples,
+        seed=seed,
+        stable_only=stable_only,
     )
     emit(render_comparison(comparison, fmt), out, comparison.warnings, f"{fmt} comparison")

@@ -53,6 +53,8 @@ from scratchworld_dist.reports._report_runs import report_data, report_runs
 from scratchworld_dist.reports._run_groups import RunGroup
 from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
 from scratchworld_dist.reports._schemas import report_schemas, write_report_schemas
+from scratchworld_dist.reports._stability_section import StabilitySection, UnstableTask
+from scratchworld_dist.reports._stable_only import NO_STABLE_TEST, StableOnly, StableSide
 from scratchworld_dist.reports._summary import (
     CATEGORIES,
     DETERMINATE,
@@ -74,6 +76,7 @@ __all__ = [
     "DETERMINATE",
     "FORMATS",
     "MISSING",
+    "NO_STABLE_TEST",
     "REPORT_VERSION",
     "Block",
     "CategoryStats",
@@ -110,8 +113,12 @@ __all__ = [
     "SeedStats",
     "Selector",
     "SideInfo",
+    "StabilitySection",
+    "StableOnly",
+    "StableSide",
     "Table",
     "TaskOutcome",
+    "UnstableTask",
     "VerdictChange",
     "blocks_html",
     "blocks_markdown",

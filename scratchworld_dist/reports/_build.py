@@ -11,6 +11,7 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 from scratchworld_dist.reports._runs import LoadedRun, jobs_per_group, load_runs
+from scratchworld_dist.reports._stability_section import stability_section
 from scratchworld_dist.reports._summary import (
     CATEGORIES,
     DETERMINATE,
@@ -63,6 +64,7 @@ def report_of(runs: Sequence[LoadedRun], warnings: list[str]) -> RunReport:
         rows=rows,
         errors=_error_counts(attempts, effective),
         recovered_jobs=_recovered(attempts, effective),
+        stability=stability_section(runs, effective),
     )
 
 

@@ -19,7 +19,9 @@ from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_exact, paired_bootstrap
+from scratchworld_dist.reports._later_fields import LaterFields
 from scratchworld_dist.reports._runs import LoadedRun, incompatibilities, load_run
+from scratchworld_dist.reports._stable_only import StableOnly, left_out_tests, stable_only_note, stable_verdicts
 from scratchworld_dist.reports._summary import DETERMINATE, row_label
 from scratchworld_dist.reports._verdict_changes import VerdictChange, verdict_changes
 from scratchworld_dist.results import JobRow, RunManifest, effective_rows
@@ -113,8 +115,10 @@ class RegradeNote(BaseModel):
     unchanged: int
 
 
-class Comparison(BaseModel):
+class Comparison(LaterFields):
     """``scratchworld compare``'s result; its JSON form is this model's dump."""
+
+    later_fields = ("stable_only",)
 
     a: SideInfo
     b: SideInfo
@@ -138,14 +142,47 @@ class Comparison(BaseModel):
     regrade: RegradeNote | None = None
     """Set when one side is a regrade of the other (its conditions are then not refused)."""
 
+    stable_only: StableOnly | None = None
+    """Set with ``--stable-only``: the unstable tests left out and the verdicts that changed (left out of the
+    JSON without it)."""
+
 
 def compare_runs(
-    a: Selector, b: Selector, *, force: bool = False, resamples: int = 10_000, seed: int = 0
+    a: Selector,
+    b: Selector,
+    *,
+    force: bool = False,
+    resamples: int = 10_000,
+    seed: int = 0,
+    stable_only: bool = False,
 ) -> Comparison:
-    """Compare the systems ``a`` and ``b`` name (``RunDirError`` for a bad selector or incomparable runs)."""
+    """Compare the systems ``a`` and ``b`` name (``RunDirError`` for a bad selector or incomparable runs);
+    ``stable_only``: without the tests either run marks unstable."""
     run_a, run_b = load_run(a.path), load_run(b.path)
+    left_out = left_out_tests([run_a, run_b]) if stable_only else None
+    return compare_loaded(run_a, a, run_b, b, force=force, resamples=resamples, seed=seed, left_out=left_out)
+
+
+def compare_loaded(
+    run_a: LoadedRun,
+    a: Selector,
+    run_b: LoadedRun,
+    b: Selector,
+    *,
+    force: bool,
+    resamples: int,
+    seed: int,
+    left_out: dict[str, list[str]] | None,
+) -> Comparison:
+    """``compare_runs`` on runs already loaded; ``left_out``: the tests to judge jobs without (a ranking leaves
+    out those of all its runs), None to count the verdicts as recorded."""
     rows_a, info_a = _system(run_a, a)
     rows_b, info_b = _system(run_b, b)
+    stable = None
+    if left_out is not None:
+        rows_a, side_a = stable_verdicts(run_a, rows_a, left_out, "A")
+        rows_b, side_b = stable_verdicts(run_b, rows_b, left_out, "B")
+        stable = stable_only_note([run_a, run_b], left_out, [side_a, side_b])
     by_mode = a.mode is None and b.mode is None
     if not by_mode:
         for rows, info in ((rows_a, info_a), (rows_b, info_b)):
@@ -186,6 +223,7 @@ def compare_runs(
         per_task=_per_task(decided, by_mode),
         warnings=warnings,
         regrade=regrade,
+        stable_only=stable,
     )
 
 

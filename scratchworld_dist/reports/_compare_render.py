@@ -6,6 +6,7 @@ from collections import Counter
 
 from scratchworld_dist.reports._compare import Comparison, Difference, RegradeNote, SideInfo, TaskOutcome
 from scratchworld_dist.reports._render import ReportFormat, markdown_table, render_text
+from scratchworld_dist.reports._stable_only import stable_only_text
 
 _DEFINITIONS = (
     "Only jobs both systems ran and both got a verdict for are compared (errors have no verdict). "
@@ -27,6 +28,8 @@ def render_comparison_markdown(c: Comparison) -> str:
     parts += [f"Warning: {w}" for w in c.warnings]
     parts.append(f"- A: {_side(c.a)}, run {c.a.run_name} ({c.a.run_dir}), {c.a.jobs} jobs")
     parts[-1] += f"\n- B: {_side(c.b)}, run {c.b.run_name} ({c.b.run_dir}), {c.b.jobs} jobs"
+    if c.stable_only is not None:
+        parts.append(stable_only_text(c.stable_only))
     if c.regrade is not None:
         parts.append(_regrade_markdown(c.regrade))
     parts.append(

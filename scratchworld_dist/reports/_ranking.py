@@ -14,10 +14,19 @@ from itertools import combinations
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports._compare import Selector, _system, compare_runs
+from scratchworld_dist.reports._compare import Selector, _system, compare_loaded
 from scratchworld_dist.reports._compare_stats import Interval
+from scratchworld_dist.reports._later_fields import LaterFields
 from scratchworld_dist.reports._render import Block, Heading, Paragraph, Table, blocks_html, blocks_markdown, html_page
 from scratchworld_dist.reports._runs import load_run
+from scratchworld_dist.reports._stable_only import (
+    StableOnly,
+    StableSide,
+    left_out_tests,
+    stable_only_note,
+    stable_only_text,
+    stable_verdicts,
+)
 from scratchworld_dist.reports._summary import DETERMINATE
 
 
@@ -48,11 +57,16 @@ class PairTest(BaseModel):
     """``p_holm < alpha``."""
 
 
-class Ranking(BaseModel):
+class Ranking(LaterFields):
+    later_fields = ("stable_only",)
+
     systems: list[RankedSystem]
     pairs: list[PairTest]
     alpha: float
     warnings: list[str]
+    stable_only: StableOnly | None = None
+    """Set with ``--stable-only``: the tests left out (those any ranked run marks unstable) and, per system,
+    the verdicts that changed; every SR and pair above is computed without them."""
 
 
 def holm(p_values: Sequence[float]) -> list[float]:
@@ -68,18 +82,44 @@ def holm(p_values: Sequence[float]) -> list[float]:
 
 
 def rank_systems(
-    selectors: Sequence[Selector], *, force: bool = False, resamples: int = 10_000, seed: int = 0, alpha: float = 0.05
+    selectors: Sequence[Selector],
+    *,
+    force: bool = False,
+    resamples: int = 10_000,
+    seed: int = 0,
+    alpha: float = 0.05,
+    stable_only: bool = False,
 ) -> Ranking:
-    """Rank the systems ``selectors`` name by SR and test every pair (``RunDirError`` as ``compare_runs``)."""
+    """Rank the systems ``selectors`` name by SR and test every pair (``RunDirError`` as ``compare_runs``);
+    ``stable_only``: without the tests any of the runs marks unstable, the same tests for every system."""
+    runs = [load_run(selector.path) for selector in selectors]
+    left_out = left_out_tests(runs) if stable_only else None
     systems = []
-    for selector in selectors:
-        rows, info = _system(load_run(selector.path), selector)
+    sides: list[StableSide] = []
+    for run, selector in zip(runs, selectors, strict=True):
+        rows, info = _system(run, selector)
+        if left_out is not None:
+            rows, side = stable_verdicts(run, rows, left_out, info.label + (f"@{info.mode}" if info.mode else ""))
+            sides.append(side)
         determinate = [row for row in rows if row.outcome in DETERMINATE]
         passed = sum(row.outcome == "passed" for row in determinate)
         sr = passed / len(determinate) if determinate else None
         systems.append((info, len(determinate), sr))
     comparisons = [
-        (i, j, compare_runs(selectors[i], selectors[j], force=force, resamples=resamples, seed=seed))
+        (
+            i,
+            j,
+            compare_loaded(
+                runs[i],
+                selectors[i],
+                runs[j],
+                selectors[j],
+                force=force,
+                resamples=resamples,
+                seed=seed,
+                left_out=left_out,
+            ),
+        )
         for i, j in combinations(range(len(selectors)), 2)
     ]
     adjusted = holm([c.mcnemar.p_value for _, _, c in comparisons])
@@ -110,7 +150,8 @@ def rank_systems(
         for rank, k in enumerate(order, start=1)
     ]
     warnings = sorted({w for _, _, c in comparisons for w in c.warnings})
-    return Ranking(systems=ranked, pairs=pairs, alpha=alpha, warnings=warnings)
+    stable = stable_only_note(runs, left_out, sides) if left_out is not None else None
+    return Ranking(systems=ranked, pairs=pairs, alpha=alpha, warnings=warnings, stable_only=stable)
 
 
 def render_ranking(ranking: Ranking, fmt: str) -> str:
@@ -141,6 +182,7 @@ def ranking_blocks(ranking: Ranking) -> list[Block]:
         )
     return [
         Heading(level=1, text="Ranking"),
+        *([Paragraph(text=stable_only_text(ranking.stable_only))] if ranking.stable_only is not None else []),
         systems,
         Paragraph(
             text=f"Every pair on the jobs both ran: SR difference A - B with its paired bootstrap 95% interval, "

@@ -16,6 +16,7 @@ from typing import Literal
 from pydantic import BaseModel
 
 from scratchworld_dist.reports._plots import Plot, plots_html
+from scratchworld_dist.reports._stability_section import StabilitySection
 from scratchworld_dist.reports._summary import KEstimate, ReportRow, RunReport
 
 ReportFormat = Literal["md", "html", "json"]
@@ -198,6 +199,8 @@ def _blocks(report: RunReport) -> list[Block]:
         blocks += [Heading(2, f"Mode: {mode}"), _main_table(rows, report.categories)]
         if any(row.seeds is not None for row in rows):
             blocks += [Heading(3, f"Across seeds ({mode})"), _seed_table(rows)]
+    if report.stability is not None:
+        blocks += _stability(report.stability)
     blocks.append(Paragraph(_DEFINITIONS))
     if any(row.llm_cache_hits is not None for row in report.rows):
         blocks.append(Paragraph(_CACHE_NOTE))
@@ -271,6 +274,32 @@ def _seed_table(rows: list[ReportRow]) -> Table:
         cells += _estimates(row.seeds.pass_at_k, most) + _estimates(row.seeds.pass_hat_k, most)
         body.append(cells)
     return Table(header, body)
+
+
+def _stability(stability: StabilitySection) -> list[Block]:
+    """One paragraph, and a table of the tasks with unstable tests (each test named once, with its note)."""
+    unstable = stability.unstable_tasks
+    text = (
+        f"Known test stability ({'; '.join(stability.sources)}): {stability.checked} of {stability.tasks} task(s) "
+        f"checked; {len(unstable)} task(s) have tests whose verdict can change with frame timing or phase (marked "
+        f"unstable). {stability.failed_on_unstable_only} failed job verdict(s) rest on them alone: every test "
+        "those jobs failed is unstable, so without those tests they would pass."
+    )
+    if stability.runs_without:
+        text += f" Runs without stability data (their tests are not marked): {', '.join(stability.runs_without)}."
+    blocks: list[Block] = [Heading(2, "Unstable tests"), Paragraph(text)]
+    if unstable:
+        header = ["task", "unstable tests", "jobs with a verdict", "failed", "failed only on unstable tests"]
+        rows = [
+            [
+                task.task_id,
+                "; ".join(f"{name!r} ({note})" for name, note in task.tests.items()),
+                *(str(n) for n in (task.determinate, task.failed, task.failed_on_unstable_only)),
+            ]
+            for task in unstable
+        ]
+        blocks.append(Table(header, rows))
+    return blocks
 
 
 def _errors(report: RunReport) -> list[Block]:

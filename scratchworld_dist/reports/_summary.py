@@ -12,7 +12,9 @@ from collections.abc import Sequence
 
 from pydantic import BaseModel
 
+from scratchworld_dist.reports._later_fields import LaterFields
 from scratchworld_dist.reports._metrics import MeanInterval, mean_interval, mean_pass_at_k, mean_pass_hat_k
+from scratchworld_dist.reports._stability_section import StabilitySection
 from scratchworld_dist.results import JobRow
 
 REPORT_VERSION = 1
@@ -157,8 +159,10 @@ class RunInfo(BaseModel):
     """Set when the latest session stopped starting jobs because the sweep's budget was spent."""
 
 
-class RunReport(BaseModel):
+class RunReport(LaterFields):
     """A report over one or more run directories (the JSON output is its ``model_dump``)."""
+
+    later_fields = ("stability",)
 
     version: int = REPORT_VERSION
     runs: list[RunInfo]
@@ -174,6 +178,10 @@ class RunReport(BaseModel):
 
     recovered_jobs: int
     """Jobs with an error attempt whose later attempt got a verdict."""
+
+    stability: StabilitySection | None = None
+    """The runs' known test stability: tasks with unstable tests and the failed verdicts resting on them alone;
+    None (and left out of the JSON) when no run carries stability data."""
 
 
 def row_label(agent: str, model: str) -> str:

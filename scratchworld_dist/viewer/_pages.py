@@ -15,6 +15,7 @@ from pydantic import BaseModel, JsonValue
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.kinds import AttemptPanel, kind_of_run
 from scratchworld_dist.results import JobRow
+from scratchworld_dist.suites import StabilityMarks
 from scratchworld_dist.viewer._listing import project_listing
 from scratchworld_dist.viewer._runs import Attempt, ViewedRun
 from scratchworld_dist.viewer._timeline import StepView, step_views
@@ -78,6 +79,8 @@ class RunPage(BaseModel):
     git_commit: str | None
     conditions: dict[str, str]
     sessions: list[SessionLine]
+    unstable_note: str | None = None
+    """One line naming the run's tasks with tests known to be unstable (None without stability data)."""
 
 
 class TestLine(BaseModel):
@@ -88,6 +91,8 @@ class TestLine(BaseModel):
     passed: Literal["pass", "fail"]
     message: str
     duration: str
+    unstable: str | None = None
+    """Set for a test known to be unstable when the run was planned: its note (what changes it, where it passes)."""
 
 
 class SessionLine(BaseModel):
@@ -216,6 +221,22 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
         git_commit=manifest.git_commit,
         conditions=conditions,
         sessions=sessions,
+        unstable_note=_unstable_note(manifest.suite.stability),
+    )
+
+
+def _unstable_note(marks: StabilityMarks | None) -> str | None:
+    """The run page's line on known test stability: which tasks have unstable tests, and how many."""
+    if marks is None:
+        return None
+    tasks = {task: len(tests) for task, tests in sorted(marks.unstable.items()) if tests}
+    where = f"known test stability from {marks.source}, made {marks.made_on}"
+    if not tasks:
+        return f"No test of the {len(marks.checked)} checked task(s) is known to be unstable ({where})."
+    named = ", ".join(f"{task} ({count} test{'s' * (count != 1)})" for task, count in tasks.items())
+    return (
+        f"Tasks with tests known to be unstable (their verdicts can change with frame timing or phase; {where}): "
+        f"{named}. Their job pages mark those tests."
     )
 
 
@@ -238,7 +259,12 @@ def job_page(index: int, run: ViewedRun, job_id: str) -> JobPage | None:
 
     (best,) = effective_rows([a.row for a in found])
     kind = run.kind()
-    views = [_attempt_view(run, attempt, kind.attempt_panel(attempt.kind_rows, "../", run.path)) for attempt in found]
+    manifest = run.manifest()
+    marks = manifest.suite.stability if manifest is not None else None
+    notes = marks.unstable.get(found[0].row.task_id, {}) if marks is not None else {}
+    views = [
+        _attempt_view(run, attempt, kind.attempt_panel(attempt.kind_rows, "../", run.path), notes) for attempt in found
+    ]
     own = next((v.panel.instruction for v in views if v.panel is not None and v.panel.instruction), None)
     return JobPage(
         run=run_card(index, run),
@@ -249,7 +275,8 @@ def job_page(index: int, run: ViewedRun, job_id: str) -> JobPage | None:
     )
 
 
-def _attempt_view(run: ViewedRun, attempt: Attempt, panel: AttemptPanel | None) -> AttemptView:
+def _attempt_view(run: ViewedRun, attempt: Attempt, panel: AttemptPanel | None, notes: dict[str, str]) -> AttemptView:
+    """``notes``: the run's notes on the task's unstable tests, by test name."""
     row = attempt.row
     listing, files = None, None
     if row.artifact_dir is not None:
@@ -263,6 +290,7 @@ def _attempt_view(run: ViewedRun, attempt: Attempt, panel: AttemptPanel | None) 
             passed="pass" if t.passed else "fail",
             message=t.error or "",
             duration="-" if t.duration_ms is None else f"{t.duration_ms:.0f} ms",
+            unstable=notes.get(t.name, "known to be unstable") if t.unstable else None,
         )
         for t in attempt.tests
     ]

@@ -17,9 +17,11 @@ from scratchworld_dist.results import (
     RunManifest,
     RunStore,
     SuiteInfo,
+    TestRow,
     read_manifest,
     write_manifest,
 )
+from scratchworld_dist.suites import StabilityMarks
 from workers.contract import AnswerFormat, HarnessFingerprint, ValueKind
 from workers.perception import score_reply
 
@@ -228,6 +230,7 @@ def make_run(
     suite_hash: str = "suite1",
     harness: HarnessFingerprint = HARNESS,
     name: str = "sweep",
+    stability: StabilityMarks | None = None,
 ) -> Path:
     store = RunStore(run_dir)
     store.open_for_writing()
@@ -242,11 +245,39 @@ def make_run(
         if config is not None
         else {"agent": "llm", "models": [{"model": "gpt"}], "modes": ["composite"], "seeds": [0]},
         config_hash="c",
-        suite=SuiteInfo(name="ours", kind="native", root="/suite", hash=suite_hash, tasks=tasks),
+        suite=SuiteInfo(name="ours", kind="native", root="/suite", hash=suite_hash, tasks=tasks, stability=stability),
         planned_jobs=planned,
     )
     write_manifest(run_dir, manifest)
     return run_dir
+
+
+def job_with_tests(
+    job_id: str, tests: dict[str, bool], stability: StabilityMarks | None = None, **fields: Any
+) -> JobRecord:
+    """A job's record with its test rows: ``tests`` maps each test's name to whether it passed (the outcome and
+    counts follow from them), each marked unstable as ``stability`` says, as a run records them."""
+    passed = sum(tests.values())
+    row = job(
+        job_id,
+        "passed" if passed == len(tests) else "failed",
+        **({"tests_passed": passed, "tests_total": len(tests), "psr": passed / len(tests)} | fields),
+    )
+    rows = [
+        TestRow(
+            job_id=row.job_id,
+            attempt=row.attempt,
+            task_id=row.task_id,
+            test_index=index,
+            name=name,
+            passed=ok,
+            error=None if ok else f"{name} failed",
+            duration_ms=5.0,
+            unstable=stability.is_unstable(row.task_id, name) if stability is not None else None,
+        )
+        for index, (name, ok) in enumerate(tests.items())
+    ]
+    return JobRecord(job=row, tests=rows)
 
 
 def regrade_run(source: Path, out: Path, flips: set[str]) -> Path:
