@@ -183,3 +183,14 @@ def test_the_shipped_upstream_data_covers_every_task_whose_script_is_in_shared(u
     known = known_stability(suite)
     assert known is not None
     assert [task.id for task in with_scripts if known.standing(task) != "checked"] == []
+
+
+def test_a_runs_plan_carries_the_marks_of_its_tasks_and_our_demo_knows_every_task_stable() -> None:
+    from scratchworld_dist._run import plan_run
+    from scratchworld_dist.sweep import load_sweep_config
+
+    plan = plan_run(load_sweep_config(SUITE_DIR.parent / "configs" / "demo.yaml"))
+    marks = plan.suite.stability
+    assert marks is not None and marks.source.endswith("tasks/stability.json")
+    assert sorted(marks.checked) == sorted(task.id for task in load_suite(SUITE_DIR).tasks)
+    assert marks.unstable == {} and marks.is_unstable(marks.checked[0], "any test") is False
