@@ -259,7 +259,7 @@ class SweepConfig(BaseModel):
 
     episode_clock: EpisodeClock | None = None
     """How time passes on the agent's page (``virtual`` or ``{mode, start_ms, settle_ms, think_ms}``);
-    default: virtual for our suites, real for upstream clones (not yet compared with upstream's harness)."""
+    default: virtual, for our suites and upstream clones alike (``real`` is upstream's own protocol)."""
 
     llm: LLMSettings = Field(default_factory=LLMSettings)
     """The llm agent's conversation protocol and model-call retries."""

@@ -47,7 +47,7 @@ class AuditBody(JobBody):
 
 
 def evaluated_under(config: SweepConfig) -> SweepConfig:
-    """The config its variants are evaluated under: on the virtual clock unless it names one (an upstream clone's
+    """The config its variants are evaluated under: on the virtual clock unless it names one (a suite's
     real-clock default would make verdicts depend on the machine's load, and a grader's strength is a property of
     its tests)."""
     return config if config.clock is not None else config.model_copy(update={"clock": "virtual"})

@@ -51,7 +51,11 @@ def test_a_phase_sensitive_golden_is_caught_with_the_phase_that_flips_it(
     tmp_path: Path, flaky_suite: Path, run: Callable[..., Done]
 ) -> None:
     out = tmp_path / "flakes.json"
-    done = run("flakes", str(flaky_suite), "--tasks", "phase_sensitive", "--axes", "phase,lateness", "--json", str(out))
+    stability = flaky_suite / "stability.json"
+    done = run(
+        "flakes", str(flaky_suite), "--tasks", "phase_sensitive", "--axes", "phase,lateness", "--json", str(out),
+        "--stability-out", str(stability),
+    )  # fmt: skip
     assert done.returncode == 1, done.stdout + done.stderr
     assert "1 in goldens or debug initials" in " ".join(done.stderr.split())
     report = json.loads(out.read_text())
@@ -69,6 +73,15 @@ def test_a_phase_sensitive_golden_is_caught_with_the_phase_that_flips_it(
     initial = next(row for row in report["tests"] if row["which"] == "initial")
     assert initial["stable"] is True and initial["baseline"] == "fail"
     assert "unstable: phase_sensitive golden" in done.stdout and "phase 24.8 ms → fail" in done.stdout
+
+    # The findings are the suite's known stability now: validate marks the test, says what flips it, where
+    # it passes, and which tasks the flake run did not check.
+    checked = run("validate", str(flaky_suite))
+    text = " ".join(checked.stdout.split())
+    assert "phase_sensitive ~" in text, checked.stdout
+    assert "~ phase_sensitive" in text and "unstable: phase, lateness changed it in 2 of" in text
+    assert "passes at golden 20.8-30.3 fps (fails at 25 ms)" in text
+    assert "not checked or changed since: steady" in text
 
 
 def test_a_stable_suite_is_reported_stable_with_every_perturbation_recorded(

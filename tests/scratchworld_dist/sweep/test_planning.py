@@ -443,8 +443,7 @@ def test_a_virtual_episode_clock_and_each_of_its_durations_change_the_job_id(our
     assert job.episode(1, 60).episode_clock.mode == "virtual"  # the worker gets the clock it was planned with
 
 
-def test_the_episode_clock_defaults_to_virtual_for_our_suites_and_real_for_upstream_clones() -> None:
-    assert default_episode_clock("scratchworld_dist").mode == "virtual"
-    assert default_episode_clock("upstream").mode == "real"
+def test_the_episode_clock_defaults_to_virtual() -> None:
+    assert default_episode_clock().mode == "virtual"
     with pytest.raises(ValueError, match="start_ms"):
         EpisodeClock(mode="virtual", start_ms=100)  # the editor's panels need 500 ms to catch up
