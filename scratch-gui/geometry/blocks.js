@@ -130,7 +130,9 @@ scratchworldModule({name: 'geometry/blocks', requires: ['rects', 'blockly', 'geo
     const block = liveBlock(args.id);
     if (typeof args.name !== 'string') throw fail('name must be a string');
     const field = fieldOf(block, args.name);
-    const dropdown = typeof field.getOptions === 'function';
+    const ColourSlider = blockly.scratchBlocks().FieldColourSlider;
+    const colour = !!ColourSlider && field instanceof ColourSlider;
+    const dropdown = !colour && typeof field.getOptions === 'function';
     let options = null;
     if (dropdown) {
       try {
@@ -139,9 +141,13 @@ scratchworldModule({name: 'geometry/blocks', requires: ['rects', 'blockly', 'geo
         options = [];
       }
     }
-    const root = field.getSvgRoot();
+    // An empty text draws no box: a click on its shadow block (the field's only one) opens its editor.
+    let root = field.getSvgRoot();
+    const drawn = root ? rects.rectOf(root) : null;
+    const source = field.getSourceBlock();
+    if (drawn && (drawn.width < 2 || drawn.height < 2) && source && source.isShadow()) root = source.getSvgRoot();
     return {
-      kind: dropdown ? 'dropdown' : 'text',
+      kind: colour ? 'colour' : dropdown ? 'dropdown' : 'text',
       name: field.name,
       value: field.getValue() === null ? null : String(field.getValue()),
       text: field.getText(),

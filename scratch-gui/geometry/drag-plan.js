@@ -13,9 +13,11 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
 
   /* ---------- empty space ---------- */
 
-  // Top-left corners (page pixels) of free width x height boxes inside the usable workspace,
-  // farther than any snap radius from every block (but those in `ignore`), nearest to `near` first.
-  function freeSpots(width, height, ignore, near, limit) {
+  // Top-left corners (page pixels) of free width x height boxes inside the usable workspace, on a
+  // `grid`-pixel grid (default GRID), farther than any snap radius from every block (but those in
+  // `ignore`), nearest to `near` first.
+  function freeSpots(width, height, ignore, near, limit, grid) {
+    const stride = grid || GRID;
     const ws = blockly.workspace();
     const area = views.safeArea();
     const config = blockly.scratchBlocks().config;
@@ -24,8 +26,8 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
     for (const r of views.overlays()) obstacles.push(rects.grow(r, GRID));
     const from = near || {x: area.x, y: area.y};
     const spots = [];
-    for (let y = area.y; y + height <= rects.bottom(area); y += GRID) {
-      for (let x = area.x; x + width <= rects.right(area); x += GRID) {
+    for (let y = area.y; y + height <= rects.bottom(area); y += stride) {
+      for (let x = area.x; x + width <= rects.right(area); x += stride) {
         const box = {x: x, y: y, width: width, height: height};
         if (!obstacles.some((o) => rects.overlaps(o, box))) spots.push({x: x, y: y, d: Math.hypot(x - from.x, y - from.y)});
       }
@@ -115,6 +117,9 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
     }
     const Previewer = SB.registry.getClassFromOptions(SB.registry.Type.CONNECTION_PREVIEWER, ws.options, true);
     const previewer = new Previewer(moving);
+    // Drawing and removing a preview may scroll the view (by tens of pixels); it goes back to where it
+    // was, or the plan's page points would miss what they aim at.
+    const [scrollX, scrollY] = [ws.scrollX, ws.scrollY];
     SB.Events.disable();
     try {
       blockly.asIfDragging(() => {
@@ -130,6 +135,7 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
       });
     } finally {
       SB.Events.enable();
+      if (ws.scrollX !== scrollX || ws.scrollY !== scrollY) ws.scroll(scrollX, scrollY);
     }
     return positions;
   }
@@ -141,10 +147,12 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
   // move's preview left them (what a drag drawn frame by frame sees). `visit(current, step)` sees each
   // step's candidate (null: none) and may stop the replay by returning false. Options: `neighbours`
   // (precomputed), `previews` (a cache of previewed positions per candidate, across replays of one
-  // drag) and `localAt` (where each of the moving block's connections is when the drag starts, when
-  // that is not where it is drawn). Returns the last candidate: what a release there connects.
+  // drag), `everyone` (the connections a preview's positions are recorded for, when `neighbours` is a
+  // part of them: a shared preview cache must hold them all) and `localAt` (where each of the moving
+  // block's connections is when the drag starts, when that is not where it is drawn). Returns the
+  // last candidate: what a release there connects.
   function replayCandidates(moving, deltas, options) {
-    const {visit, neighbours, previews, localAt} = options || {};
+    const {visit, neighbours, previews, localAt, everyone} = options || {};
     const config = blockly.scratchBlocks().config;
     const checker = blockly.workspace().connectionChecker;
     const locals = localConnections(moving);
@@ -154,7 +162,7 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
       let byLocal = cache.get(candidate.local);
       if (!byLocal) cache.set(candidate.local, (byLocal = new Map()));
       let positions = byLocal.get(candidate.neighbour);
-      if (!positions) byLocal.set(candidate.neighbour, (positions = previewedPositions(moving, candidate, list)));
+      if (!positions) byLocal.set(candidate.neighbour, (positions = previewedPositions(moving, candidate, everyone || list)));
       return positions;
     };
     let current = null;
@@ -185,20 +193,51 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
     return current;
   }
 
-  // Whether a straight path snaps only to the wanted connection: when no connection but the wanted
-  // one is ever the candidate, no preview can move the wanted connection away, and the drop ends on it.
-  function simulatePath(moving, deltas, wanted) {
+  // Workspace units around a path within which a connection may become a candidate: the larger
+  // snap radius, and room for a preview to push a connection towards the path.
+  const PATH_REACH = 300;
+
+  // The neighbours that a drag of `moving` by `deltas` can come near (the rest cannot be a
+  // candidate on the way): a cheap filter that keeps long replays over many spots affordable.
+  function nearPath(moving, deltas, neighbours) {
+    const xs = deltas.map((d) => d.x);
+    const ys = deltas.map((d) => d.y);
+    const [x0, x1, y0, y1] = [Math.min(0, ...xs), Math.max(0, ...xs), Math.min(0, ...ys), Math.max(0, ...ys)];
+    const boxes = localConnections(moving).map((c) => ({x0: c.x + x0 - PATH_REACH, x1: c.x + x1 + PATH_REACH, y0: c.y + y0 - PATH_REACH, y1: c.y + y1 + PATH_REACH}));
+    return neighbours.filter((n) => boxes.some((b) => n.x >= b.x0 && n.x <= b.x1 && n.y >= b.y0 && n.y <= b.y1));
+  }
+
+  // How a straight path ends: `clean` when no connection but the wanted one is ever the candidate (no
+  // preview can move the wanted connection away, and the drop ends on it); with `full`, also whether
+  // it `lands`: the candidate at the release is the wanted one, whatever came first on the way (other
+  // candidates' previews are replayed as drawn), also for a release `margin` units off in every
+  // direction (against rounding and a preview drawn slightly otherwise than replayed).
+  function simulatePath(moving, deltas, wanted, options) {
+    const {neighbours, previews, margin, full} = options || {};
+    const same = (c) => !!c && c.local === wanted.local && c.neighbour === wanted.neighbour;
+    const everyone = neighbours || neighbourConnections(moving);
+    const near = nearPath(moving, deltas, everyone);
     let unclean = null;
-    const last = replayCandidates(moving, deltas, {visit: (current, step) => {
-      if (current && (current.local !== wanted.local || current.neighbour !== wanted.neighbour)) {
-        unclean = {clean: false, step: step, candidate: describeConnection(current.neighbour)};
-        return false;
-      }
-      return true;
+    const last = replayCandidates(moving, deltas, {neighbours: near, everyone: everyone, previews: previews, visit: (current, step) => {
+      if (current && !same(current) && !unclean) unclean = {step: step, candidate: describeConnection(current.neighbour)};
+      return !unclean || !!full;
     }});
-    if (unclean) return unclean;
-    if (!last) return {clean: false, step: deltas.length, candidate: null};
-    return {clean: true};
+    if (!unclean && last) return {clean: true, lands: true};
+    const result = unclean
+      ? {clean: false, step: unclean.step, candidate: unclean.candidate}
+      : {clean: false, step: deltas.length, candidate: null};
+    result.lands = !!full && same(last);
+    if (result.lands && margin) {
+      const end = deltas[deltas.length - 1];
+      for (const [dx, dy] of [[margin, 0], [-margin, 0], [0, margin], [0, -margin]]) {
+        const moved = deltas.slice(0, -1).concat([{x: end.x + dx, y: end.y + dy}]);
+        if (!same(replayCandidates(moving, moved, {neighbours: near, everyone: everyone, previews: previews}))) {
+          result.lands = false;
+          break;
+        }
+      }
+    }
+    return result;
   }
 
   function mousePath(start, end, steps) {
@@ -207,9 +246,19 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
     return points;
   }
 
+  // Margin (workspace units) a landing release must keep: a release this far off must land too.
+  const LANDING_MARGIN = 3;
+  // Staging spots tried: the nearest free places to the destination on the fine grid, then free places
+  // all over the view on a coarser one, nearest first.
+  const NEAR_SPOTS = 400;
+  const STAGING_GRID = 16;
+  const STAGING_SPOTS = 1500;
+  const LANDING_SPOTS = 200;
+
   // How to drag `moving` so that its connection `local` meets connection `remote` of `target`:
-  // the press and release points, whether the straight path snaps only to the wanted connection,
-  // and if not, a free spot from which it would (move the block there first).
+  // the press and release points, whether the straight path snaps only to the wanted connection
+  // (`clean`) or at least ends on it (`lands`), and if not clean, a free spot to move the block to
+  // first from where the path is clean (or, when no spot gives a clean path, one where it lands).
   function planDrag(args) {
     const ws = blockly.workspace();
     const moving = blocks.liveBlock(args.moving);
@@ -228,23 +277,37 @@ scratchworldModule({name: 'geometry/drag-plan', requires: ['rects', 'blockly', '
     const reference = grab || rects.centre(rect);
     const end = {x: reference.x + remotePage.x - localPage.x, y: reference.y + remotePage.y - localPage.y};
     const plan = {grab: grab, end: end, rect: rect, reference: reference, endVisible: rects.inside(area, end.x, end.y)};
-    if (!grab || !plan.endVisible) return Object.assign(plan, {clean: false, reason: 'out of view'});
+    if (!grab || !plan.endVisible) return Object.assign(plan, {clean: false, lands: false, reason: 'out of view'});
     const wanted = {local: local, neighbour: remote};
+    const options = {neighbours: neighbourConnections(moving), previews: new Map(), margin: LANDING_MARGIN, full: true};
     const toDeltas = (start) => mousePath(start, end, steps).map((p) => ({x: (p.x - grab.x) / scale, y: (p.y - grab.y) / scale}));
-    const direct = simulatePath(moving, toDeltas(grab), wanted);
+    const direct = simulatePath(moving, toDeltas(grab), wanted, options);
+    plan.lands = direct.lands;
     if (direct.clean) return Object.assign(plan, {clean: true});
     plan.clean = false;
     plan.reason = direct.candidate ? `the path meets ${direct.candidate} first (mouse step ${direct.step})` : 'the drop does not reach the connection';
-    // Staging spots: free places for the block, nearest to the destination first.
-    const spots = freeSpots(rect.width, rect.height, moving.getParent() ? [] : [moving.id], remotePage, 400);
-    for (const spot of spots) {
-      const start = {x: spot.x + grab.x - rect.x, y: spot.y + grab.y - rect.y};
-      if (Math.hypot(start.x - end.x, start.y - end.y) < 4) continue;
-      if (simulatePath(moving, toDeltas(start), wanted).clean) {
-        plan.staging = {spot: spot, end: start};
+    // Staging spots: free places for the block, nearest to the destination first; a clean path wins,
+    // else the first spot (of the nearest LANDING_SPOTS) whose path lands.
+    const ignore = moving.getParent() ? [] : [moving.id];
+    const spots = freeSpots(rect.width, rect.height, ignore, remotePage, NEAR_SPOTS)
+      .concat(freeSpots(rect.width, rect.height, ignore, remotePage, STAGING_SPOTS, STAGING_GRID))
+      .map((spot) => ({spot: spot, start: {x: spot.x + grab.x - rect.x, y: spot.y + grab.y - rect.y}}))
+      .filter(({start}) => Math.hypot(start.x - end.x, start.y - end.y) >= 4);
+    const strict = Object.assign({}, options, {full: false});
+    for (const {spot, start} of spots) {
+      if (simulatePath(moving, toDeltas(start), wanted, strict).clean) {
+        plan.staging = {spot: spot, end: start, clean: true};
+        return plan;
+      }
+    }
+    let landing = null;
+    for (const {spot, start} of spots.slice(0, LANDING_SPOTS)) {
+      if (simulatePath(moving, toDeltas(start), wanted, options).lands) {
+        landing = {spot: spot, end: start, clean: false};
         break;
       }
     }
+    if (landing) plan.staging = landing;
     return plan;
   }
 

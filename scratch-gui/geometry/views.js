@@ -1,7 +1,7 @@
 /*
  * Where things are drawn, in page pixels: the visible workspace and the part of it where blocks
- * may be grabbed and dropped, what is drawn over it, the palette, the category buttons and the
- * sprite tiles (`geometryLayout`). Read-only, like every geometry module: the primitive oracle
+ * may be grabbed and dropped, what is drawn over it, its zoom-out button, the palette, the category
+ * buttons and the sprite tiles (`geometryLayout`). Read-only, like every geometry module: the primitive oracle
  * plans real gestures from these views, and nothing here changes the page.
  */
 scratchworldModule({name: 'geometry/views', requires: ['rects', 'blockly'], create(ctx, rects, blockly) {
@@ -67,6 +67,13 @@ scratchworldModule({name: 'geometry/views', requires: ['rects', 'blockly'], crea
     return {sprites: sprites, stage: stageElement ? rects.rectOf(stageElement) : null};
   }
 
+  // The workspace's zoom-out button (a click zooms out around the view's centre), null when not drawn.
+  function zoomOutButton(ws) {
+    const element = ws.getParentSvg().querySelector('.blocklyZoomOut');
+    const r = element ? rects.rectOf(element) : null;
+    return r && r.width > 0 && r.height > 0 ? r : null;
+  }
+
   function layout() {
     const ws = blockly.workspace();
     const vm = ctx.requireVm();
@@ -76,6 +83,8 @@ scratchworldModule({name: 'geometry/views', requires: ['rects', 'blockly'], crea
       overlays: overlays(),
       flyout: flyoutView(),
       scale: ws.scale,
+      minScale: ws.options.zoomOptions ? ws.options.zoomOptions.minScale : ws.scale,
+      zoomOut: zoomOutButton(ws),
       snapRadius: blockly.scratchBlocks().config.snapRadius,
       connectingSnapRadius: blockly.scratchBlocks().config.connectingSnapRadius,
       categories: categories(),

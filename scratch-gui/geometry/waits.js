@@ -36,6 +36,11 @@ scratchworldModule({name: 'geometry/waits', requires: ['blockly', 'settle', 'geo
       return {done: state.open && state.focused, value: null};
     }},
     textEditorClosed: {still: false, check: () => ({done: !widgets.textEditor().open, value: null})},
+    colourPickerOpen: {still: true, check: () => {
+      const state = widgets.colourPicker();
+      return {done: state.open && state.sliders.length === 3, value: JSON.stringify(state.sliders.map((s) => s.rect))};
+    }},
+    colourPickerClosed: {still: false, check: () => ({done: !widgets.colourPicker().open, value: null})},
     modalOpen: {still: true, check: () => {
       const state = widgets.modal();
       return {done: state.open && state.inputs.length > 0, value: state.open ? JSON.stringify(state.inputs.map((i) => i.rect)) : null};

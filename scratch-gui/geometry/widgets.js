@@ -1,6 +1,6 @@
 /*
  * What opens over the workspace: a field's dropdown or a context menu, the text editor of a
- * field, and the GUI's modal dialogs (new variable, new list, ...), with their items and inputs
+ * field, the colour picker of a colour field, and the GUI's modal dialogs (new variable, new list, ...), with their items and inputs
  * in page pixels. Read-only.
  */
 scratchworldModule({name: 'geometry/widgets', requires: ['rects'], create(ctx, rects) {
@@ -51,8 +51,28 @@ scratchworldModule({name: 'geometry/widgets', requires: ['rects'], create(ctx, r
     };
   }
 
+  // The open colour picker of a colour field: its hue, saturation and brightness sliders (range
+  // inputs), in that order, with their values and bounds as the inputs hold them, and its eyedropper.
+  function colourPicker() {
+    const picker = document.querySelector('.blocklyDropDownDiv .scratchColourPicker');
+    if (!shown(picker)) return {open: false, sliders: [], eyedropper: null};
+    const sliders = [...picker.querySelectorAll('input[type="range"]')].map((input) => ({
+      rect: rects.rectOf(input),
+      value: Number(input.value),
+      min: Number(input.min),
+      max: Number(input.max),
+      step: Number(input.step) || 1,
+      focused: document.activeElement === input
+    }));
+    const eyedropper = picker.querySelector('.scratchEyedropper');
+    return {open: true, sliders: sliders, eyedropper: eyedropper && shown(eyedropper) ? rects.rectOf(eyedropper) : null};
+  }
+
   return {
-    menu: menu, textEditor: textEditor, modal: modal,
-    api: {geometryMenu: () => menu(), geometryTextEditor: () => textEditor(), geometryModal: () => modal()},
+    menu: menu, textEditor: textEditor, modal: modal, colourPicker: colourPicker,
+    api: {
+      geometryMenu: () => menu(), geometryTextEditor: () => textEditor(), geometryModal: () => modal(),
+      geometryColourPicker: () => colourPicker(),
+    },
   };
 }});

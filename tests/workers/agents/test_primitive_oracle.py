@@ -36,6 +36,7 @@ class Run:
     seconds: float
     calls: list[str]
     """Bridge functions called after ``begin`` (the real run)."""
+    actions: list[PrimitiveAction]
 
 
 def cat_project() -> Project:
@@ -65,6 +66,7 @@ async def drive(editor: Editor, oracle: PrimitiveOracle, tamper: Tamper | None =
     editor.call = recording  # type: ignore[method-assign]
     gestures = Gestures(editor.page)
     count = 0
+    actions: list[PrimitiveAction] = []
     try:
         while not isinstance(action := await oracle.act(None), Done):
             assert isinstance(action, PrimitiveAction), action
@@ -72,10 +74,11 @@ async def drive(editor: Editor, oracle: PrimitiveOracle, tamper: Tamper | None =
                 action = tamper(count, action)
             envelope = await gestures.execute(action.api, action.args)
             assert envelope.success, (action, envelope.error)
+            actions.append(action)
             count += 1
     finally:
         del editor.call  # back to the method
-    return Run(gestures=count, seconds=time.monotonic() - started, calls=calls)
+    return Run(gestures=count, seconds=time.monotonic() - started, calls=calls, actions=actions)
 
 
 async def solve(
@@ -263,3 +266,106 @@ async def test_a_trajectory_that_fails_in_composite_mode_is_refused_at_begin(sha
 async def test_act_before_begin_is_an_error() -> None:
     with pytest.raises(RuntimeError, match="begin"):
         await PrimitiveOracle(b"", []).act(None)
+
+
+async def test_colour_inputs_are_set_through_the_colour_picker(shared_pool: EditorPool) -> None:
+    """set_block_field on a colour input opens Scratch's colour picker, not a text editor: the oracle
+    sets its three sliders so that Blockly's conversion gives the colour exactly, or, for a colour no
+    slider setting gives (#fff700), picks it from the stage with the eyedropper; then it closes it."""
+    project = Project()
+    cat = project.sprite("Cat", costume=circle_costume("cat", 60, "#fff700"))
+    cat.script(
+        block("event_whenflagclicked"),
+        block(
+            "control_if",
+            CONDITION=block("sensing_touchingcolor", COLOR="#ff0000"),
+            SUBSTACK=[block("looks_say", MESSAGE="hi")],
+        ),
+    )
+    cat.script(
+        block("event_whenflagclicked"),
+        block("control_wait_until", CONDITION=block("sensing_touchingcolor", COLOR="#00ff00")),
+    )
+    sb3 = project.to_sb3()
+    wanted = ["#1505ff", "#fff700"]
+    async with primitive_editor(shared_pool, sb3) as editor:
+        await composite.execute(editor, "select_sprite", {"name": "Cat"})
+        order = (await editor.call("compositeBlockIds"))["ids"]  # type: ignore[index,call-overload]
+        touching = [
+            (index, block_id)
+            for index, block_id in enumerate(order)
+            if block_id and (await editor.call("geometryBlock", {"id": block_id}))["opcode"] == "sensing_touchingcolor"  # type: ignore[index,call-overload]
+        ]
+        assert len(touching) == 2
+        trajectory = [CompositeAction(api="select_sprite", args={"name": "Cat"})] + [
+            CompositeAction(api="set_block_field", args={"blockIndex": index, "fieldName": "COLOR", "value": colour})
+            for (index, _), colour in zip(touching, wanted, strict=True)
+        ]
+        oracle = PrimitiveOracle(sb3, trajectory)
+        await oracle.begin(editor)
+        run = await drive(editor, oracle)
+        held = [
+            (await editor.call("geometryBlockFields", {"id": block_id}))["inputs"]["COLOR"]  # type: ignore[index,call-overload]
+            for _, block_id in touching
+        ]
+        picker = await editor.call("geometryColourPicker")
+    assert held == wanted
+    assert isinstance(picker, dict) and picker["open"] is False
+    keys = [action for action in run.actions if action.api == "key"]
+    clicks = [action for action in run.actions if action.api == "click"]
+    # Each field, each slider at least once, the eyedropper and the stage, the workspace to close each picker.
+    assert len(clicks) >= 2 + 3 + 2 + 2
+    assert len(keys) <= 3 * 12
+
+
+CROWD_COLUMNS = (260, 420, 580, 740, 900, 1060, 1220)
+CROWD_ROWS = 16
+
+
+def crowded_project() -> Project:
+    """Cat: a loose join block left of columns of say blocks that fill the view, one think block among
+    them: every straight way from anywhere free to the think block's input crosses say blocks' inputs."""
+    project = Project()
+    cat = project.sprite("Cat", costume=circle_costume("cat", 10, "#f80"))
+    cat.script(block("operator_join", STRING1="a", STRING2="b"), x=20, y=200)
+    for column, x in enumerate(CROWD_COLUMNS):
+        says = [block("looks_say", MESSAGE="hi") for _ in range(CROWD_ROWS)]
+        if column == 1:
+            says[CROWD_ROWS // 2 - 4] = block("looks_think", MESSAGE="hm")
+        cat.script(block("event_whenflagclicked"), *says, x=x, y=0)
+    return project
+
+
+async def test_a_value_whose_every_path_meets_other_inputs_first_goes_where_its_path_lands(
+    shared_pool: EditorPool,
+) -> None:
+    """No path to the think block's input is clean (each meets a say block's input first) and no free
+    spot offers one: the oracle drags along a path whose candidate at the release is the wanted input."""
+    sb3 = crowded_project().to_sb3()
+    async with primitive_editor(shared_pool, sb3) as editor:
+        ids = await cat_ids(editor)
+        order = (await editor.call("compositeBlockIds"))["ids"]  # type: ignore[index,call-overload]
+        join, think = ids["operator_join"], ids["looks_think"]
+        plan = await editor.call(
+            "geometryPlanDrag", {"moving": join, "local": "output", "target": think, "remote": "input:MESSAGE"}
+        )
+        assert isinstance(plan, dict)
+        assert not plan["clean"] and plan["lands"], plan
+        assert plan.get("staging") is None or not plan["staging"]["clean"], plan
+        placement = {"kind": "value_into", "inputName": "MESSAGE"}
+        trajectory = [
+            CompositeAction(api="select_sprite", args={"name": "Cat"}),
+            CompositeAction(
+                api="connect_blocks",
+                args={
+                    "sourceBlockIndex": order.index(join),
+                    "targetBlockIndex": order.index(think),
+                    "placement": placement,
+                },
+            ),
+        ]
+        oracle = PrimitiveOracle(sb3, trajectory)
+        await oracle.begin(editor)
+        await drive(editor, oracle)  # the oracle checks every step against the composite dry run
+        attached = (await editor.call("geometryBlock", {"id": join}))["attachment"]  # type: ignore[index,call-overload]
+    assert attached == {"parent": think, "input": "MESSAGE"}

@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections.abc import AsyncIterator
 from typing import Literal
 
+from workers.agents._primitive_oracle._colour import pick_colour
 from workers.agents._primitive_oracle._divergence import OracleDivergenceError
 from workers.agents._primitive_oracle._geometry import FieldGeometry, ModalInput, OpenModal, Point
 from workers.agents._primitive_oracle._gestures import click, scroll
@@ -51,7 +52,12 @@ async def set_value(
         yield gesture
     field, rect = await page.field(block, name)
     yield click(rect.centre())
-    if field.kind == "text":
+    if field.kind == "colour":
+        async for gesture in pick_colour(page, value, what):
+            yield gesture
+        async for gesture in close_colour_picker(page, what):
+            yield gesture
+    elif field.kind == "text":
         await page.wait("textEditorOpen", what=f"the text editor of {name}")
         async for gesture in type_into_editor(page, value, what):
             yield gesture
@@ -64,6 +70,15 @@ async def set_value(
     result = await page.wait_result("blockValue", {"id": block, "kind": kind, "name": name, "value": value})
     if not result.ok:
         raise OracleDivergenceError(f"{what} holds {result.value!r}, not {value!r}")
+
+
+async def close_colour_picker(page: Page, what: str) -> AsyncIterator[PrimitiveAction]:
+    """A click on empty workspace closes the picker, as it closes any dropdown."""
+    spot = await page.free_spot(8, 8, None)
+    if spot is None:
+        raise OracleDivergenceError(f"{what}: no empty workspace to click to close the colour picker")
+    yield click(Point(x=spot.x + 4, y=spot.y + 4))
+    await page.wait("colourPickerClosed", what="the colour picker to close")
 
 
 async def type_into_editor(page: Page, value: str, what: str) -> AsyncIterator[PrimitiveAction]:

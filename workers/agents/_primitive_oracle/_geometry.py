@@ -140,7 +140,8 @@ class FieldOption(Reply):
 class FieldGeometry(Reply):
     """``geometryField``: a field of a block, or the field of the shadow in one of its inputs."""
 
-    kind: Literal["dropdown", "text"]
+    kind: Literal["dropdown", "text", "colour"]
+    """``colour``: a click opens the colour picker (``ColourPicker``)."""
     name: str
     value: str | None
     text: str
@@ -250,6 +251,10 @@ class Layout(Reply):
     """Things drawn over the workspace (zoom buttons, watermark)."""
     flyout: Rect
     scale: float
+    min_scale: float
+    """The smallest scale the zoom-out button reaches."""
+    zoom_out: Rect | None
+    """The workspace's zoom-out button; None when it is not drawn."""
     snap_radius: float
     connecting_snap_radius: float
     categories: list[Category]
@@ -283,6 +288,35 @@ class TextEditor(Reply):
     open: bool
     focused: bool
     value: str | None
+
+
+class ColourSlider(Reply):
+    """One range input of the colour picker: a click on it sets a value by position, arrow keys step it."""
+
+    rect: Rect
+    value: float
+    min: float
+    max: float
+    step: float
+    focused: bool
+
+
+class ColourPicker(Reply):
+    """``geometryColourPicker``: the open picker of a colour field; sliders hue, saturation, brightness."""
+
+    open: bool
+    sliders: list[ColourSlider]
+    eyedropper: Rect | None = None
+    """The button that lets a click on the stage pick the colour there."""
+
+
+class StagePixel(Reply):
+    """``geometryStagePixel``: a page point inside an area of the stage showing exactly a colour, as the
+    eyedropper picks it (None when the stage shows it nowhere)."""
+
+    found: bool
+    point: Point | None
+    stage: Rect
 
 
 class ModalInput(Reply):
@@ -340,19 +374,22 @@ class FreeSpot(Reply):
 
 
 class Staging(Reply):
-    """A free spot to move the block to first, from where the straight path snaps only where wanted."""
+    """A free spot to move the block to first, from where the straight path snaps only where wanted
+    (``clean``) or at least ends there (a spot whose path only lands, when no spot gives a clean one)."""
 
     spot: Point
     """Top-left corner of the block there."""
     end: Point
     """Where to release the grab point to put it there."""
+    clean: bool = True
 
 
 class DragPlan(Reply):
     """``geometryPlanDrag``: press and release points for a drag that joins two connections.
 
     The page replays Blockly's choice of connection along the straight mouse path: ``clean`` when
-    no other connection is ever the candidate.
+    no other connection is ever the candidate, ``lands`` when the candidate at the release (and a few
+    pixels around it) is the wanted one, other candidates' previews on the way replayed as drawn.
     """
 
     grab: Point | None
@@ -363,6 +400,7 @@ class DragPlan(Reply):
     """The grab point, or the block's centre when it has none; ``end`` is relative to it."""
     end_visible: bool
     clean: bool
+    lands: bool = False
     reason: str | None = None
     """Why the path is not clean."""
     staging: Staging | None = None

@@ -14,10 +14,13 @@ from workers.agents._primitive_oracle._geometry import BlockGeometry, Point
 from workers.agents._primitive_oracle._gestures import DRAG_STEPS, click, drag
 from workers.agents._primitive_oracle._page import Page
 from workers.agents._primitive_oracle._plan import PlannedStep, Run
-from workers.agents._primitive_oracle._scrolling import MAX_SCROLLS, ROOM_SCROLLS, scroll_for_room, scroll_towards
+from workers.agents._primitive_oracle._scrolling import MAX_SCROLLS, ROOM_ATTEMPTS, make_room, scroll_towards
 from workers.contract import PrimitiveAction
 
 CLEAN_UP = "Clean up Blocks"
+MAX_STAGINGS = 2
+"""Free spots a connecting drag may first move the block to: a second one when the path planned from
+the first is no longer clean once the block is there."""
 
 
 async def connect_blocks(run: Run, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
@@ -33,10 +36,45 @@ async def connect_blocks(run: Run, step: PlannedStep) -> AsyncIterator[Primitive
     if not shape.hat and not shape.reporter and info.next_block:
         async for gesture in _isolate(page, info, info.next_block, step):
             yield gesture
-    attached = (await page.block(target)).attachment is not None
-    local, remote = connection_pair(placement, attached)
+    destination = await page.block(target)
+    info = await page.block(source)
+    if info.attachment is not None and info.root == destination.root:
+        # Picked up, the block leaves its script redrawn (a C-block's mouth closes, an input narrows), and
+        # connections near the destination move after the drag was planned: plan it from free space.
+        async for gesture in drag_to_free_space(page, source, step):
+            yield gesture
+        destination = await page.block(target)
+    local, remote = connection_pair(placement, destination.attachment is not None)
+    moving = await page.block(source)
+    hook = _occupied_hook(destination, remote) if local == "previous" else None
+    if hook is not None and any(i.kind == "statement" and i.block is None for i in moving.inputs.values()):
+        # Blockly hands what hangs there to a C-block's empty mouth (the C-block wraps it), where the
+        # composite API puts it under the C-block: it goes to free space first, then under the C-block.
+        owner, name, orphan = hook
+        async for gesture in drag_to_free_space(page, orphan, step):
+            yield gesture
+        async for gesture in drag_connection(page, source, local, owner, name, step):
+            yield gesture
+        async for gesture in drag_connection(page, orphan, "previous", source, "lastNext", step):
+            yield gesture
+        return
     async for gesture in drag_connection(page, source, local, target, remote, step):
         yield gesture
+
+
+def _occupied_hook(destination: BlockGeometry, remote: str) -> tuple[str, str, str] | None:
+    """(block, connection, block hanging there) when the statement connection ``remote`` of ``destination``
+    holds a block; None when it is free (or is no statement connection)."""
+    if remote == "next":
+        return (destination.id, "next", destination.next_block) if destination.next_block else None
+    if remote == "parent" and destination.attachment is not None:
+        parent, name = destination.attachment.parent, destination.attachment.input
+        return parent, "next" if name is None else f"input:{name}", destination.id
+    if remote.startswith("input:"):
+        found = destination.inputs.get(remote.removeprefix("input:"))
+        if found is not None and found.kind == "statement" and found.block is not None and not found.shadow:
+            return destination.id, remote, found.block
+    return None
 
 
 async def detach_blocks(run: Run, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
@@ -82,12 +120,14 @@ async def drag_connection(
 ) -> AsyncIterator[PrimitiveAction]:
     """Drag ``moving`` so that its connection ``local`` snaps to connection ``remote`` of ``target``.
 
-    The page replays Blockly's choice of connection along the straight mouse path; when another
-    connection would be chosen on the way, the block first moves to a free spot with a clean path.
+    The page replays Blockly's choice of connection along the straight mouse path. A clean path (no
+    other connection is ever the candidate) is taken first, from where the block is or from a free
+    spot it moves to first; failing that, a path that lands (the candidate at the release is the
+    wanted one, other previews on the way replayed as drawn), from where it is or from a free spot.
     """
     args = {"moving": moving, "local": local, "target": target, "remote": remote, "steps": DRAG_STEPS}
-    staged = False
-    for _ in range(MAX_SCROLLS + 2):
+    stagings = 0
+    for _ in range(MAX_SCROLLS + MAX_STAGINGS + 1):
         plan = await page.plan_drag(args)
         grab = plan.grab
         if grab is None:
@@ -99,18 +139,19 @@ async def drag_connection(
             async for gesture in scroll_towards(page, [plan.reference, plan.end], area):
                 yield gesture
             continue
-        if plan.clean:
+        staging = plan.staging if stagings < MAX_STAGINGS else None
+        if plan.clean or (plan.lands and (staging is None or not staging.clean)):
             yield drag(grab, plan.end)
             await page.wait("quiet", what="the drop to settle")
             return
-        if staged or plan.staging is None:
+        if staging is None:
             raise OracleDivergenceError(
                 f"{step.describe()}: no clean path to connect {local} of {moving} to {remote} of {target}: "
                 f"{plan.reason}"
             )
-        yield drag(grab, plan.staging.end)
+        yield drag(grab, staging.end)
         await page.wait("quiet", what="the block to settle on its staging spot")
-        staged = True
+        stagings += 1
     raise OracleDivergenceError(
         f"{step.describe()}: cannot show {moving} and its destination on {target} in the workspace at once"
     )
@@ -128,10 +169,11 @@ async def drag_to_free_space(page: Page, block: str, step: PlannedStep) -> Async
     # A top-level block leaves its own place free; one inside a script must keep off the whole script.
     ignore = [block] if info.root == block else []
     spot = await page.free_spot(rect.width, rect.height, rect.bottom_left, ignore)
-    for _ in range(ROOM_SCROLLS):
+    for attempt in range(ROOM_ATTEMPTS):
         if spot is not None:
             break
-        async for gesture in scroll_for_room(page):
+        why = f"{step.describe()}: no empty part of the visible workspace can take the blocks"
+        async for gesture in make_room(page, attempt, why):
             yield gesture
         info = await page.block(block)
         grab, rect = info.grab, info.rect

@@ -13,6 +13,7 @@ from pydantic import BaseModel, JsonValue, ValidationError
 from workers.agents._primitive_oracle._divergence import OracleDivergenceError, OracleWaitError, describe_difference
 from workers.agents._primitive_oracle._geometry import (
     BlockGeometry,
+    ColourPicker,
     DragPlan,
     FieldGeometry,
     FlyoutBlock,
@@ -27,6 +28,7 @@ from workers.agents._primitive_oracle._geometry import (
     PaletteMiss,
     Point,
     Rect,
+    StagePixel,
     TextEditor,
 )
 from workers.agents._primitive_oracle._state import (
@@ -102,6 +104,12 @@ class Page:
 
     async def text_editor(self) -> TextEditor:
         return parse(TextEditor, await self._call("geometryTextEditor"), "geometryTextEditor")
+
+    async def colour_picker(self) -> ColourPicker:
+        return parse(ColourPicker, await self._call("geometryColourPicker"), "geometryColourPicker")
+
+    async def stage_pixel(self, colour: str) -> StagePixel:
+        return parse(StagePixel, await self._call("geometryStagePixel", {"colour": colour}), "geometryStagePixel")
 
     async def modal(self) -> OpenModal:
         """The open prompt; one that closed on its own is a divergence."""

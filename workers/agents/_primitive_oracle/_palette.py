@@ -18,9 +18,9 @@ from workers.agents._primitive_oracle._page import Page
 from workers.agents._primitive_oracle._plan import PlannedStep, Run
 from workers.agents._primitive_oracle._scrolling import (
     MAX_SCROLLS,
-    ROOM_SCROLLS,
+    ROOM_ATTEMPTS,
+    make_room,
     points_of,
-    scroll_for_room,
     scroll_into_view,
 )
 from workers.contract import BridgeError, PrimitiveAction
@@ -72,13 +72,17 @@ async def add_block(run: Run, step: PlannedStep) -> AsyncIterator[PrimitiveActio
     ratio = palette.workspace_scale / palette.flyout_scale
     rect = palette.rect
     spot = None
-    for _ in range(ROOM_SCROLLS + 1):
+    for attempt in range(ROOM_ATTEMPTS + 1):
         near = await anchor_of() if anchor_of is not None else None
         spot = await page.free_spot(rect.width * ratio, rect.height * ratio, near)
-        if spot is not None:
+        if spot is not None or attempt == ROOM_ATTEMPTS:
             break
-        async for gesture in scroll_for_room(page):
+        why = f"{step.describe()}: no empty part of the workspace can take the block"
+        async for gesture in make_room(page, attempt, why):
             yield gesture
+        palette, grab = await _palette_block(page, opcode, variable)
+        ratio = palette.workspace_scale / palette.flyout_scale
+        rect = palette.rect
     if spot is None:
         raise OracleDivergenceError(f"{step.describe()}: no empty part of the workspace can take the block")
     end = Point(x=spot.x + (grab.x - rect.x) * ratio, y=spot.y + (grab.y - rect.y) * ratio)

@@ -1,4 +1,5 @@
-"""Keeping what the next gesture aims at in view: wheel turns over the workspace."""
+"""Keeping what the next gesture aims at in view: wheel turns over the workspace, and zooming out
+when what must be seen at once does not fit."""
 
 from __future__ import annotations
 
@@ -6,13 +7,16 @@ from collections.abc import AsyncIterator, Awaitable, Callable
 
 from workers.agents._primitive_oracle._divergence import OracleDivergenceError
 from workers.agents._primitive_oracle._geometry import Point, Rect
-from workers.agents._primitive_oracle._gestures import scroll
+from workers.agents._primitive_oracle._gestures import click, scroll
 from workers.agents._primitive_oracle._page import Page
 from workers.contract import PrimitiveAction
 
 MAX_SCROLLS = 4
 ROOM_SCROLLS = 2
 """Wheel turns down the workspace when its visible part has no room for a dropped block."""
+ROOM_ZOOMS = 2
+"""Zoom-outs after those, when the wheel turns left no room either."""
+ROOM_ATTEMPTS = ROOM_SCROLLS + ROOM_ZOOMS
 
 
 async def scroll_into_view(
@@ -33,12 +37,14 @@ async def scroll_into_view(
 
 
 async def scroll_towards(page: Page, points: list[Point], area: Rect) -> AsyncIterator[PrimitiveAction]:
-    """Wheel the workspace so that the box around ``points`` is centred in ``area`` (if it fits)."""
+    """Wheel the workspace so that the box around ``points`` is centred in ``area``; when the box does
+    not fit, zoom out instead (the caller reads the points again and comes back)."""
     xs, ys = [p.x for p in points], [p.y for p in points]
     if max(xs) - min(xs) > area.width or max(ys) - min(ys) > area.height:
-        raise OracleDivergenceError(
-            f"points spanning ({max(xs) - min(xs):.0f}, {max(ys) - min(ys):.0f}) px do not fit in the workspace at once"
-        )
+        span = f"({max(xs) - min(xs):.0f}, {max(ys) - min(ys):.0f}) px"
+        async for gesture in zoom_out(page, f"points spanning {span} do not fit in the workspace at once"):
+            yield gesture
+        return
     middle = area.centre()
     dx = (min(xs) + max(xs)) / 2 - middle.x if min(xs) < area.x or max(xs) > area.x + area.width else 0.0
     dy = (min(ys) + max(ys)) / 2 - middle.y if min(ys) < area.y or max(ys) > area.y + area.height else 0.0
@@ -48,8 +54,25 @@ async def scroll_towards(page: Page, points: list[Point], area: Rect) -> AsyncIt
     await page.wait("quiet", what="the workspace to stop scrolling")
 
 
-async def scroll_for_room(page: Page) -> AsyncIterator[PrimitiveAction]:
-    """Wheel the workspace down by half a view: there is empty space under the scripts."""
+async def zoom_out(page: Page, why: str) -> AsyncIterator[PrimitiveAction]:
+    """Click the workspace's zoom-out button: blocks are drawn smaller, so more of them and more empty
+    space fit in the view (``why``: the divergence when the editor cannot zoom out further)."""
+    layout = await page.layout()
+    if layout.zoom_out is None or layout.scale <= layout.min_scale + 1e-6:
+        raise OracleDivergenceError(f"{why} (the workspace cannot zoom out further)")
+    yield click(layout.zoom_out.centre())
+    await page.wait("quiet", what="the workspace to zoom out")
+    if (await page.layout()).scale >= layout.scale:
+        raise OracleDivergenceError(f"{why} (a click on the zoom-out button did not zoom out)")
+
+
+async def make_room(page: Page, attempt: int, why: str) -> AsyncIterator[PrimitiveAction]:
+    """Attempt ``attempt`` (from 0) at showing empty workspace: wheel turns down the workspace by half a
+    view (there is empty space under the scripts, as far as the workspace scrolls), then zoom-outs."""
+    if attempt >= ROOM_SCROLLS:
+        async for gesture in zoom_out(page, why):
+            yield gesture
+        return
     area = (await page.layout()).safe_area
     yield scroll(area.height / 2, 0.0, area.centre())
     await page.wait("quiet", what="the workspace to stop scrolling")
