@@ -98,12 +98,15 @@ async def measure(
             ratio = real.timings.total_s / virtual.timings.total_s
             ratios.append(ratio)
             unstable = known.unstable_tests(task) if known is not None else None
+
+            def kind_of(name: str) -> str:
+                return "unchecked" if unstable is None else "unstable" if name in unstable else "stable"
+
             for name in tests_of(virtual).keys() | tests_of(real).keys():
-                kind = "unchecked" if unstable is None else "unstable" if name in unstable else "stable"
-                tests_compared[kind] += 1
+                tests_compared[kind_of(name)] += 1
             notes = []
             for name in sorted(differing(virtual, real)):
-                kind = "unchecked" if unstable is None else "unstable" if name in unstable else "stable"
+                kind = kind_of(name)
                 mismatches[kind].append(f"{task.id} {which} {name!r}")
                 notes.append(f"{name!r} ({kind})")
             print(

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Literal
 
 from pydantic import BaseModel
 
-from scratchworld_dist.suites import SuiteStability, Task, UnstableTest
+from scratchworld_dist.suites import SuiteStability, Task
 from workers.contract import (
     EvalResult,
     EvaluationClock,
@@ -148,11 +148,7 @@ async def validate_tasks(
                 category=task.category,
                 golden=ProjectCheck.of(golden.result()) if golden else None,
                 initial=ProjectCheck.of(initial.result()),
-                unstable_tests=_notes(stability.unstable_tests(task)) if stability else None,
+                unstable_tests=stability.unstable_notes(task) if stability else None,
             )
         )
     return rows
-
-
-def _notes(tests: dict[str, UnstableTest] | None) -> dict[str, str] | None:
-    return None if tests is None else {name: test.note() for name, test in tests.items()}

@@ -8,7 +8,7 @@ aside.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TypeVar
@@ -16,7 +16,7 @@ from typing import TypeVar
 from pydantic import BaseModel, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
-from scratchworld_dist.results import JobRow, RunManifest, RunStore, require_manifest
+from scratchworld_dist.results import JobRow, RunManifest, RunStore, TestRow, require_manifest
 from workers.contract import describe_differences
 
 RowT = TypeVar("RowT", bound=BaseModel)
@@ -97,6 +97,16 @@ def read_rows(run_dir: Path, table: str, model: type[RowT], noun: str) -> list[R
         return [model.model_validate(row) for row in store.read_table(table).to_pylist()]
     except ValidationError as exc:
         raise RunDirError(f"{store.table_dir(table)}: a row is not {noun}: {validation_summary(exc)}") from exc
+
+
+def tests_of_attempts(run_dirs: Iterable[Path], wanted: set[tuple[str, int]]) -> dict[tuple[str, int], list[TestRow]]:
+    """The test rows of the ``wanted`` attempts (job id, attempt) in the runs at ``run_dirs``, by attempt."""
+    found: dict[tuple[str, int], list[TestRow]] = {}
+    for run_dir in run_dirs:
+        for test in read_rows(run_dir, "tests", TestRow, "a test row"):
+            if (test.job_id, test.attempt) in wanted:
+                found.setdefault((test.job_id, test.attempt), []).append(test)
+    return found
 
 
 def check_compatible(runs: Sequence[LoadedRun], *, force: bool) -> list[str]:

@@ -12,8 +12,8 @@ from collections.abc import Iterable, Sequence
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports._runs import LoadedRun, read_rows
-from scratchworld_dist.results import JobRow, TestRow
+from scratchworld_dist.reports._runs import LoadedRun, tests_of_attempts
+from scratchworld_dist.results import JobRow
 
 
 class UnstableTask(BaseModel):
@@ -94,11 +94,8 @@ def stability_section(runs: Sequence[LoadedRun], effective: Iterable[JobRow]) ->
 def _failed_on_unstable_only(runs: Sequence[LoadedRun], failed: Sequence[JobRow]) -> list[JobRow]:
     """The failed jobs whose tests (at their effective attempt) failed only where marked unstable."""
     wanted = {(row.job_id, row.attempt) for row in failed}
-    tests: dict[tuple[str, int], list[TestRow]] = {}
-    for run in runs:  # only runs with marks: an unmarked run's tests are never marked unstable
-        for test in read_rows(run.path, "tests", TestRow, "a test row"):
-            if (test.job_id, test.attempt) in wanted:
-                tests.setdefault((test.job_id, test.attempt), []).append(test)
+    # Only runs with marks: an unmarked run's tests are never marked unstable.
+    tests = tests_of_attempts((run.path for run in runs), wanted)
     resting = []
     for row in failed:
         failures = [t for t in tests.get((row.job_id, row.attempt), []) if not t.passed]

@@ -13,13 +13,12 @@ from collections.abc import Sequence
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports._runs import LoadedRun, read_rows
-from scratchworld_dist.results import JobRow, TestRow
+from scratchworld_dist.reports._runs import LoadedRun, tests_of_attempts
+from scratchworld_dist.reports._summary import DETERMINATE
+from scratchworld_dist.results import JobRow
 
 NO_STABLE_TEST = "no stable test"
 """The outcome of a job all of whose tests were left out: not a verdict, so it is left out of every rate."""
-
-_DECIDED = ("passed", "failed")
 
 
 class StableSide(BaseModel):
@@ -66,15 +65,12 @@ def stable_verdicts(
     touched = {
         (row.job_id, row.attempt)
         for row in rows
-        if row.task_id in left_out and row.outcome in _DECIDED and row.eval_error_kind is None
+        if row.task_id in left_out and row.outcome in DETERMINATE and row.eval_error_kind is None
     }
     side = StableSide(label=label, changed=0, without_test=0, kept=0)
     if not touched:
         return list(rows), side
-    tests: dict[tuple[str, int], list[TestRow]] = {}
-    for test in read_rows(run.path, "tests", TestRow, "a test row"):
-        if (test.job_id, test.attempt) in touched:
-            tests.setdefault((test.job_id, test.attempt), []).append(test)
+    tests = tests_of_attempts([run.path], touched)
     recomputed = []
     for row in rows:
         key = (row.job_id, row.attempt)

@@ -93,6 +93,11 @@ class SuiteStability(BaseModel):
             return None
         return {row.test: row for row in self.unstable if row.task_id == task.id}
 
+    def unstable_notes(self, task: Task) -> dict[str, str] | None:
+        """``unstable_tests`` as each test's one-line note, for rows and manifests."""
+        found = self.unstable_tests(task)
+        return None if found is None else {name: test.note() for name, test in found.items()}
+
 
 def scripts_digest(task: Task) -> str:
     """A digest of what judges the task: its evaluation script and its helper."""
@@ -160,10 +165,10 @@ def stability_marks(suite: Suite, tasks: Iterable[Task]) -> StabilityMarks | Non
         return None
     checked, unstable = [], {}
     for task in tasks:
-        found = known.unstable_tests(task)
-        if found is None:
+        notes = known.unstable_notes(task)
+        if notes is None:
             continue
         checked.append(task.id)
-        if found:
-            unstable[task.id] = {name: test.note() for name, test in found.items()}
+        if notes:
+            unstable[task.id] = notes
     return StabilityMarks(source=str(stability_file(suite)), made_on=known.made_on, checked=checked, unstable=unstable)
