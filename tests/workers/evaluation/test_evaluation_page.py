@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist.kinds.tasks import read_task
-from scratchworld_dist.suites import load_suite
+from scratchworld_dist.suites import Task, load_suite
 from tests.conftest import REPO, SUITE_DIR, copy_page_files
 from tests.support.evaluations import evaluate, spec
 from workers.contract import EditorBundleMissingError, EvalResult, editor_need
@@ -34,7 +34,10 @@ module.exports = async (vm) => ({details: [
 """
 
 
-def verdicts(result: EvalResult) -> tuple[int, int, list[tuple[str, bool]]]:
+Verdicts = tuple[int, int, list[tuple[str, bool]]]
+
+
+def verdicts(result: EvalResult) -> Verdicts:
     return result.passed, result.total, [(test.name, test.passed) for test in result.tests]
 
 
@@ -69,16 +72,26 @@ async def test_a_script_that_needs_the_editor_runs_there(evaluator: Evaluator) -
 @pytest.mark.slow
 @pytest.mark.parametrize("clock", ["virtual", "real"])
 async def test_our_suite_gets_the_same_verdicts_on_both_pages(evaluator: Evaluator, clock: str) -> None:
+    """On the real clock a verdict can follow the machine's load (a pacing window missed while other tests run),
+    so there a difference counts only when it shows again on a second pair of evaluations: a page's difference
+    is deterministic, a loaded frame is not. The virtual clock gets one pair and no second look."""
+
+    async def both_pages(task: Task, data: bytes) -> tuple[Verdicts, Verdicts]:
+        bare = await evaluator.evaluate(data, task.evaluation_spec(clock=clock, page="bare"))  # type: ignore[arg-type]
+        editor = await evaluator.evaluate(data, task.evaluation_spec(clock=clock, page="editor"))  # type: ignore[arg-type]
+        assert bare.error is None and editor.error is None, (task.id, bare.error, editor.error)
+        return verdicts(bare), verdicts(editor)
+
     differences = []
     for task in load_suite(SUITE_DIR).tasks:
         for project in (task.golden_project, task.initial_project):
             assert project is not None
             data = project.read_bytes()
-            bare = await evaluator.evaluate(data, task.evaluation_spec(clock=clock, page="bare"))  # type: ignore[arg-type]
-            editor = await evaluator.evaluate(data, task.evaluation_spec(clock=clock, page="editor"))  # type: ignore[arg-type]
-            assert bare.error is None and editor.error is None, (task.id, bare.error, editor.error)
-            if verdicts(bare) != verdicts(editor):
-                differences.append((task.id, project.stem, verdicts(bare), verdicts(editor)))
+            bare, editor = await both_pages(task, data)
+            if bare != editor and clock == "real":
+                bare, editor = await both_pages(task, data)
+            if bare != editor:
+                differences.append((task.id, project.stem, bare, editor))
     assert differences == []
 
 
