@@ -4,19 +4,15 @@ empty space), and its self-check stops a gesture gone astray."""
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any
-
 import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR, pooled_editor, primitive_editor
+from tests.support.primitive_oracle import Run, Tamper, composite_and_oracle, drive, sprite_block_ids
 from workers import composite
 from workers.agents._primitive_oracle import OracleDivergenceError, PrimitiveOracle
-from workers.contract import CompositeAction, Done, EvalResult, PrimitiveAction
+from workers.contract import CompositeAction, EvalResult, PrimitiveAction
 from workers.editor import Editor, EditorPool
 from workers.evaluation import Evaluator
 from workers.primitive import Gestures
@@ -24,19 +20,6 @@ from workers.primitive import Gestures
 pytestmark = pytest.mark.browser
 
 ALL_TASKS = sorted(p.parent.name for p in SUITE_DIR.glob("*/*/golden_trajectory.json"))
-
-Tamper = Callable[[int, PrimitiveAction], PrimitiveAction]
-
-
-@dataclass
-class Run:
-    """What one oracle run did on the page."""
-
-    gestures: int
-    seconds: float
-    calls: list[str]
-    """Bridge functions called after ``begin`` (the real run)."""
-    actions: list[PrimitiveAction]
 
 
 def cat_project() -> Project:
@@ -51,34 +34,6 @@ def cat_project() -> Project:
     )
     cat.script(block("control_forever", SUBSTACK=[block("motion_changexby", DX=1)]))
     return project
-
-
-async def drive(editor: Editor, oracle: PrimitiveOracle, tamper: Tamper | None = None) -> Run:
-    """Execute the oracle's gestures with ``Gestures`` until it says done, as the episode runner does."""
-    started = time.monotonic()
-    calls: list[str] = []
-    bridge = editor.call
-
-    async def recording(name: str, args: dict[str, Any] | None = None) -> Any:
-        calls.append(name)
-        return await bridge(name, args)
-
-    editor.call = recording  # type: ignore[method-assign]
-    gestures = Gestures(editor.page)
-    count = 0
-    actions: list[PrimitiveAction] = []
-    try:
-        while not isinstance(action := await oracle.act(None), Done):
-            assert isinstance(action, PrimitiveAction), action
-            if tamper is not None:
-                action = tamper(count, action)
-            envelope = await gestures.execute(action.api, action.args)
-            assert envelope.success, (action, envelope.error)
-            actions.append(action)
-            count += 1
-    finally:
-        del editor.call  # back to the method
-    return Run(gestures=count, seconds=time.monotonic() - started, calls=calls, actions=actions)
 
 
 async def solve(
@@ -137,13 +92,7 @@ def test_the_suite_has_every_task() -> None:
 
 async def cat_ids(editor: Editor) -> dict[str, str]:
     """Block id by opcode (Cat's blocks have one of each)."""
-    await composite.execute(editor, "select_sprite", {"name": "Cat"})
-    ids = (await editor.call("compositeBlockIds"))["ids"]  # type: ignore[index,call-overload]
-    found: dict[str, str] = {}
-    for block_id in ids[1:]:
-        info = await editor.call("geometryBlock", {"id": block_id})
-        found[info["opcode"]] = block_id  # type: ignore[index,call-overload]
-    return found
+    return await sprite_block_ids(editor, "Cat")
 
 
 async def test_a_planned_drag_snaps_and_a_drop_in_free_space_does_not(shared_pool: EditorPool) -> None:
@@ -240,18 +189,10 @@ CAT_TRAJECTORY = [
 
 
 async def test_detach_delete_wrap_and_stack_before_end_as_in_composite_mode(shared_pool: EditorPool) -> None:
-    sb3 = cat_project().to_sb3()
     trajectory = [CompositeAction(api=api, args=args) for api, args in CAT_TRAJECTORY]
-    async with primitive_editor(shared_pool, sb3) as editor:
-        for action in trajectory:
-            assert (await composite.execute(editor, action.api, action.args)).success
-        expected = (await editor.call("geometrySnapshot"))["text"]  # type: ignore[index,call-overload]
-        assert "looks_show" in expected
-    async with primitive_editor(shared_pool, sb3) as editor:
-        oracle = PrimitiveOracle(sb3, trajectory)
-        await oracle.begin(editor)
-        run = await drive(editor, oracle)
-        assert (await editor.call("geometrySnapshot"))["text"] == expected  # type: ignore[index,call-overload]
+    expected, performed, run = await composite_and_oracle(shared_pool, cat_project().to_sb3(), trajectory)
+    assert "looks_show" in expected
+    assert performed == expected
     assert run.gestures >= 10
 
 
