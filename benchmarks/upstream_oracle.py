@@ -35,7 +35,7 @@ from scratchworld_dist.oracle_plan import (
 from scratchworld_dist.suites import Task
 from scratchworld_dist.suites._task import read_trajectory
 from workers import composite
-from workers.agents._primitive_oracle import OracleDivergenceError, PrimitiveOracle
+from workers.agents._primitive_oracle import OracleDivergenceError, OracleWaitError, PrimitiveOracle
 from workers.contract import CompositeAction, Done, EvaluationProfile, PrimitiveAction
 from workers.editor import BrowserSession, Editor
 from workers.evaluation import Evaluator
@@ -86,6 +86,8 @@ async def perform(editor: Editor, initial: bytes, actions: list[CompositeAction]
                 return await editor.save_project(), f"gesture {action.api} failed: {envelope.error}"
     except OracleDivergenceError as exc:
         return await editor.save_project(), f"diverged: {exc}"
+    except OracleWaitError as exc:  # in an episode, retried; here one task's row, not the end of the run
+        return await editor.save_project(), f"timed out: {exc}"
     return await editor.save_project(), ""
 
 

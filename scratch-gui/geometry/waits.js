@@ -35,6 +35,7 @@ scratchworldModule({name: 'geometry/waits', requires: ['blockly', 'settle', 'geo
       const state = widgets.textEditor();
       return {done: state.open && state.focused, value: null};
     }},
+    textEditorShown: {still: false, check: () => ({done: widgets.textEditor().open, value: null})},
     textEditorClosed: {still: false, check: () => ({done: !widgets.textEditor().open, value: null})},
     colourPickerOpen: {still: true, check: () => {
       const state = widgets.colourPicker();

@@ -31,7 +31,9 @@ scratchworldModule({name: 'geometry/widgets', requires: ['rects'], create(ctx, r
 
   function textEditor() {
     const input = document.querySelector('.blocklyWidgetDiv .blocklyHtmlInput');
-    return {open: shown(input), focused: !!input && document.activeElement === input, value: input ? input.value : null};
+    const open = shown(input);
+    return {open: open, focused: !!input && document.activeElement === input, value: input ? input.value : null,
+            rect: open ? rects.rectOf(input) : null};
   }
 
   function modal() {

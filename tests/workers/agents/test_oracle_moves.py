@@ -19,12 +19,12 @@ pytestmark = pytest.mark.browser
 SELECT_CAT = CompositeAction(api="select_sprite", args={"name": "Cat"})
 
 
-def cat(*scripts: tuple[list[Block], int]) -> bytes:
-    """A project whose sprite Cat has ``scripts``, each (blocks, y) at x 40."""
+def cat(*scripts: tuple[list[Block], int] | tuple[list[Block], int, int]) -> bytes:
+    """A project whose sprite Cat has ``scripts``, each (blocks, y) at x 40, or (blocks, y, x)."""
     project = Project()
     sprite = project.sprite("Cat", costume=circle_costume("cat", 10, "#f80"))
-    for blocks, y in scripts:
-        sprite.script(*blocks, x=40, y=y)
+    for blocks, y, *x in scripts:
+        sprite.script(*blocks, x=x[0] if x else 40, y=y)
     return project.to_sb3()
 
 
@@ -104,3 +104,32 @@ async def test_an_empty_text_input_is_typed_into(shared_pool: EditorPool) -> Non
     expected, performed, _ = await composite_and_oracle(shared_pool, sb3, [SELECT_CAT, value])
     assert performed == expected
     assert "hello" in expected
+
+
+async def test_a_stack_taller_than_half_the_view_is_detached_after_zooming_out(shared_pool: EditorPool) -> None:
+    """Fourteen wide say blocks fill a repeat's mouth, a second script beside it: no free spot in the view can
+    take them, and a wheel turn by half a view would carry their grab point out of it, so the oracle zooms
+    out until they fit (it used to turn the wheel and lose the block)."""
+    says = [block("looks_say", MESSAGE=f"line {n} of a message long enough to make the block wide") for n in range(14)]
+    sb3 = cat(
+        ([block("event_whenflagclicked"), block("control_repeat", TIMES=3, SUBSTACK=says)], 40),
+        ([block("event_whenflagclicked"), *(block("motion_movesteps", STEPS=n) for n in range(14))], 40, 700),
+    )
+    async with primitive_editor(shared_pool, sb3) as editor:
+        found = await sprite_blocks(editor, "Cat")
+        first = found["control_repeat"][0] + 2  # the first say, inside the mouth
+    detach = CompositeAction(api="detach_blocks", args={"blockIndex": first})
+    expected, performed, _ = await composite_and_oracle(shared_pool, sb3, [SELECT_CAT, detach])
+    assert performed == expected
+    assert expected.count("looks_say") == 14
+
+
+async def test_an_angle_input_is_typed_into(shared_pool: EditorPool) -> None:
+    """A direction input opens Scratch's dial as well as its text editor; the oracle types into the editor."""
+    sb3 = cat(([block("event_whenflagclicked"), block("motion_pointindirection", DIRECTION=90)], 40))
+    at = await index_of(shared_pool, sb3)
+    field = {"blockIndex": at["motion_pointindirection"], "fieldName": "DIRECTION", "value": "45"}
+    value = CompositeAction(api="set_block_field", args=field)
+    expected, performed, _ = await composite_and_oracle(shared_pool, sb3, [SELECT_CAT, value])
+    assert performed == expected
+    assert '\\"NUM\\":\\"45\\"' in expected

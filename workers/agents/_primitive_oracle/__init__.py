@@ -19,7 +19,7 @@ How it works:
 """
 
 from workers.agents._primitive_oracle._agent import PrimitiveOracle
-from workers.agents._primitive_oracle._divergence import OracleDivergenceError
+from workers.agents._primitive_oracle._divergence import OracleDivergenceError, OracleWaitError
 from workers.agents._primitive_oracle._plan import PlannedStep
 
-__all__ = ["OracleDivergenceError", "PlannedStep", "PrimitiveOracle"]
+__all__ = ["OracleDivergenceError", "OracleWaitError", "PlannedStep", "PrimitiveOracle"]

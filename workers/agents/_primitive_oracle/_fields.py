@@ -58,7 +58,8 @@ async def set_value(
         async for gesture in close_colour_picker(page, what):
             yield gesture
     elif field.kind == "text":
-        await page.wait("textEditorOpen", what=f"the text editor of {name}")
+        async for gesture in focus_text_editor(page, name):
+            yield gesture
         async for gesture in type_into_editor(page, value, what):
             yield gesture
         yield PrimitiveAction(api="key", args={"key": "Enter"})
@@ -79,6 +80,16 @@ async def close_colour_picker(page: Page, what: str) -> AsyncIterator[PrimitiveA
         raise OracleDivergenceError(f"{what}: no empty workspace to click to close the colour picker")
     yield click(Point(x=spot.x + 4, y=spot.y + 4))
     await page.wait("colourPickerClosed", what="the colour picker to close")
+
+
+async def focus_text_editor(page: Page, name: str) -> AsyncIterator[PrimitiveAction]:
+    """Wait for the text editor a click on field ``name`` opens, and see that it has the keys: an angle
+    field opens Scratch's dial beside it, which leaves the editor without focus until it is clicked."""
+    await page.wait("textEditorShown", what=f"the text editor of {name}")
+    editor = await page.text_editor()
+    if not editor.focused and editor.rect is not None:
+        yield click(editor.rect.centre())
+    await page.wait("textEditorOpen", what=f"the text editor of {name} to take the keys")
 
 
 async def type_into_editor(page: Page, value: str, what: str) -> AsyncIterator[PrimitiveAction]:

@@ -288,6 +288,8 @@ class TextEditor(Reply):
     open: bool
     focused: bool
     value: str | None
+    rect: Rect | None = None
+    """Where it is drawn (None when closed): a click there gives it the keys."""
 
 
 class ColourSlider(Reply):

@@ -173,7 +173,7 @@ async def drag_to_free_space(page: Page, block: str, step: PlannedStep) -> Async
         if spot is not None:
             break
         why = f"{step.describe()}: no empty part of the visible workspace can take the blocks"
-        async for gesture in make_room(page, attempt, why):
+        async for gesture in make_room(page, attempt, why, rect, grab):
             yield gesture
         info = await page.block(block)
         grab, rect = info.grab, info.rect

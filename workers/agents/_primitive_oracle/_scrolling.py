@@ -14,9 +14,12 @@ from workers.contract import PrimitiveAction
 MAX_SCROLLS = 4
 ROOM_SCROLLS = 2
 """Wheel turns down the workspace when its visible part has no room for a dropped block."""
-ROOM_ZOOMS = 2
-"""Zoom-outs after those, when the wheel turns left no room either."""
+ROOM_ZOOMS = 5
+"""Zoom-outs after those, when the wheel turns left no room either: as many as the editor's zoom-out
+button gives (0.675 to its minimum 0.3, 1.2 times smaller each), for a tall stack moved as one."""
 ROOM_ATTEMPTS = ROOM_SCROLLS + ROOM_ZOOMS
+KEEP_IN_VIEW = 24.0
+"""Pixels a grab point keeps from the top of the view when the workspace turns to make room."""
 
 
 async def scroll_into_view(
@@ -66,15 +69,27 @@ async def zoom_out(page: Page, why: str) -> AsyncIterator[PrimitiveAction]:
         raise OracleDivergenceError(f"{why} (a click on the zoom-out button did not zoom out)")
 
 
-async def make_room(page: Page, attempt: int, why: str) -> AsyncIterator[PrimitiveAction]:
+async def make_room(
+    page: Page, attempt: int, why: str, moving: Rect | None = None, grab: Point | None = None
+) -> AsyncIterator[PrimitiveAction]:
     """Attempt ``attempt`` (from 0) at showing empty workspace: wheel turns down the workspace by half a
-    view (there is empty space under the scripts, as far as the workspace scrolls), then zoom-outs."""
-    if attempt >= ROOM_SCROLLS:
+    view (there is empty space under the scripts, as far as the workspace scrolls), then zoom-outs.
+
+    Blocks already on the workspace (``moving``, grabbed at ``grab``) must stay grabbable: the wheel turns
+    stop short of taking ``grab`` out of view, and blocks over half the view high or wide, or a turn too
+    short to show anything new, get a zoom-out instead."""
+    layout = await page.layout()
+    area = layout.safe_area
+    distance = area.height / 2
+    if grab is not None:
+        distance = min(distance, grab.y - area.y - KEEP_IN_VIEW)
+    big = moving is not None and (moving.height > area.height / 2 or moving.width > area.width / 2)
+    can_zoom = layout.scale > layout.min_scale + 1e-6
+    if attempt >= ROOM_SCROLLS or (can_zoom and (big or distance < area.height / 8)):
         async for gesture in zoom_out(page, why):
             yield gesture
         return
-    area = (await page.layout()).safe_area
-    yield scroll(area.height / 2, 0.0, area.centre())
+    yield scroll(max(distance, 0.0), 0.0, area.centre())
     await page.wait("quiet", what="the workspace to stop scrolling")
 
 
