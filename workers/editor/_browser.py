@@ -20,6 +20,7 @@ import contextlib
 import enum
 import functools
 import logging
+import os
 import shutil
 import tempfile
 from collections.abc import Awaitable
@@ -118,6 +119,16 @@ def launch_args(proxy: str, extra_args: tuple[str, ...] = ()) -> list[str]:
 
 EditorIsolation = Literal["origin", "context"]
 
+ISOLATION_ENV = "SCRATCHWORLD_EDITOR_ISOLATION"
+
+
+def default_isolation() -> EditorIsolation:
+    """``origin``, or the node's ``SCRATCHWORLD_EDITOR_ISOLATION`` (a node setting, as the Chromium path is)."""
+    value = os.environ.get(ISOLATION_ENV, "origin")
+    if value == "origin" or value == "context":
+        return value
+    raise ValueError(f"{ISOLATION_ENV} must be origin or context, not {value!r}")
+
 
 log = logging.getLogger(__name__)
 
@@ -156,10 +167,11 @@ class BrowserConfig(BaseModel):
     compiled and run), so more at once only make each later: 16 at once on 2 cores ran past the
     ready timeout. The others wait their turn."""
 
-    editor_isolation: EditorIsolation = "origin"
+    editor_isolation: EditorIsolation = Field(default_factory=default_isolation)
     """What keeps an editor apart from the browser's others: an origin of its own in one long-lived context
     (V8's code cache then serves the bundle from the third opening on), or a fresh context each (the
-    bundle compiled at every opening). Either isolates storage and pages; neither changes a verdict."""
+    bundle compiled at every opening). Either isolates storage and pages, and neither changes a verdict or an
+    episode (the same pages, bundle, VM and clocks), so it is not part of a job's identity."""
 
     idle_priority: bool = False
     """Run all the browser's processes in Linux's idle scheduling class: they get only the CPU time that

@@ -187,7 +187,10 @@ class _Handler(SimpleHTTPRequestHandler):
         self.send_error(404)
 
     def end_headers(self) -> None:
-        self.send_header("Cache-Control", "max-age=86400")
+        # Nothing from an editor origin is kept: a page could otherwise load a sibling's page from the HTTP
+        # cache (all 127.0.0.2 ports are one site, one cache partition) without asking us, as a frame at the
+        # sibling's origin. An editor's own files are loaded once in its life, so nothing is lost.
+        self.send_header("Cache-Control", "no-store" if self._at_editor_origin else "max-age=86400")
         if self._shared_script:
             self.send_header("Access-Control-Allow-Origin", "*")
         super().end_headers()
