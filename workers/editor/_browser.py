@@ -391,8 +391,8 @@ class BrowserSession:
             raise
 
     async def open_editor(self, kind: EvaluationPage = "editor") -> Editor:
-        """A fresh context with a ready editor (or bare evaluation page); the caller closes it. Waits its
-        turn among this browser's openings (``BrowserConfig.concurrent_opens``)."""
+        """A ready editor (or bare evaluation page) at an origin of its own (or in a fresh context); the caller
+        closes it. Waits its turn among this browser's openings (``BrowserConfig.concurrent_opens``)."""
         if self._server is None:
             raise RuntimeError("the browser session is not open")
         if kind == "bare" and self._server.assets.bare_missing:
@@ -448,7 +448,7 @@ class BrowserSession:
         return editor
 
     def editor(self, kind: EvaluationPage = "editor") -> AbstractAsyncContextManager[Editor]:
-        """A ready editor (or bare evaluation page) in a fresh context, closed on exit."""
+        """A ready editor (or bare evaluation page) at an origin of its own (or in a fresh context), closed on exit."""
         return opened(self.open_editor(kind))
 
     async def close(self) -> None:
