@@ -172,7 +172,7 @@ async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
     running = asyncio.create_task(worker.run(*episode(contents["sum_two_numbers"])))
     for _ in range(600):
         session = worker._session
-        if session is not None and session._browser is not None and session._browser.contexts:
+        if session is not None and session._browser is not None and editor_pages(session._browser):
             break
         await asyncio.sleep(0.05)
     else:
