@@ -288,7 +288,8 @@ class BrowserSession:
     async def _launch_shared(self, executable: Path, args: list[str], origins: EditorOrigins) -> SharedContext:
         """A persistent context: V8's code cache lives with the HTTP cache in a profile directory. A shared
         non-persistent (incognito) context keeps none: its openings cost the same from the second on
-        (measured 5.7-6.3 CPU-s each, as a fresh context per editor; persistent: ~3.4 from the third)."""
+        (measured, loaded machine: 5.7-6.3 CPU-s each, as a fresh context per editor; persistent: ~3.4 from
+        the third)."""
         assert self._playwright is not None
         self._user_data = Path(tempfile.mkdtemp(prefix="scratchworld-browser-"))
         width, height = self.config.viewport
