@@ -302,7 +302,12 @@ class BrowserSession:
             device_scale_factor=1,
         )
         shared = SharedContext(context, origins)
-        await shared.start()
+        try:
+            await shared.start()
+        except BaseException:  # the session does not hold the context yet: close it here
+            with contextlib.suppress(PlaywrightError):
+                await _bounded(context.close(), "closing the shared context")
+            raise
         return shared
 
     async def keep_idle(self) -> int:
