@@ -92,6 +92,16 @@ async def test_a_crashed_editor_takes_no_sibling_with_it(session: BrowserSession
     assert await session.responsive()
 
 
+async def test_a_popup_is_its_editors_own_fails_its_recycling_and_closes_with_it(session: BrowserSession) -> None:
+    async with session.editor("bare") as editor, session.editor("bare") as sibling:
+        async with editor.page.expect_popup() as opening:
+            await editor.page.evaluate("window.open('about:blank')")
+        popup = await opening.value
+        assert await editor.recycle() == ["the page opened 1 more (a link or popup)"]
+        assert await sibling.recycle() != ["the page opened 1 more (a link or popup)"]  # not the sibling's
+    assert popup.is_closed()
+
+
 REACH = """async ([urls, frames]) => {
   for (const url of urls) await fetch(url).catch(() => null);
   await Promise.all(frames.map((url) => new Promise((resolve) => {
