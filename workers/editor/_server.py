@@ -135,10 +135,13 @@ class _Handler(SimpleHTTPRequestHandler):
 
     _at_editor_origin = False
     _shared_script = False
+    _refused = False
 
     def parse_request(self) -> bool:
         """Go on only with a request for an origin we answer, whether sent directly or as a proxy request."""
-        self._at_editor_origin = self._shared_script = False  # per request (a connection may carry several)
+        self._at_editor_origin = self._shared_script = self._refused = (
+            False  # per request (a connection may carry several)
+        )
         if not super().parse_request():
             return False
         target = urlsplit(self.path)
@@ -149,6 +152,7 @@ class _Handler(SimpleHTTPRequestHandler):
         own = netloc is not None and self._answers(netloc, target.path)
         if not own:
             self.refusals.note(f"{self.command} {self.path}")
+            self._refused = True
             self.close_connection = True
             self.send_error(403, "the editor page may load the editor's own files only")
         return own
@@ -158,8 +162,9 @@ class _Handler(SimpleHTTPRequestHandler):
         if netloc in (f"127.0.0.1:{port}", f"localhost:{port}"):
             if self.origins is None:
                 return True
-            self._shared_script = self.headers.get("Sec-Fetch-Dest") == "script"
-            return self._shared_script and unquote(path).lstrip("/") not in OWN_FILES
+            script = self.headers.get("Sec-Fetch-Dest") == "script"
+            self._shared_script = script and unquote(path).lstrip("/") not in OWN_FILES
+            return self._shared_script
         if self.origins is not None and self.origins.is_live(netloc):
             self._at_editor_origin = self.headers.get("Sec-Fetch-Site") in OWN_PAGE_FETCHES
             return self._at_editor_origin
@@ -189,8 +194,10 @@ class _Handler(SimpleHTTPRequestHandler):
     def end_headers(self) -> None:
         # Nothing from an editor origin is kept: a page could otherwise load a sibling's page from the HTTP
         # cache (all 127.0.0.2 ports are one site, one cache partition) without asking us, as a frame at the
-        # sibling's origin. An editor's own files are loaded once in its life, so nothing is lost.
-        self.send_header("Cache-Control", "no-store" if self._at_editor_origin else "max-age=86400")
+        # sibling's origin. An editor's own files are loaded once in its life, so nothing is lost. Nor is a
+        # refusal kept: a page refused a later editor's page would otherwise leave it refused in the cache.
+        keep = not (self._at_editor_origin or self._refused)
+        self.send_header("Cache-Control", "max-age=86400" if keep else "no-store")
         if self._shared_script:
             self.send_header("Access-Control-Allow-Origin", "*")
         super().end_headers()

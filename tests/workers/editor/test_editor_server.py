@@ -111,7 +111,8 @@ def test_with_editor_origins_each_answers_its_own_page_only_and_the_shared_origi
         assert b'<script src="bridge.js"></script>' in page  # ours stay at the editor's origin
         assert _asked(server, f"{editor}/bridge.js", {"Sec-Fetch-Site": "same-origin"})[0] == 200
         for site in ("same-site", "cross-site"):  # a sibling editor's frame, window or fetch
-            assert _asked(server, f"{editor}/{EDITOR_PAGE}", {"Sec-Fetch-Site": site})[0] == 403
+            status, headers, _ = _asked(server, f"{editor}/{EDITOR_PAGE}", {"Sec-Fetch-Site": site})
+            assert status == 403 and headers["Cache-Control"] == "no-store"  # not kept for the editor itself
         assert _asked(server, f"{editor}/{EDITOR_PAGE}", {})[0] == 403
         assert _asked(server, f"{closed}/{EDITOR_PAGE}", {"Sec-Fetch-Site": "none"})[0] == 403
         status, headers, _ = _asked(server, f"{shared}/{BUNDLE_FILE}", {"Sec-Fetch-Dest": "script"})
