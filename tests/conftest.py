@@ -74,7 +74,7 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
 
 @pytest.fixture(scope="session")
 async def session() -> AsyncIterator[BrowserSession]:
-    """One browser for every test that needs an editor (each editor still gets a fresh context)."""
+    """One browser for every test that needs an editor (each editor still gets an origin of its own)."""
     async with BrowserSession() as browser:
         yield browser
 

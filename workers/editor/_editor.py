@@ -10,7 +10,7 @@ import asyncio
 import base64
 import contextlib
 import time
-from collections.abc import AsyncIterator, Awaitable
+from collections.abc import AsyncIterator, Awaitable, Callable
 from contextlib import asynccontextmanager
 from typing import Any
 
@@ -119,12 +119,27 @@ class EvaluationRun(BaseModel):
     block functions it called, whether it asked for a redraw (1/0) and the real ms it took."""
 
 
-class Editor:
-    """A Scratch editor (or a bare evaluation page) in its own browser context; close it to free the context."""
+Release = Callable[[list[Page]], Awaitable[None]]
+"""Closes an editor's pages in a shared context and clears its origin (``SharedContext.release``)."""
 
-    def __init__(self, context: BrowserContext, page: Page, kind: EvaluationPage = "editor") -> None:
+_releasing: set[asyncio.Future[None]] = set()
+"""Releases in progress whose closer was cancelled (kept referenced until done)."""
+
+
+class Editor:
+    """A Scratch editor (or a bare evaluation page) in its own browser context, or at its own origin in a
+    shared one (``release`` given); close it to free the context or the origin."""
+
+    def __init__(
+        self, context: BrowserContext, page: Page, kind: EvaluationPage = "editor", release: Release | None = None
+    ) -> None:
         self.context = context
         self.page = page
+        self._release = release
+        self.shared = release is not None
+        """In a context shared with other editors (closing it closes only this editor's pages)."""
+        self._popups: list[Page] = []
+        """Pages this editor's page (or one of them) opened: its own, to check on recycling and close with it."""
         self.kind: EvaluationPage = kind
         """The editor page, or the bare evaluation page (evaluations only: no blocks, no GUI)."""
         self.console: list[str] = []
@@ -139,6 +154,11 @@ class Editor:
         page.on("console", self._on_console)
         page.on("pageerror", lambda exc: self.page_errors.append(str(exc)))
         page.on("crash", self._on_crash)
+        page.on("popup", self._on_popup)
+
+    def _on_popup(self, popup: Page) -> None:
+        self._popups.append(popup)
+        popup.on("popup", self._on_popup)
 
     def _on_console(self, message: ConsoleMessage) -> None:
         if len(self.console) < CONSOLE_LINE_LIMIT:
@@ -271,8 +291,8 @@ class Editor:
         """
         self.console.clear()  # the next use gets the whole console allowance
         self.page_errors.clear()
-        if len(self.context.pages) != 1:
-            return [f"the context has {len(self.context.pages)} pages (a link or popup opened one)"]
+        if opened := [popup for popup in self._popups if not popup.is_closed()]:
+            return [f"the page opened {len(opened)} more (a link or popup)"]
         try:  # what an agent's gesture may leave half done: pressed keys and buttons, an open menu
             for key in RELEASED_KEYS:
                 await self.page.keyboard.up(key)
@@ -317,7 +337,17 @@ class Editor:
         return value
 
     async def close(self) -> None:
-        """Close the context, even when its page is stuck in a busy loop."""
+        """Close the context (or, in a shared one, the pages and then the origin's storage), even when the page
+        is stuck in a busy loop; a cancelled close still completes."""
+        if self.shared:
+            release, self._release = self._release, None
+            if release is None:  # closed already
+                return
+            task = asyncio.ensure_future(release([self.page, *self._popups]))
+            _releasing.add(task)
+            task.add_done_callback(_releasing.discard)
+            await asyncio.shield(task)
+            return
         # A browser that is gone or wedged is noticed by the session on its next use.
         with contextlib.suppress(PlaywrightError, TimeoutError):
             await asyncio.wait_for(self.context.close(), CLOSE_TIMEOUT_S)

@@ -10,12 +10,22 @@ The same server is the browser's HTTP proxy for every destination, loopback incl
 whatever the page is made to fetch elsewhere (by a task's script, a project, or an agent's
 clicks: images, workers, WebSockets, extension services) is refused here and noted, so nothing
 on the node's loopback or network (Ray, model servers, dashboards) is reachable from a page.
+
+With editor origins (``EditorOrigins``: editors sharing one browser context, each at a
+``127.0.0.2:<port>`` origin of its own), the server also answers the live editor origins, and only
+for that origin's own page (``Sec-Fetch-Site`` ``none``: the browser's navigation, or ``same-origin``),
+so no editor can frame, open or fetch a sibling's origin and reach its storage. The pages' installed
+scripts (the editor bundle, the bare page's packages) then come from the server's own origin, the
+*shared origin*, which serves nothing else and only as scripts: one URL for every editor, so V8's code
+cache serves them all.
 """
 
 from __future__ import annotations
 
+import io
 import logging
 import os
+import re
 import sys
 import threading
 from collections import OrderedDict
@@ -27,6 +37,7 @@ from typing import BinaryIO
 from urllib.parse import unquote, urlsplit
 
 from workers.contract import EditorBundleMissingError, EvaluationPage
+from workers.editor._origins import EditorOrigins
 from workers.node import (
     BARE_BUILT_FILES,
     BARE_DIR,
@@ -41,6 +52,12 @@ from workers.node import (
 )
 
 log = logging.getLogger(__name__)
+
+_SCRIPT = re.compile(r'<script src="([^"]+)"></script>')
+
+OWN_PAGE_FETCHES = frozenset({"none", "same-origin"})
+"""``Sec-Fetch-Site`` values answered at an editor origin: the browser's own navigation and the page's own
+requests. A sibling editor's frame, window or fetch is ``same-site`` (Chromium sets the header; pages cannot)."""
 
 REFUSALS_KEPT = 200
 """Distinct refused requests remembered per server (the least recent are forgotten)."""
@@ -97,30 +114,75 @@ class EditorAssets:
         return candidate
 
 
+def with_shared_scripts(html: str, shared_origin: str) -> str:
+    """A page whose installed scripts (not ours) load from ``shared_origin``, as CORS scripts so that their
+    errors keep their messages."""
+
+    def shared(match: re.Match[str]) -> str:
+        name = match.group(1)
+        if name in OWN_FILES:
+            return match.group(0)
+        return f'<script src="{shared_origin}/{name}" crossorigin="anonymous"></script>'
+
+    return _SCRIPT.sub(shared, html)
+
+
 class _Handler(SimpleHTTPRequestHandler):
     assets: EditorAssets
     refusals: Refusals
+    origins: EditorOrigins | None
+    """With editor origins, the shared origin serves installed scripts only (see the module docstring)."""
+
+    _at_editor_origin = False
+    _shared_script = False
+    _refused = False
 
     def parse_request(self) -> bool:
-        """Go on only with a request for our own origin, whether sent directly or as a proxy request."""
+        """Go on only with a request for an origin we answer, whether sent directly or as a proxy request."""
+        self._at_editor_origin = self._shared_script = self._refused = (
+            False  # per request (a connection may carry several)
+        )
         if not super().parse_request():
             return False
-        origins = {f"127.0.0.1:{self.server.server_address[1]}", f"localhost:{self.server.server_address[1]}"}
         target = urlsplit(self.path)
         if target.scheme:  # absolute form: the browser uses us as its proxy
-            own = target.scheme == "http" and target.netloc in origins
+            netloc = target.netloc if target.scheme == "http" else None
         else:  # origin form (a CONNECT's authority parses as a path here, and is refused below)
-            own = self.command != "CONNECT" and self.path.startswith("/") and self.headers.get("Host") in origins
+            netloc = self.headers.get("Host") if self.command != "CONNECT" and self.path.startswith("/") else None
+        own = netloc is not None and self._answers(netloc, target.path)
         if not own:
             self.refusals.note(f"{self.command} {self.path}")
+            self._refused = True
             self.close_connection = True
             self.send_error(403, "the editor page may load the editor's own files only")
         return own
 
+    def _answers(self, netloc: str, path: str) -> bool:
+        port = self.server.server_address[1]
+        if netloc in (f"127.0.0.1:{port}", f"localhost:{port}"):
+            if self.origins is None:
+                return True
+            script = self.headers.get("Sec-Fetch-Dest") == "script"
+            self._shared_script = script and unquote(path).lstrip("/") not in OWN_FILES
+            return self._shared_script
+        if self.origins is not None and self.origins.is_live(netloc):
+            self._at_editor_origin = self.headers.get("Sec-Fetch-Site") in OWN_PAGE_FETCHES
+            return self._at_editor_origin
+        return False
+
     def send_head(self) -> BinaryIO | None:  # type: ignore[override]
-        if self.assets.resolve(self.path) is None:
+        path = self.assets.resolve(self.path)
+        if path is None:
             self.send_error(404)
             return None
+        if self._at_editor_origin and path.name in (EDITOR_PAGE, BARE_PAGE) and path.parent == self.assets.gui_dir:
+            shared = f"http://127.0.0.1:{self.server.server_address[1]}"
+            body = with_shared_scripts(path.read_text(encoding="utf-8"), shared).encode()
+            self.send_response(200)
+            self.send_header("Content-Type", "text/html; charset=utf-8")
+            self.send_header("Content-Length", str(len(body)))
+            self.end_headers()
+            return io.BytesIO(body)
         return super().send_head()
 
     def translate_path(self, path: str) -> str:
@@ -130,7 +192,14 @@ class _Handler(SimpleHTTPRequestHandler):
         self.send_error(404)
 
     def end_headers(self) -> None:
-        self.send_header("Cache-Control", "max-age=86400")
+        # Nothing from an editor origin is kept: a page could otherwise load a sibling's page from the HTTP
+        # cache (all 127.0.0.2 ports are one site, one cache partition) without asking us, as a frame at the
+        # sibling's origin. An editor's own files are loaded once in its life, so nothing is lost. Nor is a
+        # refusal kept: a page refused a later editor's page would otherwise leave it refused in the cache.
+        keep = not (self._at_editor_origin or self._refused)
+        self.send_header("Cache-Control", "max-age=86400" if keep else "no-store")
+        if self._shared_script:
+            self.send_header("Access-Control-Allow-Origin", "*")
         super().end_headers()
 
     def log_message(self, format: str, *args: object) -> None:
@@ -177,10 +246,12 @@ class _Server(ThreadingHTTPServer):
 
 
 class EditorServer:
-    """Serves the editor on an ephemeral 127.0.0.1 port from a daemon thread."""
+    """Serves the editor on an ephemeral 127.0.0.1 port from a daemon thread (and, given ``origins``, at the
+    live editor origins, with the installed scripts from that port: the shared origin)."""
 
-    def __init__(self, assets: EditorAssets | None = None, port: int = 0) -> None:
+    def __init__(self, assets: EditorAssets | None = None, port: int = 0, origins: EditorOrigins | None = None) -> None:
         self.assets = assets or EditorAssets()
+        self.origins = origins
         self._port = port
         self._httpd: ThreadingHTTPServer | None = None
         self._thread: threading.Thread | None = None
@@ -189,19 +260,24 @@ class EditorServer:
 
     @cached_property
     def _handler(self) -> type[_Handler]:
-        return type("EditorRequestHandler", (_Handler,), {"assets": self.assets, "refusals": self.refusals})
+        return type(
+            "EditorRequestHandler",
+            (_Handler,),
+            {"assets": self.assets, "refusals": self.refusals, "origins": self.origins},
+        )
 
     @property
     def url(self) -> str:
         """The editor page's address."""
         return self.page_url("editor")
 
-    def page_url(self, page: EvaluationPage) -> str:
-        """The address of the editor page (``editor``) or the bare evaluation page (``bare``)."""
+    def page_url(self, page: EvaluationPage, origin: str | None = None) -> str:
+        """The address of the editor page (``editor``) or the bare evaluation page (``bare``), at the shared
+        origin or at an editor ``origin``."""
         if self._httpd is None:
             raise RuntimeError("the editor server is not running")
         host, port = self._httpd.server_address[:2]
-        return f"http://{host}:{port}{self.assets.page_path(page)}"
+        return f"{origin or f'http://{host}:{port}'}{self.assets.page_path(page)}"
 
     @property
     def proxy(self) -> str:

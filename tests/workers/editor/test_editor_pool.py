@@ -120,7 +120,7 @@ async def test_used_editors_are_recycled_and_fresh_ones_opened_ahead(session: Br
             started = time.monotonic()
             async with pool.editor() as spare:
                 waited = time.monotonic() - started
-                assert spare.context not in (taken.context, other.context)
+                assert spare.page not in (taken.page, other.page)
                 assert spare.ready_s is not None and waited < spare.ready_s / 2
         # Used for no evaluation, they are not vouched for: closed, not kept.
         assert (

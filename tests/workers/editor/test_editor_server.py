@@ -12,7 +12,9 @@ import pytest
 from scratchworld_dist import EditorBundleMissingError
 from tests.conftest import copy_page_files
 from workers.editor import EditorAssets, EditorServer
+from workers.editor._origins import EditorOrigins
 from workers.editor._server import REFUSALS_KEPT
+from workers.node import BUNDLE_FILE, EDITOR_PAGE
 
 
 def _get(url: str) -> tuple[int, bytes]:
@@ -83,3 +85,39 @@ def test_a_pages_refused_attempt_stays_in_view_through_repeated_background_calls
             "GET http://device-manager.example/scratch/ble",
             "POST http://update.example/service/update2/json",
         ]
+
+
+def _asked(server: EditorServer, url: str, headers: dict[str, str]) -> tuple[int, dict[str, str], bytes]:
+    """A proxied GET with the headers Chromium would set (``Sec-Fetch-*``: pages cannot set them)."""
+    host, port = server.proxy.removeprefix("http://").split(":")
+    connection = http.client.HTTPConnection(host, int(port), timeout=10)
+    try:
+        connection.request("GET", url, headers=headers)
+        response = connection.getresponse()
+        return response.status, dict(response.getheaders()), response.read()
+    finally:
+        connection.close()
+
+
+def test_with_editor_origins_each_answers_its_own_page_only_and_the_shared_origin_scripts_only() -> None:
+    origins = EditorOrigins()
+    with EditorServer(origins=origins) as server:
+        shared = server.proxy
+        editor, closed = origins.take(), origins.take()
+        origins.release(closed, cleared=True)
+        status, headers, page = _asked(server, f"{editor}/{EDITOR_PAGE}", {"Sec-Fetch-Site": "none"})
+        assert status == 200 and headers["Cache-Control"] == "no-store"
+        assert f'<script src="{shared}/{BUNDLE_FILE}" crossorigin="anonymous"></script>' in page.decode()
+        assert b'<script src="bridge.js"></script>' in page  # ours stay at the editor's origin
+        assert _asked(server, f"{editor}/bridge.js", {"Sec-Fetch-Site": "same-origin"})[0] == 200
+        for site in ("same-site", "cross-site"):  # a sibling editor's frame, window or fetch
+            status, headers, _ = _asked(server, f"{editor}/{EDITOR_PAGE}", {"Sec-Fetch-Site": site})
+            assert status == 403 and headers["Cache-Control"] == "no-store"  # not kept for the editor itself
+        assert _asked(server, f"{editor}/{EDITOR_PAGE}", {})[0] == 403
+        assert _asked(server, f"{closed}/{EDITOR_PAGE}", {"Sec-Fetch-Site": "none"})[0] == 403
+        status, headers, _ = _asked(server, f"{shared}/{BUNDLE_FILE}", {"Sec-Fetch-Dest": "script"})
+        assert status == 200 and headers["Access-Control-Allow-Origin"] == "*"
+        assert _asked(server, f"{shared}/{BUNDLE_FILE}", {"Sec-Fetch-Dest": "iframe"})[0] == 403
+        assert _asked(server, f"{shared}/bridge.js", {"Sec-Fetch-Dest": "script"})[0] == 403
+        assert _asked(server, f"{shared}/{EDITOR_PAGE}", {"Sec-Fetch-Dest": "document"})[0] == 403
+        assert f"GET {closed}/{EDITOR_PAGE}" in server.refusals.latest

@@ -17,6 +17,7 @@ from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs,
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec
 from tests.conftest import REPO, SUITE_DIR
+from tests.support.browser_pages import editor_pages
 from tests.support.openai_server import OpenAIServer, reply
 from workers.actor import JobWorker
 from workers.agent_api import AgentBase, StepResult, build_agent
@@ -158,8 +159,8 @@ async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
     assert session._browser is not None
     # The cancelled episode closed its pages; only evaluation pages waiting for reuse stay open.
     assert worker._runner is not None and worker._runner.evaluator.pool is not None
-    waiting = [editor.context for pages in worker._runner.evaluator.pool._ready.values() for editor in pages]
-    assert session._browser.contexts == waiting
+    waiting = {editor.page for pages in worker._runner.evaluator.pool._ready.values() for editor in pages}
+    assert set(editor_pages(session._browser)) == waiting
     again = await worker.run(*episode(contents["sum_two_numbers"]))
     assert again.outcome == "passed"
 
@@ -171,7 +172,7 @@ async def test_a_browser_that_dies_mid_episode_is_an_error_then_replaced(
     running = asyncio.create_task(worker.run(*episode(contents["sum_two_numbers"])))
     for _ in range(600):
         session = worker._session
-        if session is not None and session._browser is not None and session._browser.contexts:
+        if session is not None and session._browser is not None and editor_pages(session._browser):
             break
         await asyncio.sleep(0.05)
     else:
@@ -199,9 +200,8 @@ async def test_a_crashed_page_takes_no_sibling_episode_with_it(
         await until_asked(server, 2)  # both agents are waiting for their first reply, each with its own page
         assert worker._session is not None and worker._session._browser is not None
         browser = worker._session._browser
-        first, _ = browser.contexts
-        crashed_page = first.pages[0]
-        cdp = await first.new_cdp_session(crashed_page)
+        crashed_page, _ = editor_pages(browser)
+        cdp = await crashed_page.context.new_cdp_session(crashed_page)
         crashing = asyncio.ensure_future(cdp.send("Page.crash"))  # the renderer dies before it can answer
         await crashed_page.wait_for_event("crash")
         server.release()
