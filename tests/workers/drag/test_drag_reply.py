@@ -208,9 +208,10 @@ HOSTILE = {
 
 @pytest.mark.parametrize("reply", list(HOSTILE.values()), ids=list(HOSTILE))
 def test_hostile_replies_are_read_quickly_without_raising(reply: str) -> None:
-    started = time.perf_counter()
+    # CPU time, not wall time: a regex that backtracks burns CPU, while a loaded machine only delays us.
+    started = time.process_time()
     parsed = parse_drag_reply(reply)
-    assert time.perf_counter() - started < 1.0
+    assert time.process_time() - started < 1.0
     assert parsed.parse == "unparsed"
 
 
