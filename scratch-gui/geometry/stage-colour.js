@@ -8,8 +8,10 @@
 scratchworldModule({name: 'geometry/stage-colour', requires: ['rects'], create(ctx, rects) {
   'use strict';
 
-  // Page pixels around the chosen point that must show the colour too (a pointer is a pixel off).
-  const MARGIN = 2;
+  // Page pixels around the chosen point that should show the colour too (a pointer may be a pixel off): the
+  // widest margin any point of the stage offers, down to none (a colour drawn in single pixels only, as a
+  // small stage shows thin shapes; the exact point is then clicked, and the oracle checks what was picked).
+  const MARGINS = [2, 1, 0];
 
   function hex(value) {
     return value.toString(16).padStart(2, '0');
@@ -34,13 +36,15 @@ scratchworldModule({name: 'geometry/stage-colour', requires: ['rects'], create(c
       const base = 4 * (py * picked.width + px);
       return `#${hex(picked.data[base])}${hex(picked.data[base + 1])}${hex(picked.data[base + 2])}`;
     };
-    for (let y = MARGIN; y < canvas.clientHeight - MARGIN; y++) {
-      for (let x = MARGIN; x < canvas.clientWidth - MARGIN; x++) {
-        let solid = true;
-        for (let dy = -MARGIN; dy <= MARGIN && solid; dy++) {
-          for (let dx = -MARGIN; dx <= MARGIN && solid; dx++) solid = colourAt(x + dx, y + dy) === wanted;
+    for (const margin of MARGINS) {
+      for (let y = margin; y < canvas.clientHeight - margin; y++) {
+        for (let x = margin; x < canvas.clientWidth - margin; x++) {
+          let solid = true;
+          for (let dy = -margin; dy <= margin && solid; dy++) {
+            for (let dx = -margin; dx <= margin && solid; dx++) solid = colourAt(x + dx, y + dy) === wanted;
+          }
+          if (solid) return {found: true, point: {x: stage.x + x, y: stage.y + y}, stage: stage};
         }
-        if (solid) return {found: true, point: {x: stage.x + x, y: stage.y + y}, stage: stage};
       }
     }
     return {found: false, point: null, stage: stage};

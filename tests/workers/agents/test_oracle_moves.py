@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from scratchworld_dist.sb3 import Block, Project, block, circle_costume
+from scratchworld_dist.sb3 import Block, Project, block, circle_costume, variable
 from tests.conftest import primitive_editor
 from tests.support.primitive_oracle import composite_and_oracle, drive, sprite_blocks
 from workers.agents._primitive_oracle import PrimitiveOracle
@@ -133,3 +133,73 @@ async def test_an_angle_input_is_typed_into(shared_pool: EditorPool) -> None:
     expected, performed, _ = await composite_and_oracle(shared_pool, sb3, [SELECT_CAT, value])
     assert performed == expected
     assert '\\"NUM\\":\\"45\\"' in expected
+
+
+async def test_a_colour_the_stage_shows_only_in_small_shapes_is_picked_with_the_eyedropper(
+    shared_pool: EditorPool,
+) -> None:
+    """No slider setting gives #fff700, and the small stage draws the sprite wearing it three pixels wide,
+    edges blended: the eyedropper is aimed at the one pixel of exactly that colour (it used to want 5 x 5)."""
+    project = Project()
+    sprite = project.sprite("Cat", costume=circle_costume("cat", 3, "#fff700"))
+    touching = block("sensing_touchingcolor", COLOR="#0000ff")
+    sprite.script(block("event_whenflagclicked"), block("control_wait_until", CONDITION=touching))
+    sb3 = project.to_sb3()
+    at = await index_of(shared_pool, sb3)
+    field = {"blockIndex": at["sensing_touchingcolor"], "fieldName": "COLOR", "value": "#fff700"}
+    colour = CompositeAction(api="set_block_field", args=field)
+    expected, performed, _ = await composite_and_oracle(shared_pool, sb3, [SELECT_CAT, colour])
+    assert performed == expected
+    assert "#fff700" in expected
+
+
+def script_at_the_bottom_of_the_view() -> bytes:
+    """decimal_to_binary's workspace at step 30, rebuilt: its script ends at the view's bottom edge, with an
+    empty mod block in a join and loose reporters above it. Every straight way into the mod block's first
+    input from where there is room crosses other inputs, and below the script there is no room in view."""
+    project = Project()
+    sprite = project.sprite("Cat", costume=circle_costume("cat", 10, "#f80"))
+    for name in ("number", "binary"):
+        project.stage.variable(name, 0)
+    mod = block("operator_mod", NUM1="", NUM2="")
+    sprite.script(
+        block("event_whenflagclicked"),
+        block("sensing_askandwait", QUESTION="Input"),
+        block("data_setvariableto", VARIABLE="number", VALUE=block("sensing_answer")),
+        block("data_setvariableto", VARIABLE="binary", VALUE="0"),
+        block(
+            "control_repeat_until",
+            CONDITION=block("operator_equals", OPERAND1=variable("number"), OPERAND2="50"),
+            SUBSTACK=[
+                block(
+                    "data_setvariableto", VARIABLE="binary", VALUE=block("operator_join", STRING1=mod, STRING2="banana")
+                )
+            ],
+        ),
+        block("looks_say", MESSAGE=variable("binary")),
+        x=520,
+        y=480,
+    )
+    sprite.script(block("data_setvariableto", VARIABLE="number", VALUE="0"), x=180, y=230)
+    sprite.script(variable("number"), x=530, y=60)
+    return project.to_sb3()
+
+
+async def test_a_value_with_no_way_in_from_the_view_goes_in_after_zooming_out(shared_pool: EditorPool) -> None:
+    """No free spot in view offers a path that lands (it used to diverge here); one zoom-out shows room under
+    the script, from where the reporter goes straight up into the input."""
+    sb3 = script_at_the_bottom_of_the_view()
+    async with primitive_editor(shared_pool, sb3) as editor:
+        mod = (await sprite_blocks(editor, "Cat"))["operator_mod"][0]
+        reporter = -1  # the loose variable reporter's index
+        order = (await editor.call("compositeBlockIds"))["ids"]  # type: ignore[index,call-overload]
+        for index, block_id in enumerate(order):
+            info = await editor.call("geometryBlock", {"id": block_id}) if block_id else None
+            if info and info["opcode"] == "data_variable" and info["attachment"] is None:  # type: ignore[index,call-overload]
+                reporter = index
+    assert reporter > 0
+    placement = {"kind": "value_into", "inputName": "NUM1"}
+    into_mod = {"sourceBlockIndex": reporter, "targetBlockIndex": mod, "placement": placement}
+    trajectory = [SELECT_CAT, CompositeAction(api="connect_blocks", args=into_mod)]
+    expected, performed, _ = await composite_and_oracle(shared_pool, sb3, trajectory)
+    assert performed == expected

@@ -14,13 +14,15 @@ from workers.agents._primitive_oracle._geometry import BlockGeometry, Point
 from workers.agents._primitive_oracle._gestures import DRAG_STEPS, click, drag
 from workers.agents._primitive_oracle._page import Page
 from workers.agents._primitive_oracle._plan import PlannedStep, Run
-from workers.agents._primitive_oracle._scrolling import MAX_SCROLLS, ROOM_ATTEMPTS, make_room, scroll_towards
+from workers.agents._primitive_oracle._scrolling import MAX_SCROLLS, ROOM_ATTEMPTS, make_room, scroll_towards, zoom_out
 from workers.contract import PrimitiveAction
 
 CLEAN_UP = "Clean up Blocks"
 MAX_STAGINGS = 2
 """Free spots a connecting drag may first move the block to: a second one when the path planned from
 the first is no longer clean once the block is there."""
+MAX_PATH_ZOOMS = 2
+"""Zoom-outs a connecting drag may make when no free spot in view offers a path that lands."""
 
 
 async def connect_blocks(run: Run, step: PlannedStep) -> AsyncIterator[PrimitiveAction]:
@@ -126,8 +128,8 @@ async def drag_connection(
     wanted one, other previews on the way replayed as drawn), from where it is or from a free spot.
     """
     args = {"moving": moving, "local": local, "target": target, "remote": remote, "steps": DRAG_STEPS}
-    stagings = 0
-    for _ in range(MAX_SCROLLS + MAX_STAGINGS + 1):
+    stagings = zooms = 0
+    for _ in range(MAX_SCROLLS + MAX_STAGINGS + MAX_PATH_ZOOMS + 1):
         plan = await page.plan_drag(args)
         grab = plan.grab
         if grab is None:
@@ -145,10 +147,18 @@ async def drag_connection(
             await page.wait("quiet", what="the drop to settle")
             return
         if staging is None:
-            raise OracleDivergenceError(
+            why = (
                 f"{step.describe()}: no clean path to connect {local} of {moving} to {remote} of {target}: "
                 f"{plan.reason}"
             )
+            if zooms == MAX_PATH_ZOOMS:
+                raise OracleDivergenceError(why)
+            # Drawn smaller, the scripts leave free spots on sides of the destination the view had no room
+            # on (below a script ending at the view's bottom): spots whose paths come in from there.
+            async for gesture in zoom_out(page, why):
+                yield gesture
+            zooms += 1
+            continue
         yield drag(grab, staging.end)
         await page.wait("quiet", what="the block to settle on its staging spot")
         stagings += 1
