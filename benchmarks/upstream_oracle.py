@@ -50,6 +50,8 @@ class Outcome(BaseModel):
     """One mode's result for a task: structure against the golden, and verdicts per profile (None: not run)."""
 
     structure: bool = False
+    completed: bool = True
+    """Every action was carried out (a refused call, a failed gesture or a divergence stops a run early)."""
     problem: str = ""
     verdicts: dict[str, bool | None] = {}
     seconds: float = 0.0
@@ -105,6 +107,7 @@ async def outcome(
         )
     return Outcome(
         structure=not differences and not problem,
+        completed=not problem,
         problem=problem or "; ".join(differences[:3]),
         verdicts=verdicts,
         seconds=time.monotonic() - started,
@@ -156,6 +159,15 @@ def line(row: OracleRow) -> str:
     return text + "".join(f"\n      {note}" for note in notes)
 
 
+def solved(result: Outcome | None, golden: dict[str, bool | None]) -> bool:
+    """Solved by the task's own tests where its script exists (every profile the golden passes), by structure
+    against the golden where it does not (a held-out script)."""
+    if result is None or not result.completed:
+        return False
+    judged = [ok for p, ok in result.verdicts.items() if ok is not None and golden.get(p)]
+    return all(judged) if judged else result.structure
+
+
 def totals(rows: list[OracleRow]) -> None:
     planned = [r for r in rows if r.plan.error is None]
     print(f"\n{len(rows)} tasks, {len(planned)} planned")
@@ -167,12 +179,15 @@ def totals(rows: list[OracleRow]) -> None:
         composite_ok = sum(r.composite.structure for r in group)
         primitive = [r for r in group if r.primitive is not None]
         primitive_ok = sum(r.primitive.structure for r in primitive if r.primitive is not None)
+        composite_solved = sum(solved(r.composite, r.golden) for r in group)
+        primitive_solved = sum(solved(r.primitive, r.golden) for r in primitive)
         print(
             f"  {name:<8} {len(group):>3} tasks  mean calls {mean(r.plan.actions for r in group):6.1f}  "
             f"mean modified blocks {mean(r.plan.modified_blocks for r in group):6.2f}  "
-            f"composite same as golden {composite_ok}/{len(group)}  "
-            f"primitive same as golden {primitive_ok}/{len(primitive)}"
+            f"composite same as golden {composite_ok}/{len(group)}, solved {composite_solved}/{len(group)}  "
+            f"primitive same as golden {primitive_ok}/{len(primitive)}, solved {primitive_solved}/{len(primitive)}"
         )
+    print("  solved: the task's own tests pass where its script exists, the structure matches where it does not")
     print(f"  paper: mean modified blocks {PAPER_MEAN} over its tasks, {PAPER_COMPUTE_MEAN} for Compute")
 
 
