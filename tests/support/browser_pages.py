@@ -1,9 +1,13 @@
 """The editor pages open in a browser, whichever ``editor_isolation`` it runs (a shared context also holds a
-blank page of its own, for clearing origins)."""
+blank page of its own, for clearing origins), and killing one page's renderer."""
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
+
 from playwright.async_api import Browser, Page
+from playwright.async_api import Error as PlaywrightError
 
 from workers.node import BARE_PAGE, EDITOR_PAGE
 
@@ -14,3 +18,15 @@ def editor_pages(browser: Browser) -> list[Page]:
 
 
 PAGE_ENDINGS = (f"/{EDITOR_PAGE}", f"/{BARE_PAGE}")
+
+
+async def crash_renderer(page: Page) -> None:
+    """Kill ``page``'s renderer process and return once the page reports the crash."""
+    crashed = asyncio.Event()
+    page.on("crash", lambda _page: crashed.set())
+    cdp = await page.context.new_cdp_session(page)
+    crashing = asyncio.ensure_future(cdp.send("Page.crash"))  # never answers: the renderer dies
+    await asyncio.wait_for(crashed.wait(), 20)
+    crashing.cancel()
+    with contextlib.suppress(PlaywrightError, asyncio.CancelledError):
+        await crashing

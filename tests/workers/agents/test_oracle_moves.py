@@ -34,6 +34,17 @@ async def index_of(pool: EditorPool, sb3: bytes) -> dict[str, int]:
         return {opcode: index for opcode, (index, _) in (await sprite_blocks(editor, "Cat")).items()}
 
 
+async def set_field(pool: EditorPool, sb3: bytes, opcode: str, field: str, value: str) -> tuple[str, str]:
+    """What setting ``field`` of Cat's ``opcode`` block to ``value`` leaves: through the composite API, and
+    through the oracle's gestures."""
+    at = await index_of(pool, sb3)
+    args = {"blockIndex": at[opcode], "fieldName": field, "value": value}
+    expected, performed, _ = await composite_and_oracle(
+        pool, sb3, [SELECT_CAT, CompositeAction(api="set_block_field", args=args)]
+    )
+    return expected, performed
+
+
 def connect(source: int, target: int, kind: str) -> CompositeAction:
     return CompositeAction(
         api="connect_blocks", args={"sourceBlockIndex": source, "targetBlockIndex": target, "placement": {"kind": kind}}
@@ -97,11 +108,7 @@ async def test_scripts_too_far_apart_to_show_at_once_are_joined_after_zooming_ou
 async def test_an_empty_text_input_is_typed_into(shared_pool: EditorPool) -> None:
     """An empty text input is drawn narrow; the oracle clicks its shadow to edit it."""
     sb3 = cat(([block("event_whenflagclicked"), block("looks_say", MESSAGE="")], 40))
-    at = await index_of(shared_pool, sb3)
-    value = CompositeAction(
-        api="set_block_field", args={"blockIndex": at["looks_say"], "fieldName": "MESSAGE", "value": "hello"}
-    )
-    expected, performed, _ = await composite_and_oracle(shared_pool, sb3, [SELECT_CAT, value])
+    expected, performed = await set_field(shared_pool, sb3, "looks_say", "MESSAGE", "hello")
     assert performed == expected
     assert "hello" in expected
 
@@ -127,10 +134,7 @@ async def test_a_stack_taller_than_half_the_view_is_detached_after_zooming_out(s
 async def test_an_angle_input_is_typed_into(shared_pool: EditorPool) -> None:
     """A direction input opens Scratch's dial as well as its text editor; the oracle types into the editor."""
     sb3 = cat(([block("event_whenflagclicked"), block("motion_pointindirection", DIRECTION=90)], 40))
-    at = await index_of(shared_pool, sb3)
-    field = {"blockIndex": at["motion_pointindirection"], "fieldName": "DIRECTION", "value": "45"}
-    value = CompositeAction(api="set_block_field", args=field)
-    expected, performed, _ = await composite_and_oracle(shared_pool, sb3, [SELECT_CAT, value])
+    expected, performed = await set_field(shared_pool, sb3, "motion_pointindirection", "DIRECTION", "45")
     assert performed == expected
     assert '\\"NUM\\":\\"45\\"' in expected
 
@@ -144,11 +148,7 @@ async def test_a_colour_the_stage_shows_only_in_small_shapes_is_picked_with_the_
     sprite = project.sprite("Cat", costume=circle_costume("cat", 3, "#fff700"))
     touching = block("sensing_touchingcolor", COLOR="#0000ff")
     sprite.script(block("event_whenflagclicked"), block("control_wait_until", CONDITION=touching))
-    sb3 = project.to_sb3()
-    at = await index_of(shared_pool, sb3)
-    field = {"blockIndex": at["sensing_touchingcolor"], "fieldName": "COLOR", "value": "#fff700"}
-    colour = CompositeAction(api="set_block_field", args=field)
-    expected, performed, _ = await composite_and_oracle(shared_pool, sb3, [SELECT_CAT, colour])
+    expected, performed = await set_field(shared_pool, project.to_sb3(), "sensing_touchingcolor", "COLOR", "#fff700")
     assert performed == expected
     assert "#fff700" in expected
 

@@ -17,6 +17,7 @@ from scratchworld_dist import (
 )
 from scratchworld_dist.sb3 import Project, block, check_project, circle_costume
 from tests.conftest import copy_page_files, pooled_editor
+from tests.support.browser_pages import crash_renderer
 from tests.support.projects import counter_project
 from workers.contract import EvaluationSpec
 from workers.editor import BrowserConfig, BrowserSession, EditorAssets, EditorPool
@@ -174,12 +175,7 @@ async def test_scripts_cannot_replace_the_bridge(evaluator: Evaluator) -> None:
 
 async def test_a_crashed_page_is_reported_as_such(session: BrowserSession) -> None:
     async with session.editor() as editor:
-        crashed = asyncio.Event()
-        editor.page.on("crash", lambda _page: crashed.set())
-        cdp = await editor.context.new_cdp_session(editor.page)
-        crash = asyncio.ensure_future(cdp.send("Page.crash"))  # never answers: the renderer dies
-        await asyncio.wait_for(crashed.wait(), 20)
-        crash.cancel()
+        await crash_renderer(editor.page)
         with pytest.raises(EditorCrashedError, match="crashed during status"):
             await editor.status()
     async with session.editor() as editor:  # the browser itself is fine

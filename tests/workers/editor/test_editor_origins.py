@@ -9,6 +9,7 @@ import asyncio
 import psutil
 import pytest
 
+from tests.support.browser_pages import crash_renderer
 from tests.support.loopback import LoopbackListener
 from workers.contract import EditorCrashedError
 from workers.editor import BrowserConfig, BrowserSession, Editor
@@ -79,12 +80,7 @@ async def test_a_closed_editors_origin_is_cleared_before_it_comes_round_again(se
 
 async def test_a_crashed_editor_takes_no_sibling_with_it(session: BrowserSession) -> None:
     async with session.editor("bare") as crashed, session.editor("bare") as sibling:
-        crashing = asyncio.Event()
-        crashed.page.on("crash", lambda _page: crashing.set())
-        cdp = await crashed.context.new_cdp_session(crashed.page)
-        crash = asyncio.ensure_future(cdp.send("Page.crash"))  # never answers: the renderer dies
-        await asyncio.wait_for(crashing.wait(), 20)
-        crash.cancel()
+        await crash_renderer(crashed.page)
         with pytest.raises(EditorCrashedError):
             await crashed.status()
         assert (await sibling.status()).vm

@@ -10,14 +10,13 @@ from pathlib import Path
 
 import psutil
 import pytest
-from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec
 from tests.conftest import REPO, SUITE_DIR
-from tests.support.browser_pages import editor_pages
+from tests.support.browser_pages import crash_renderer, editor_pages
 from tests.support.openai_server import OpenAIServer, reply
 from workers.actor import JobWorker
 from workers.agent_api import AgentBase, StepResult, build_agent
@@ -201,13 +200,8 @@ async def test_a_crashed_page_takes_no_sibling_episode_with_it(
         assert worker._session is not None and worker._session._browser is not None
         browser = worker._session._browser
         crashed_page, _ = editor_pages(browser)
-        cdp = await crashed_page.context.new_cdp_session(crashed_page)
-        crashing = asyncio.ensure_future(cdp.send("Page.crash"))  # the renderer dies before it can answer
-        await crashed_page.wait_for_event("crash")
+        await crash_renderer(crashed_page)
         server.release()
-        crashing.cancel()
-        with contextlib.suppress(PlaywrightError, asyncio.CancelledError):
-            await crashing
         results = await asyncio.gather(*runs)
     by_outcome = sorted(results, key=lambda r: r.outcome)
     crashed, sibling = by_outcome[0], by_outcome[1]
