@@ -139,14 +139,16 @@ async def check(rows: list[OracleRow], tasks: dict[str, Task], plans: Path, prim
             print(line(row), flush=True)
 
 
+def judged(result: Outcome, golden: dict[str, bool | None]) -> dict[str, bool]:
+    """The verdicts that count: those of the profiles the golden itself passes (none without a script)."""
+    return {p: ok for p, ok in result.verdicts.items() if ok is not None and golden.get(p)}
+
+
 def passed(result: Outcome | None, golden: dict[str, bool | None]) -> str:
     if result is None:
         return "-"
     shown = "same" if result.structure else "DIFFERS"
-    judged = [
-        f"{p}:{'pass' if ok else 'FAIL'}" for p, ok in result.verdicts.items() if ok is not None and golden.get(p)
-    ]
-    return " ".join([shown, *judged])
+    return " ".join([shown, *(f"{p}:{'pass' if ok else 'FAIL'}" for p, ok in judged(result, golden).items())])
 
 
 def line(row: OracleRow) -> str:
@@ -164,8 +166,8 @@ def solved(result: Outcome | None, golden: dict[str, bool | None]) -> bool:
     against the golden where it does not (a held-out script)."""
     if result is None or not result.completed:
         return False
-    judged = [ok for p, ok in result.verdicts.items() if ok is not None and golden.get(p)]
-    return all(judged) if judged else result.structure
+    verdicts = judged(result, golden)
+    return all(verdicts.values()) if verdicts else result.structure
 
 
 def totals(rows: list[OracleRow]) -> None:
