@@ -34,6 +34,9 @@
   const NO_GUI = {markClean() {}, showTargetPosition() {}, reset: async () => [], compare: () => []};
   const guiState = window.__scratchworldGuiState || NO_GUI;
   delete window.__scratchworldGuiState;
+  // The page's AudioContexts, suspended while no one hears them (audio.js).
+  const audio = window.__scratchworldAudio.create(() => vm, () => blocksComponent());
+  delete window.__scratchworldAudio;
 
   // Results larger than this are refused rather than shipped across the protocol.
   const MAX_RESULT_CHARS = 2 * 1024 * 1024;
@@ -103,9 +106,10 @@
       // The VM knows no mouse position until a real mouse event reached the stage.
       mouseKnown: !!vm && typeof vm.runtime.ioDevices.mouse._scratchX === 'number',
       loadingState: store ? String(store.getState().scratchGui.projectState.loadingState) : null,
-      // A page waiting for use steps no VM and keeps its audio suspended (see setAudio).
+      // A page waiting for use steps no VM and keeps its audio suspended (audio.js).
       stepping: !!vm && vm.runtime._steppingInterval !== null,
-      audio: audioContext() ? audioContext().state : null,
+      audio: audio.vmContext() ? audio.vmContext().state : null,
+      workspaceAudio: audio.workspaceContexts().map((context) => context.state),
     };
   }
 
@@ -359,25 +363,9 @@
     if (clock.status().mode === 'virtual') throw new BridgeFailure('bad_request', 'the clock is virtual already');
     if (args.mode === 'virtual') {
       clock.pauseVirtual();
-      await setAudio(false);
+      await audio.set(false);
     }
     return clock.status();
-  }
-
-  // A page that waits (parked, recycled, or an episode's on the virtual clock) keeps its AudioContext
-  // suspended: a running one costs ~0.03 of a core in silence (the renderer's and the audio service's
-  // audio threads). Nothing the VM sees depends on it: sounds on the virtual clock end in virtual time
-  // (clock.js), and a page that runs on the real clock is resumed first.
-  function audioContext() {
-    const engine = vm && vm.runtime.audioEngine;
-    return (engine && engine.audioContext) || null;
-  }
-
-  async function setAudio(running) {
-    const context = audioContext();
-    if (!context || context.state === 'closed') return;
-    if (running && context.state !== 'running') await context.resume();
-    if (!running && context.state === 'running') await context.suspend();
   }
 
   async function advanceClock(args) {
@@ -413,7 +401,7 @@
   // keeps its audio suspended; `resume` starts both when it is lent.
   async function park() {
     requireVm().quit();
-    await setAudio(false);
+    await audio.set(false);
   }
 
   const api = {
@@ -426,7 +414,7 @@
     },
     park: park,
     resume: async () => { // a parked or recycled page runs again
-      await setAudio(true);
+      await audio.set(true);
       requireVm().start();
     },
   };

@@ -65,7 +65,10 @@ class EditorStatus(BaseModel):
     stepping: bool = False
     """The VM steps (a page waiting for use, parked or recycled, does not)."""
     audio: str | None = None
-    """The AudioContext's state: "running", or "suspended" while the page waits (or on the virtual clock)."""
+    """The VM's AudioContext's state: "running", or "suspended" while the page waits (or on the virtual clock)."""
+    workspace_audio: list[str] = []
+    """The states of the Blockly workspaces' AudioContexts (click sounds): "suspended" once the page has
+    waited, parked or on the virtual clock, and from then on (``scratch-gui/audio.js``)."""
 
     def missing(self, kind: EvaluationPage = "editor") -> list[str]:
         """What a page of ``kind`` still lacks to be ready (the bare page needs its VM only)."""
@@ -321,8 +324,8 @@ class Editor:
 
     async def park(self) -> None:
         """Stop the VM and suspend the audio of a fresh page that waits to be used (``resume`` starts
-        both again), as a recycled page waits: a stepping VM costs about a third of a core, running
-        audio ~0.03."""
+        both again), as a recycled page waits: a stepping VM costs about a third of a core, the
+        editor's three running AudioContexts ~0.02 (``scratch-gui/audio.js``)."""
         await self.call("park")
 
     async def resume(self) -> None:

@@ -52,8 +52,9 @@ async def test_without_webgl_the_editor_fails_loudly() -> None:
 async def test_a_page_that_never_gets_ready_times_out_with_the_cause(tmp_path: Path) -> None:
     real = EditorAssets()
     copy_page_files(tmp_path)
-    # The bridge loads, the editor bundle never does.
-    (tmp_path / "index.html").write_text('<!DOCTYPE html><script src="bridge.js"></script><p>no editor</p>')
+    # The bridge loads (with the page script it needs at once), the editor bundle never does.
+    page = '<!DOCTYPE html><script src="audio.js"></script><script src="bridge.js"></script><p>no editor</p>'
+    (tmp_path / "index.html").write_text(page)
     (tmp_path / "node_modules").symlink_to(real.gui_dir / "node_modules")
     config = BrowserConfig(ready_timeout_s=2)
     async with BrowserSession(config, EditorAssets(tmp_path)) as session:

@@ -133,8 +133,9 @@ async def test_used_editors_are_recycled_and_fresh_ones_opened_ahead(session: Br
 
 
 async def running(editor: Editor) -> tuple[bool, str | None]:
-    """Whether the page's VM steps, and its audio's state."""
+    """Whether the page's VM steps, and its audio's state; the workspaces' audio (click sounds) never runs then."""
     status = await editor.status()
+    assert len(status.workspace_audio) == 2 and set(status.workspace_audio) == {"suspended"}, status
     return status.stepping, status.audio
 
 
