@@ -1,6 +1,6 @@
 """Ready editors for evaluations, so that a run of evaluations does not wait seconds for each editor.
 
-Starting an editor (~7 s of CPU here) costs more than a whole evaluation in virtual time, so the pool
+Starting an editor (3-5 s of CPU here) costs more than a whole evaluation in virtual time, so the pool
 does three things:
 - it reuses editors: after an evaluation, ``Editor.recycle`` undoes what the script left in the
   page and compares the page with the fresh one (``scratch-gui/recycle.js``; loading the next
@@ -14,8 +14,8 @@ does three things:
   spares opened ahead are of the kind last asked for (a pool that lends both kinds in turn, as an
   episode runner's does, keeps ``spare`` at 0, or its spares would be closed as often as opened);
 - ``fill`` opens editors ahead of a run of episodes, all at once, and parks them (VM stopped) like
-  recycled ones: opening one costs ~7 s of CPU here, and opened while other episodes run, it
-  slows their steps down by seconds.
+  recycled ones: opening one costs 3-5 s of CPU here (less from a browser's third editor on, with
+  the code cache), and opened while other episodes run, it slows their steps down by seconds.
 """
 
 from __future__ import annotations

@@ -21,7 +21,7 @@ import pytest
 
 from tests.support.loopback import LoopbackListener
 from tests.support.projects import counter_project
-from workers.contract import EvaluationSpec, ObservationSettings, primitive_action
+from workers.contract import EvaluationSpec, ObservationSettings, PrimitiveObservation, primitive_action
 from workers.editor import BrowserConfig, BrowserSession
 from workers.episode import PrimitiveEnvironment
 from workers.evaluation import Evaluator
@@ -216,12 +216,22 @@ async def test_a_project_reaches_nothing(session: BrowserSession, listener: Loop
     assert services <= set(session.refused_requests), session.refused_requests
 
 
+async def settled_observation(environment: PrimitiveEnvironment) -> PrimitiveObservation:
+    """An observation of a page at rest: on a loaded CI machine the extension library can still be
+    laying out after the settle rule's bound, and a click at a moving item's centre may miss it."""
+    for _ in range(30):
+        observation = await environment.observe()
+        if observation.settled:
+            return observation
+    raise AssertionError(f"the page never settled: {observation.warnings}")
+
+
 async def test_an_agents_clicks_reach_nothing(session: BrowserSession, listener: LoopbackListener) -> None:
     """Two clicks add the micro:bit extension, whose page then calls Scratch Link on loopback."""
     async with session.editor() as editor:
         environment = PrimitiveEnvironment(editor, PrimitiveObserver(ObservationSettings(ocr="none"), None))
         for label in ("Add Extension", "micro:bit"):
-            observation = await environment.observe()
+            observation = await settled_observation(environment)
             index = next(e.index for e in observation.elements if e.text.startswith(label))
             envelope = await environment.execute(primitive_action({"api": "click", "args": {"index": index}}))
             assert envelope.success, envelope
