@@ -3,7 +3,7 @@
     .venv/bin/python benchmarks/audit_traces.py [--suite PATH] [--tasks a,b] [--mutants-per-task 6] [--seed 0]
 
 For each task of the suite (ours by default), its golden, every refactoring and a sample of mutants
-(``scratchworld_dist.audit``) are evaluated with the observable trace recorded (one editor pool, one
+(``scratchworld_dist.kinds.audit.variants``) are evaluated with the observable trace recorded (one editor pool, one
 ``Math.random`` seed), and each variant's trace is compared with the golden's (``first_difference``).
 A line per variant worth a look: a mutant that passes every test (equivalent when the traces are
 equal, a grader hole otherwise, with the first difference as evidence) and a refactoring that fails
@@ -24,7 +24,7 @@ from collections import Counter
 from pathlib import Path
 
 from scratchworld_dist import load_suite
-from scratchworld_dist.audit import ProgramVariant, enumerate_refactorings, sample_mutants
+from scratchworld_dist.kinds.audit.variants import ProgramVariant, enumerate_refactorings, sample_mutants
 from scratchworld_dist.sb3 import Sb3Archive
 from workers.contract import EvalResult
 from workers.editor import BrowserSession, EditorPool

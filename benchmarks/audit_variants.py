@@ -1,7 +1,7 @@
 """How many mutants and refactorings each golden of a suite gives, per operator, and what one costs to make.
 
 Prints a row per task (mutants, refactorings, milliseconds per variant made), then the totals per operator.
-Nothing is evaluated: this measures the audit's generators (``scratchworld_dist.audit``) only.
+Nothing is evaluated: this measures the audit's generators (``scratchworld_dist.kinds.audit.variants``) only.
 
 Run: ``.venv/bin/python benchmarks/audit_variants.py [SUITE_DIR]`` (default: our ``tasks/``; an upstream
 clone such as ``../shared/scratchworld-upstream`` works too).
@@ -18,7 +18,7 @@ from collections import Counter
 from pathlib import Path
 
 from scratchworld_dist import SuiteError
-from scratchworld_dist.audit import OPERATORS, REFACTORINGS, enumerate_mutants, enumerate_refactorings
+from scratchworld_dist.kinds.audit.variants import OPERATORS, REFACTORINGS, enumerate_mutants, enumerate_refactorings
 from scratchworld_dist.suites import load_suite
 
 REPO = Path(__file__).resolve().parents[1]

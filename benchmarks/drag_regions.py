@@ -34,10 +34,10 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
-from scratchworld_dist.drag import DragTask, load_drag_suite  # noqa: E402
+from scratchworld_dist.kinds.drag.items import DragTask, load_drag_suite  # noqa: E402
 from workers.contract import DragPayload, DragRegions, Point, Region  # noqa: E402
-from workers.drag import _page as page  # noqa: E402
 from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool  # noqa: E402
+from workers.kinds.drag import _page as page  # noqa: E402
 
 UPSTREAM = REPO.parent / "shared" / "scratchworld-upstream"
 NEAR = 60

@@ -23,9 +23,9 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-from scratchworld_dist.perception import PerceptionItem, load_perception_suite
-from scratchworld_dist.perception._upstream import TASKS_DIR
-from workers.perception import score_reply
+from scratchworld_dist.kinds.perception.items import PerceptionItem, load_perception_suite
+from scratchworld_dist.kinds.perception.items._upstream import TASKS_DIR
+from workers.kinds.perception import score_reply
 
 Style = Callable[[str], str]
 

@@ -23,7 +23,7 @@ from statistics import mean
 
 from pydantic import BaseModel
 
-from scratchworld_dist.oracle_plan import (
+from scratchworld_dist.kinds.tasks.oracle_plan import (
     ProjectState,
     TaskPlanRecord,
     plan_folder,

@@ -24,7 +24,6 @@ from scratchworld_dist._run_plan import RunPlan, plan_run
 from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
-from scratchworld_dist.preflight import refuse_broken, run_preflight, settle
 from scratchworld_dist.results import (
     SCHEMA_VERSION,
     RunManifest,
@@ -49,6 +48,7 @@ from scratchworld_dist.scheduling import (
     ray_runtime,
     worker_logs_dir,
 )
+from scratchworld_dist.scheduling.preflight import refuse_broken, run_preflight, settle
 from scratchworld_dist.sweep import JobSpec, SweepConfig
 from workers.contract import (
     MIB,

@@ -12,9 +12,10 @@ from typing import TYPE_CHECKING
 
 import pytest
 
+from workers.actor import WorkerBrowser
 from workers.editor import BrowserSession, Editor, EditorPool
-from workers.episode import EpisodeRunner
 from workers.evaluation import Evaluator
+from workers.kinds.tasks import EpisodeRunner
 from workers.node import OWN_FILES
 
 if TYPE_CHECKING:
@@ -124,9 +125,9 @@ async def episode_runner(session: BrowserSession, shared_pool: EditorPool) -> As
     tests/workers/editor/test_agent_editor_recycling.py checks; a test of a fresh page or of a runner's
     own pool makes its own ``EpisodeRunner``.
     """
-    runner = EpisodeRunner(session, shared_pool)
+    runner = EpisodeRunner(WorkerBrowser(session, shared_pool))
     yield runner
-    await runner.close()
+    await runner.browser.close()
 
 
 @pytest.fixture(scope="session")

@@ -8,10 +8,10 @@ import pytest
 
 PACKAGES = [
     "scratchworld_dist",
-    "scratchworld_dist.drag",
-    "scratchworld_dist.editing",
+    "scratchworld_dist.kinds.drag.items",
+    "scratchworld_dist.sb3.editing",
     "scratchworld_dist.memory",
-    "scratchworld_dist.perception",
+    "scratchworld_dist.kinds.perception.items",
     "scratchworld_dist.reports",
     "scratchworld_dist.results",
     "scratchworld_dist.scheduling",
@@ -24,14 +24,14 @@ PACKAGES = [
     "workers.agents",
     "workers.composite",
     "workers.contract",
-    "workers.drag",
+    "workers.kinds.drag",
     "workers.editor",
-    "workers.episode",
+    "workers.kinds.tasks",
     "workers.evaluation",
     "workers.llm",
     "workers.node",
     "workers.ocr",
-    "workers.perception",
+    "workers.kinds.perception",
     "workers.primitive",
 ]
 

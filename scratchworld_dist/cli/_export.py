@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from scratchworld_dist.exports import EXPORT_FORMATS, ExportFormat, export_runs
+from scratchworld_dist.kinds.tasks.exports import EXPORT_FORMATS, ExportFormat, export_runs
 
 
 @click.command("export")

@@ -8,16 +8,13 @@ import sys
 import click
 
 from scratchworld_dist._errors import ScratchWorldError
-from scratchworld_dist.cli._audit import audit_command
 from scratchworld_dist.cli._capacity import capacity_command
 from scratchworld_dist.cli._compare import compare_command
-from scratchworld_dist.cli._drag import drag_group
 from scratchworld_dist.cli._evaluate import evaluate_command
 from scratchworld_dist.cli._export import export_command
 from scratchworld_dist.cli._flakes import flakes_command
 from scratchworld_dist.cli._gui import gui_command
 from scratchworld_dist.cli._oracle_plan import oracle_plan_command
-from scratchworld_dist.cli._perception import perception_group
 from scratchworld_dist.cli._plan import plan_command
 from scratchworld_dist.cli._regrade import regrade_command
 from scratchworld_dist.cli._replay import observe_command, replay_command
@@ -27,6 +24,9 @@ from scratchworld_dist.cli._schemas import schemas_command
 from scratchworld_dist.cli._status import status_command
 from scratchworld_dist.cli._validate import validate_command
 from scratchworld_dist.cli._view import view_command
+from scratchworld_dist.kinds.audit._cli import audit_command
+from scratchworld_dist.kinds.drag._cli import drag_group
+from scratchworld_dist.kinds.perception._cli import perception_group
 
 EXIT_USER_ERROR = 2
 EXIT_INTERRUPTED = 130

@@ -17,7 +17,7 @@ from scratchworld_dist.cli._suite_options import comma_list, tasks_option
 from scratchworld_dist.suites import CATEGORIES
 
 if TYPE_CHECKING:
-    from scratchworld_dist.oracle_plan import TaskPlanRecord
+    from scratchworld_dist.kinds.tasks.oracle_plan import TaskPlanRecord
 
 EXIT_NOT_EXPRESSED = 1
 
@@ -60,7 +60,11 @@ def oracle_plan_command(suite_dir: Path, task_ids: str | None, out: Path) -> Non
     tasks that ship no trajectory. Exits 1 when a task's golden cannot be reached, naming what the
     API lacks.
     """
-    from scratchworld_dist.oracle_plan import plan_folder, plan_suite, planning_suite  # the browser stack: here only
+    from scratchworld_dist.kinds.tasks.oracle_plan import (  # the browser stack: here only
+        plan_folder,
+        plan_suite,
+        planning_suite,
+    )
 
     suite = planning_suite(suite_dir)
     tasks = suite.select(ids=comma_list(task_ids))

@@ -43,7 +43,7 @@ def regrade_command(
     Prints how many verdicts changed and the report (also saved as OUT/report.md); `compare
     RUN_DIR OUT` lists the changed jobs. Exits 1 when regrades are left without a verdict.
     """
-    from scratchworld_dist.regrade import run_regrade  # imports Ray: only for this command
+    from scratchworld_dist.kinds.tasks.regrade import run_regrade  # imports Ray: only for this command
 
     console = make_console(stderr=True)
     summary = run_regrade(

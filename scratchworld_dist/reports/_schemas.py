@@ -18,7 +18,7 @@ from scratchworld_dist.reports._diagnosis_report import DiagnosisReport
 def report_schemas() -> dict[str, dict[str, Any]]:
     """Each report's JSON schema by its file name (every installed kind's own, the diagnosis over kinds) and
     the ATIF trajectory's."""
-    from scratchworld_dist.exports import ATIF_VERSION, AtifTrajectory  # exports build on the reports
+    from scratchworld_dist.kinds.tasks.exports import ATIF_VERSION, AtifTrajectory  # exports build on the reports
 
     models = {f"{kind.name}-report": kind.report_model() for kind in job_kinds()}
     models["diagnosis-report"] = DiagnosisReport

@@ -12,7 +12,7 @@ import jsonschema
 import pytest
 from pydantic import ValidationError
 
-from scratchworld_dist.exports import AtifTrajectory, wilson_interval
+from scratchworld_dist.kinds.tasks.exports import AtifTrajectory, wilson_interval
 from scratchworld_dist.results import JobRecord, RunStore, StepRow
 from tests.conftest import REPO
 from tests.support.cli_runner import invoke

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from scratchworld_dist.drag import DragSuite, DragTask
+from scratchworld_dist.kinds.drag.items import DragSuite, DragTask
 from scratchworld_dist.sb3 import Project, block, circle_costume
 
 

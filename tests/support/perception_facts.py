@@ -5,7 +5,7 @@ Rects are page px (x, y, width, height); the visible area defaults to a 700x600 
 
 from __future__ import annotations
 
-from scratchworld_dist.perception._facts import (
+from scratchworld_dist.kinds.perception.items._facts import (
     BlockFacts,
     FieldFacts,
     InputFacts,

@@ -7,7 +7,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from scratchworld_dist.perception import PerceptionItem, write_perception_suite
+from scratchworld_dist.kinds.perception.items import PerceptionItem, write_perception_suite
 
 
 def png(shade: int, size: tuple[int, int] = (64, 48)) -> bytes:

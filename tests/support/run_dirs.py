@@ -23,7 +23,7 @@ from scratchworld_dist.results import (
 )
 from scratchworld_dist.suites import StabilityMarks
 from workers.contract import AnswerFormat, HarnessFingerprint, ValueKind
-from workers.perception import score_reply
+from workers.kinds.perception import score_reply
 
 T0 = datetime(2026, 1, 1, tzinfo=UTC)
 PARTS = {"workers/_evaluation.py": "e1", "scratch-gui/clock.js": "c1", "package:litellm": "1.106.2"}

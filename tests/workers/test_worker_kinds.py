@@ -64,24 +64,24 @@ def test_an_edit_to_a_kind_changes_its_fingerprint_alone_and_a_core_edit_changes
     shutil.copytree(WORKERS, tree, ignore=shutil.ignore_patterns("__pycache__"))
     before = digests(code_parts(tree, REPO / "scratch-gui"))
     assert len(set(before.values())) == len(KINDS)  # a digest per kind
-    after_drag = digests(edited(tree, "drag/_runner.py"))
+    after_drag = digests(edited(tree, "kinds/drag/_runner.py"))
     assert after_drag["tasks"] == before["tasks"] and after_drag["perception"] == before["perception"]
     assert after_drag["drag"] != before["drag"]
-    after_perception = digests(edited(tree, "perception/_scoring.py"))
+    after_perception = digests(edited(tree, "kinds/perception/_scoring.py"))
     assert {k: after_perception[k] == after_drag[k] for k in KINDS} == {
         "tasks": True,
         "drag": True,
         "perception": False,
         "audit": True,
     }
-    after_tasks = digests(edited(tree, "kinds/tasks/_run.py"))
+    after_tasks = digests(edited(tree, "kinds/tasks/_runner.py"))
     assert {k: after_tasks[k] == after_perception[k] for k in KINDS} == {
         "tasks": False,
         "drag": True,
         "perception": True,
         "audit": True,
     }
-    after_audit = digests(edited(tree, "kinds/audit/_run.py"))
+    after_audit = digests(edited(tree, "kinds/audit/_kind.py"))
     assert {k: after_audit[k] == after_tasks[k] for k in KINDS} == {
         "tasks": True,
         "drag": True,
@@ -89,7 +89,13 @@ def test_an_edit_to_a_kind_changes_its_fingerprint_alone_and_a_core_edit_changes
         "audit": False,
     }
     after_tasks = after_audit
-    for core in ("editor/_editor.py", "agents/_coordinates.py", "episode/_runner.py", "kinds/_registry.py"):
+    for core in (
+        "editor/_editor.py",
+        "agents/_coordinates.py",
+        "actor/_browser.py",
+        "evaluation/_evaluator.py",
+        "kinds/_registry.py",
+    ):
         now = digests(edited(tree, core))
         assert all(now[kind] != after_tasks[kind] for kind in KINDS), core
         after_tasks = now
@@ -100,14 +106,16 @@ def test_the_full_fingerprint_still_covers_every_kind(tmp_path: Path) -> None:
     tree = tmp_path / "workers"
     shutil.copytree(WORKERS, tree, ignore=shutil.ignore_patterns("__pycache__"))
     before = fingerprint(code_parts(tree, REPO / "scratch-gui"))
-    after = fingerprint(edited(tree, "drag/_runner.py"))
-    assert before.differences(after) == ["workers/drag/_runner.py"]
-    assert kind_fingerprint(before, "drag").differences(kind_fingerprint(after, "drag")) == ["workers/drag/_runner.py"]
-    assert "workers/drag/_runner.py" not in kind_fingerprint(before, "tasks").parts
+    after = fingerprint(edited(tree, "kinds/drag/_runner.py"))
+    assert before.differences(after) == ["workers/kinds/drag/_runner.py"]
+    assert kind_fingerprint(before, "drag").differences(kind_fingerprint(after, "drag")) == [
+        "workers/kinds/drag/_runner.py"
+    ]
+    assert "workers/kinds/drag/_runner.py" not in kind_fingerprint(before, "tasks").parts
 
 
 def with_edited_drag(harness: HarnessFingerprint) -> HarnessFingerprint:
-    return fingerprint({**harness.parts, "workers/drag/_runner.py": "edited0000000000"})
+    return fingerprint({**harness.parts, "workers/kinds/drag/_runner.py": "edited0000000000"})
 
 
 def test_editing_drag_code_leaves_an_episode_run_resumable_and_a_drag_run_refuses(tmp_path: Path) -> None:
@@ -132,7 +140,7 @@ def test_editing_drag_code_leaves_an_episode_run_resumable_and_a_drag_run_refuse
     assert not {job.job_id for job in drag_before.jobs} & {job.job_id for job in drag_after.jobs}
     drag.run_dir().mkdir(parents=True)
     write_manifest(drag.run_dir(), _checked_manifest(drag_before, drag.run_dir(), force=False))
-    with pytest.raises(RunDirError, match=re.escape("workers/drag/_runner.py")):
+    with pytest.raises(RunDirError, match=re.escape("workers/kinds/drag/_runner.py")):
         _checked_manifest(drag_after, drag.run_dir(), force=False)
 
 
@@ -180,18 +188,18 @@ def part_of(module: str) -> str:
 
 
 def test_no_kind_claims_code_the_core_or_another_kind_imports() -> None:
+    """A kind's folder is its own: neither the worker's core (the actor, the kinds' registry) nor another kind
+    imports anything in it, and everything it claims is reached from its package."""
     kinds = worker_kinds()
-    runners = {name: f"workers.kinds.{name}._run" for name in KINDS}
-    assert all(module_file(runner) is not None for runner in runners.values())
-    core = closure(
-        {"workers.episode", "workers.kinds", *(f"workers.kinds.{name}" for name in KINDS)}, set(runners.values())
-    )
+    packages = {name: f"workers.kinds.{name}" for name in KINDS}
+    core = closure({"workers.actor", "workers.kinds"}, set(packages.values()))
     for name in KINDS:
         claimed = claimed_parts(kinds[name])
-        others = closure({runner for other, runner in runners.items() if other != name}, {runners[name]})
+        assert claimed == (f"workers/kinds/{name}/",), claimed  # one folder a kind
+        others = closure({package for other, package in packages.items() if other != name}, {packages[name]})
         for module in sorted(core | others):
             assert not part_of(module).startswith(claimed), f"{name} claims {part_of(module)}, imported by others"
-        own = {part_of(module) for module in closure({runners[name]}, set())}
+        own = {part_of(module) for module in closure({packages[name]}, set())}
         assert all(any(part.startswith(prefix) for part in own) for prefix in claimed), (name, claimed)
 
 

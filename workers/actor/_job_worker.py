@@ -30,6 +30,7 @@ import ray
 from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel
 
+from workers.actor._browser import WorkerBrowser
 from workers.contract import (
     MIB,
     EditorError,
@@ -41,7 +42,6 @@ from workers.contract import (
     WorkerLoad,
 )
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
-from workers.episode import EpisodeRunner
 from workers.kinds import WorkerKind, kind_fingerprint, kind_of, worker_kinds
 from workers.llm import close_litellm_clients
 from workers.llm import load_litellm as import_litellm
@@ -74,7 +74,7 @@ class JobWorker:
         self._kind_harness: dict[str, str] = {}
         self.kind_state: dict[str, object] = {}
         self._session: BrowserSession | None = None
-        self._runner: EpisodeRunner | None = None
+        self._browser: WorkerBrowser | None = None
         self._starting = asyncio.Lock()
 
     async def info(self) -> WorkerInfo:
@@ -84,7 +84,7 @@ class JobWorker:
         """This worker's editors and their memory, the node's available memory, and whether it takes jobs."""
         usage, memory = await asyncio.to_thread(lambda: (browser_usage(), node_memory()))
         return WorkerLoad(
-            editors=self._runner.editors_held if self._runner is not None else 0,
+            editors=self._browser.editors_held if self._browser is not None else 0,
             browser_pss_bytes=usage.pss_bytes,
             node_available_bytes=memory.available_bytes,
             admits=memory.available_bytes >= self.memory_reserve_bytes,
@@ -108,8 +108,9 @@ class JobWorker:
         """
         if self.synthetic is None and editors > 0:
             try:
-                runner = await self.browser()
-                await runner.pool.fill(editors)
+                browser = await self.browser()
+                if browser.pool is not None:
+                    await browser.pool.fill(editors)
             except (EditorError, PlaywrightError):
                 pass  # the first episode opens its own editor, or reports why it cannot
 
@@ -181,30 +182,30 @@ class JobWorker:
             await self._drop_if_broken(session)
         return result
 
-    async def browser(self) -> EpisodeRunner:
-        """This worker's browser and editor pool (with the episodes' evaluators), started again if it died."""
+    async def browser(self) -> WorkerBrowser:
+        """This worker's browser, editor pool and evaluator, started again if it died."""
         async with self._starting:
-            if self._runner is None or not self._runner.session.connected:
+            if self._browser is None or not self._browser.session.connected:
                 await self._drop_browser()
                 self._session = await BrowserSession(BrowserConfig()).start()
                 # Agent and evaluation pages are recycled across this worker's jobs (verified as good as fresh).
-                self._runner = EpisodeRunner(self._session, EditorPool(self._session, spare=0))
-            return self._runner
+                self._browser = WorkerBrowser(self._session, EditorPool(self._session, spare=0))
+            return self._browser
 
     async def _drop_if_broken(self, session: BrowserSession) -> None:
         """Close the browser an episode failed in if it no longer answers; never another one."""
         if await session.responsive():
             return  # only the episode's own page broke: its siblings carry on
         if session is self._session:
-            if self._runner is not None:
-                await self._runner.close()
-            self._session = self._runner = None
+            if self._browser is not None:
+                await self._browser.close()
+            self._session = self._browser = None
         await session.close()
 
     async def _drop_browser(self) -> None:
-        session, runner, self._session, self._runner = self._session, self._runner, None, None
-        if runner is not None:
-            await runner.close()
+        session, browser, self._session, self._browser = self._session, self._browser, None, None
+        if browser is not None:
+            await browser.close()
         if session is not None:
             await session.close()
 

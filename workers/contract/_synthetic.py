@@ -1,4 +1,4 @@
-"""Browserless stand-ins for episodes, as a sweep configures them (run by ``workers.episode``).
+"""Browserless stand-ins for episodes, as a sweep configures them (run by ``workers.kinds.tasks``).
 
 Part of a job's identity: a synthetic verdict must never be taken for a real one.
 """

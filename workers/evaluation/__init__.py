@@ -1,6 +1,6 @@
 """Evaluation: a project and a task's script in a clean editor, under a profile, to a verdict."""
 
-from workers.evaluation._evaluator import Evaluator, project_refusal, wall_limit_s
+from workers.evaluation._evaluator import Evaluator, judged, project_refusal, wall_limit_s
 from workers.evaluation._profiles import apply_profile
 from workers.evaluation._report import ReportError, TestReport, parse_report
 from workers.evaluation._trace import (
@@ -23,6 +23,7 @@ __all__ = [
     "TracedEvaluation",
     "apply_profile",
     "first_difference",
+    "judged",
     "parse_report",
     "project_refusal",
     "wall_limit_s",

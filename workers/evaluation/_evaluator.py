@@ -18,15 +18,19 @@ from typing import cast, get_args
 from workers.contract import (
     BridgeError,
     EditorError,
+    EpisodeTimings,
     EvalErrorKind,
     EvalResult,
     EvalTimings,
     EvaluationClock,
     EvaluationSpec,
+    JobResult,
     ProjectFormatError,
     ProjectLimits,
     ProjectTooLargeError,
+    TaskPayload,
     check_project,
+    outcome_of,
 )
 from workers.editor import BrowserSession, Editor, EditorPool
 from workers.evaluation._profiles import apply_profile
@@ -226,3 +230,32 @@ def _kind(exc: BridgeError) -> EvalErrorKind:
     if exc.kind not in _PAGE_KINDS:
         raise EditorError(f"the bridge failed unexpectedly: {exc}") from exc
     return cast(EvalErrorKind, exc.kind)
+
+
+async def judged(
+    evaluator: Evaluator,
+    project: bytes,
+    task: TaskPayload,
+    limits: ProjectLimits,
+    job_id: str,
+    attempt: int,
+    stop_reason: str,
+) -> JobResult:
+    """The verdict on ``project`` under ``task.evaluation`` as a job's result without steps (a regrade, an audit
+    variant), made exactly as an episode's final project is judged; ``stop_reason`` says what the job was."""
+    started, clock = time.time(), time.perf_counter()
+    evaluation = await evaluator.evaluate(project, task.evaluation, limits)
+    elapsed = time.perf_counter() - clock
+    outcome, error_class = outcome_of(evaluation)
+    return JobResult(
+        job_id=job_id,
+        attempt=attempt,
+        outcome=outcome,
+        error_class=error_class,
+        error_message=evaluation.error.message if error_class and evaluation.error else None,
+        stop_reason=error_class or stop_reason,
+        evaluation=evaluation,
+        timings=EpisodeTimings(evaluation_s=elapsed, total_s=elapsed),
+        started_at=started,
+        finished_at=time.time(),
+    )

@@ -8,14 +8,14 @@ so editing drag code leaves episode and perception runs resumable, and the drag 
 What each built-in kind claims (``WorkerKind.code``), decided from the imports (a path may be claimed
 only when neither the core nor another kind's runner imports it; what is shared stays core):
 
-- ``drag``: ``workers/drag/`` and its dispatch ``workers/kinds/drag/_run.py``. Drag's runner imports
+- ``drag``: ``workers/kinds/drag/`` and its dispatch ``workers/kinds/drag/_run.py``. Drag's runner imports
   ``agents`` (coordinate helpers, prompts, model calls), ``primitive`` (element list, settle), ``editor``
   and ``llm``: those stay core.
-- ``perception``: ``workers/perception/`` and ``workers/kinds/perception/_run.py``. It imports ``agents``
+- ``perception``: ``workers/kinds/perception/`` and ``workers/kinds/perception/_run.py``. It imports ``agents``
   (model calls) and ``llm``: core.
 - ``audit``: ``workers/kinds/audit/_run.py``; the evaluation it runs is the episodes' (core).
 - ``tasks``: only ``workers/kinds/tasks/_run.py``. The episode code cannot be claimed today:
-  ``workers/episode`` holds the actor itself, whose ``EpisodeRunner`` owns the browser and editor pool
+  ``workers/kinds/tasks`` holds the actor itself, whose ``EpisodeRunner`` owns the browser and editor pool
   every browser kind runs in (so ``evaluation``, ``composite``, ``ocr`` and ``agent_api``, which it
   imports, are imported by every worker), and ``agents`` and ``primitive`` serve drag too. An edit
   there changes every kind's digest, which is the safe side.

@@ -15,8 +15,8 @@ from pydantic import BaseModel
 from workers.contract import JobResult, SyntheticEpisodes, WorkerInfo, WorkerJob
 
 if TYPE_CHECKING:
+    from workers.actor._browser import WorkerBrowser
     from workers.editor import BrowserSession
-    from workers.episode import EpisodeRunner
 
 
 class WorkerHost(Protocol):
@@ -31,8 +31,9 @@ class WorkerHost(Protocol):
     kind_state: dict[str, object]
     """What a kind keeps across its jobs on this worker, by kind name (the drag kind: its DragRunner)."""
 
-    async def browser(self) -> EpisodeRunner:
-        """This worker's browser and its pool of recycled editors, started (again, if it died) on first use."""
+    async def browser(self) -> WorkerBrowser:
+        """This worker's browser, its pool of recycled editors and its evaluator, started (again, if it died) on
+        first use: every kind's jobs that open editors share them."""
         ...
 
     async def in_browser(self, spec: WorkerJob, session: BrowserSession, work: Awaitable[JobResult]) -> JobResult:

@@ -9,7 +9,8 @@ from collections.abc import Iterator
 from typing import Any
 
 from scratchworld_dist._errors import SuiteError
-from scratchworld_dist.audit import (
+from scratchworld_dist.kinds.audit._settings import AuditSweep
+from scratchworld_dist.kinds.audit.variants import (
     Mutant,
     ProgramFormatError,
     Refactoring,
@@ -18,7 +19,6 @@ from scratchworld_dist.audit import (
     sample_mutants,
     sample_refactorings,
 )
-from scratchworld_dist.kinds.audit._settings import AuditSweep
 from scratchworld_dist.kinds.tasks import TaskContent
 from scratchworld_dist.sweep import JobBody, JobSpec, SweepConfig, identity_id
 from workers.contract import AgentRef, ProjectLimits, ScratchWorldError, VariantKind, check_project

@@ -1,7 +1,7 @@
 """A golden and its variant side by side: every script of both as pseudocode, what differs marked.
 
-The pseudocode is the audit's own listing (``scratchworld_dist.audit.script_listings``, which the report's
-before and after come from). Scripts are paired by sprite and top block; a script that differs is marked, and
+The pseudocode is the audit's own listing (``variants.script_listings``, which the report's before and after
+come from). Scripts are paired by sprite and top block; a script that differs is marked, and
 so are its lines that differ and, in both programs, the line that shows the changed block. Everything from
 the projects is escaped: a project's names and texts are anybody's.
 """
@@ -13,7 +13,7 @@ from collections.abc import Collection
 from html import escape
 from typing import Any
 
-from scratchworld_dist.audit import Listings, ScriptText, script_listings
+from scratchworld_dist.kinds.audit.variants import Listings, ScriptText, script_listings
 
 Key = tuple[str, str]
 """(target, top block) of a script."""

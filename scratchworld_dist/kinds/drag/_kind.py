@@ -13,12 +13,12 @@ from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_plan import RunPlan
-from scratchworld_dist.drag import DragTask, load_drag_suite
 from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
 from scratchworld_dist.kinds._single_answer import refuse_episode_sections, section_agents
 from scratchworld_dist.kinds.drag._plan import DragBody, plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag._rows import DragRow, drag_row
 from scratchworld_dist.kinds.drag._settings import DragSweep
+from scratchworld_dist.kinds.drag.items import DragTask, load_drag_suite
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig, present_suites, suite_hash, wanted_ids
 from workers.agent_api import agent_class, checked_agent

@@ -14,7 +14,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict
 
-from scratchworld_dist.drag import DragTask
+from scratchworld_dist.kinds.drag.items import DragTask
 from scratchworld_dist.sweep import JobBody, JobSpec, agent_identity, identity_id, read_project
 from workers.agent_api import agent_class, agent_code
 from workers.contract import (

@@ -16,7 +16,12 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist.perception import PerceptionItem, PerceptionSuite, load_perception_suite, read_screenshot
+from scratchworld_dist.kinds.perception.items import (
+    PerceptionItem,
+    PerceptionSuite,
+    load_perception_suite,
+    read_screenshot,
+)
 from scratchworld_dist.sweep import JobBody, JobSpec, agent_identity, identity_id, present_suites, wanted_ids
 from workers.agent_api import agent_class, agent_code
 from workers.contract import (

@@ -50,8 +50,8 @@ from workers.contract import (
 )
 from workers.contract._eval_result import MAX_MESSAGE
 from workers.editor import BrowserSession, EditorPool
-from workers.episode import EpisodeRunner
 from workers.evaluation import Evaluator
+from workers.kinds.tasks import EpisodeRunner
 
 # -- the checks every case shares -----------------------------------------------------------------
 

@@ -9,7 +9,7 @@ import pytest
 from scratchworld_dist import results
 from scratchworld_dist._errors import SuiteError
 from scratchworld_dist._validation import ProjectCheck, TaskValidation
-from scratchworld_dist.flakes import (
+from scratchworld_dist.kinds.tasks.flakes import (
     FlakeConditions,
     FlakeReport,
     FlakeRun,

@@ -33,7 +33,7 @@ def write(tmp_path: Path, **fields: Any) -> Path:
 
 
 def two_tasks() -> list[str]:
-    from scratchworld_dist.drag import load_drag_suite
+    from scratchworld_dist.kinds.drag.items import load_drag_suite
 
     tasks = load_drag_suite(SUITE).tasks
     return [

@@ -16,7 +16,7 @@ import yaml
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run import plan_run
-from scratchworld_dist.perception import load_perception_suite
+from scratchworld_dist.kinds.perception.items import load_perception_suite
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.scheduling._admission import BROWSERLESS_PER_CORE, admitted_slots
 from scratchworld_dist.sweep import load_sweep_config
@@ -202,7 +202,7 @@ def test_the_llm_agent_sees_each_screenshot_and_question_and_failed_calls_are_er
         models=[{"model": f"openai/{name}", "name": name, **LLM} for name in ("terse", "wordy", "flaky", "denied")],
         llm={"retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
         limits={"retries": 1, "episode_timeout_s": 60},
-        probe=False,  # the denied model's jobs are the point here (the probe: tests/scratchworld_dist/preflight/)
+        probe=False,  # the denied model's jobs are the point here (the probe: tests/.../scheduling/preflight/)
     )
     code, log = run_here(config)
     assert code == 1, log  # the denied model's jobs remain errors

@@ -13,7 +13,7 @@ from tests.conftest import SUITE_DIR
 from tests.support.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentBase, EpisodeEnd, StepResult, TaskContext
 from workers.contract import Action, CompositeAction, Done, EpisodeSpec, LoadProject, ModelSpec, Observation
-from workers.episode import EpisodeRunner
+from workers.kinds.tasks import EpisodeRunner
 
 pytestmark = pytest.mark.browser
 

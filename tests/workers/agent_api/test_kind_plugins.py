@@ -218,7 +218,7 @@ def test_a_plugins_code_and_params_name_its_jobs_and_built_in_ids_stay(tmp_path:
 
 @pytest.mark.usefixtures("plugins")
 def test_a_worker_with_other_plugin_code_refuses_the_job(tmp_path: Path) -> None:
-    from workers.perception._runner import run_perception
+    from workers.kinds.perception._runner import run_perception
 
     plan = plan_run(load_sweep_config(perception_config(tmp_path, agent="always")))
     job = plan.jobs[0]
@@ -252,7 +252,7 @@ def test_a_perception_plugin_runs_in_a_sweep_unshown_the_labels_and_resumes(tmp_
 @pytest.mark.browser
 @pytest.mark.slow
 def test_a_drag_plugin_runs_in_a_sweep_where_it_drags_as_it_says(tmp_path: Path, plugin_ray: int) -> None:
-    from scratchworld_dist.drag import load_drag_suite
+    from scratchworld_dist.kinds.drag.items import load_drag_suite
 
     task = next(t.id for t in load_drag_suite(REPO / "drag-tasks").tasks if t.type == "T1")
     agents = [{"name": "nudge", "params": {"dx": 25}}]

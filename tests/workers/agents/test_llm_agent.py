@@ -24,7 +24,7 @@ from workers.contract import (
     PrimitiveObservation,
     RetryPolicy,
 )
-from workers.episode import EpisodeRunner
+from workers.kinds.tasks import EpisodeRunner
 from workers.llm import load_litellm
 
 FAST = RetryPolicy(max_attempts=2, initial_backoff_s=0.01, max_backoff_s=0.02, request_timeout_s=10, max_total_s=30)

@@ -23,7 +23,7 @@ from tests.support.openai_server import OpenAIServer, reply
 from workers.agent_api import build_agent
 from workers.agents import OracleAgent
 from workers.contract import AgentRef, JobResult, LLMSettings, ModelSpec, ObservationSettings, RetryPolicy
-from workers.episode import EpisodeRunner
+from workers.kinds.tasks import EpisodeRunner
 
 pytestmark = [pytest.mark.usefixtures("litellm_clients"), pytest.mark.browser]
 

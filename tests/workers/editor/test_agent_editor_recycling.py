@@ -13,6 +13,7 @@ from playwright.async_api import Page
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
+from workers.actor import WorkerBrowser
 from workers.agent_api import AgentBase, StepResult, TaskContext, build_agent
 from workers.contract import (
     Action,
@@ -26,7 +27,7 @@ from workers.contract import (
     ObservationSettings,
 )
 from workers.editor import BrowserSession, Editor, EditorPool
-from workers.episode import EpisodeRunner
+from workers.kinds.tasks import EpisodeRunner
 from workers.primitive._elements import settle
 
 pytestmark = pytest.mark.browser
@@ -131,7 +132,7 @@ class Observer(_Privileged):
 @pytest.fixture(scope="module")
 async def fresh(session: BrowserSession, content: TaskContent) -> Observer:
     observer = Observer()
-    result = await EpisodeRunner(session).run(episode(content, "composite"), content.payload, observer)
+    result = await EpisodeRunner(WorkerBrowser(session)).run(episode(content, "composite"), content.payload, observer)
     assert result.outcome != "error", result.error_message
     return observer
 
@@ -141,7 +142,7 @@ async def test_an_editor_reused_after_an_untidy_episode_starts_the_next_as_a_fre
     session: BrowserSession, content: TaskContent, fresh: Observer, last: str
 ) -> None:
     async with EditorPool(session, spare=0) as pool:
-        runner = EpisodeRunner(session, pool)
+        runner = EpisodeRunner(WorkerBrowser(session, pool))
         messy = await runner.run(episode(content, "primitive"), content.payload, Messy(last))
         assert messy.outcome != "error", messy.error_message
         assert messy.steps[-1].action == "done"
@@ -175,7 +176,7 @@ async def test_the_oracles_episodes_in_both_modes_share_one_editor(session: Brow
     dropdown Blockly makes anew after the primitive stage is set up (both once closed the editor)."""
     suite = load_suite(SUITE_DIR)
     async with EditorPool(session, spare=0) as pool:
-        runner = EpisodeRunner(session, pool)
+        runner = EpisodeRunner(WorkerBrowser(session, pool))
         for task, mode in (
             ("star_shower", "composite"),
             ("arrow_key_walker", "primitive"),

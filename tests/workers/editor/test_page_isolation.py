@@ -23,8 +23,8 @@ from tests.support.loopback import LoopbackListener
 from tests.support.projects import counter_project
 from workers.contract import EvaluationSpec, ObservationSettings, PrimitiveObservation, primitive_action
 from workers.editor import BrowserConfig, BrowserSession
-from workers.episode import PrimitiveEnvironment
 from workers.evaluation import Evaluator
+from workers.kinds.tasks import PrimitiveEnvironment
 from workers.primitive import PrimitiveObserver
 
 WEB_SERVICES = (

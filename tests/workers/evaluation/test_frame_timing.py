@@ -17,8 +17,8 @@ from pydantic import ValidationError
 
 from scratchworld_dist import load_suite
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist.flakes import FlakeSettings, plan_variants
 from scratchworld_dist.kinds.tasks import read_task
+from scratchworld_dist.kinds.tasks.flakes import FlakeSettings, plan_variants
 from scratchworld_dist.sb3 import Project, block, rect_costume
 from tests.conftest import REPO
 from workers.contract import EvalResult, EvaluationSpec, FrameLateness, calibrated_frame_lateness

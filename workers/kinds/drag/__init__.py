@@ -1,29 +1,22 @@
-"""The ``drag`` kind: single-step drag jobs (one observation, one model call, one real drag, verified)."""
+"""The ``drag`` kind inside a worker: single-step drag jobs (set up the view, compute the exact regions, ask once,
+drag for real, verify).
 
-from __future__ import annotations
+The driver finds the drag agents through the registry (``workers.agent_api.agent_class(name, "drag")``). The
+runner and the page's steps (``DragRunner``, ``show``, ``view_held``, ``SETTLE_MS``) need the browser stack, so
+they are imported on first use: importing this package (what the kind registry does) stays light.
+"""
 
-from pydantic import BaseModel
+import typing
 
-from workers.contract import DragPayload, DragSpec, JobResult, WorkerJob
-from workers.kinds._protocol import WorkerHost
+import workers
+from workers.kinds.drag._kind import DRAG, DragKind
 
+if typing.TYPE_CHECKING:
+    from workers.kinds.drag._page import SETTLE_MS, show, view_held
+    from workers.kinds.drag._runner import DragRunner
 
-class DragKind:
-    """Drag jobs (see ``workers.kinds.drag._run``)."""
+__getattr__ = workers.lazy_exports(
+    __name__, {"._page": ("SETTLE_MS", "show", "view_held"), "._runner": ("DragRunner",)}
+)
 
-    name = "drag"
-    specs: tuple[type[BaseModel], ...] = (DragSpec,)
-    payloads: tuple[type[BaseModel], ...] = (DragPayload,)
-    code: tuple[str, ...] = ("drag", "kinds/drag/_run.py")
-    """workers/drag is imported by no other kind's runner nor by the core (it uses agents' coordinate
-    helpers and primitive's element list, which therefore stay core)."""
-
-    needs_browser = True
-
-    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
-        from workers.kinds.drag._run import run_drag
-
-        return await run_drag(host, spec, payload)
-
-
-DRAG = DragKind()
+__all__ = ["DRAG", "SETTLE_MS", "DragKind", "DragRunner", "show", "view_held"]

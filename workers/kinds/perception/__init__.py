@@ -1,28 +1,21 @@
-"""The ``perception`` kind: a question about a stored screenshot, one model call, both scorings; no editor."""
+"""The ``perception`` kind inside a worker: a question about a stored screenshot, one model call, both scorings;
+no editor.
 
-from __future__ import annotations
+The scoring and the prompt are exported here (the reports' comparisons score canned replies with them); the
+agents are found through the registry (``workers.agent_api.agent_class(name, "perception")``); the runner
+(``run_perception``) needs the model stack, so it is imported on first use.
+"""
 
-from pydantic import BaseModel
+import typing
 
-from workers.contract import JobResult, PerceptionPayload, PerceptionSpec, WorkerJob
-from workers.kinds._protocol import WorkerHost
+import workers
+from workers.kinds.perception._kind import PERCEPTION, PerceptionKind
+from workers.kinds.perception._prompts import perception_messages
+from workers.kinds.perception._scoring import score_reply, strict_correct
 
+if typing.TYPE_CHECKING:
+    from workers.kinds.perception._runner import run_perception
 
-class PerceptionKind:
-    """Perception jobs (see ``workers.kinds.perception._run``)."""
+__getattr__ = workers.lazy_exports(__name__, {"._runner": ("run_perception",)})
 
-    name = "perception"
-    specs: tuple[type[BaseModel], ...] = (PerceptionSpec,)
-    payloads: tuple[type[BaseModel], ...] = (PerceptionPayload,)
-    code: tuple[str, ...] = ("perception", "kinds/perception/_run.py")
-    """workers/perception is imported by no other kind's runner nor by the core."""
-
-    needs_browser = False
-
-    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
-        from workers.kinds.perception._run import run_item
-
-        return await run_item(host, spec, payload)
-
-
-PERCEPTION = PerceptionKind()
+__all__ = ["PERCEPTION", "PerceptionKind", "perception_messages", "run_perception", "score_reply", "strict_correct"]

@@ -1,30 +1,36 @@
-"""The ``tasks`` kind: multi-step episodes (an agent in the editor, then the evaluation), and regrades
-of the projects they left (the evaluation alone, in the same recycled evaluation editors)."""
+"""The ``tasks`` kind inside a worker: multi-step episodes (an agent acting in an environment until it stops, then
+the evaluation), and regrades of the projects they left (the evaluation alone, in the same recycled editors).
 
-from __future__ import annotations
+The runner and environments need the browser stack, so they are imported on first use: importing this package
+(what the kind registry does) stays light.
+"""
 
-from pydantic import BaseModel
+import typing
 
-from workers.contract import EpisodeSpec, JobResult, RegradeSpec, TaskPayload, WorkerJob
-from workers.kinds._protocol import WorkerHost
+import workers
+from workers.kinds.tasks._kind import REGRADED, TASKS, TasksKind
 
+if typing.TYPE_CHECKING:
+    from workers.kinds.tasks._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
+    from workers.kinds.tasks._runner import EpisodeRunner
+    from workers.kinds.tasks._synthetic import run_synthetic
 
-class TasksKind:
-    """Episodes and regrades (see ``workers.kinds.tasks._run``)."""
+__getattr__ = workers.lazy_exports(
+    __name__,
+    {
+        "._environment": ("CompositeEnvironment", "Environment", "PrimitiveEnvironment"),
+        "._runner": ("EpisodeRunner",),
+        "._synthetic": ("run_synthetic",),
+    },
+)
 
-    name = "tasks"
-    specs: tuple[type[BaseModel], ...] = (EpisodeSpec, RegradeSpec)
-    payloads: tuple[type[BaseModel], ...] = (TaskPayload,)
-    code: tuple[str, ...] = ("kinds/tasks/_run.py",)
-    """Only this kind's dispatch: the episode code itself (workers/episode, evaluation, composite, ...)
-    is core, see ``workers.kinds._fingerprint``."""
-
-    needs_browser = True
-
-    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
-        from workers.kinds.tasks._run import run_task
-
-        return await run_task(host, spec, payload)
-
-
-TASKS = TasksKind()
+__all__ = [
+    "REGRADED",
+    "TASKS",
+    "CompositeEnvironment",
+    "Environment",
+    "EpisodeRunner",
+    "PrimitiveEnvironment",
+    "TasksKind",
+    "run_synthetic",
+]

@@ -1,0 +1,79 @@
+"""What a worker hands every kind whose jobs open editors: its browser, the pool of recycled editors, and the
+evaluator that judges projects in them.
+
+A verdict on the virtual evaluation clock does not depend on how fast the evaluation runs, while every step of
+an episode waiting on its model counts in its latency. So while agents of this worker act, a virtual-clock
+evaluation can run in a second browser in Linux's idle scheduling class (``evaluate_giving_way``), which gets
+only the CPU time the agents' browser leaves over (measured with 32 episodes on 2 cores: their last steps had
+waited seconds for the evaluations of the first).
+"""
+
+from __future__ import annotations
+
+import asyncio
+
+from workers.contract import EvalResult, EvaluationSpec, ProjectLimits
+from workers.editor import BrowserSession, EditorPool
+from workers.evaluation import Evaluator
+
+EVALUATIONS_AT_ONCE = 2
+"""Evaluations the background browser runs at once (each is CPU-bound: more would only make each later and hold
+more editors)."""
+
+
+class WorkerBrowser:
+    """One browser session with its editor pool and evaluator, shared by every job of a worker at once."""
+
+    def __init__(self, session: BrowserSession, pool: EditorPool | None = None) -> None:
+        """With a ``pool``, agent and evaluation pages are reused (it closes with the session)."""
+        self.session = session
+        self.pool = pool
+        self.evaluator = Evaluator(session, pool)
+        self.acting = 0
+        """Agents of this browser's jobs in their loop (waiting on their models or acting): their runner counts them."""
+        self._background: Evaluator | None = None
+        self._background_opening = asyncio.Lock()
+        self._background_turns = asyncio.Semaphore(EVALUATIONS_AT_ONCE)
+
+    async def evaluate_giving_way(self, project: bytes, spec: EvaluationSpec, limits: ProjectLimits) -> EvalResult:
+        """The verdict on ``project``: in the idle-class browser while agents act and the clock is virtual (the
+        verdict is the same, the agents' steps are not slowed), else in this browser."""
+        if not (self.acting and spec.clock == "virtual"):
+            return await self.evaluator.evaluate(project, spec, limits)
+        async with self._background_turns:
+            background = await self._background_evaluator()
+            evaluation = await background.evaluate(project, spec, limits)
+            await background.session.keep_idle()
+            return evaluation
+
+    async def _background_evaluator(self) -> Evaluator:
+        """The evaluator of the low-priority browser, started (again, if it died) on first use."""
+        async with self._background_opening:
+            if self._background is None or not self._background.session.connected:
+                await self._close_background()
+                session = await BrowserSession(self.session.config.model_copy(update={"idle_priority": True})).start()
+                self._background = Evaluator(session, EditorPool(session, spare=0))
+            return self._background
+
+    @property
+    def background(self) -> Evaluator | None:
+        """The evaluator that gives way to acting agents, once one evaluation has needed it."""
+        return self._background
+
+    @property
+    def editors_held(self) -> int:
+        """Editors of both browsers: waiting, lent or opening."""
+        held = self.pool.held if self.pool is not None else 0
+        background = self._background.pool if self._background is not None else None
+        return held + (background.held if background is not None else 0)
+
+    async def _close_background(self) -> None:
+        background, self._background = self._background, None
+        if background is not None:
+            if background.pool is not None:
+                await background.pool.close()
+            await background.session.close()
+
+    async def close(self) -> None:
+        """Close the background browser (the session and pool belong to whoever made them)."""
+        await self._close_background()

@@ -1,0 +1,81 @@
+"""The ``audit`` kind as a worker runs it: the variant evaluated in the recycled evaluation editors, under the task's
+profile and clock, exactly as an episode's final project (or a regrade) is. A variant the tests misjudge (a
+mutant that passes, a refactoring that fails) is then traced with the golden, under one seed, to tell by
+behaviour whether it is equivalent to the golden."""
+
+from __future__ import annotations
+
+import json
+from functools import lru_cache
+from typing import TYPE_CHECKING
+
+from pydantic import BaseModel
+
+from workers.contract import AuditObservation, AuditSpec, JobResult, Sb3Archive, TaskPayload, WorkerJob
+from workers.kinds._protocol import WorkerHost
+
+if TYPE_CHECKING:
+    from workers.evaluation import Evaluator
+
+EVALUATED = "evaluated"
+"""Stop reason of an audit job's result."""
+
+TRACE_SEED = 0
+"""The seed of ``Math.random`` both traces are recorded under."""
+
+
+class AuditKind:
+    """Audit jobs: a variant of a task's golden project evaluated by the task's tests, no agent."""
+
+    name = "audit"
+    specs: tuple[type[BaseModel], ...] = (AuditSpec,)
+    payloads: tuple[type[BaseModel], ...] = (TaskPayload,)
+    code: tuple[str, ...] = ("kinds/audit/",)
+    """This folder; the evaluation it runs is every kind's (core)."""
+
+    needs_browser = True
+
+    async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
+        if not (isinstance(spec, AuditSpec) and isinstance(payload, TaskPayload)):
+            return JobResult.errored(spec, "internal_error", "an audit job needs its spec and its task's payload")
+        if payload.golden_project is None:
+            return JobResult.errored(spec, "task_invalid", f"task {payload.task_id} has no golden project to vary")
+        browser = await host.browser()
+        work = _audit(browser.evaluator, spec, payload, payload.golden_project)
+        return await host.in_browser(spec, browser.session, work)
+
+
+AUDIT = AuditKind()
+
+
+async def _audit(evaluator: Evaluator, spec: AuditSpec, task: TaskPayload, golden: bytes) -> JobResult:
+    from workers.evaluation import first_difference, judged  # the browser stack, on the first job
+
+    project = _variant(golden, spec.project_json)
+    result = await judged(evaluator, project, task, spec.project_limits, spec.job_id, spec.attempt, EVALUATED)
+    misjudged = (spec.variant == "mutant" and result.outcome == "passed") or (
+        spec.variant == "refactoring" and result.outcome == "failed"
+    )
+    if not misjudged:
+        return result
+    theirs = await evaluator.evaluate_traced(golden, task.evaluation, spec.project_limits, random_seed=TRACE_SEED)
+    ours = await evaluator.evaluate_traced(project, task.evaluation, spec.project_limits, random_seed=TRACE_SEED)
+    if theirs.trace is None or ours.trace is None:
+        return result  # a page that could not record: the verdict stands, unobserved
+    difference = first_difference(theirs.trace, ours.trace)
+    detail = AuditObservation(
+        observed="equivalent" if difference is None else "differs",
+        difference=None if difference is None else difference.describe(),
+        truncated=theirs.trace.truncated or ours.trace.truncated,
+    )
+    return result.model_copy(update={"detail": detail})
+
+
+@lru_cache(maxsize=8)
+def _archive(golden: bytes) -> Sb3Archive:
+    return Sb3Archive(golden)
+
+
+def _variant(golden: bytes, project_json: str) -> bytes:
+    """The golden's assets with the variant's project.json (its archive kept for the task's next variants)."""
+    return _archive(golden).with_project(json.loads(project_json))

@@ -1,0 +1,418 @@
+"""One episode: open the editor on the initial project, let the agent act, evaluate what it left.
+
+The agent works in its own page; the evaluation runs in another, clean page, so nothing the agent
+left running in its VM can influence the verdict. Both pages are fresh, or, with an ``EditorPool``,
+recycled after an earlier episode or evaluation and verified as good as fresh.
+
+On the virtual episode clock (``EpisodeSpec.episode_clock``) the agent's page time stands still
+while the agent decides and moves by a fixed amount after each action.
+
+While other episodes of the worker act, a virtual-clock evaluation gives way to them (see
+``WorkerBrowser.evaluate_giving_way``).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+import time
+import traceback
+from collections.abc import Awaitable
+from typing import TypeVar
+
+from pydantic import JsonValue
+
+from workers.actor._browser import WorkerBrowser
+from workers.agent_api import Agent, AgentMemory, EpisodeEnd, Privileges, StepResult, TaskContext
+from workers.agents import EpisodeModels
+from workers.contract import (
+    FINAL_ACTIONS,
+    Action,
+    AgentUnableError,
+    BridgeError,
+    CompositeAction,
+    Done,
+    EditorError,
+    EpisodeClock,
+    EpisodeSpec,
+    EpisodeTimings,
+    ErrorClass,
+    Failed,
+    InvalidReply,
+    JobResult,
+    LLMSettings,
+    LoadProject,
+    ModelCallError,
+    Observation,
+    ObservationSettings,
+    PrimitiveAction,
+    ProjectFormatError,
+    ProjectLimits,
+    ProjectTooLargeError,
+    StepObservation,
+    StepRecord,
+    TaskPayload,
+    outcome_of,
+)
+from workers.editor import Editor
+from workers.kinds.tasks._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
+from workers.llm import ModelCache
+from workers.ocr import RegionOCR
+from workers.primitive import PrimitiveObserver, region_ocr
+
+MAX_LOGGED_ARGS = 16_384
+"""Arguments longer than this (as JSON characters) are logged by size: no action accepts that much
+(the longest value any takes is 10,000 characters), and a runaway payload would fill every row and file."""
+
+_T = TypeVar("_T")
+
+ACTION_TYPES = (Done, Failed, LoadProject, InvalidReply, CompositeAction, PrimitiveAction)
+"""What ``act`` may return (the members of ``Action``)."""
+
+PRIMITIVE_STAGE = "small"
+"""Primitive episodes show the small stage, like the upstream harness (more room for blocks)."""
+
+
+class AgentCrashedError(Exception):
+    """The agent raised instead of doing its part; ``trace`` is its traceback for the trajectory, ``error_class``
+    says whether a retry can help (``agent_unable``: the agent said it cannot; ``agent_error``: a crash)."""
+
+    def __init__(self, message: str, trace: str, error_class: ErrorClass = "agent_error") -> None:
+        super().__init__(message)
+        self.trace = trace
+        self.error_class = error_class
+
+
+STARTS_AT_ONCE = 1
+"""Episodes of one runner (one browser) that take their editor and load their project at once.
+
+Starting is CPU-bound (the project loads, the page settles, and on the virtual clock ``start_ms``
+of frames run as fast as they can), so starting many at once only makes each later; started one
+after the other, the first agent acts sooner and the episodes' steps do not all fall at the same
+moments (measured with 32 episodes on 2 cores: every step then waited seconds for the others')."""
+
+
+class _Turn:
+    """One of a limited number of turns, given back on exit or earlier by ``release`` (once)."""
+
+    def __init__(self, turns: asyncio.Semaphore) -> None:
+        self._turns = turns
+        self._held = False
+
+    async def __aenter__(self) -> _Turn:
+        await self._turns.acquire()
+        self._held = True
+        return self
+
+    def release(self) -> None:
+        if self._held:
+            self._held = False
+            self._turns.release()
+
+    async def __aexit__(self, *exc: object) -> None:
+        self.release()
+
+
+class EpisodeRunner:
+    """Runs episodes in one browser session; safe to use for several episodes at once."""
+
+    def __init__(self, browser: WorkerBrowser) -> None:
+        """Episodes open their editors in ``browser`` (from its pool, if it has one) and are judged by its evaluator."""
+        self.browser = browser
+        self._starts = asyncio.Semaphore(STARTS_AT_ONCE)
+        self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
+        """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
+
+    async def _environment(self, spec: EpisodeSpec, editor: Editor, pace: _Pace) -> Environment:
+        if spec.mode == "composite":
+            return CompositeEnvironment(editor)
+        await editor.set_stage_size(PRIMITIVE_STAGE)
+        settings = spec.observation or ObservationSettings()
+        if settings not in self._ocr:
+            self._ocr[settings] = region_ocr(settings)
+        pass_time = pace.pass_time if pace.virtual else None
+        return PrimitiveEnvironment(editor, PrimitiveObserver(settings, self._ocr[settings]), pass_time)
+
+    async def run(self, spec: EpisodeSpec, task: TaskPayload, agent: Agent) -> JobResult:
+        started, clock = time.time(), time.perf_counter()
+        timings = EpisodeTimings()
+        steps: list[StepRecord] = []
+        cache = ModelCache(spec.model_cache.dir) if spec.model_cache is not None else None
+        models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed, cache=cache)
+        memory = AgentMemory(spec.memory, spec.job_id, task.task_id)
+        try:
+            async with (
+                _Turn(self._starts) as starting,
+                self.browser.pool.editor()
+                if self.browser.pool is not None
+                else self.browser.session.editor() as editor,
+            ):
+                editor.uses += 1
+                try:
+                    await editor.load_project(task.initial_project, spec.project_limits)
+                except ProjectFormatError as exc:
+                    message = f"the task's initial project cannot be loaded: {exc}"
+                    return _finish(JobResult.errored(spec, "task_invalid", message), started, clock, timings)
+                pace = _Pace(editor, spec.episode_clock)
+                environment = await self._environment(spec, editor, pace)
+                await pace.start()
+                starting.release()
+                context = _context(spec, task, agent, editor, environment, models, memory)
+                stop_reason = "internal_error"
+                self.browser.acting += 1
+                try:
+                    await _guarded(agent.start(context), "failed to start")
+                    timings.setup_s = time.perf_counter() - clock
+                    stop_reason = await _act(agent, environment, spec, steps, models, pace)
+                except ModelCallError as exc:
+                    stop_reason = exc.error_class
+                    raise
+                except AgentCrashedError as exc:
+                    stop_reason = exc.error_class
+                    raise
+                except (EditorError, BridgeError):
+                    stop_reason = "editor_failure"
+                    raise
+                finally:
+                    self.browser.acting -= 1
+                    ended = agent.finish(EpisodeEnd(stop_reason=stop_reason, steps=len(steps)))
+                    if stop_reason in (*FINAL_ACTIONS, "max_steps"):
+                        await _guarded(ended, "failed to finish")
+                    else:  # the episode is an error already: the agent's own failure to finish adds nothing
+                        with contextlib.suppress(Exception):
+                            await ended
+                    _book_late_calls(steps, models, stop_reason)
+                timings.agent_s = time.perf_counter() - clock - timings.setup_s
+                final_project = await editor.save_project()
+        except (EditorError, BridgeError) as exc:
+            result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=steps)
+            return _finish(result, started, clock, timings)
+        except AgentCrashedError as exc:
+            steps.append(_crash_step(len(steps), exc))
+            result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
+            return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
+        except ModelCallError as exc:  # the model cannot be reached or refuses: no verdict about it
+            result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
+            return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
+        evaluation_start = time.perf_counter()
+        evaluation = await self.browser.evaluate_giving_way(final_project, task.evaluation, spec.project_limits)
+        timings.evaluation_s = time.perf_counter() - evaluation_start
+        outcome, error_class = outcome_of(evaluation)
+        result = JobResult(
+            job_id=spec.job_id,
+            attempt=spec.attempt,
+            outcome=outcome,
+            error_class=error_class,
+            error_message=evaluation.error.message if error_class and evaluation.error else None,
+            stop_reason=stop_reason,
+            evaluation=evaluation,
+            steps=steps,
+            final_project=final_project,
+        )
+        return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
+
+
+def _context(
+    spec: EpisodeSpec,
+    task: TaskPayload,
+    agent: Agent,
+    editor: Editor,
+    environment: Environment,
+    models: EpisodeModels,
+    memory: AgentMemory,
+) -> TaskContext:
+    privileges = None
+    if getattr(agent, "privileged", False):
+        privileges = Privileges(
+            initial_project=task.initial_project,
+            golden_project=task.golden_project,
+            golden_trajectory=task.golden_trajectory,
+            editor=editor,
+        )
+    return TaskContext(
+        task_id=task.task_id,
+        category=task.category,
+        instruction=task.instruction,
+        mode=spec.mode,
+        max_steps=spec.max_steps,
+        seed=spec.seed,
+        block_catalog=environment.block_catalog,
+        model=spec.model,
+        connect=models.connect,
+        llm=spec.llm,
+        privileges=privileges,
+        memory=memory,
+    )
+
+
+async def _guarded(call: Awaitable[_T], doing: str) -> _T:
+    """Await one of the agent's calls: the editor's and the model's failures pass, the agent's own are its error."""
+    try:
+        return await call
+    except (EditorError, BridgeError, ModelCallError, AgentCrashedError):
+        raise
+    except Exception as exc:  # a broken agent is the agent's error, not the harness's
+        unable = isinstance(exc, AgentUnableError)
+        message = f"the agent {doing}: {type(exc).__name__}: {exc}"
+        raise AgentCrashedError(message, _trace(exc), "agent_unable" if unable else "agent_error") from exc
+
+
+ACTION_LEAD_MS = 50
+"""Virtual page time before each action: the timers the page set meanwhile (an observation, a
+privileged agent reading the page) come due first, as they would have while a user reached for the
+mouse; e.g. Blockly makes a block it has just drawn a drop target 1 ms later."""
+
+
+class _Pace:
+    """The agent page's time: nothing to do on the real clock; on the virtual clock, a fixed amount
+    of page time before the first observation, before each action and after it, and none in between."""
+
+    def __init__(self, editor: Editor, clock: EpisodeClock) -> None:
+        self.editor = editor
+        self.clock = clock
+        self.virtual = clock.mode == "virtual"
+
+    async def pass_time(self, ms: float) -> None:
+        """Page time during an action (a drag's moves); only on the virtual clock."""
+        await self.editor.advance_clock(round(ms))
+
+    async def start(self) -> None:
+        if self.virtual:
+            await self.editor.start_episode_clock(self.clock)
+            await self.editor.advance_clock(self.clock.start_ms)
+            await self.editor.redraw_panels()
+
+    async def before_action(self) -> None:
+        if self.virtual:
+            await self.editor.advance_clock(ACTION_LEAD_MS)
+
+    async def after_action(self) -> None:
+        if self.virtual:
+            await self.editor.advance_clock(self.clock.step_ms)
+
+
+async def _act(
+    agent: Agent,
+    environment: Environment,
+    spec: EpisodeSpec,
+    steps: list[StepRecord],
+    models: EpisodeModels,
+    pace: _Pace,
+) -> str:
+    """The agent loop; returns why it stopped."""
+    last: StepResult | None = None
+    for index in range(spec.max_steps):
+        step_start = time.perf_counter()
+        observation = await environment.observe() if getattr(agent, "observes", True) else None
+        observation_s = time.perf_counter() - step_start
+        action = await _guarded(agent.act(observation, last), f"raised at step {index}")
+        if not isinstance(action, ACTION_TYPES):
+            message = f"the agent returned a {type(action).__name__} at step {index}, not an action"
+            raise AgentCrashedError(message, message)
+        await pace.before_action()
+        ok, error_code, error_message, data = await _apply(
+            environment, action, spec.project_limits, privileged=getattr(agent, "privileged", False)
+        )
+        await pace.after_action()
+        name, args = _describe(action)
+        step = StepRecord(
+            index=index,
+            action=name,
+            args=args,
+            ok=ok,
+            error_code=error_code,
+            error_message=error_message,
+            data=data,
+            latency_s=time.perf_counter() - step_start,
+            observation_s=observation_s,
+            warnings=list(getattr(observation, "warnings", [])),
+            observation=_recorded(observation, models),
+        )
+        steps.append(models.drain().booked_on(step))
+        last = StepResult(ok=ok, error_code=error_code, error_message=error_message, data=data)
+        if action.name in FINAL_ACTIONS:
+            return action.name
+    return "max_steps"
+
+
+def _recorded(observation: Observation | None, models: EpisodeModels) -> StepObservation | None:
+    """What the step was shown, for the trajectory; a screenshot joins the episode's images (once per digest)."""
+    if observation is None:
+        return None
+    record, screenshot = StepObservation.of(observation)
+    if screenshot is not None and record.screenshot is not None:
+        models.images.setdefault(record.screenshot, screenshot)
+    return record
+
+
+async def _apply(
+    environment: Environment, action: Action, limits: ProjectLimits, *, privileged: bool
+) -> tuple[bool, str | None, str | None, JsonValue]:
+    """Carry out one action: (ok, error code, error message, data the environment answered)."""
+    if isinstance(action, InvalidReply):
+        return False, "INVALID_REPLY", action.message, {"reason": action.reason}
+    if isinstance(action, LoadProject) and not privileged:
+        return False, "PRIVILEGED_ACTION", "only privileged agents (oracles) may replace the whole project", None
+    if isinstance(action, LoadProject):
+        try:
+            await environment.editor.load_project(action.sb3, limits)
+        except ProjectTooLargeError as exc:
+            return False, "project_too_large", str(exc), None
+        except ProjectFormatError as exc:
+            return False, "project_invalid", str(exc), None
+        except BridgeError as exc:
+            return False, exc.kind, exc.detail, None
+    if isinstance(action, CompositeAction | PrimitiveAction):
+        envelope = await environment.execute(action)
+        if envelope.error is not None:
+            return False, envelope.error.code, envelope.error.message, envelope.error.details
+        return True, None, None, envelope.data
+    return True, None, None, None
+
+
+def _describe(action: Action) -> tuple[str, dict[str, JsonValue]]:
+    """The action's name and arguments as they are logged (bulky payloads by size only)."""
+    if isinstance(action, LoadProject):
+        return action.name, {"sb3_bytes": len(action.sb3)}
+    if isinstance(action, CompositeAction | PrimitiveAction):
+        size = len(json.dumps(action.args, ensure_ascii=False))
+        return action.api, action.args if size <= MAX_LOGGED_ARGS else {"args_chars": size}
+    return action.name, action.model_dump(exclude={"name"})
+
+
+def _with_agent_outputs(result: JobResult, models: EpisodeModels, memory: AgentMemory) -> JobResult:
+    """The result with the images the prompts showed and what the agent proposed to learn from."""
+    return result.model_copy(update={"images": dict(models.images), "memory_items": list(memory.items)})
+
+
+TRACE_LIMIT = 8_000
+"""Characters of an agent's traceback kept in its trajectory."""
+
+
+def _trace(exc: BaseException) -> str:
+    text = "".join(traceback.format_exception(exc))
+    return text if len(text) <= TRACE_LIMIT else "...\n" + text[-TRACE_LIMIT:]
+
+
+def _book_late_calls(steps: list[StepRecord], models: EpisodeModels, stop_reason: str) -> None:
+    """Model calls made after the last action (in ``finish``, e.g. a self-evaluation), or before a first
+    action that never came, are booked too: no call goes uncounted."""
+    calls = models.drain()
+    if not calls.llm_calls:
+        return
+    if not steps:  # the agent broke (or its model failed) before its first action
+        message = "model calls made before the episode ended without an action"
+        steps.append(StepRecord(index=0, action="start", ok=False, error_code=stop_reason, error_message=message))
+    steps[-1] = calls.booked_on(steps[-1])
+
+
+def _crash_step(index: int, exc: AgentCrashedError) -> StepRecord:
+    """The trajectory's last entry when the agent raised: what it raised, with its traceback."""
+    kind = exc.error_class
+    return StepRecord(index=index, action=kind, ok=False, error_code=kind, error_message=exc.trace)
+
+
+def _finish(result: JobResult, started: float, clock: float, timings: EpisodeTimings) -> JobResult:
+    timings.total_s = time.perf_counter() - clock
+    return result.model_copy(update={"timings": timings, "started_at": started, "finished_at": time.time()})
