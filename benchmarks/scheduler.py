@@ -30,7 +30,7 @@ from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.results import RunStore, record_of
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, ray_runtime
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import JobSpec
+from scratchworld_dist.sweep import JobSpec, worker_job
 from workers.contract import JobResult, ModelSpec, SyntheticEpisodes
 
 REPO = Path(__file__).resolve().parents[1]
@@ -91,7 +91,12 @@ def run_jobs(job_list: list[JobSpec], slots: int, duration: float) -> tuple[floa
         ray.get([handle.info.remote() for handle in pool.handles])  # actors up before the clock starts
         payloads = {c.task.id: ray.put(c.payload) for c in CONTENTS}
         scheduler = Scheduler(
-            pool, payloads, timeout_s=600, retries=0, on_result=AttemptRecorder(store, "bench", "s", "h")
+            pool,
+            payloads,
+            timeout_s=600,
+            retries=0,
+            on_result=AttemptRecorder(store, "bench", "s", "h"),
+            sends=worker_job,
         )
         wall, cpu = time.perf_counter(), time.process_time()
         scheduler.run((job, 1) for job in job_list)

@@ -34,11 +34,11 @@ from scratchworld_dist.results import (
     RunManifest,
     RunStore,
     StepRow,
-    SuiteInfo,
     TestRow,
     write_manifest,
 )
 from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import SuiteInfo
 from scratchworld_dist.viewer import ViewerSite
 from scratchworld_dist.viewer._server import serve
 from workers.contract import HarnessFingerprint

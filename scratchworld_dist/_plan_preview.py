@@ -13,10 +13,8 @@ from pathlib import Path
 
 from pydantic import BaseModel
 
-from scratchworld_dist._run_plan import plan_run
-from scratchworld_dist.kinds import Notice
-from scratchworld_dist.results import JobRow, RunStore, SuiteInfo
-from scratchworld_dist.sweep import JobSpec, SweepConfig
+from scratchworld_dist.results import JobRow, RunStore
+from scratchworld_dist.sweep import JobSpec, Notice, SuiteInfo, SweepConfig, plan_run
 
 Group = tuple[str, str, str]
 """(model, agent, mode): one line of the plan."""

@@ -20,16 +20,15 @@ from rich.console import Console
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist._run_plan import RunPlan, plan_run
 from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
 from scratchworld_dist.results import (
     SCHEMA_VERSION,
+    KindRows,
     RunManifest,
     RunStore,
     Session,
-    SuiteInfo,
     continued,
     git_commit,
     now,
@@ -49,7 +48,7 @@ from scratchworld_dist.scheduling import (
     worker_logs_dir,
 )
 from scratchworld_dist.scheduling.preflight import refuse_broken, run_preflight, settle
-from scratchworld_dist.sweep import JobSpec, SweepConfig
+from scratchworld_dist.sweep import JobSpec, RunPlan, SuiteInfo, SweepConfig, plan_run, worker_job
 from workers.contract import (
     MIB,
     JobResult,
@@ -241,13 +240,14 @@ def _execute(
         at_once = min(len(todo), config.limits.max_in_flight or len(todo))
         pool = WorkerPool(slots, pages, config.synthetic, config.limits.memory_reserve_mb * MIB, at_once)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
-        job_kind(config.benchmark).store_shared(store, [c for c in plan.contents if c.task.id in needed])
+        job_kind(config.benchmark, KindRows).store_shared(store, [c for c in plan.contents if c.task.id in needed])
         scheduler = Scheduler(
             pool,
             payloads,
             timeout_s=config.limits.episode_timeout_s,
             retries=config.limits.retries,
             on_result=commit,
+            sends=worker_job,
             max_in_flight=config.limits.max_in_flight,
             budget_usd=config.limits.budget_usd,
             spent_usd=store.cost_usd() if config.limits.budget_usd is not None else 0.0,

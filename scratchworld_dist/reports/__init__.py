@@ -13,10 +13,11 @@ from scratchworld_dist.reports._compare import (
 )
 from scratchworld_dist.reports._compare_render import render_comparison
 from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_exact, paired_bootstrap
-from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable, Gap, PerceptionRate
+from scratchworld_dist.reports._diagnosis import DiagnosisPart, DiagnosisRow, DiagnosisTable, Gap, PerceptionRate
 from scratchworld_dist.reports._diagnosis_cells import MISSING, Rate, optional_rate, pct, rate_cell
-from scratchworld_dist.reports._diagnosis_report import DiagnosisReport
+from scratchworld_dist.reports._diagnosis_report import DiagnosisReport, diagnosis_table
 from scratchworld_dist.reports._error_digest import ErrorDigest, digest_lines, error_digest, run_error_digest
+from scratchworld_dist.reports._kind import KindReport
 from scratchworld_dist.reports._metrics import (
     ClassCount,
     MeanInterval,
@@ -83,6 +84,7 @@ __all__ = [
     "ClassCount",
     "Code",
     "Comparison",
+    "DiagnosisPart",
     "DiagnosisReport",
     "DiagnosisRow",
     "DiagnosisTable",
@@ -93,6 +95,7 @@ __all__ = [
     "Heading",
     "Interval",
     "KEstimate",
+    "KindReport",
     "Linked",
     "LoadedRun",
     "McNemar",
@@ -125,6 +128,7 @@ __all__ = [
     "build_report",
     "class_counts",
     "compare_runs",
+    "diagnosis_table",
     "digest_lines",
     "error_digest",
     "holm",

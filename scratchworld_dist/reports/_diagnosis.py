@@ -1,4 +1,5 @@
-"""The diagnosis table: one row per model across benchmarks, where its composite episodes fail and why.
+"""The diagnosis table's rows and columns, and what a kind adds to it (``DiagnosisPart``): one row per model across
+benchmarks, where its composite episodes fail and why.
 
 Composite and primitive SR come from episode runs, the gap between them is what GUI control costs, and
 the diagnostic benchmarks say where that cost arises: the drag benchmark (can the model place one drag)
@@ -10,18 +11,14 @@ benchmark's own report, which has their counts.
 
 from __future__ import annotations
 
-from collections import defaultdict
 from collections.abc import Sequence
-from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol
 
 from pydantic import BaseModel, ConfigDict, JsonValue
 
-from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.reports._diagnosis_cells import Rate
-from scratchworld_dist.reports._model_identity import ModelKey, ModelResolver, RowModel, describe
+from scratchworld_dist.reports._render import ReportFormat
 from scratchworld_dist.reports._run_groups import RunGroup
-from scratchworld_dist.reports._summary import row_label
 
 
 class Gap(BaseModel):
@@ -92,106 +89,38 @@ class DiagnosisTable(BaseModel):
     rows: list[DiagnosisRow]
 
 
-@dataclass
-class _Results:
-    """What the runs hold for one model key, gathered before any metric: per kind, its diagnosis units."""
+class DiagnosisPart(Protocol):
+    """What a kind adds to the report over runs of several kinds: cells per model, and its own section."""
 
-    labels: list[str] = field(default_factory=list)
-    models: list[dict[str, JsonValue]] = field(default_factory=list)
-    units: dict[str, list[Any]] = field(default_factory=lambda: defaultdict(list))
+    section_field: str
+    """The field of ``DiagnosisReport`` that holds its section (a plugin's: an extra field of that name)."""
 
+    runs_label: str
+    """How the table's header names its runs (``Episode runs``)."""
 
-def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
-    """The table over run groups of different benchmarks; each kind's part says what its cells hold."""
-    results: dict[ModelKey, _Results] = defaultdict(_Results)
-    warnings: list[str] = []
-    axes: dict[str, list[str]] = {}
-    for group in groups:
-        part = job_kind(group.benchmark).diagnosis()
-        if part is None:
-            continue
-        models, unresolved = _models_of(group)
-        warnings += unresolved
-        units = part.units(group)
-        for job_id, unit in units:
-            _gathered(results, models[job_id]).units[group.benchmark].append(unit)
-        axes.update(part.axes([unit for _, unit in units]))
-    labels = _labels(results)
-    rows = [diagnosis_row(labels[key], key, found) for key, found in results.items()]
-    return DiagnosisTable(
-        runs={group.benchmark: [run.name for run in group.runs] for group in groups},
-        warnings=warnings,
-        rows=sorted(rows, key=lambda r: (r.scripted, r.label)),
-        **axes,
-    )
+    definitions: str
+    """What its cells mean, for the table's definitions."""
 
+    def units(self, group: RunGroup) -> list[tuple[str, Any]]:
+        """What its cells are computed from, each with the job id that says whose model it is."""
+        ...
 
-def diagnosis_row(label: str, key: ModelKey, found: _Results) -> DiagnosisRow:
-    """One row: each kind's cells from the units gathered for its key."""
-    cells: dict[str, Any] = {}
-    for benchmark, units in found.units.items():
-        part = job_kind(benchmark).diagnosis()
-        if part is not None:
-            cells.update(part.cells(units))
-    return DiagnosisRow(
-        label=label, agent=key.agent, scripted=key.scripted, labels=found.labels, models=found.models, **cells
-    )
+    def cells(self, units: Sequence[Any]) -> dict[str, Any]:
+        """One model's cells (fields of ``DiagnosisRow``) from its units."""
+        ...
 
+    def axes(self, units: Sequence[Any]) -> dict[str, list[str]]:
+        """Fields of ``DiagnosisTable`` its columns depend on (the drag settings seen), over every model's units."""
+        ...
 
-def _gathered(results: dict[ModelKey, _Results], resolved: RowModel) -> _Results:
-    """The results of ``resolved``'s key, noting the label it went by here."""
-    found = results[resolved.key]
-    if resolved.label not in found.labels:
-        found.labels.append(resolved.label)
-    if not found.models:
-        found.models = [identity for _, identity in resolved.components]
-    return found
+    def header(self, table: DiagnosisTable) -> list[str]: ...
 
+    def row(self, row: DiagnosisRow, table: DiagnosisTable) -> list[str]: ...
 
-def _models_of(group: RunGroup) -> tuple[dict[str, RowModel], list[str]]:
-    """Each job's resolved model, by job id, and a warning per run for labels its manifest does not describe."""
-    models: dict[str, RowModel] = {}
-    warnings = []
-    for run in group.runs:
-        resolver = ModelResolver(run.manifest, str(run.path / "manifest.json"))
-        for row in run.rows:
-            models.setdefault(row.job_id, resolver.resolve(row.agent, row.model))
-        if resolver.unresolved:
-            names = ", ".join(sorted(resolver.unresolved))
-            warnings.append(f"{run.name}: model(s) {names} not in the manifest's models: matched by label only")
-    return models, warnings
+    def section(self, group: RunGroup) -> BaseModel:
+        """Its own report over the group's runs (already loaded and checked for merging)."""
+        ...
 
-
-def _labels(results: dict[ModelKey, _Results]) -> dict[ModelKey, str]:
-    """Row labels: the first model label seen (scripted agents: their name); rows that would share one
-    show what differs between their models, and other names a model went by are listed."""
-    base = {
-        key: f"{key.agent} [scripted]" if key.scripted else row_label(key.agent, found.labels[0])
-        for key, found in results.items()
-    }
-    clashes: dict[str, list[ModelKey]] = defaultdict(list)
-    for key, label in base.items():
-        clashes[label].append(key)
-    labels = dict(base)
-    for label, keys in clashes.items():
-        if len(keys) < 2:
-            continue
-        items = {key: _items(results[key]) for key in keys}
-        common = set.intersection(*(set(v) for v in items.values()))
-        for number, key in enumerate(keys, start=1):
-            differing = [item for item in items[key] if item not in common] or [f"#{number}"]
-            labels[key] = f"{label} ({', '.join(differing)})"
-    for key, found in results.items():
-        if len(found.labels) > 1:
-            labels[key] += f" (also named {', '.join(found.labels[1:])})"
-    return labels
-
-
-def _items(found: _Results) -> list[str]:
-    """A model's identity as ``name=value`` items; the extra models of a ``+`` label prefixed by their name."""
-    names = found.labels[0].split("+") if len(found.models) > 1 else [found.labels[0]]
-    items = []
-    for index, identity in enumerate(found.models):
-        prefix = f"{names[index]}: " if index and index < len(names) else ""
-        items += [prefix + item for item in describe(identity)]
-    return items
+    def render_section(self, section: Any, fmt: ReportFormat, group: RunGroup) -> str:
+        """That report as Markdown (``md``) or an HTML fragment (``html``)."""
+        ...

@@ -1,4 +1,5 @@
-"""The report over runs of several benchmarks: the diagnosis table first, then each benchmark's own report.
+"""The report over runs of several benchmarks: the diagnosis table (one row per model, each kind's cells) first,
+then each benchmark's own report.
 
 Markdown puts the reports one after the other; HTML makes one page of them (the episodes' plots after
 their tables); JSON is one ``DiagnosisReport``.
@@ -6,11 +7,18 @@ their tables); JSON is one ``DiagnosisReport``.
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, SerializeAsAny
+from collections import defaultdict
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
 
-from scratchworld_dist.kinds import DiagnosisPart, job_kind, job_kinds
-from scratchworld_dist.reports._diagnosis import DiagnosisTable
+from pydantic import BaseModel, ConfigDict, JsonValue, SerializeAsAny
+
+from scratchworld_dist.kinds import job_kind, job_kinds
+from scratchworld_dist.reports._diagnosis import DiagnosisPart, DiagnosisRow, DiagnosisTable
 from scratchworld_dist.reports._diagnosis_cells import MISSING
+from scratchworld_dist.reports._kind import KindReport
+from scratchworld_dist.reports._model_identity import ModelKey, ModelResolver, RowModel, describe
 from scratchworld_dist.reports._render import (
     Block,
     Heading,
@@ -22,7 +30,7 @@ from scratchworld_dist.reports._render import (
     html_page,
 )
 from scratchworld_dist.reports._run_groups import RunGroup
-from scratchworld_dist.reports._summary import RunReport
+from scratchworld_dist.reports._summary import RunReport, row_label
 
 _DEFINITIONS = (
     "One row per model: the LiteLLM model with its temperature, max_tokens and params, matched across runs by "
@@ -62,7 +70,7 @@ def diagnosis_report(groups: list[RunGroup], table: DiagnosisTable) -> Diagnosis
     """The table and each group's section, as its kind makes it."""
     sections = {}
     for group in groups:
-        part = job_kind(group.benchmark).diagnosis()
+        part = job_kind(group.benchmark, KindReport).diagnosis()
         if part is not None:
             sections[part.section_field] = part.section(group)
     return DiagnosisReport(diagnosis=table, **sections)
@@ -78,7 +86,7 @@ def render_diagnosis_report(report: DiagnosisReport, fmt: ReportFormat, groups: 
     blocks = diagnosis_blocks(report.diagnosis)
     parts = [blocks_markdown(blocks) if fmt == "md" else blocks_html(blocks)]
     for group in groups:
-        part = job_kind(group.benchmark).diagnosis()
+        part = job_kind(group.benchmark, KindReport).diagnosis()
         section = getattr(report, part.section_field, None) if part is not None else None
         if part is not None and section is not None:
             parts.append(part.render_section(section, fmt, group))
@@ -99,13 +107,118 @@ def diagnosis_blocks(table: DiagnosisTable) -> list[Block]:
 
 def _parts(table: DiagnosisTable) -> list[DiagnosisPart]:
     """The diagnosis parts of the kinds the table has runs of, in the kinds' order."""
-    return [p for kind in job_kinds() if kind.name in table.runs and (p := kind.diagnosis()) is not None]
+    return [p for kind in job_kinds(KindReport) if kind.name in table.runs and (p := kind.diagnosis()) is not None]
 
 
 def _all_parts() -> list[DiagnosisPart]:
-    return [p for kind in job_kinds() if (p := kind.diagnosis()) is not None]
+    return [p for kind in job_kinds(KindReport) if (p := kind.diagnosis()) is not None]
 
 
 def _runs_label(benchmark: str) -> str:
-    part = job_kind(benchmark).diagnosis()
+    part = job_kind(benchmark, KindReport).diagnosis()
     return part.runs_label if part is not None else benchmark
+
+
+@dataclass
+class _Results:
+    """What the runs hold for one model key, gathered before any metric: per kind, its diagnosis units."""
+
+    labels: list[str] = field(default_factory=list)
+    models: list[dict[str, JsonValue]] = field(default_factory=list)
+    units: dict[str, list[Any]] = field(default_factory=lambda: defaultdict(list))
+
+
+def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
+    """The table over run groups of different benchmarks; each kind's part says what its cells hold."""
+    results: dict[ModelKey, _Results] = defaultdict(_Results)
+    warnings: list[str] = []
+    axes: dict[str, list[str]] = {}
+    for group in groups:
+        part = job_kind(group.benchmark, KindReport).diagnosis()
+        if part is None:
+            continue
+        models, unresolved = _models_of(group)
+        warnings += unresolved
+        units = part.units(group)
+        for job_id, unit in units:
+            _gathered(results, models[job_id]).units[group.benchmark].append(unit)
+        axes.update(part.axes([unit for _, unit in units]))
+    labels = _labels(results)
+    rows = [diagnosis_row(labels[key], key, found) for key, found in results.items()]
+    return DiagnosisTable(
+        runs={group.benchmark: [run.name for run in group.runs] for group in groups},
+        warnings=warnings,
+        rows=sorted(rows, key=lambda r: (r.scripted, r.label)),
+        **axes,
+    )
+
+
+def diagnosis_row(label: str, key: ModelKey, found: _Results) -> DiagnosisRow:
+    """One row: each kind's cells from the units gathered for its key."""
+    cells: dict[str, Any] = {}
+    for benchmark, units in found.units.items():
+        part = job_kind(benchmark, KindReport).diagnosis()
+        if part is not None:
+            cells.update(part.cells(units))
+    return DiagnosisRow(
+        label=label, agent=key.agent, scripted=key.scripted, labels=found.labels, models=found.models, **cells
+    )
+
+
+def _gathered(results: dict[ModelKey, _Results], resolved: RowModel) -> _Results:
+    """The results of ``resolved``'s key, noting the label it went by here."""
+    found = results[resolved.key]
+    if resolved.label not in found.labels:
+        found.labels.append(resolved.label)
+    if not found.models:
+        found.models = [identity for _, identity in resolved.components]
+    return found
+
+
+def _models_of(group: RunGroup) -> tuple[dict[str, RowModel], list[str]]:
+    """Each job's resolved model, by job id, and a warning per run for labels its manifest does not describe."""
+    models: dict[str, RowModel] = {}
+    warnings = []
+    for run in group.runs:
+        resolver = ModelResolver(run.manifest, str(run.path / "manifest.json"))
+        for row in run.rows:
+            models.setdefault(row.job_id, resolver.resolve(row.agent, row.model))
+        if resolver.unresolved:
+            names = ", ".join(sorted(resolver.unresolved))
+            warnings.append(f"{run.name}: model(s) {names} not in the manifest's models: matched by label only")
+    return models, warnings
+
+
+def _labels(results: dict[ModelKey, _Results]) -> dict[ModelKey, str]:
+    """Row labels: the first model label seen (scripted agents: their name); rows that would share one
+    show what differs between their models, and other names a model went by are listed."""
+    base = {
+        key: f"{key.agent} [scripted]" if key.scripted else row_label(key.agent, found.labels[0])
+        for key, found in results.items()
+    }
+    clashes: dict[str, list[ModelKey]] = defaultdict(list)
+    for key, label in base.items():
+        clashes[label].append(key)
+    labels = dict(base)
+    for label, keys in clashes.items():
+        if len(keys) < 2:
+            continue
+        items = {key: _items(results[key]) for key in keys}
+        common = set.intersection(*(set(v) for v in items.values()))
+        for number, key in enumerate(keys, start=1):
+            differing = [item for item in items[key] if item not in common] or [f"#{number}"]
+            labels[key] = f"{label} ({', '.join(differing)})"
+    for key, found in results.items():
+        if len(found.labels) > 1:
+            labels[key] += f" (also named {', '.join(found.labels[1:])})"
+    return labels
+
+
+def _items(found: _Results) -> list[str]:
+    """A model's identity as ``name=value`` items; the extra models of a ``+`` label prefixed by their name."""
+    names = found.labels[0].split("+") if len(found.models) > 1 else [found.labels[0]]
+    items = []
+    for index, identity in enumerate(found.models):
+        prefix = f"{names[index]}: " if index and index < len(names) else ""
+        items += [prefix + item for item in describe(identity)]
+    return items

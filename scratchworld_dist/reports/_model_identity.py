@@ -127,7 +127,7 @@ def _agent_models(config: dict[str, Any]) -> Iterator[tuple[str, dict[str, JsonV
     kinds' sections' ``agents`` included."""
     agents: list[Any] = [config.get("agent")]
     for kind in job_kinds():
-        part = config.get(kind.name) if kind.config_section is not None else None
+        part = config.get(kind.section_key()) if kind.config_section is not None else None
         if isinstance(part, dict) and isinstance(part.get("agents"), list):
             agents += part["agents"]
     for agent in agents:

@@ -13,8 +13,8 @@ from pathlib import Path
 from pydantic import BaseModel
 
 from scratchworld_dist.kinds import job_kind
-from scratchworld_dist.reports._diagnosis import diagnosis_table
-from scratchworld_dist.reports._diagnosis_report import diagnosis_report, render_diagnosis_report
+from scratchworld_dist.reports._diagnosis_report import diagnosis_report, diagnosis_table, render_diagnosis_report
+from scratchworld_dist.reports._kind import KindReport
 from scratchworld_dist.reports._render import ReportFormat
 from scratchworld_dist.reports._run_groups import load_groups, paths_by_benchmark
 
@@ -25,7 +25,7 @@ def report_runs(run_dirs: list[Path], fmt: ReportFormat, *, force: bool = False)
     if len(paths) > 1:
         return _diagnosis(paths, fmt, force=force)
     benchmark, members = next(iter(paths.items()))
-    return job_kind(benchmark).report(members, fmt, force=force)
+    return job_kind(benchmark, KindReport).report(members, fmt, force=force)
 
 
 def report_data(run_dirs: list[Path], *, force: bool = False) -> BaseModel:
@@ -36,7 +36,7 @@ def report_data(run_dirs: list[Path], *, force: bool = False) -> BaseModel:
         groups = load_groups(paths, force=force)
         return diagnosis_report(groups, diagnosis_table(groups))
     benchmark, members = next(iter(paths.items()))
-    return job_kind(benchmark).report_data(members, force=force)
+    return job_kind(benchmark, KindReport).report_data(members, force=force)
 
 
 def _diagnosis(paths: dict[str, list[Path]], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:

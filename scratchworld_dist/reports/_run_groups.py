@@ -13,8 +13,9 @@ from pathlib import Path
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.kinds import job_kind, kind_names, kind_of_run
+from scratchworld_dist.kinds import job_kind, kind_names
 from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows
+from scratchworld_dist.results import kind_of_run
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,5 @@
-"""The JSON schemas of the reports as data (``report --format json``, ``scratchworld_dist.api.report``) and of the
-ATIF trajectories ``export`` writes.
+"""The JSON schemas of the reports as data (``report --format json``, ``scratchworld_dist.api.report``) and of what
+the kinds export (the ATIF trajectories of episodes).
 
 Published in ``docs/schemas/`` (``scratchworld schemas docs/schemas`` writes them; a test checks the files are
 current), so a reader of a report's JSON in another language knows its shape without reading our code.
@@ -13,16 +13,14 @@ from typing import Any
 
 from scratchworld_dist.kinds import job_kinds
 from scratchworld_dist.reports._diagnosis_report import DiagnosisReport
+from scratchworld_dist.reports._kind import KindReport
 
 
 def report_schemas() -> dict[str, dict[str, Any]]:
-    """Each report's JSON schema by its file name (every installed kind's own, the diagnosis over kinds) and
-    the ATIF trajectory's."""
-    from scratchworld_dist.kinds.tasks.exports import ATIF_VERSION, AtifTrajectory  # exports build on the reports
-
-    models = {f"{kind.name}-report": kind.report_model() for kind in job_kinds()}
+    """Each report's JSON schema by its file name: what every installed kind publishes (its report's, its
+    exports'), and the diagnosis over kinds."""
+    models = {name: model for kind in job_kinds(KindReport) for name, model in kind.schemas().items()}
     models["diagnosis-report"] = DiagnosisReport
-    models[f"atif-{ATIF_VERSION.removeprefix('ATIF-').lower()}"] = AtifTrajectory  # ``export --format atif``
     return {f"{name}.schema.json": model.model_json_schema(mode="serialization") for name, model in models.items()}
 
 

@@ -1,11 +1,11 @@
 """Results of a run directory: rows, Parquet schemas, the journaled store and the manifest."""
 
+from scratchworld_dist.results._kind import KindRows, SharedFiles
 from scratchworld_dist.results._manifest import (
     MANIFEST_NAME,
     RegradeInfo,
     RunManifest,
     Session,
-    SuiteInfo,
     continued,
     git_commit,
     now,
@@ -14,15 +14,8 @@ from scratchworld_dist.results._manifest import (
     require_manifest,
     write_manifest,
 )
-from scratchworld_dist.results._records import (
-    JobRecord,
-    JobRow,
-    StepRow,
-    TestRow,
-    record_of,
-    shared_image_path,
-    test_rows,
-)
+from scratchworld_dist.results._records import JobRecord, record_of, test_rows
+from scratchworld_dist.results._rows import JobRow, StepRow, TestRow, shared_image_path
 from scratchworld_dist.results._schema import (
     CORE_TABLES,
     SCHEMA_VERSION,
@@ -31,7 +24,7 @@ from scratchworld_dist.results._schema import (
     table_model,
     table_schema,
 )
-from scratchworld_dist.results._store import RunStore, effective_rows
+from scratchworld_dist.results._store import RunStore, effective_rows, kind_of_run
 from scratchworld_dist.results._trajectories import attempt_steps
 
 __all__ = [
@@ -40,18 +33,20 @@ __all__ = [
     "SCHEMA_VERSION",
     "JobRecord",
     "JobRow",
+    "KindRows",
     "RegradeInfo",
     "RunManifest",
     "RunStore",
     "Session",
+    "SharedFiles",
     "StepRow",
-    "SuiteInfo",
     "TestRow",
     "UnknownTableError",
     "attempt_steps",
     "continued",
     "effective_rows",
     "git_commit",
+    "kind_of_run",
     "now",
     "package_versions",
     "read_manifest",

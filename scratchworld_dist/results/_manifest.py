@@ -17,27 +17,14 @@ from pydantic import BaseModel, Field, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist.results._schema import CONTINUABLE_SCHEMAS
-from scratchworld_dist.suites import StabilityMarks
+from scratchworld_dist.sweep import SuiteInfo
 from workers.contract import HarnessFingerprint, NodeSummary, Preflight, describe_differences
 
 if TYPE_CHECKING:  # the rows module imports the sweep's plan, which needs none of this
-    from scratchworld_dist.results._records import JobRow
+    from scratchworld_dist.results._rows import JobRow
 
 MANIFEST_NAME = "manifest.json"
 _PACKAGES = ("scratchworld-dist", "ray", "pyarrow", "playwright", "pydantic", "litellm")
-
-
-class SuiteInfo(BaseModel):
-    name: str
-    kind: str
-    root: str
-    hash: str
-    """Hash of the selected tasks' contents; runs with different hashes are not comparable."""
-
-    tasks: int
-    stability: StabilityMarks | None = None
-    """The suite's known test stability for the selected tasks when the run was planned (None: it has none,
-    and in older runs); not part of the hash, since it changes no verdict."""
 
 
 class Session(BaseModel):

@@ -11,7 +11,7 @@ import pyarrow as pa
 from pydantic import BaseModel
 
 from scratchworld_dist.kinds import job_kinds
-from scratchworld_dist.results._records import JobRow, StepRow, TestRow
+from scratchworld_dist.results._rows import JobRow, StepRow, TestRow
 
 SCHEMA_VERSION = 5
 """Bumped on any change to a table; stored in every shard's metadata. 4: ``jobs.benchmark``; 5: ``tests.unstable``."""

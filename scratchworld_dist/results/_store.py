@@ -30,8 +30,10 @@ from pydantic import ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist._files import link_atomic, write_atomic
-from scratchworld_dist.kinds import kind_of_run
-from scratchworld_dist.results._records import JobRecord, JobRow
+from scratchworld_dist.kinds import DEFAULT_KIND, UnknownKindError, job_kind, job_kinds
+from scratchworld_dist.results._kind import KindRows
+from scratchworld_dist.results._records import JobRecord
+from scratchworld_dist.results._rows import JobRow
 from scratchworld_dist.results._schema import CORE_TABLES, KIND_TABLE_KEYS, table_schema
 
 
@@ -301,7 +303,7 @@ class RunStore:
         """Every attempt's job row; rows of shards older than schema 4 get the run's kind as ``benchmark``."""
         rows = self.read_table("jobs").to_pylist()
         if any(row["benchmark"] is None for row in rows):
-            kind = kind_of_run(self.run_dir).name
+            kind = kind_of_run(self.run_dir, self).name
             rows = [row if row["benchmark"] is not None else {**row, "benchmark": kind} for row in rows]
         try:
             return [JobRow.model_validate(row) for row in rows]
@@ -351,3 +353,20 @@ def effective_rows(rows: list[JobRow]) -> Iterator[JobRow]:
 
 def _rank(row: JobRow) -> tuple[bool, int]:
     return (row.outcome != "error", row.attempt)
+
+
+def kind_of_run(run_dir: Path, store: RunStore | None = None) -> KindRows:
+    """The kind a run directory holds: as its rows name it; in a run without rows of schema 4 or later, the
+    first kind that claims it (``holds``: by its own tables, or its manifest), the default kind last."""
+    store = store or RunStore(run_dir)
+    column = store.read_table("jobs", columns=["benchmark"]).column("benchmark")
+    named = sorted({name for name in column.to_pylist() if name is not None})
+    if len(named) > 1:
+        raise RunDirError(f"{run_dir}: holds jobs of several benchmarks ({', '.join(named)}); a run holds one")
+    if named:
+        try:
+            return job_kind(named[0], KindRows)
+        except UnknownKindError as exc:
+            raise RunDirError(f"{run_dir}: {exc}") from None
+    default = job_kind(DEFAULT_KIND, KindRows)
+    return next((kind for kind in job_kinds(KindRows) if kind is not default and kind.holds(run_dir)), default)

@@ -9,7 +9,7 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from scratchworld_dist._files import read_file
-from scratchworld_dist.results._records import JobRow, StepRow
+from scratchworld_dist.results._rows import JobRow, StepRow
 from workers.contract import StepRecord
 
 

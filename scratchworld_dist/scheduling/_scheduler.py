@@ -53,16 +53,14 @@ ADMISSION_WAIT_S = 5.0
 
 
 class Job(Protocol):
-    """What the scheduler needs of a job: its name, its task's payload key, and what to send for an attempt
-    (a sweep's ``JobSpec``, or a regrade's job)."""
+    """What the scheduler needs of a job (a sweep's ``JobSpec``, or a regrade's job): its name and its task's
+    payload key; what a worker is sent for one of its attempts comes from the scheduler's ``sends``."""
 
     @property
     def job_id(self) -> str: ...
 
     @property
     def task_id(self) -> str: ...
-
-    def episode(self, attempt: int, timeout_s: float) -> WorkerJob: ...
 
 
 J = TypeVar("J", bound=Job)
@@ -133,6 +131,7 @@ class Scheduler(Generic[J]):
         timeout_s: float,
         retries: int,
         on_result: Callable[[J, JobResult], None],
+        sends: Callable[[J, int, float], WorkerJob],
         max_in_flight: int | None = None,
         budget_usd: float | None = None,
         spent_usd: float = 0.0,
@@ -145,6 +144,8 @@ class Scheduler(Generic[J]):
         self.timeout_s = timeout_s
         self.retries = retries
         self.on_result = on_result
+        self.sends = sends
+        """What a worker is sent for an attempt of a job within a timeout (for a sweep: ``sweep.worker_job``)."""
         self.capacity = min(max_in_flight or len(pool) * pool.pages, len(pool) * pool.pages)
         self.stats = SchedulerStats()
         self.budget_usd = budget_usd
@@ -270,7 +271,7 @@ class Scheduler(Generic[J]):
 
     def _submit(self, worker: int, job: J, attempt: int) -> None:
         handle = self.pool.handles[worker]
-        ref = handle.run.remote(job.episode(attempt, self.timeout_s), self.payloads[job.task_id])
+        ref = handle.run.remote(self.sends(job, attempt, self.timeout_s), self.payloads[job.task_id])
         deadline = time.monotonic() + self.timeout_s + DEADLINE_GRACE_S
         self._flights[ref] = _Flight(job, attempt, worker, deadline, sent_at=time.time())
         self._load[worker] += 1
@@ -322,7 +323,7 @@ class Scheduler(Generic[J]):
 
     def _lost(self, flight: _Flight[J], error_class: ErrorClass, message: str) -> JobResult:
         """The result of an attempt whose worker never answered, stamped with the times the driver saw."""
-        result = JobResult.errored(flight.job.episode(flight.attempt, self.timeout_s), error_class, message)
+        result = JobResult.errored(self.sends(flight.job, flight.attempt, self.timeout_s), error_class, message)
         now = time.time()
         timings = result.timings.model_copy(update={"total_s": now - flight.sent_at})
         return result.model_copy(update={"started_at": flight.sent_at, "finished_at": now, "timings": timings})

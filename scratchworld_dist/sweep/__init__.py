@@ -1,6 +1,8 @@
-"""Sweeps: the config file, and the job header and naming every kind's planning shares."""
+"""Sweeps: the config file, the job header and naming every kind's planning shares, and planning a run
+(``plan_run``) through the kind's planning facet (``KindConfig``, ``KindPlanning``)."""
 
 from scratchworld_dist.sweep._config import (
+    KindConfig,
     Limits,
     ModelConfig,
     RayConfig,
@@ -19,24 +21,43 @@ from scratchworld_dist.sweep._plan import (
     read_project,
     suite_hash,
 )
+from scratchworld_dist.sweep._run_plan import (
+    ItemContent,
+    KindPlanning,
+    Notice,
+    RunPlan,
+    SuiteInfo,
+    first_items,
+    plan_run,
+    worker_job,
+)
 from scratchworld_dist.sweep._selection import present_suites, wanted_ids
 
 __all__ = [
     "NO_MODEL",
+    "ItemContent",
     "JobBody",
     "JobSpec",
+    "KindConfig",
+    "KindPlanning",
     "Limits",
     "ModelConfig",
+    "Notice",
     "RayConfig",
+    "RunPlan",
+    "SuiteInfo",
     "SweepConfig",
     "SweepOverrides",
     "TaskSelection",
     "agent_identity",
+    "first_items",
     "identity_id",
     "load_sweep_config",
+    "plan_run",
     "present_suites",
     "read_project",
     "suite_hash",
     "sweep_config_from",
     "wanted_ids",
+    "worker_job",
 ]

@@ -30,8 +30,9 @@ from pydantic import (
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
-from scratchworld_dist.kinds import DEFAULT_KIND, job_kind, job_kinds
+from scratchworld_dist.kinds import DEFAULT_KIND, KindTraits, job_kind, job_kinds
 from scratchworld_dist.sweep._overrides import SweepOverrides
+from workers.agent_api import agent_class, checked_agent
 from workers.contract import (
     AgentRef,
     AgentUnavailableError,
@@ -365,19 +366,19 @@ class SweepConfig(BaseModel):
         if "benchmark" not in info.data:
             return agent  # the benchmark is invalid itself: that error is reported instead
         try:
-            job_kind(info.data["benchmark"]).check_agent(agent)
+            job_kind(info.data["benchmark"], KindConfig).check_agent(agent)
         except AgentUnavailableError as exc:
             raise ValueError(str(exc)) from None
         return agent
 
     @model_validator(mode="after")
     def _agent_fits_sweep(self) -> SweepConfig:
-        job_kind(self.benchmark).check_sweep(self)
+        job_kind(self.benchmark, KindConfig).check_sweep(self)
         return self
 
     @model_validator(mode="after")
     def _models_fit_agent(self) -> SweepConfig:
-        if job_kind(self.benchmark).needs_model(self) and not self.models:
+        if job_kind(self.benchmark, KindConfig).needs_model(self) and not self.models:
             raise ValueError("an agent that needs a model needs at least one entry under models")
         settings = [m.spec().identity() for m in self.models]
         if any(settings.count(s) > 1 for s in settings):
@@ -397,7 +398,7 @@ class SweepConfig(BaseModel):
         which models take a seed imports it, a few seconds, only for a sweep that caches)."""
         if cache is None or "models" not in info.data or "agent" not in info.data or "benchmark" not in info.data:
             return cache  # the models, the agent or the benchmark are invalid themselves: that error is reported
-        helpers = job_kind(info.data["benchmark"]).helper_models(info.data["agent"])
+        helpers = job_kind(info.data["benchmark"], KindConfig).helper_models(info.data["agent"])
         for spec in [*(m.spec() for m in info.data["models"]), *helpers]:
             reason = uncacheable(spec)
             if reason is not None:
@@ -495,3 +496,24 @@ def _resolve(base: Path, path: Path) -> Path:
 
 def _field_path(loc: tuple[int | str, ...]) -> str:
     return ".".join(str(part) for part in loc) or "(top level)"
+
+
+class KindConfig(KindTraits):
+    """What a sweep config asks of its benchmark's kind while it is validated. The defaults fit a kind whose jobs
+    have one agent, found in the kind's own agent group, that may call a model."""
+
+    def check_agent(self, agent: AgentRef) -> None:
+        """Raise ``AgentUnavailableError`` naming the problem unless ``agent`` acts in this kind as given."""
+        checked_agent(agent, self.name)
+
+    def check_sweep(self, config: SweepConfig) -> None:
+        """Raise ``ValueError`` naming the problem unless the sweep's other fields fit this kind."""
+        return None
+
+    def needs_model(self, config: SweepConfig) -> bool:
+        """Whether any agent of the sweep calls a model (the sweep then needs one)."""
+        return bool(getattr(agent_class(config.agent.name, self.name), "needs_model", False))
+
+    def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
+        """Models ``agent`` calls besides the sweep's ``models`` (a grounding model...), as its params name them."""
+        return []

@@ -30,7 +30,6 @@ from workers.contract import (
     ModelCacheSettings,
     ModelSpec,
     ProjectLimits,
-    WorkerJob,
     check_project,
 )
 
@@ -121,10 +120,6 @@ class JobSpec(BaseModel):
         if self.model is None:
             return NO_MODEL
         return "+".join([self.model.name, *(extra.name for extra in self.extra_models)])
-
-    def episode(self, attempt: int, timeout_s: float) -> WorkerJob:
-        """What the worker is sent for ``attempt``, as the job's kind builds it."""
-        return job_kind(self.benchmark).worker_job(self, attempt, timeout_s)
 
     def worker_header(self, attempt: int, timeout_s: float) -> dict[str, Any]:
         """The fields every kind's worker job takes from the header, for ``attempt`` within ``timeout_s``."""

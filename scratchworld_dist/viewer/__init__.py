@@ -1,4 +1,5 @@
-"""``scratchworld view``: a run's report, jobs and trajectories in a browser, served locally or exported.
+"""``scratchworld view``: a run's report, jobs and trajectories in a browser, served locally or exported; what it
+asks of a benchmark kind (``KindPanel``).
 
 The server (``serve``, aiohttp) is imported on first use: reading the site needs no web server."""
 
@@ -6,6 +7,7 @@ import typing
 
 import workers
 from scratchworld_dist.viewer._export import ExportSummary, export_site
+from scratchworld_dist.viewer._kind import AttemptPanel, KindPanel
 from scratchworld_dist.viewer._site import Resource, ViewerSite
 
 if typing.TYPE_CHECKING:
@@ -13,4 +15,4 @@ if typing.TYPE_CHECKING:
 
 __getattr__ = workers.lazy_exports(__name__, {"._server": ("serve",)})
 
-__all__ = ["ExportSummary", "Resource", "ViewerSite", "export_site", "serve"]
+__all__ = ["AttemptPanel", "ExportSummary", "KindPanel", "Resource", "ViewerSite", "export_site", "serve"]

@@ -13,9 +13,9 @@ from typing import Literal
 from pydantic import BaseModel, JsonValue
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.kinds import AttemptPanel, kind_of_run
 from scratchworld_dist.results import JobRow
 from scratchworld_dist.suites import StabilityMarks
+from scratchworld_dist.viewer._kind import AttemptPanel
 from scratchworld_dist.viewer._listing import project_listing
 from scratchworld_dist.viewer._runs import Attempt, ViewedRun
 from scratchworld_dist.viewer._timeline import StepView, step_views
@@ -171,7 +171,7 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
     warnings: list[str] = []
     report_html = "<p>No job has finished yet.</p>"
     if effective:
-        report_html, warnings = kind_of_run(run.path).report_html(run.path)
+        report_html, warnings = run.kind().report_html(run.path)
     errors = Counter(r.error_class or "unknown" for r in effective if r.outcome == "error")
     config = manifest.config
     clock = config.get("episode_clock")

@@ -17,7 +17,7 @@ from typing import TypeVar
 import pyarrow.compute as pc
 from pydantic import BaseModel, Field, SerializeAsAny
 
-from scratchworld_dist.kinds import JobKind, kind_of_run
+from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.results import (
     MANIFEST_NAME,
     JobRow,
@@ -26,10 +26,12 @@ from scratchworld_dist.results import (
     StepRow,
     TestRow,
     attempt_steps,
+    kind_of_run,
     read_manifest,
     require_manifest,
 )
 from scratchworld_dist.results import effective_rows as effective
+from scratchworld_dist.viewer._kind import KindPanel
 from workers.contract import StepRecord
 
 ARTIFACTS = "artifacts"
@@ -92,9 +94,9 @@ class ViewedRun:
         self._rows = (version, rows)
         return rows
 
-    def kind(self) -> JobKind:
+    def kind(self) -> KindPanel:
         """The kind of jobs the run holds (the default kind for a run with no rows yet)."""
-        return kind_of_run(self.path)
+        return job_kind(kind_of_run(self.path).name, KindPanel)
 
     def effective_rows(self) -> list[JobRow]:
         """One row per job: its latest attempt with a verdict, else its latest error."""

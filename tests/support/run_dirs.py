@@ -16,12 +16,12 @@ from scratchworld_dist.results import (
     RegradeInfo,
     RunManifest,
     RunStore,
-    SuiteInfo,
     TestRow,
     read_manifest,
     write_manifest,
 )
 from scratchworld_dist.suites import StabilityMarks
+from scratchworld_dist.sweep import SuiteInfo
 from workers.contract import AnswerFormat, HarnessFingerprint, ValueKind
 from workers.kinds.perception import score_reply
 

@@ -6,32 +6,29 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar
 
 from pydantic import BaseModel
 
-from scratchworld_dist._run_plan import ItemContent, RunPlan
-from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
 from scratchworld_dist.kinds.audit._panel import variant_panel
 from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, audit_jobs, evaluated_under
 from scratchworld_dist.kinds.audit._rows import AuditRow, audit_row
 from scratchworld_dist.kinds.audit._settings import AuditSweep
+from scratchworld_dist.kinds.base import Kind
 from scratchworld_dist.kinds.tasks import selected_tasks
-from scratchworld_dist.results import RunStore, SuiteInfo
-from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
-from workers.contract import AgentRef, AgentUnavailableError, AuditSpec, HarnessFingerprint, JobResult, ModelSpec
-
-if TYPE_CHECKING:
-    from scratchworld_dist.reports import ReportFormat
+from scratchworld_dist.reports import ReportFormat
+from scratchworld_dist.sweep import JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
+from scratchworld_dist.viewer import AttemptPanel
+from workers.contract import AgentRef, AgentUnavailableError, AuditSpec, HarnessFingerprint, JobResult
 
 
-class AuditKind:
+class AuditKind(Kind):
     """Task x variant: each variant of a golden evaluated once, in a clean evaluation editor."""
 
     name = "audit"
+    rank = 30
     title = "grader audit"
     needs_browser = True
-    episodes = False
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"audits": AuditRow})
     config_section: type[BaseModel] | None = AuditSweep
     regrade_refusal: str | None = "an audit run evaluates variants of goldens: run the audit again instead"
@@ -46,9 +43,6 @@ class AuditKind:
 
     def needs_model(self, config: SweepConfig) -> bool:
         return False
-
-    def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
-        return []
 
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
         """The selected tasks' goldens and every variant the ``audit`` section asks for, one job each, evaluated
@@ -72,12 +66,6 @@ class AuditKind:
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
         return {"audits": [audit_row(job, result)]}
-
-    def store_shared(self, store: RunStore, contents: Sequence[ItemContent]) -> None:
-        return None  # a variant's worker gets its golden in its task's payload
-
-    def holds(self, run_dir: Path) -> bool:
-        return False  # every audit run names its kind in its rows
 
     def report_model(self) -> type[BaseModel]:
         from scratchworld_dist.kinds.audit._report import AuditReport
@@ -104,9 +92,6 @@ class AuditKind:
 
     def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
         return variant_panel(rows, run_dir)
-
-    def diagnosis(self) -> DiagnosisPart | None:
-        return None
 
 
 AUDIT = AuditKind()

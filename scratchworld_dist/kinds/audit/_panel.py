@@ -11,10 +11,10 @@ from pathlib import Path
 
 from pydantic import BaseModel
 
-from scratchworld_dist.kinds._protocol import AttemptPanel
 from scratchworld_dist.kinds.audit._programs import programs_html
 from scratchworld_dist.kinds.audit._remake import ProgramsUnavailableError, remade_programs
 from scratchworld_dist.kinds.audit._rows import AuditRow
+from scratchworld_dist.viewer import AttemptPanel
 
 GOOD = {"killed", "passed", "golden_passes"}
 """Verdicts of a grader that judged right (a green badge); a hole, a brittle test or a failing golden are red,

@@ -10,7 +10,7 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from scratchworld_dist.kinds.drag import _metrics as drag
+import scratchworld_dist.kinds.drag._metrics as drag
 from scratchworld_dist.kinds.drag._table import drag_table_of, render_drag_markdown
 from scratchworld_dist.reports import (
     DiagnosisRow,

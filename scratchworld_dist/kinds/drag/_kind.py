@@ -7,49 +7,48 @@ import html
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import ClassVar
 
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist._run_plan import RunPlan
-from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
 from scratchworld_dist.kinds._single_answer import refuse_episode_sections, section_agents
+from scratchworld_dist.kinds.base import Kind
 from scratchworld_dist.kinds.drag._plan import DragBody, plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag._rows import DragRow, drag_row
 from scratchworld_dist.kinds.drag._settings import DragSweep
 from scratchworld_dist.kinds.drag.items import DragTask, load_drag_suite
-from scratchworld_dist.results import RunStore, SuiteInfo
-from scratchworld_dist.sweep import JobSpec, SweepConfig, present_suites, suite_hash, wanted_ids
-from workers.agent_api import agent_class, checked_agent
-from workers.contract import AgentRef, DragAttempt, DragSpec, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
+from scratchworld_dist.reports import DiagnosisPart, ReportFormat
+from scratchworld_dist.sweep import (
+    JobSpec,
+    Notice,
+    RunPlan,
+    SuiteInfo,
+    SweepConfig,
+    present_suites,
+    suite_hash,
+    wanted_ids,
+)
+from workers.agent_api import agent_class
+from workers.contract import AgentRef, DragAttempt, DragSpec, HarnessFingerprint, JobResult, WorkerJob
 
-if TYPE_CHECKING:
-    from scratchworld_dist.reports import ReportFormat
 
-
-class DragKind:
+class DragKind(Kind):
     """Model x setting x task x seed: one drag each, in a fresh editor framed on the task's view."""
 
     name = "drag"
+    rank = 10
     title = "single-step drag"
     needs_browser = True
-    episodes = False
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"drags": DragRow})
     config_section: type[BaseModel] | None = DragSweep
     regrade_refusal: str | None = "a drag benchmark run stores drags, not projects: nothing to regrade"
-
-    def check_agent(self, agent: AgentRef) -> None:
-        checked_agent(agent, self.name)
 
     def check_sweep(self, config: SweepConfig) -> None:
         refuse_episode_sections(config, self.title)
 
     def needs_model(self, config: SweepConfig) -> bool:
         return any(agent_class(agent.name, self.name).needs_model for agent in self.agents(config))
-
-    def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
-        return []
 
     def agents(self, config: SweepConfig) -> list[AgentRef]:
         """The agents the sweep compares: ``drag.agents``, else ``agent``."""
@@ -120,9 +119,6 @@ class DragKind:
             annotated = f"{artifact_dir or ''}/images/{drag.annotated_sha256}.png".lstrip("/")
         return {"drags": [drag_row(job, result, annotated)]}
 
-    def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:
-        return None
-
     def holds(self, run_dir: Path) -> bool:
         from scratchworld_dist.kinds.drag._table import is_drag_run
 
@@ -143,9 +139,6 @@ class DragKind:
         from scratchworld_dist.kinds.drag._table import build_drag_report
 
         return build_drag_report(list(run_dirs), force=force)
-
-    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
-        return None  # the page's tests, steps and final project say it all
 
     def diagnosis(self) -> DiagnosisPart | None:
         # Reports import the statistics stack: only a report asks for them.

@@ -8,7 +8,7 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from scratchworld_dist.kinds.perception import _metrics as perception
+import scratchworld_dist.kinds.perception._metrics as perception
 from scratchworld_dist.kinds.perception._table import perception_blocks, perception_table_of
 from scratchworld_dist.reports import (
     MISSING,

@@ -7,56 +7,47 @@ import hashlib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import ClassVar
 
 from pydantic import BaseModel
 
-from scratchworld_dist._run_plan import RunPlan
-from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
 from scratchworld_dist.kinds._single_answer import refuse_episode_sections, section_agents
+from scratchworld_dist.kinds.base import Kind
 from scratchworld_dist.kinds.perception._panel import answer_panel
 from scratchworld_dist.kinds.perception._plan import PerceptionContent, plan_perception_jobs, select_perception_items
 from scratchworld_dist.kinds.perception._rows import PerceptionRow, perception_row
 from scratchworld_dist.kinds.perception._settings import PerceptionSweep
-from scratchworld_dist.results import RunStore, SuiteInfo, shared_image_path
-from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
-from workers.agent_api import agent_class, checked_agent
+from scratchworld_dist.reports import DiagnosisPart, ReportFormat
+from scratchworld_dist.results import SharedFiles, shared_image_path
+from scratchworld_dist.sweep import ItemContent, JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
+from scratchworld_dist.viewer import AttemptPanel
+from workers.agent_api import agent_class
 from workers.contract import (
     AgentRef,
     HarnessFingerprint,
     JobResult,
-    ModelSpec,
     PerceptionAttempt,
     PerceptionSpec,
     WorkerJob,
 )
 
-if TYPE_CHECKING:
-    from scratchworld_dist.reports import ReportFormat
 
-
-class PerceptionJobKind:
+class PerceptionJobKind(Kind):
     """Agent x model x item x seed: one answer each, about a screenshot; no browser."""
 
     name = "perception"
+    rank = 20
     title = "perception"
     needs_browser = False
-    episodes = False
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"perception": PerceptionRow})
     config_section: type[BaseModel] | None = PerceptionSweep
     regrade_refusal: str | None = "a perception benchmark run stores answers, not projects: nothing to regrade"
-
-    def check_agent(self, agent: AgentRef) -> None:
-        checked_agent(agent, self.name)
 
     def check_sweep(self, config: SweepConfig) -> None:
         refuse_episode_sections(config, self.title)
 
     def needs_model(self, config: SweepConfig) -> bool:
         return any(agent_class(agent.name, self.name).needs_model for agent in self.agents(config))
-
-    def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
-        return []
 
     def agents(self, config: SweepConfig) -> list[AgentRef]:
         """The agents the sweep compares: ``perception.agents``, else ``agent``."""
@@ -93,12 +84,12 @@ class PerceptionJobKind:
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
         return {"perception": [perception_row(job, result)] if isinstance(result.detail, PerceptionAttempt) else []}
 
-    def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:
+    def store_shared(self, files: SharedFiles, contents: Sequence[ItemContent]) -> None:
         """Each item's screenshot, stored once in the run directory for all the jobs that show it."""
         for content in contents:
             if isinstance(content, PerceptionContent):
                 png = content.payload.screenshot_png
-                store.write_shared_image(shared_image_path(hashlib.sha256(png).hexdigest()), png)
+                files.write_shared_image(shared_image_path(hashlib.sha256(png).hexdigest()), png)
 
     def holds(self, run_dir: Path) -> bool:
         from scratchworld_dist.kinds.perception._table import is_perception_run

@@ -7,8 +7,8 @@ from html import escape
 
 from pydantic import BaseModel
 
-from scratchworld_dist.kinds._protocol import AttemptPanel
 from scratchworld_dist.kinds.perception._rows import PerceptionRow
+from scratchworld_dist.viewer import AttemptPanel
 
 
 def _verdict(right: bool) -> str:

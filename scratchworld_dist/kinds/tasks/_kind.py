@@ -3,50 +3,39 @@ then the task's tests judge the project it leaves; the kind ``regrade`` evaluate
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, ClassVar
 
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist._run_plan import RunPlan
-from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, Notice
+from scratchworld_dist.kinds.base import Kind
 from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
-from scratchworld_dist.results import RunStore, SuiteInfo
+from scratchworld_dist.reports import DiagnosisPart, ReportFormat
 from scratchworld_dist.suites import Suite, load_suite, stability_marks
-from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, suite_hash
-from workers.agent_api import agent_class, agent_code, agent_params, checked_agent, extra_models
+from scratchworld_dist.sweep import NO_MODEL, JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
+from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import (
     AgentRef,
     EpisodeClock,
     EpisodeSpec,
     HarnessFingerprint,
-    JobResult,
     Mode,
     ModelSpec,
     WorkerJob,
 )
 
-if TYPE_CHECKING:
-    from scratchworld_dist.reports import ReportFormat
 
-
-class TasksKind:
+class TasksKind(Kind):
     """Multi-step episodes on a task suite (ours or an upstream clone), in composite or primitive mode."""
 
     name = "tasks"
+    rank = 0
     title = "task episodes"
     needs_browser = True
     episodes = True
-    tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({})
-    config_section: type[BaseModel] | None = None  # its axes are the config's own fields (modes, tasks...)
     regrade_refusal: str | None = None
-
-    def check_agent(self, agent: AgentRef) -> None:
-        checked_agent(agent, self.name)
 
     def check_sweep(self, config: SweepConfig) -> None:
         agent = agent_class(config.agent.name)
@@ -61,9 +50,6 @@ class TasksKind:
             raise ValueError(
                 f"agent {config.agent.name!r} learns across jobs: give a memory section (kind: online or offline)"
             )
-
-    def needs_model(self, config: SweepConfig) -> bool:
-        return bool(getattr(agent_class(config.agent.name), "needs_model", False))
 
     def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
         return extra_models(agent_params(agent_class(agent.name), agent))
@@ -120,12 +106,6 @@ class TasksKind:
             episode_clock=body.episode_clock,
         )
 
-    def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
-        return {}
-
-    def store_shared(self, store: RunStore, contents: Sequence[Any]) -> None:
-        return None
-
     def holds(self, run_dir: Path) -> bool:
         return True  # the default kind: an older run no other kind claims holds episodes
 
@@ -153,9 +133,6 @@ class TasksKind:
         from scratchworld_dist.kinds.tasks._diagnosis import DIAGNOSIS
 
         return DIAGNOSIS
-
-    def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
-        return None  # the page's tests, steps and final project say it all
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         from scratchworld_dist.reports import build_report, render_html_body

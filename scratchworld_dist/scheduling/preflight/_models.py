@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from scratchworld_dist.kinds import job_kind
-from scratchworld_dist.sweep import JobSpec, SweepConfig
+from scratchworld_dist.sweep import JobSpec, KindConfig, SweepConfig
 from workers.contract import ModelSpec
 
 
@@ -14,7 +14,7 @@ class ModelCalls:
     """The models each job of one sweep calls (a job of a scripted agent may carry a model label it never calls)."""
 
     def __init__(self, config: SweepConfig) -> None:
-        kind = job_kind(config.benchmark)
+        kind = job_kind(config.benchmark, KindConfig)
         self.config = config
         self.callable = [m.spec() for m in config.models] if kind.needs_model(config) else []
         self.callable += kind.helper_models(config.agent)

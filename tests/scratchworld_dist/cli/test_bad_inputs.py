@@ -29,6 +29,7 @@ import yaml
 from scratchworld_dist.cli._main import main
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR, pooled_editor
 from tests.support import bad_inputs as bad
 from tests.support import bad_inputs_perception as bad_perception
@@ -444,7 +445,7 @@ async def episodes(episode_runner: EpisodeRunner) -> dict[str, JobResult]:
             )
         )  # type: ignore[list-item]
         agent = Scripted(requests, mode, observes=mode == "primitive")
-        results[mode] = await episode_runner.run(job.episode(1, 600), content.payload, agent)  # type: ignore[arg-type]
+        results[mode] = await episode_runner.run(worker_job(job, 1, 600), content.payload, agent)  # type: ignore[arg-type]
     return results
 
 

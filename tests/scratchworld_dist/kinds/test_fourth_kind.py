@@ -1,7 +1,7 @@
 """A fourth job kind from a plugin package, driver and worker side, run end to end: planned from its own suite,
 run by its own runner on the sweep's Ray workers, recorded with its name in the benchmark column and in a result
 table of its own, configured by a section of its own, reported by its own report, shown by the viewer, resumed.
-What it takes is what this module's plugin holds: a ``JobKind`` (with its config section, row model and viewer
+What it takes is what this module's plugin holds: a ``Kind`` (with its config section, row model and viewer
 panel), a ``JobBody``, a worker spec, a ``WorkerKind`` and two entry points."""
 
 from __future__ import annotations
@@ -15,10 +15,10 @@ import yaml
 from scratchworld_dist import api
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run import config_hash
-from scratchworld_dist.kinds import job_kind, kind_names, kind_of_run
+from scratchworld_dist.kinds import job_kind, kind_names
 from scratchworld_dist.kinds._registry import _registered
 from scratchworld_dist.reports import report_schemas
-from scratchworld_dist.results import RunStore
+from scratchworld_dist.results import RunStore, kind_of_run
 from scratchworld_dist.results._schema import row_tables
 from scratchworld_dist.sweep import SweepConfig, load_sweep_config
 from scratchworld_dist.viewer import ViewerSite
@@ -34,10 +34,10 @@ from pathlib import Path
 
 from pydantic import BaseModel, ConfigDict
 
-from scratchworld_dist._run_plan import RunPlan
-from scratchworld_dist.kinds import AttemptPanel
-from scratchworld_dist.results import RunStore, SuiteInfo
-from scratchworld_dist.sweep import JobBody, JobSpec, identity_id, suite_hash
+from scratchworld_dist.kinds.base import Kind
+from scratchworld_dist.results import RunStore
+from scratchworld_dist.sweep import JobBody, JobSpec, RunPlan, SuiteInfo, identity_id, suite_hash
+from scratchworld_dist.viewer import AttemptPanel
 from workers.contract import AgentUnavailableError, JobResult, ModelSpec
 
 
@@ -99,7 +99,7 @@ class EchoSpec(BaseModel):
     model_cache: object = None
 
 
-class EchoKind:
+class EchoKind(Kind):
     name = "echo"
     title = "echo"
     needs_browser = False
@@ -111,14 +111,10 @@ class EchoKind:
         if agent.name != "echo" or agent.params:
             raise AgentUnavailableError(f"the echo benchmark's agent is echo, not {agent.name!r}")
 
-    def check_sweep(self, config):
-        return None
 
     def needs_model(self, config):
         return False
 
-    def helper_models(self, agent):
-        return []
 
     def plan(self, config, harness, notice):
         passing = config.section(self.name, EchoSection).passing_word
@@ -152,11 +148,7 @@ class EchoKind:
         (row,) = rows["echoes"]
         return AttemptPanel(title="Echoed", html=f"<p class=echoed>{escape(row.word)}</p>", shows_project=False)
 
-    def store_shared(self, store, contents):
-        return None
 
-    def holds(self, run_dir):
-        return False
 
     def report(self, run_dirs, fmt, *, force):
         rows = [row for run_dir in run_dirs for row in RunStore(Path(run_dir)).job_rows()]
@@ -174,8 +166,6 @@ class EchoKind:
         text, warnings = self.report([run_dir], "md", force=False)
         return f"<p>{text}</p>", warnings
 
-    def diagnosis(self):
-        return None
 
 
 class EchoWorkerKind:

@@ -15,7 +15,8 @@ from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable
 from scratchworld_dist.reports._diagnosis_cells import MISSING
 from scratchworld_dist.reports._model_identity import ModelResolver
 from scratchworld_dist.reports._run_groups import run_benchmark
-from scratchworld_dist.results import RunManifest, SuiteInfo
+from scratchworld_dist.results import RunManifest
+from scratchworld_dist.sweep import SuiteInfo
 from tests.support.cli_runner import invoke
 from tests.support.run_dirs import drag_record, job, make_run, perception_record
 

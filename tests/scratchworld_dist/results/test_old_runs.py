@@ -9,8 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from scratchworld_dist.kinds import kind_of_run
-from scratchworld_dist.results import SCHEMA_VERSION, RunStore
+from scratchworld_dist.results import SCHEMA_VERSION, RunStore, kind_of_run
 from tests.conftest import DATA
 from tests.support.cli_runner import invoke
 from tests.support.sweep_driver import run_here

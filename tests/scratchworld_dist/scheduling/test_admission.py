@@ -18,7 +18,7 @@ import ray
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
 from scratchworld_dist.scheduling import Scheduler, WorkerPool, admitted_slots, pages_per_worker
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import JobSpec, Limits
+from scratchworld_dist.sweep import JobSpec, Limits, worker_job
 from tests.conftest import REPO, pooled_editor
 from tests.support.cli_runner import invoke
 from workers.contract import MIB, AgentRef, EpisodeClock, JobResult, ModelSpec, SyntheticEpisodes
@@ -163,7 +163,9 @@ def test_workers_take_no_job_while_the_node_is_short_of_memory(
     pool = WorkerPool(2, 1, SyntheticEpisodes(duration_s=0.1), memory_reserve_bytes=reserve)
     payloads = {job.task_id: ray.put(read_task_payload(job)) for job in planned}
     finished: list[JobResult] = []
-    scheduler = Scheduler(pool, payloads, timeout_s=120, retries=0, on_result=lambda _, r: finished.append(r))
+    scheduler = Scheduler(
+        pool, payloads, timeout_s=120, retries=0, on_result=lambda _, r: finished.append(r), sends=worker_job
+    )
     driver = threading.Thread(target=scheduler.run, args=([(job, 1) for job in planned],))
     try:
         driver.start()

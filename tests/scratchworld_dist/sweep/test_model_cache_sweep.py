@@ -18,7 +18,7 @@ from scratchworld_dist.kinds.tasks import EpisodeBody, EpisodeMatrix, plan_jobs,
 from scratchworld_dist.reports import build_report, render_html, render_markdown
 from scratchworld_dist.results import RunStore, record_of, table_schema
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import JobSpec, load_sweep_config
+from scratchworld_dist.sweep import JobSpec, load_sweep_config, worker_job
 from tests.conftest import SUITE_DIR
 from tests.support.run_dirs import job, make_run
 from workers.contract import AgentRef, JobResult, ModelCacheSettings, ModelSpec, StepRecord
@@ -140,8 +140,8 @@ def test_the_cache_changes_no_job_id_and_reaches_every_episode() -> None:
         )
     )
     assert [j.job_id for j in plain] == [j.job_id for j in cached]
-    assert {j.episode(1, 60).model_cache for j in cached} == {cache}
-    assert {j.episode(1, 60).model_cache for j in plain} == {None}
+    assert {worker_job(j, 1, 60).model_cache for j in cached} == {cache}
+    assert {worker_job(j, 1, 60).model_cache for j in plain} == {None}
 
 
 def test_turning_the_cache_on_keeps_the_run_directorys_config_hash(tmp_path: Path) -> None:

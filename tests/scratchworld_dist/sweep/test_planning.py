@@ -18,7 +18,7 @@ from scratchworld_dist.kinds.tasks import (
     read_task,
 )
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import NO_MODEL, JobSpec
+from scratchworld_dist.sweep import NO_MODEL, JobSpec, worker_job
 from scratchworld_dist.sweep import suite_hash as hash_of_suite
 from tests.conftest import SUITE_DIR
 from tests.support.projects import with_entry
@@ -121,7 +121,7 @@ def test_job_fields_come_from_the_plan(ours: list[TaskContent]) -> None:
     assert job.llm == LLMSettings()
     identity = (content.task_hash, content.task.id, 4, 12, job.body.observation, job.llm)
     assert job.job_id == job_id(CLAUDE, "primitive", "llm", *identity)
-    episode = job.episode(attempt=1, timeout_s=60)
+    episode = worker_job(job, attempt=1, timeout_s=60)
     assert (episode.observation, episode.llm) == (ObservationSettings(), LLMSettings())
 
 
@@ -247,8 +247,8 @@ def test_the_harness_fingerprint_and_project_limits_are_part_of_the_id() -> None
             project_limits=smaller,
         )
     )
-    assert job.episode(1, 60).project_limits == smaller
-    assert job.episode(1, 60).harness == episodes
+    assert worker_job(job, 1, 60).project_limits == smaller
+    assert worker_job(job, 1, 60).harness == episodes
 
 
 # --- task content changes ----------------------------------------------------------------------
@@ -351,7 +351,7 @@ def test_model_label_and_key_variable_do_not_change_ids(ours: list[TaskContent])
 
 def test_episode_carries_the_job(ours: list[TaskContent]) -> None:
     job = plan(ours)[17]
-    episode = job.episode(attempt=3, timeout_s=120.0)
+    episode = worker_job(job, attempt=3, timeout_s=120.0)
     assert episode.job_id == job.job_id
     assert episode.attempt == 3
     assert episode.timeout_s == 120.0
@@ -440,7 +440,7 @@ def test_a_virtual_episode_clock_and_each_of_its_durations_change_the_job_id(our
             episode_clock=EpisodeClock(mode="virtual"),
         )
     )
-    assert job.episode(1, 60).episode_clock.mode == "virtual"  # the worker gets the clock it was planned with
+    assert worker_job(job, 1, 60).episode_clock.mode == "virtual"  # the worker gets the clock it was planned with
 
 
 def test_the_episode_clock_defaults_to_virtual() -> None:

@@ -9,6 +9,7 @@ import pytest
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR
 from tests.support.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentBase, EpisodeEnd, StepResult, TaskContext
@@ -27,7 +28,7 @@ def spec(content: TaskContent) -> EpisodeSpec:
     (job,) = plan_jobs(
         EpisodeMatrix(models=[None], modes=["composite"], agent="noop", tasks=[content], seeds=[0], max_steps=10)
     )
-    return job.episode(1, 120)
+    return worker_job(job, 1, 120)
 
 
 class Recorder(AgentBase):
@@ -135,7 +136,7 @@ async def test_calls_in_start_and_finish_are_booked_too(
     (job,) = plan_jobs(
         EpisodeMatrix(models=[model], modes=["composite"], agent="llm", tasks=[content], seeds=[0], max_steps=10)
     )
-    result = await episode_runner.run(job.episode(1, 120), content.payload, Judge(crash))
+    result = await episode_runner.run(worker_job(job, 1, 120), content.payload, Judge(crash))
     assert model_server.count == 2  # the plan, and the self-evaluation however the episode ended
     assert result.llm_calls == 2 and result.input_tokens == 100 and result.cost_usd > 0
     if crash:

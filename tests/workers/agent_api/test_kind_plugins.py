@@ -20,7 +20,7 @@ from pydantic import BaseModel, ConfigDict
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run import plan_run
 from scratchworld_dist.results import RunStore
-from scratchworld_dist.sweep import load_sweep_config
+from scratchworld_dist.sweep import load_sweep_config, worker_job
 from tests.conftest import REPO
 from tests.support.perception_suites import ITEMS, write_suite
 from tests.support.sweep_driver import run_here
@@ -223,7 +223,7 @@ def test_a_worker_with_other_plugin_code_refuses_the_job(tmp_path: Path) -> None
     plan = plan_run(load_sweep_config(perception_config(tmp_path, agent="always")))
     job = plan.jobs[0]
     content = next(c for c in plan.contents if c.task.id == job.task_id)
-    planned = job.episode(1, 30)
+    planned = worker_job(job, 1, 30)
     ran = asyncio.run(run_perception(planned, content.payload))  # type: ignore[arg-type]
     assert ran.outcome in ("passed", "failed")
     other = planned.model_copy(update={"agent_code": "0" * 16})

@@ -10,6 +10,7 @@ import pytest
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR
 from tests.support.openai_server import OpenAIServer, reply, status
 from workers.agent_api import TaskContext
@@ -77,7 +78,7 @@ def episode(
             llm=settings,
         )
     )
-    return job.episode(1, 300)
+    return worker_job(job, 1, 300)
 
 
 async def no_catalog() -> None:

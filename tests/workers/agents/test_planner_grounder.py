@@ -18,6 +18,7 @@ import pytest
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR
 from tests.support.openai_server import OpenAIServer, reply
 from workers.agent_api import build_agent
@@ -88,7 +89,7 @@ async def gestures(episode_runner: EpisodeRunner, content: TaskContent) -> list[
             observation=ObservationSettings(ocr="none"),
         )
     )
-    result = await episode_runner.run(job.episode(1, 300), content.payload, OracleAgent())
+    result = await episode_runner.run(worker_job(job, 1, 300), content.payload, OracleAgent())
     assert result.outcome == "passed", result.evaluation
     *moves, done = result.steps
     assert done.action == "done" and moves and all(step.ok for step in moves)
@@ -152,7 +153,7 @@ async def run_agent(
     )
     (job,) = plan_jobs(matrix)
     assert job.model_name == "planner+ui-tars"
-    return await episode_runner.run(job.episode(1, 300), content.payload, build_agent(ref))
+    return await episode_runner.run(worker_job(job, 1, 300), content.payload, build_agent(ref))
 
 
 def image_urls(body: dict[str, Any]) -> list[str]:

@@ -12,6 +12,7 @@ from playwright.async_api import Page
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR
 from workers.actor import WorkerBrowser
 from workers.agent_api import AgentBase, StepResult, TaskContext, build_agent
@@ -52,7 +53,7 @@ def episode(content: TaskContent, mode: Mode) -> EpisodeSpec:
             observation=NO_OCR if mode == "primitive" else None,
         )
     )
-    return job.episode(1, 120).model_copy(update={"episode_clock": EpisodeClock(mode="virtual")})
+    return worker_job(job, 1, 120).model_copy(update={"episode_clock": EpisodeClock(mode="virtual")})
 
 
 class _Privileged(AgentBase):
@@ -195,7 +196,7 @@ async def test_the_oracles_episodes_in_both_modes_share_one_editor(session: Brow
                     observation=NO_OCR if mode == "primitive" else None,
                 )
             )
-            spec = job.episode(1, 300).model_copy(update={"episode_clock": EpisodeClock(mode="virtual")})
+            spec = worker_job(job, 1, 300).model_copy(update={"episode_clock": EpisodeClock(mode="virtual")})
             result = await runner.run(spec, content.payload, build_agent(AgentRef(name="oracle")))
             assert result.outcome == "passed", (task, mode, result.error_message)
             assert dict(pool.discarded) == {}, (task, mode)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import time
 
+import workers.kinds.drag._page as page
 from workers.agent_api import code_mismatch, is_privileged
 from workers.agents import EpisodeModels
 from workers.contract import (
@@ -34,7 +35,6 @@ from workers.contract import (
     TestVerdict,
 )
 from workers.editor import Editor, EditorPool
-from workers.kinds.drag import _page as page
 from workers.kinds.drag._agents import DragAnswer, DragQuestion, drag_agent
 from workers.kinds.drag._annotate import annotate
 from workers.kinds.drag._prompts import draw_start_marker

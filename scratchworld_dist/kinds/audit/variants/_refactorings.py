@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from typing import Any
 
-from scratchworld_dist.kinds.audit.variants import _edits as edits
+import scratchworld_dist.kinds.audit.variants._edits as edits
 from scratchworld_dist.kinds.audit.variants._places import (
     NUMBER_CODES,
     as_number,

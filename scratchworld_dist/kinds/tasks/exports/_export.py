@@ -14,11 +14,18 @@ from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError, ScratchWorldError
 from scratchworld_dist._files import write_atomic
-from scratchworld_dist.kinds import kind_of_run
 from scratchworld_dist.kinds.tasks.exports._atif import atif_trajectory
 from scratchworld_dist.kinds.tasks.exports._leaderboard import leaderboard, leaderboard_csv
 from scratchworld_dist.kinds.tasks.exports._submission import SubmissionLine, submission_file_name, submission_line
-from scratchworld_dist.results import JobRow, RunStore, StepRow, attempt_steps, effective_rows, require_manifest
+from scratchworld_dist.results import (
+    JobRow,
+    RunStore,
+    StepRow,
+    attempt_steps,
+    effective_rows,
+    kind_of_run,
+    require_manifest,
+)
 from scratchworld_dist.suites import suite_instructions
 from workers.contract import StepRecord
 

@@ -15,9 +15,8 @@ from scratchworld_dist._errors import TaskNotFoundError
 from scratchworld_dist._files import FileTooLargeError, read_file
 from scratchworld_dist.kinds.tasks import TaskContent, read_task
 from scratchworld_dist.kinds.tasks.regrade._source import FINAL_PROJECT, SourceJob, SourceRun
-from scratchworld_dist.results import SuiteInfo
 from scratchworld_dist.suites import load_suite, stability_marks
-from scratchworld_dist.sweep import Limits, identity_id, suite_hash
+from scratchworld_dist.sweep import Limits, SuiteInfo, identity_id, suite_hash
 from workers.contract import (
     MIB,
     EvaluationClock,
@@ -45,7 +44,7 @@ class RegradeJob(BaseModel):
     def task_id(self) -> str:
         return self.source.row.task_id
 
-    def episode(self, attempt: int, timeout_s: float) -> RegradeSpec:
+    def worker_job(self, attempt: int, timeout_s: float) -> RegradeSpec:
         """What the worker is sent: the project read now (only the jobs in flight hold theirs)."""
         return RegradeSpec(
             job_id=self.job_id,

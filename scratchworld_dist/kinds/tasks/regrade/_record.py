@@ -11,7 +11,8 @@ from __future__ import annotations
 from datetime import UTC, datetime
 
 from scratchworld_dist.kinds.tasks.regrade._plan import RegradeJob
-from scratchworld_dist.results import JobRecord, JobRow, RunStore, StepRow, SuiteInfo, test_rows
+from scratchworld_dist.results import JobRecord, JobRow, RunStore, StepRow, test_rows
+from scratchworld_dist.sweep import SuiteInfo
 from workers.contract import MIB, JobResult
 
 

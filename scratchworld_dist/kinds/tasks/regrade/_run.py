@@ -173,6 +173,7 @@ def _execute(
             timeout_s=limits.episode_timeout_s,
             retries=limits.retries,
             on_result=record,
+            sends=RegradeJob.worker_job,
             max_in_flight=limits.max_in_flight,
         )
         console.print(pool.describe(slots))

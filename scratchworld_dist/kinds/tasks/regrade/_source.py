@@ -9,13 +9,13 @@ from pathlib import Path
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.kinds import kind_of_run
 from scratchworld_dist.results import (
     JobRow,
     RunManifest,
     RunStore,
     StepRow,
     effective_rows,
+    kind_of_run,
     require_manifest,
 )
 

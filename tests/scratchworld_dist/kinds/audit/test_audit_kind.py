@@ -18,13 +18,13 @@ import pyarrow.compute as pc
 import pyarrow.parquet as pq
 import pytest
 
-from scratchworld_dist._run_plan import plan_run
 from scratchworld_dist.kinds.audit import AuditSweep, build_audit_report, render_audit, task_variants
 from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.sb3 import Project, block, rect_costume
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import sweep_config_from
+from scratchworld_dist.sweep._run_plan import plan_run
 from scratchworld_dist.viewer import ViewerSite
 from tests.conftest import SUITE_DIR
 from tests.support.cli_runner import Done, invoke

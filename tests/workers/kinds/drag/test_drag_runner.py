@@ -13,6 +13,7 @@ import pytest
 
 from scratchworld_dist.kinds.drag import plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag.items import load_drag_suite
+from scratchworld_dist.sweep import worker_job
 from tests.conftest import REPO
 from tests.support.openai_server import OpenAIServer, reply, status
 from workers.contract import AgentRef, DragPayload, DragRegions, DragSpec, LLMSettings, ModelSpec, RetryPolicy
@@ -56,7 +57,7 @@ def spec(server: OpenAIServer, setting: str = "baseline", model: str = "openai/g
     model_spec = ModelSpec(name="m", model=model, api_base=server.url, api_key_env=KEY_ENV)
     llm = LLMSettings().model_copy(update={"retry": FAST})
     (job,) = plan_drag_jobs([model_spec], [setting], AgentRef(name="llm"), [CONTENT], [3], llm=llm)  # type: ignore[list-item]
-    made = job.episode(1, 120)
+    made = worker_job(job, 1, 120)
     assert isinstance(made, DragSpec)
     return made
 
@@ -146,7 +147,7 @@ async def test_a_model_that_keeps_failing_is_an_error_not_a_failure(runner: Drag
 async def test_the_oracle_passes_every_setting(runner: DragRunner) -> None:
     for setting in ("baseline", "gt_start", "knowledge"):
         (job,) = plan_drag_jobs([None], [setting], AgentRef(name="oracle"), [CONTENT], [0])  # type: ignore[list-item]
-        made = job.episode(1, 120)
+        made = worker_job(job, 1, 120)
         assert isinstance(made, DragSpec)
         result = await runner.run(made, CONTENT.payload)
         assert result.outcome == "passed", (setting, result.error_message)

@@ -16,6 +16,7 @@ import pytest
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR
 from tests.support.openai_server import Behaviour, OpenAIServer
 from workers.actor import WorkerBrowser
@@ -93,7 +94,7 @@ async def screenshots_seen(
                 observation=ObservationSettings(ocr="none"),
             )
         )
-        spec = job.episode(1, 300)
+        spec = worker_job(job, 1, 300)
         spec = spec.model_copy(update={"episode_clock": clock, "llm": spec.llm.model_copy(update=settings)})  # type: ignore[union-attr]
         result = await runner.run(spec, content.payload, LLMAgent())
         assert [step.action for step in result.steps] == ["click", "click", "click", "done"], result.error_message

@@ -14,7 +14,7 @@ from pydantic import BaseModel
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import JobSpec
+from scratchworld_dist.sweep import JobSpec, worker_job
 from tests.conftest import REPO, SUITE_DIR
 from tests.support.browser_pages import crash_renderer, editor_pages
 from tests.support.openai_server import OpenAIServer, reply
@@ -68,7 +68,7 @@ def episode(
     (job,) = plan_jobs(
         EpisodeMatrix(models=[None], modes=[mode], agent=agent, tasks=[content], seeds=[0], max_steps=max_steps)
     )
-    return job.episode(1, timeout_s), content.payload
+    return worker_job(job, 1, timeout_s), content.payload
 
 
 DONE_REPLY = 'Analysis: finished.\n```json\n{"api": "done", "args": {}}\n```'
@@ -195,7 +195,7 @@ async def test_a_crashed_page_takes_no_sibling_episode_with_it(
     with OpenAIServer(default=reply(DONE_REPLY)) as server:
         job = held_llm_job(server, contents["sum_two_numbers"], monkeypatch)
         payload = contents["sum_two_numbers"].payload
-        runs = [asyncio.create_task(worker.run(job.episode(attempt, 300), payload)) for attempt in (1, 2)]
+        runs = [asyncio.create_task(worker.run(worker_job(job, attempt, 300), payload)) for attempt in (1, 2)]
         await until_asked(server, 2)  # both agents are waiting for their first reply, each with its own page
         assert worker._session is not None and worker._session._browser is not None
         browser = worker._session._browser
@@ -219,7 +219,7 @@ async def test_a_browser_that_dies_while_its_episode_waits_on_the_model_ends_it_
     """The agent is inside its model call when the browser goes: the episode does not wait for the reply."""
     with OpenAIServer(default=reply(DONE_REPLY)) as server:
         job = held_llm_job(server, contents["sum_two_numbers"], monkeypatch)
-        running = asyncio.create_task(worker.run(job.episode(1, 300), contents["sum_two_numbers"].payload))
+        running = asyncio.create_task(worker.run(worker_job(job, 1, 300), contents["sum_two_numbers"].payload))
         await until_asked(server, 1)
         assert worker._session is not None and worker._session._browser is not None
         browser = worker._session._browser

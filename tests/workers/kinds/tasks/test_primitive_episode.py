@@ -10,6 +10,7 @@ import pytest
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
+from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR
 from workers.agent_api import AgentBase, StepResult
 from workers.contract import (
@@ -40,7 +41,7 @@ def episode(content: TaskContent, mode: Mode, observation: ObservationSettings |
             models=[None], modes=[mode], agent="noop", tasks=[content], seeds=[0], max_steps=10, observation=observation
         )
     )
-    return job.episode(1, 120)
+    return worker_job(job, 1, 120)
 
 
 class ClickByText(AgentBase):

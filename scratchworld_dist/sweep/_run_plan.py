@@ -1,21 +1,46 @@
 """Planning a sweep: its config resolved by its kind (task episodes, drag tasks, perception items, a plugin's)
-against its suite and a harness into the full job matrix, with each item's content read once."""
+against its suite and a harness into the full job matrix, with each item's content read once.
+
+``KindPlanning`` is what planning asks of a kind: its items read and its job matrix (``plan``), and what a worker
+is sent for one attempt of one of its jobs (``worker_job``).
+"""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Protocol, runtime_checkable
 
 from pydantic import BaseModel, InstanceOf
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.kinds import Notice, job_kind
+from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems
-from scratchworld_dist.results import SuiteInfo
-from scratchworld_dist.sweep import JobSpec, SweepConfig
-from workers.contract import HarnessFingerprint, Mode
+from scratchworld_dist.suites import StabilityMarks
+from scratchworld_dist.sweep._config import KindConfig, SweepConfig
+from scratchworld_dist.sweep._plan import JobSpec
+from workers.contract import HarnessFingerprint, Mode, WorkerJob
 from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
+
+Notice = Callable[[str], None]
+"""Where planning says what it left out (a missing optional suite, an unusable task)."""
+
+
+class SuiteInfo(BaseModel):
+    """The suite a run's items come from, as its manifest and reports name it."""
+
+    name: str
+    kind: str
+    """The suite's layout (``native``, ``upstream``...)."""
+
+    root: str
+    hash: str
+    """Hash of the selected tasks' contents; runs with different hashes are not comparable."""
+
+    tasks: int
+    stability: StabilityMarks | None = None
+    """The suite's known test stability for the selected tasks when the run was planned (None: it has none,
+    and in older runs); not part of the hash, since it changes no verdict."""
 
 
 class PlannedItem(Protocol):
@@ -52,6 +77,18 @@ class RunPlan(BaseModel):
     """Offline memory: the previous run's proposals per (model name, mode)."""
 
 
+class KindPlanning(KindConfig):
+    """The planning facet of a kind: the sweep's items and jobs, and what workers are sent for them."""
+
+    def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
+        """The sweep's items read once and its job matrix, under ``harness``."""
+        raise NotImplementedError(f"benchmark {self.name} plans no jobs")
+
+    def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
+        """What a worker is sent for one attempt of ``job``."""
+        raise NotImplementedError(f"benchmark {self.name} sends workers no jobs")
+
+
 def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None, notice: Notice | None = None) -> RunPlan:
     """The sweep's jobs under ``harness`` (default: this machine's code, editor and browser); ``notice``
     hears what planning leaves out (default: standard error)."""
@@ -59,7 +96,7 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None, not
         console = make_console(stderr=True)
         notice = lambda message: console.print(message, markup=False)  # noqa: E731
     harness = kind_fingerprint(harness or harness_fingerprint(), config.benchmark)  # the core + this kind's code
-    plan = job_kind(config.benchmark).plan(config, harness, notice)
+    plan = job_kind(config.benchmark, KindPlanning).plan(config, harness, notice)
     return plan if config.tasks.limit is None else first_items(plan, config.tasks.limit)
 
 
@@ -70,3 +107,8 @@ def first_items(plan: RunPlan, limit: int) -> RunPlan:
     jobs = [job for job in plan.jobs if job.task_id in ids]
     suite = plan.suite.model_copy(update={"tasks": len(kept)})
     return plan.model_copy(update={"contents": kept, "jobs": jobs, "suite": suite})
+
+
+def worker_job(job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
+    """What the worker is sent for ``attempt`` of ``job`` within ``timeout_s``, as the job's kind builds it."""
+    return job_kind(job.benchmark, KindPlanning).worker_job(job, attempt, timeout_s)
