@@ -1,4 +1,5 @@
-"""Entry point: the command group and the one place user errors become one-line messages."""
+"""Entry point: the command group (the commands every benchmark shares, then each kind's own) and the one place
+user errors become one-line messages."""
 
 from __future__ import annotations
 
@@ -9,24 +10,15 @@ import click
 
 from scratchworld_dist._errors import ScratchWorldError
 from scratchworld_dist.cli._capacity import capacity_command
-from scratchworld_dist.cli._compare import compare_command
-from scratchworld_dist.cli._evaluate import evaluate_command
-from scratchworld_dist.cli._export import export_command
-from scratchworld_dist.cli._flakes import flakes_command
 from scratchworld_dist.cli._gui import gui_command
-from scratchworld_dist.cli._oracle_plan import oracle_plan_command
+from scratchworld_dist.cli._kind import KindCommands
 from scratchworld_dist.cli._plan import plan_command
-from scratchworld_dist.cli._regrade import regrade_command
-from scratchworld_dist.cli._replay import observe_command, replay_command
 from scratchworld_dist.cli._report import report_command
 from scratchworld_dist.cli._run import run_command
 from scratchworld_dist.cli._schemas import schemas_command
 from scratchworld_dist.cli._status import status_command
-from scratchworld_dist.cli._validate import validate_command
 from scratchworld_dist.cli._view import view_command
-from scratchworld_dist.kinds.audit._cli import audit_command
-from scratchworld_dist.kinds.drag._cli import drag_group
-from scratchworld_dist.kinds.perception._cli import perception_group
+from scratchworld_dist.kinds import job_kinds
 
 EXIT_USER_ERROR = 2
 EXIT_INTERRUPTED = 130
@@ -49,26 +41,17 @@ def cli(log_level: str) -> None:
     logging.basicConfig(level=log_level.upper(), format="%(levelname)s %(name)s: %(message)s")
 
 
-cli.add_command(validate_command)
-cli.add_command(flakes_command)
-cli.add_command(evaluate_command)
 cli.add_command(gui_command)
 cli.add_command(report_command)
-cli.add_command(compare_command)
 cli.add_command(run_command)
-cli.add_command(audit_command)
 cli.add_command(plan_command)
-cli.add_command(regrade_command)
-cli.add_command(replay_command)
-cli.add_command(observe_command)
-cli.add_command(oracle_plan_command)
 cli.add_command(status_command)
 cli.add_command(capacity_command)
-cli.add_command(drag_group)
-cli.add_command(perception_group)
 cli.add_command(view_command)
-cli.add_command(export_command)
 cli.add_command(schemas_command)
+for _kind in job_kinds(KindCommands):  # each benchmark's own commands (a plugin's too)
+    for _command in _kind.commands():
+        cli.add_command(_command)
 
 
 def main() -> None:

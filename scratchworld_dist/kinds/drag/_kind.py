@@ -9,6 +9,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import ClassVar
 
+import click
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
@@ -151,6 +152,11 @@ class DragKind(Kind):
 
         drag = build_drag_report([run_dir])
         return f"<pre>{html.escape(render_drag_markdown(drag))}</pre>", drag.warnings
+
+    def commands(self) -> list[click.Command]:
+        from scratchworld_dist.kinds.drag._cli import drag_group
+
+        return [drag_group]
 
 
 DRAG = DragKind()

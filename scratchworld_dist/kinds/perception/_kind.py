@@ -9,6 +9,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import ClassVar
 
+import click
 from pydantic import BaseModel
 
 from scratchworld_dist.kinds._single_answer import refuse_episode_sections, section_agents
@@ -127,6 +128,11 @@ class PerceptionJobKind(Kind):
 
     def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
         return answer_panel(rows, root)
+
+    def commands(self) -> list[click.Command]:
+        from scratchworld_dist.kinds.perception._cli import perception_group
+
+        return [perception_group]
 
 
 PERCEPTION = PerceptionJobKind()

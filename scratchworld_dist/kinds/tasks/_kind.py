@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
+import click
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
@@ -139,6 +140,11 @@ class TasksKind(Kind):
 
         report = build_report([run_dir])
         return render_html_body(report), report.warnings
+
+    def commands(self) -> list[click.Command]:
+        from scratchworld_dist.kinds.tasks.cli import COMMANDS
+
+        return COMMANDS
 
 
 def selected_tasks(config: SweepConfig, trajectories: Path | None) -> tuple[Suite, list[TaskContent]]:

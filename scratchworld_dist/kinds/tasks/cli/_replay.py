@@ -17,7 +17,12 @@ from rich.markup import escape
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ProjectFormatError
-from scratchworld_dist.cli._evaluate import EXIT_NO_VERDICT, EXIT_NOT_PASSED, read_project_file, render_result
+from scratchworld_dist.kinds.tasks.cli._evaluate import (
+    EXIT_NO_VERDICT,
+    EXIT_NOT_PASSED,
+    read_project_file,
+    render_result,
+)
 from scratchworld_dist.suites import load_suite, read_trajectory
 from scratchworld_dist.sweep import read_project
 from workers.contract import ActionEnvelope, CompositeAction, EvalResult, ProjectLimits, check_project
