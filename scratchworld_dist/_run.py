@@ -45,9 +45,11 @@ from scratchworld_dist.scheduling import (
     live_progress,
     pages_per_worker,
     ray_runtime,
+    refuse_broken,
+    run_preflight,
+    settle,
     worker_logs_dir,
 )
-from scratchworld_dist.scheduling.preflight import refuse_broken, run_preflight, settle
 from scratchworld_dist.sweep import JobSpec, RunPlan, SuiteInfo, SweepConfig, plan_run, worker_job
 from workers.contract import (
     MIB,

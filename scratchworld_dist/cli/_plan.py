@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from scratchworld_dist.cli._sweep_options import sweep_overrides
+from scratchworld_dist.cli._options import sweep_overrides
 from scratchworld_dist.sweep import SweepOverrides, load_sweep_config
 
 

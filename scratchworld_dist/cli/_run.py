@@ -7,9 +7,7 @@ from pathlib import Path
 import click
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._evaluation_options import page_option, render_option
-from scratchworld_dist.cli._sweep_options import sweep_overrides
-from scratchworld_dist.cli._timing_option import timing_option
+from scratchworld_dist.cli._options import page_option, render_option, sweep_overrides, timing_option
 from scratchworld_dist.reports import digest_lines, report_runs, run_error_digest
 from scratchworld_dist.sweep import SweepOverrides, load_sweep_config
 

@@ -1,9 +1,17 @@
-"""Scheduling on Ray: the runtime, the nodes' agreement on one harness, admission, the worker pool, the driver
-loop and its progress line."""
+"""Scheduling on Ray: the runtime, the nodes' agreement on one harness, the models' preflight, admission, the
+worker pool, the driver loop and its progress line."""
 
 from scratchworld_dist.scheduling._admission import admitted_slots, derive_local, pages_per_worker
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.scheduling._pool import WorkerPool
+from scratchworld_dist.scheduling._preflight import (
+    ModelCalls,
+    PreflightError,
+    broken_line,
+    refuse_broken,
+    run_preflight,
+    settle,
+)
 from scratchworld_dist.scheduling._progress import live_progress
 from scratchworld_dist.scheduling._ray_runtime import (
     BROWSER_RESOURCE,
@@ -15,16 +23,22 @@ from scratchworld_dist.scheduling._scheduler import Scheduler, SchedulerStats
 
 __all__ = [
     "BROWSER_RESOURCE",
+    "ModelCalls",
+    "PreflightError",
     "RayUnavailableError",
     "Scheduler",
     "SchedulerStats",
     "WorkerPool",
     "admitted_slots",
     "agreed_harness",
+    "broken_line",
     "derive_local",
     "inspect_nodes",
     "live_progress",
     "pages_per_worker",
     "ray_runtime",
+    "refuse_broken",
+    "run_preflight",
+    "settle",
     "worker_logs_dir",
 ]

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from scratchworld_dist.cli._suite_options import comma_list, tasks_option
+from scratchworld_dist.cli._options import comma_list, tasks_option
 
 EXIT_INVALID = 1
 

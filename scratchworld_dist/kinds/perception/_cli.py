@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from scratchworld_dist.cli._suite_options import comma_list
+from scratchworld_dist.cli._options import comma_list
 from scratchworld_dist.kinds.perception.items import PerceptionView
 
 EXIT_INVALID = 1

@@ -92,7 +92,7 @@ def sweep(tmp_path: Path, name: str, memory: dict[str, Any], tasks: list[str] = 
         "llm": {"retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
         "limits": {"retries": 0, "episode_timeout_s": 240},
         "output": str(tmp_path / name),
-        "probe": False,  # these tests read the model's requests (the probe: tests/.../scheduling/preflight/)
+        "probe": False,  # these tests read the model's requests (the probe: tests/.../scheduling/test_preflight.py)
     }
     path = tmp_path / f"{name}.yaml"
     path.write_text(yaml.safe_dump(config))

@@ -92,7 +92,7 @@ def sweep(tmp_path: Path, name: str, **fields: Any) -> Path:
         "llm": {"history_messages": 200, "retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
         "limits": {"retries": 1, "episode_timeout_s": 240},
         "output": str(tmp_path / name),
-        "probe": False,  # these tests count the model's requests (the probe: tests/.../scheduling/preflight/)
+        "probe": False,  # these tests count the model's requests (the probe: tests/.../scheduling/test_preflight.py)
     }
     config.update(fields)
     path = tmp_path / f"{name}.yaml"

@@ -202,7 +202,7 @@ def test_the_llm_agent_sees_each_screenshot_and_question_and_failed_calls_are_er
         models=[{"model": f"openai/{name}", "name": name, **LLM} for name in ("terse", "wordy", "flaky", "denied")],
         llm={"retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
         limits={"retries": 1, "episode_timeout_s": 60},
-        probe=False,  # the denied model's jobs are the point here (the probe: tests/.../scheduling/preflight/)
+        probe=False,  # the denied model's jobs are the point here (the probe: tests/.../scheduling/test_preflight.py)
     )
     code, log = run_here(config)
     assert code == 1, log  # the denied model's jobs remain errors

@@ -99,7 +99,7 @@ def llm_run(tmp_path_factory: pytest.TempPathFactory, model_server: OpenAIServer
         "llm": {"history_messages": 200, "retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
         "limits": {"retries": 1, "episode_timeout_s": 240},
         "output": str(folder / "run"),
-        "probe": False,  # the scripted model answers episodes only (the probe: tests/.../scheduling/preflight/)
+        "probe": False,  # the scripted model answers episodes only (the probe: tests/.../scheduling/test_preflight.py)
     }
     path = folder / "viewer.yaml"
     path.write_text(yaml.safe_dump(config))

@@ -93,7 +93,7 @@ def config(tmp_path: Path, name: str = "plugin", **fields: Any) -> Path:
         "llm": {"retry": {"max_attempts": 3, "initial_backoff_s": 0.05, "max_backoff_s": 0.1}},
         "limits": {"retries": 0, "episode_timeout_s": 240},
         "output": str(tmp_path / name),
-        "probe": False,  # these tests count the model's requests (the probe: tests/.../scheduling/preflight/)
+        "probe": False,  # these tests count the model's requests (the probe: tests/.../scheduling/test_preflight.py)
     }
     body.update(fields)
     path = tmp_path / f"{name}.yaml"

@@ -13,8 +13,7 @@ from rich.text import Text
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._files import read_file
-from scratchworld_dist.cli._evaluation_options import page_option, render_option
-from scratchworld_dist.cli._timing_option import timing_option
+from scratchworld_dist.cli._options import page_option, render_option, timing_option
 from scratchworld_dist.suites import UnstableTest, known_stability, load_suite
 from workers.contract import (
     MIB,

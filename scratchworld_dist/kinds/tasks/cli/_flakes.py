@@ -14,8 +14,7 @@ from rich.table import Table
 from rich.text import Text
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._evaluation_options import page_option, render_option
-from scratchworld_dist.cli._suite_options import comma_list, suite_check_options
+from scratchworld_dist.cli._options import comma_list, page_option, render_option, suite_check_options
 from scratchworld_dist.kinds.tasks.flakes import (
     AXES,
     DEFAULT_LATENESS_MS,

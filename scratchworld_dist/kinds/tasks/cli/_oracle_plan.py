@@ -13,7 +13,7 @@ from rich.table import Table
 from rich.text import Text
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._suite_options import comma_list, tasks_option
+from scratchworld_dist.cli._options import comma_list, tasks_option
 from scratchworld_dist.suites import CATEGORIES
 
 if TYPE_CHECKING:

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._evaluation_options import page_option, render_option
+from scratchworld_dist.cli._options import page_option, render_option
 from scratchworld_dist.reports import report_runs
 from workers.contract import EvaluationClock, EvaluationPage, EvaluationProfile, EvaluationRender
 

@@ -13,9 +13,7 @@ from rich.text import Text
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
-from scratchworld_dist.cli._evaluation_options import page_option, render_option
-from scratchworld_dist.cli._suite_options import comma_list, suite_check_options
-from scratchworld_dist.cli._timing_option import timing_option
+from scratchworld_dist.cli._options import comma_list, page_option, render_option, suite_check_options, timing_option
 from scratchworld_dist.suites import SuiteStability, Task, known_stability, load_suite, stability_file
 from workers.contract import (
     EvalResult,

@@ -17,7 +17,7 @@ import ray
 import yaml
 
 from scratchworld_dist._run import plan_run
-from scratchworld_dist.scheduling.preflight import ModelCalls, run_preflight
+from scratchworld_dist.scheduling import ModelCalls, run_preflight
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import SUITE_DIR
 from tests.support.cli_runner import invoke

@@ -1,5 +1,6 @@
-"""The preflight as the driver runs it: every model the jobs to run call, checked where the workers run before
-any editor opens, then the run stopped (one line per broken model) or, when asked, run without their jobs.
+"""Preflight: every model a sweep calls is checked (its key and base URL set, and by default one smallest call
+made) where the workers run, before any editor opens, so a wrong key stops the run in seconds, naming the model
+(one line per broken one); or, when asked, the run goes on without their jobs.
 
 Workers read keys and base URLs from their own environment: with a private local Ray that is the driver's,
 so the checks run here; on a cluster they run in a task on a node with browser slots (no editor, no slot).
@@ -7,14 +8,38 @@ so the checks run here; on a cluster they run in a task on a node with browser s
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 from rich.console import Console
 
-from scratchworld_dist.scheduling.preflight._models import ModelCalls
-from scratchworld_dist.sweep import JobSpec, SweepConfig
+from scratchworld_dist.kinds import job_kind
+from scratchworld_dist.sweep import JobSpec, KindConfig, SweepConfig
 from workers.contract import ModelCheck, ModelSpec, NodeReport, Preflight, RetryPolicy, ScratchWorldError
 from workers.llm import check_models
+
+
+class ModelCalls:
+    """The models each job of one sweep calls (a job of a scripted agent may carry a model label it never calls)."""
+
+    def __init__(self, config: SweepConfig) -> None:
+        kind = job_kind(config.benchmark, KindConfig)
+        self.config = config
+        self.callable = [m.spec() for m in config.models] if kind.needs_model(config) else []
+        self.callable += kind.helper_models(config.agent)
+
+    def of(self, job: JobSpec) -> list[ModelSpec]:
+        synthetic = self.config.synthetic
+        if synthetic is not None and synthetic.covers(job.task_id):
+            return []
+        return [spec for spec in (job.model, *job.extra_models) if spec is not None and spec in self.callable]
+
+    def over(self, jobs: Iterable[JobSpec]) -> list[ModelSpec]:
+        """Every model ``jobs`` call, once each, in the order they first appear."""
+        found: list[ModelSpec] = []
+        for job in jobs:
+            found += [spec for spec in self.of(job) if spec not in found]
+        return found
+
 
 NODE_GRACE_S = 120.0
 """Time a node may take beyond the probes' own bound (starting a Python worker, importing LiteLLM)."""

@@ -1,0 +1,94 @@
+"""The options several commands share, declared once and read the same way everywhere: the evaluation
+conditions (``--timing``, ``--render``, ``--evaluation-page``), how a suite check chooses its tasks and editors
+(``--tasks``, ``--task-list``, ``--parallel``, ``--profile``), and how ``run`` and ``plan`` change a sweep
+config without editing it."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+import click
+
+from scratchworld_dist.sweep import SweepOverrides
+
+_Command = TypeVar("_Command", bound=Callable[..., object])
+
+timing_option = click.option(
+    "--timing",
+    type=click.Choice(["ideal", "calibrated"]),
+    help="Virtual-clock frame timing: exactly on time, or late by the calibrated per-frame model "
+    "(default: calibrated for upstream in virtual time, ideal otherwise).",
+)
+
+render_option = click.option(
+    "--render",
+    type=click.Choice(["on_demand", "every_frame"]),
+    help="When evaluations draw the stage: only when a script reads the picture (default), or every frame.",
+)
+
+page_option = click.option(
+    "--evaluation-page",
+    "page",
+    type=click.Choice(["bare", "editor"]),
+    help="The page evaluations run in: the VM without the editor GUI (default; a script that needs the "
+    "editor runs there anyway), or the whole Scratch editor, the reference.",
+)
+
+
+def comma_list(text: str | None) -> list[str] | None:
+    """The items of a comma-separated option, blanks dropped; None when the option was not given."""
+    return [item.strip() for item in text.split(",") if item.strip()] if text else None
+
+
+tasks_option = click.option("--tasks", "task_ids", help="Comma-separated task ids (default: all).")
+
+
+def suite_check_options(command: _Command) -> _Command:
+    """``--tasks``, ``--task-list``, ``--parallel`` and ``--profile``, as ``validate`` and ``flakes`` take them."""
+    for option in reversed(
+        (
+            tasks_option,
+            click.option("--task-list", help="Upstream task list, e.g. all_tasks or 15_tasks."),
+            click.option(
+                "--parallel", type=click.IntRange(min=1), default=1, show_default=True, help="Editors at a time."
+            ),
+            click.option(
+                "--profile",
+                type=click.Choice(["native", "upstream"]),
+                help="Evaluation profile (default: upstream for upstream clones, native for our suites).",
+            ),
+        )
+    ):
+        command = option(command)
+    return command
+
+
+_SWEEP_OPTIONS = (
+    click.option(
+        "--model", "models", multiple=True, help="Run this model (a config model's name, or a LiteLLM model)."
+    ),
+    click.option("--tasks", multiple=True, help="Run these task or item ids (comma-separated or repeated)."),
+    click.option("--limit", type=click.IntRange(min=1), help="Run only the first N selected tasks or items."),
+    click.option("--seeds", help="A seed count (3) or the seeds themselves (0,4,7)."),
+    click.option("--modes", multiple=True, help="Run these modes (composite, primitive)."),
+    click.option(
+        "--set", "settings", multiple=True, metavar="KEY=VALUE", help="Set any config field (limits.retries=2)."
+    ),
+)
+
+
+def sweep_overrides(command: Callable[..., Any]) -> Callable[..., Any]:
+    """Add the options ``run`` and ``plan`` share; the command receives them as one ``overrides: SweepOverrides``."""
+
+    @functools.wraps(command)
+    def wrapped(**kwargs: Any) -> Any:
+        fields = {name: kwargs.pop(name) for name in ("models", "tasks", "limit", "seeds", "modes", "settings")}
+        return command(
+            overrides=SweepOverrides(**{k: list(v) if isinstance(v, tuple) else v for k, v in fields.items()}), **kwargs
+        )
+
+    for option in reversed(_SWEEP_OPTIONS):
+        wrapped = option(wrapped)
+    return wrapped
