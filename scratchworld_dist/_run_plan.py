@@ -13,7 +13,7 @@ from scratchworld_dist.kinds import Notice, job_kind
 from scratchworld_dist.memory import JobItems
 from scratchworld_dist.results import SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig
-from workers.contract import HarnessFingerprint, Mode
+from workers.contract import HarnessFingerprint, MemorySettings, Mode, SyntheticEpisodes
 from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
@@ -48,8 +48,14 @@ class RunPlan(BaseModel):
     """Each selected item read into memory: its kind's content model."""
 
     jobs: list[JobSpec]
+    memory: MemorySettings | None = None
+    """Memory shared across the jobs (a learning agent's): the run keeps it in a service of its own."""
+
     memory_sources: dict[tuple[str, Mode], list[JobItems]] = {}
     """Offline memory: the previous run's proposals per (model name, mode)."""
+
+    synthetic: SyntheticEpisodes | None = None
+    """Browserless stand-ins for the jobs of the tasks it covers: the workers run those instead, calling no model."""
 
 
 def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None, notice: Notice | None = None) -> RunPlan:

@@ -4,7 +4,7 @@ Each kind is one folder here with everything the driver does differently for it;
 only through ``job_kind(name)``.
 """
 
-from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, JobKind, Notice
+from scratchworld_dist.kinds._protocol import AttemptPanel, DiagnosisPart, JobKind, Notice, section_key
 from scratchworld_dist.kinds._registry import (
     DEFAULT_KIND,
     ENTRY_POINT_GROUP,
@@ -27,4 +27,5 @@ __all__ = [
     "job_kinds",
     "kind_names",
     "kind_of_run",
+    "section_key",
 ]

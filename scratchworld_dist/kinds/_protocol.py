@@ -60,7 +60,14 @@ class JobKind(Protocol):
     ``job_id`` and ``attempt``; a run holds the tables of its kind)."""
 
     config_section: type[BaseModel] | None
-    """The model of its section of a sweep config, the key named after it (``drag:``); None: it has none."""
+    """The model of its section of a sweep config, under its ``section_key`` (``drag:``); None: it has none.
+
+    A kind may name that key in a ``config_key`` attribute when its name will not do (the task episodes'
+    ``episodes:``, since ``tasks:`` is the selection every kind reads); without one it is the kind's name, so a
+    plugin written before the attribute existed keeps its section where it was. A section model may list in a
+    ``former_keys`` class attribute the top-level keys it took over (they still read there, moved into it with a
+    notice: ``scratchworld_dist.sweep``), and in ``resume_free`` (pydantic's ``exclude`` form) what may change
+    between sessions of one run without making it another sweep."""
 
     regrade_refusal: str | None
     """Why its runs cannot be regraded (None: they store projects a regrade evaluates again)."""
@@ -126,6 +133,12 @@ class JobKind(Protocol):
     def diagnosis(self) -> DiagnosisPart | None:
         """Its columns of the diagnosis table and its section of the report over several kinds (None: none)."""
         ...
+
+
+def section_key(kind: JobKind) -> str:
+    """The key of ``kind``'s section in a sweep config: its ``config_key`` when it names one, else its name."""
+    key = getattr(kind, "config_key", None)
+    return key if isinstance(key, str) and key else kind.name
 
 
 class DiagnosisPart(Protocol):

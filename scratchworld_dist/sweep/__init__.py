@@ -9,6 +9,13 @@ from scratchworld_dist.sweep._config import (
     load_sweep_config,
     sweep_config_from,
 )
+from scratchworld_dist.sweep._former_keys import (
+    into_sections,
+    moved_keys,
+    stderr_notice,
+    stored_layout,
+    stored_section,
+)
 from scratchworld_dist.sweep._overrides import SweepOverrides
 from scratchworld_dist.sweep._plan import (
     NO_MODEL,
@@ -33,9 +40,14 @@ __all__ = [
     "TaskSelection",
     "agent_identity",
     "identity_id",
+    "into_sections",
     "load_sweep_config",
+    "moved_keys",
     "present_suites",
     "read_project",
+    "stderr_notice",
+    "stored_layout",
+    "stored_section",
     "suite_hash",
     "sweep_config_from",
     "wanted_ids",

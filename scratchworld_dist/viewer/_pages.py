@@ -16,6 +16,7 @@ from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.kinds import AttemptPanel, kind_of_run
 from scratchworld_dist.results import JobRow
 from scratchworld_dist.suites import StabilityMarks
+from scratchworld_dist.sweep import stored_section
 from scratchworld_dist.viewer._listing import project_listing
 from scratchworld_dist.viewer._runs import Attempt, ViewedRun
 from scratchworld_dist.viewer._timeline import StepView, step_views
@@ -174,7 +175,7 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
         report_html, warnings = kind_of_run(run.path).report_html(run.path)
     errors = Counter(r.error_class or "unknown" for r in effective if r.outcome == "error")
     config = manifest.config
-    clock = config.get("episode_clock")
+    clock = stored_section(config, "tasks").get("episode_clock")  # manifests of older code: a top-level key
     conditions = {
         "evaluation profile": str(config.get("profile") or "the suite's"),
         "evaluation clock": str(config.get("clock") or "the suite's"),

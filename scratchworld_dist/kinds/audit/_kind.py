@@ -16,7 +16,7 @@ from scratchworld_dist.kinds.audit._panel import variant_panel
 from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, audit_jobs, evaluated_under
 from scratchworld_dist.kinds.audit._rows import AuditRow, audit_row
 from scratchworld_dist.kinds.audit._settings import AuditSweep
-from scratchworld_dist.kinds.tasks import selected_tasks
+from scratchworld_dist.kinds.tasks import episode_settings, selected_tasks
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
 from workers.contract import AgentRef, AgentUnavailableError, AuditSpec, HarnessFingerprint, JobResult, ModelSpec
@@ -41,7 +41,8 @@ class AuditKind:
             raise AgentUnavailableError("the grader audit runs no agent: leave agent out")
 
     def check_sweep(self, config: SweepConfig) -> None:
-        if config.models or config.memory is not None or config.synthetic is not None:
+        episodes = episode_settings(config)
+        if config.models or episodes.memory is not None or episodes.synthetic is not None:
             raise ValueError("the grader audit calls no model: leave models, memory and synthetic out")
 
     def needs_model(self, config: SweepConfig) -> bool:

@@ -8,13 +8,17 @@ so the checks run here; on a cluster they run in a task on a node with browser s
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from rich.console import Console
 
 from scratchworld_dist.scheduling.preflight._models import ModelCalls
-from scratchworld_dist.sweep import JobSpec, SweepConfig
+from scratchworld_dist.sweep import JobSpec
 from workers.contract import ModelCheck, ModelSpec, NodeReport, Preflight, RetryPolicy, ScratchWorldError
 from workers.llm import check_models
+
+if TYPE_CHECKING:
+    from scratchworld_dist._run_plan import RunPlan
 
 NODE_GRACE_S = 120.0
 """Time a node may take beyond the probes' own bound (starting a Python worker, importing LiteLLM)."""
@@ -24,10 +28,11 @@ class PreflightError(ScratchWorldError):
     """A model the sweep calls cannot be called; the message names each, one line apiece."""
 
 
-def run_preflight(config: SweepConfig, jobs: Sequence[JobSpec], node: NodeReport | None) -> Preflight | None:
-    """The models ``jobs`` call, checked (and probed, per ``config.probe``) on the driver, or on ``node`` of a
-    cluster; None when they call no model."""
-    models = ModelCalls(config).over(jobs)
+def run_preflight(plan: RunPlan, jobs: Sequence[JobSpec], node: NodeReport | None) -> Preflight | None:
+    """The models ``jobs`` of ``plan`` call, checked (and probed, per its config's ``probe``) on the driver, or
+    on ``node`` of a cluster; None when they call no model."""
+    config = plan.config
+    models = ModelCalls(plan).over(jobs)
     if not models:
         return None
     probe = config.probe if config.probe is not None else any(spec.api_key_env for spec in models)
@@ -70,7 +75,7 @@ def refuse_broken(preflight: Preflight | None, skip_broken: bool) -> None:
 
 
 def settle(
-    preflight: Preflight | None, config: SweepConfig, todo: list[tuple[JobSpec, int]], console: Console
+    preflight: Preflight | None, plan: RunPlan, todo: list[tuple[JobSpec, int]], console: Console
 ) -> list[tuple[JobSpec, int]]:
     """``todo`` without the jobs of broken models (``refuse_broken`` let them through), saying what the preflight
     found; records how many jobs it left out in ``preflight``."""
@@ -81,7 +86,7 @@ def settle(
         console.print(_passed(preflight), markup=False, soft_wrap=True)
         return todo
     unusable = {(check.name, check.model) for check in broken}
-    calls = ModelCalls(config)
+    calls = ModelCalls(plan)
     kept = [(job, attempt) for job, attempt in todo if not unusable & {(s.name, s.model) for s in calls.of(job)}]
     preflight.left_out_jobs = len(todo) - len(kept)
     console.print(

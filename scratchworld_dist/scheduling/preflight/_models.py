@@ -4,23 +4,28 @@ agent names (a grounding model...); scripted agents and synthetic episodes call 
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
 
 from scratchworld_dist.kinds import job_kind
-from scratchworld_dist.sweep import JobSpec, SweepConfig
+from scratchworld_dist.sweep import JobSpec
 from workers.contract import ModelSpec
+
+if TYPE_CHECKING:
+    from scratchworld_dist._run_plan import RunPlan
 
 
 class ModelCalls:
     """The models each job of one sweep calls (a job of a scripted agent may carry a model label it never calls)."""
 
-    def __init__(self, config: SweepConfig) -> None:
+    def __init__(self, plan: RunPlan) -> None:
+        config = plan.config
         kind = job_kind(config.benchmark)
-        self.config = config
+        self.synthetic = plan.synthetic
         self.callable = [m.spec() for m in config.models] if kind.needs_model(config) else []
         self.callable += kind.helper_models(config.agent)
 
     def of(self, job: JobSpec) -> list[ModelSpec]:
-        synthetic = self.config.synthetic
+        synthetic = self.synthetic
         if synthetic is not None and synthetic.covers(job.task_id):
             return []
         return [spec for spec in (job.model, *job.extra_models) if spec is not None and spec in self.callable]
