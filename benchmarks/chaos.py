@@ -201,16 +201,18 @@ def sweep_config(args: argparse.Namespace, workdir: Path, address: str, syntheti
         "suite": str(REPO / "tasks"),
         "agent": "llm",
         "models": [model],
-        "modes": ["composite"],
         "seeds": seeds,
-        "max_steps": 40,
         "llm": {"history_messages": 200, "retry": retry},
         "limits": {"episode_timeout_s": 240, "retries": 2, "pages_per_worker": args.pages},
         "ray": {"address": address},
-        "synthetic": {
-            "duration_s": args.synthetic_s,
-            "fail_tasks": [t for t in SYNTHETIC_FAILS.split(",") if t in synthetic],
-            "tasks": synthetic,
+        "episodes": {
+            "modes": ["composite"],
+            "max_steps": 40,
+            "synthetic": {
+                "duration_s": args.synthetic_s,
+                "fail_tasks": [t for t in SYNTHETIC_FAILS.split(",") if t in synthetic],
+                "tasks": synthetic,
+            },
         },
         "output": str(workdir / "run"),
     }

@@ -181,10 +181,8 @@ def config(n: int, clock: str, steps: int, url: str, out: Path) -> SweepConfig:
             "tasks": {"ids": TASKS[:tasks]},
             "agent": "llm",
             "models": [{**model, "api_key_env": KEY_ENV}],
-            "modes": ["composite"],
             "seeds": jobs // tasks,
-            "max_steps": steps,
-            "episode_clock": clock,
+            "episodes": {"modes": ["composite"], "max_steps": steps, "episode_clock": clock},
             "limits": limits,
             "output": out,
         }

@@ -91,15 +91,13 @@ def sweep_config(args: argparse.Namespace, agent: str, clock: str, ids: list[str
         "suite": args.suite,
         "tasks": {"ids": ids, **({"task_list": args.task_list} if args.task_list else {})},
         "agent": agent,
-        "modes": modes,
         "seeds": 1,
-        "max_steps": {"composite": 200, "primitive": 1500},
-        "episode_clock": clock,
+        "episodes": {"modes": modes, "max_steps": {"composite": 200, "primitive": 1500}, "episode_clock": clock},
         "limits": {"episode_timeout_s": 1200, "retries": 0, "pages_per_worker": args.pages, "browser_slots": 2},
         "output": out,
     }
     if args.plans:
-        raw["oracle_trajectories"] = args.plans
+        raw["episodes"]["oracle_trajectories"] = args.plans
     if agent == "llm":
         model = {"model": "openai/gpt-4o-mini", "name": "scripted", "temperature": 0, "api_base": url}
         raw["models"] = [{**model, "api_key_env": KEY_ENV}]

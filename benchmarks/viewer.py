@@ -73,7 +73,7 @@ def synthetic_run(folder: Path, jobs: int) -> Path:
         run_name="bench-viewer",
         schema_version=SCHEMA_VERSION,
         harness=HARNESS,
-        config={"name": "bench-viewer", "modes": ["composite", "primitive"]},
+        config={"name": "bench-viewer", "episodes": {"modes": ["composite", "primitive"]}},
         config_hash="bench",
         suite=SuiteInfo(name="scratchworld-dist-core", kind="native", root=str(REPO / "tasks"), hash="s", tasks=12),
         planned_jobs=planned,

@@ -97,10 +97,16 @@ class AttemptRecorder:
 
 def config_hash(config: SweepConfig) -> str:
     """Hash of the fields that shape the job matrix; paths, execution limits, the model cache (a replay is
-    the reply the same request got, so a run may turn it on or off) and other kinds' sections may change freely."""
-    others = {kind for kind in config.sections if kind != config.benchmark}
+    the reply the same request got, so a run may turn it on or off), other kinds' sections and what its own
+    section lets change (``resume_free``: offline memory's source folder) may change freely. A config hashes
+    the same whichever layout its file used (old configs' top-level keys are validated into their sections)."""
+    sections: dict[str, object] = {kind: True for kind in config.sections if kind != config.benchmark}
+    own = config.sections.get(config.benchmark)
+    free = getattr(own, "resume_free", None)
+    if free:
+        sections[config.benchmark] = free
     pacing: dict[str, object] = {
-        "sections": {kind: True for kind in others},
+        "sections": sections,
         "suite": True,
         "output": True,
         "limits": True,
@@ -109,7 +115,6 @@ def config_hash(config: SweepConfig) -> str:
         "probe": True,
         "llm": {"retry"},
         "models": {"__all__": {"rate_limits"}},
-        "memory": {"from_run"},
     }
     shaping = config.model_dump(mode="json", exclude=pacing)  # type: ignore[arg-type]
     return hashlib.sha256(json.dumps(shaping, sort_keys=True).encode()).hexdigest()[:16]
@@ -171,12 +176,12 @@ def _run_plan(
         _open_model_cache(config.model_cache.dir)
     # Before the run directory is touched: a broken model stops the run leaving nothing behind.
     on_node = None if config.ray.address is None else nodes[0]  # a cluster: where the workers' environment is
-    preflight = run_preflight(config, [job for job, _ in store.undecided(plan.jobs)], on_node)
+    preflight = run_preflight(plan, [job for job, _ in store.undecided(plan.jobs)], on_node)
     refuse_broken(preflight, skip_broken_models)
     store.open_for_writing()
     try:
         undecided = store.undecided(plan.jobs)
-        todo = settle(preflight, config, undecided, console)
+        todo = settle(preflight, plan, undecided, console)
         local_slots = None
         if config.ray.address is None:  # admission on this machine, measured only when there is work
             local_slots = admitted_slots(
@@ -230,9 +235,9 @@ def _execute(
     with ray_runtime(config.ray.address, local_slots, config.ray.connect_timeout_s) as slots:
         limiters = _rate_limiters([model for job, _ in todo for model in (job.model, *job.extra_models)])
         memory = None
-        if config.memory is not None:
+        if plan.memory is not None:
             memory = start_memory_service(
-                store.run_dir, config.agent, config.memory, config.llm.retry, plan.memory_sources
+                store.run_dir, config.agent, plan.memory, config.llm.retry, plan.memory_sources
             )
         commit = AttemptRecorder(store, config.name, manifest.suite, memory)
         cores = os.cpu_count() or 1
@@ -240,7 +245,7 @@ def _execute(
             cores = int(ray.cluster_resources().get("CPU", cores))
         pages = pages_per_worker(config.limits, slots, cores)
         at_once = min(len(todo), config.limits.max_in_flight or len(todo))
-        pool = WorkerPool(slots, pages, config.synthetic, config.limits.memory_reserve_mb * MIB, at_once)
+        pool = WorkerPool(slots, pages, plan.synthetic, config.limits.memory_reserve_mb * MIB, at_once)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
         job_kind(config.benchmark, KindRows).store_shared(store, [c for c in plan.contents if c.task.id in needed])
         scheduler = Scheduler(

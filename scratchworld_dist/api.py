@@ -25,7 +25,7 @@ from pydantic import BaseModel
 from scratchworld_dist._plan_preview import PlanPreview, preview_plan
 from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist.results import RunStore, effective_rows, read_manifest, row_tables
-from scratchworld_dist.sweep import SweepConfig, SweepOverrides, load_sweep_config
+from scratchworld_dist.sweep import SweepConfig, SweepOverrides, load_sweep_config, stderr_notice
 
 TableFormat = Literal["pyarrow", "pandas", "polars"]
 
@@ -41,7 +41,7 @@ def sweep_config(config: SweepConfig | str | Path, **overrides: Any) -> SweepCon
     """A config from a file (or as given), with ``overrides`` as dotted keys (``limits__retries=2``)."""
     values = {key.replace("__", "."): value for key, value in overrides.items()}
     if isinstance(config, SweepConfig):
-        data = SweepOverrides(values=values).apply(config.model_dump(mode="json"))
+        data = SweepOverrides(values=values).apply(config.model_dump(mode="json"), stderr_notice)
         return SweepConfig.model_validate(data)
     return load_sweep_config(Path(config), changes=SweepOverrides(values=values))
 

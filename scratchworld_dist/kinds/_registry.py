@@ -50,10 +50,13 @@ class KindTraits:
     ``job_id`` and ``attempt``; a run holds the tables of its kind)."""
 
     config_section: ClassVar[type[BaseModel] | None] = None
-    """The model of its section of a sweep config (None: it has none)."""
+    """The model of its section of a sweep config (None: it has none). The model may list in a ``former_keys``
+    class attribute the top-level keys it took over (they still read there, moved into it with a notice), and in
+    ``resume_free`` (pydantic's ``exclude`` form) what may change between sessions of one run."""
 
     config_key: ClassVar[str | None] = None
-    """The key of that section (default: the kind's name, ``drag:``)."""
+    """The key of that section (default: the kind's name, ``drag:``; the task episodes' is ``episodes:``, since
+    ``tasks:`` is the selection every kind reads)."""
 
     @classmethod
     def section_key(cls) -> str:

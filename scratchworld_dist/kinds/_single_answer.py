@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from scratchworld_dist.kinds.tasks import episode_settings
 from workers.agent_api import checked_agent
 from workers.contract import AgentRef, AgentUnavailableError
 
@@ -14,8 +15,10 @@ if TYPE_CHECKING:
 
 
 def refuse_episode_sections(config: SweepConfig, title: str) -> None:
-    """Raise ``ValueError`` when a single-answer sweep names memory or synthetic episodes."""
-    if config.memory is not None or config.synthetic is not None:
+    """Raise ``ValueError`` when a single-answer sweep names memory or synthetic episodes (``episodes.memory``,
+    ``episodes.synthetic``, or their former top-level keys)."""
+    episodes = episode_settings(config)
+    if episodes.memory is not None or episodes.synthetic is not None:
         raise ValueError(f"memory and synthetic are for task suites, not the {title} benchmark")
 
 

@@ -44,7 +44,7 @@ class PerceptionRate(BaseModel):
 class DiagnosisRow(BaseModel):
     """One model (or scripted agent) across the benchmarks given; a missing value means no results there.
 
-    Each kind's diagnosis part fills its own cells (``JobKind.diagnosis``): the built-in kinds' are the
+    Each kind's diagnosis part fills its own cells (``KindReport.diagnosis``): the built-in kinds' are the
     fields below; a plugin kind's are extra fields of the row."""
 
     model_config = ConfigDict(extra="allow")

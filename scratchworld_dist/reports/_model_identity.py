@@ -26,7 +26,7 @@ from pydantic import BaseModel, ConfigDict, JsonValue, ValidationError
 from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist.kinds import job_kinds
 from scratchworld_dist.results import RunManifest
-from scratchworld_dist.sweep import NO_MODEL, ModelConfig
+from scratchworld_dist.sweep import NO_MODEL, ModelConfig, stored_section
 
 IDENTITY_FIELDS = ("model", "temperature", "max_tokens", "params")
 """What makes two model settings the same model for the diagnosis."""
@@ -127,7 +127,7 @@ def _agent_models(config: dict[str, Any]) -> Iterator[tuple[str, dict[str, JsonV
     kinds' sections' ``agents`` included."""
     agents: list[Any] = [config.get("agent")]
     for kind in job_kinds():
-        part = config.get(kind.section_key()) if kind.config_section is not None else None
+        part = stored_section(config, kind.name) if kind.config_section is not None else None
         if isinstance(part, dict) and isinstance(part.get("agents"), list):
             agents += part["agents"]
     for agent in agents:

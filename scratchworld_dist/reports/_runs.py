@@ -17,6 +17,7 @@ from pydantic import BaseModel, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist.results import JobRow, RunManifest, RunStore, TestRow, require_manifest
+from scratchworld_dist.sweep import stored_section
 from workers.contract import describe_differences
 
 RowT = TypeVar("RowT", bound=BaseModel)
@@ -124,7 +125,7 @@ def jobs_per_group(manifest: RunManifest) -> int | None:
     ``planned_jobs`` so that a config this cannot read yields ``None`` rather than a wrong count.
     """
     config = manifest.config
-    seeds, modes, models = config.get("seeds"), config.get("modes"), config.get("models")
+    seeds, modes, models = config.get("seeds"), stored_section(config, "tasks").get("modes"), config.get("models")
     if not isinstance(seeds, list) or not isinstance(modes, list) or not isinstance(models, list | None):
         return None
     per_group = manifest.suite.tasks * len(seeds)

@@ -25,7 +25,7 @@ class JobRecord(BaseModel):
     steps: list[StepRow] = Field(default_factory=list)
     tests: list[TestRow] = Field(default_factory=list)
     kind_rows: dict[str, list[SerializeAsAny[BaseModel]]] = Field(default_factory=dict)
-    """Rows of the job kind's own tables (``JobKind.tables``: ``drags``, ``perception``...), by table."""
+    """Rows of the job kind's own tables (``KindTraits.tables``: ``drags``, ``perception``...), by table."""
 
     @model_validator(mode="before")
     @classmethod

@@ -44,7 +44,7 @@ def arrow_schema(model: type[BaseModel]) -> pa.Schema:
 
 
 CORE_TABLES: dict[str, type[BaseModel]] = {"jobs": JobRow, "steps": StepRow, "tests": TestRow}
-"""The tables of every run, by folder name: each kind adds its own (``JobKind.tables``)."""
+"""The tables of every run, by folder name: each kind adds its own (``KindTraits.tables``)."""
 
 KIND_TABLE_KEYS = ("job_id", "attempt")
 """Columns a kind's own table must have: its rows belong to one attempt of one job."""

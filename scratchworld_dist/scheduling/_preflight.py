@@ -13,7 +13,7 @@ from collections.abc import Iterable, Sequence
 from rich.console import Console
 
 from scratchworld_dist.kinds import job_kind
-from scratchworld_dist.sweep import JobSpec, KindConfig, SweepConfig
+from scratchworld_dist.sweep import JobSpec, KindConfig, RunPlan
 from workers.contract import ModelCheck, ModelSpec, NodeReport, Preflight, RetryPolicy, ScratchWorldError
 from workers.llm import check_models
 
@@ -21,14 +21,15 @@ from workers.llm import check_models
 class ModelCalls:
     """The models each job of one sweep calls (a job of a scripted agent may carry a model label it never calls)."""
 
-    def __init__(self, config: SweepConfig) -> None:
+    def __init__(self, plan: RunPlan) -> None:
+        config = plan.config
         kind = job_kind(config.benchmark, KindConfig)
-        self.config = config
+        self.synthetic = plan.synthetic
         self.callable = [m.spec() for m in config.models] if kind.needs_model(config) else []
         self.callable += kind.helper_models(config.agent)
 
     def of(self, job: JobSpec) -> list[ModelSpec]:
-        synthetic = self.config.synthetic
+        synthetic = self.synthetic
         if synthetic is not None and synthetic.covers(job.task_id):
             return []
         return [spec for spec in (job.model, *job.extra_models) if spec is not None and spec in self.callable]
@@ -49,10 +50,11 @@ class PreflightError(ScratchWorldError):
     """A model the sweep calls cannot be called; the message names each, one line apiece."""
 
 
-def run_preflight(config: SweepConfig, jobs: Sequence[JobSpec], node: NodeReport | None) -> Preflight | None:
-    """The models ``jobs`` call, checked (and probed, per ``config.probe``) on the driver, or on ``node`` of a
-    cluster; None when they call no model."""
-    models = ModelCalls(config).over(jobs)
+def run_preflight(plan: RunPlan, jobs: Sequence[JobSpec], node: NodeReport | None) -> Preflight | None:
+    """The models ``jobs`` of ``plan`` call, checked (and probed, per its config's ``probe``) on the driver, or
+    on ``node`` of a cluster; None when they call no model."""
+    config = plan.config
+    models = ModelCalls(plan).over(jobs)
     if not models:
         return None
     probe = config.probe if config.probe is not None else any(spec.api_key_env for spec in models)
@@ -95,7 +97,7 @@ def refuse_broken(preflight: Preflight | None, skip_broken: bool) -> None:
 
 
 def settle(
-    preflight: Preflight | None, config: SweepConfig, todo: list[tuple[JobSpec, int]], console: Console
+    preflight: Preflight | None, plan: RunPlan, todo: list[tuple[JobSpec, int]], console: Console
 ) -> list[tuple[JobSpec, int]]:
     """``todo`` without the jobs of broken models (``refuse_broken`` let them through), saying what the preflight
     found; records how many jobs it left out in ``preflight``."""
@@ -106,7 +108,7 @@ def settle(
         console.print(_passed(preflight), markup=False, soft_wrap=True)
         return todo
     unusable = {(check.name, check.model) for check in broken}
-    calls = ModelCalls(config)
+    calls = ModelCalls(plan)
     kept = [(job, attempt) for job, attempt in todo if not unusable & {(s.name, s.model) for s in calls.of(job)}]
     preflight.left_out_jobs = len(todo) - len(kept)
     console.print(

@@ -11,6 +11,14 @@ from scratchworld_dist.sweep._config import (
     load_sweep_config,
     sweep_config_from,
 )
+from scratchworld_dist.sweep._former_keys import (
+    Notice,
+    into_sections,
+    moved_keys,
+    stderr_notice,
+    stored_layout,
+    stored_section,
+)
 from scratchworld_dist.sweep._overrides import SweepOverrides
 from scratchworld_dist.sweep._plan import (
     NO_MODEL,
@@ -24,7 +32,6 @@ from scratchworld_dist.sweep._plan import (
 from scratchworld_dist.sweep._run_plan import (
     ItemContent,
     KindPlanning,
-    Notice,
     RunPlan,
     SuiteInfo,
     first_items,
@@ -52,10 +59,15 @@ __all__ = [
     "agent_identity",
     "first_items",
     "identity_id",
+    "into_sections",
     "load_sweep_config",
+    "moved_keys",
     "plan_run",
     "present_suites",
     "read_project",
+    "stderr_notice",
+    "stored_layout",
+    "stored_section",
     "suite_hash",
     "sweep_config_from",
     "wanted_ids",

@@ -2,7 +2,9 @@
 
 Every field is validated by pydantic and every problem is reported with its path in the file,
 so a typo fails before a single browser starts. Relative paths resolve against the config
-file's folder, so a config means the same thing from any working directory.
+file's folder, so a config means the same thing from any working directory. What only one kind reads is
+in that kind's section (``episodes:``, ``drag:``...); keys that moved there still read at the top level
+(``scratchworld_dist.sweep._former_keys``).
 """
 
 from __future__ import annotations
@@ -10,7 +12,7 @@ from __future__ import annotations
 import os
 import re
 from pathlib import Path
-from typing import Annotated, Any, Literal, TypeVar, get_args
+from typing import Any, Literal, TypeVar
 
 import yaml
 from pydantic import (
@@ -18,7 +20,6 @@ from pydantic import (
     ConfigDict,
     Field,
     ModelWrapValidatorHandler,
-    PlainValidator,
     SerializeAsAny,
     SerializerFunctionWrapHandler,
     ValidationError,
@@ -31,27 +32,24 @@ from pydantic import (
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
 from scratchworld_dist.kinds import DEFAULT_KIND, KindTraits, job_kind, job_kinds
+from scratchworld_dist.sweep._former_keys import Notice, into_sections, stderr_notice
 from scratchworld_dist.sweep._overrides import SweepOverrides
 from workers.agent_api import agent_class, checked_agent
 from workers.contract import (
     AgentRef,
     AgentUnavailableError,
     CoordinateSystem,
-    EpisodeClock,
     EvaluationClock,
     EvaluationPage,
     EvaluationProfile,
     EvaluationRender,
     EvaluationTiming,
     LLMSettings,
-    MemorySettings,
-    Mode,
     ModelCacheSettings,
     ModelSpec,
     ObservationSettings,
     ProjectLimits,
     RateLimits,
-    SyntheticEpisodes,
 )
 from workers.llm import uncacheable
 
@@ -193,25 +191,9 @@ class RayConfig(BaseModel):
     """How long joining the cluster at ``address`` may take before the run fails, naming it."""
 
 
-def _step_limits(value: Any) -> int | dict[Mode, int]:
-    """A positive step limit, or one per mode (``{composite: 50, primitive: 300}``)."""
-
-    def positive(limit: Any, where: str) -> int:
-        if isinstance(limit, bool) or not isinstance(limit, int) or limit < 1:
-            raise ValueError(f"{where}must be a positive integer, not {limit!r}")
-        return limit
-
-    if not isinstance(value, dict):
-        return positive(value, "a step limit (or a mapping of mode to step limit) ")
-    modes = get_args(Mode)
-    unknown = [str(mode) for mode in value if mode not in modes]
-    if unknown:
-        raise ValueError(f"unknown mode {', '.join(unknown)}; modes: {', '.join(modes)}")
-    return {mode: positive(limit, f"the step limit of {mode} ") for mode, limit in value.items()}
-
-
 class SweepConfig(BaseModel):
-    """A whole sweep: the job matrix model x mode x task x seed, and how to run it."""
+    """A whole sweep: its kind, suite and selection, who acts with which models, each kind's section, and how
+    to run it."""
 
     model_config = ConfigDict(extra="forbid")
 
@@ -224,17 +206,15 @@ class SweepConfig(BaseModel):
     suite: Path
     tasks: TaskSelection = Field(default_factory=TaskSelection)
     sections: dict[str, SerializeAsAny[BaseModel]] = Field(default_factory=dict)
-    """Each installed kind's own section (``JobKind.config_section``), written under the kind's name (``drag:``,
-    ``perception:``): read with ``section``; a section left out holds its defaults."""
+    """Each installed kind's own section (``KindTraits.config_section``) by kind name, written under its key
+    (``episodes:``, ``drag:``, ``perception:``: ``KindTraits.section_key``): read with ``section``; a section left
+    out holds its defaults."""
 
     agent: AgentRef = Field(default_factory=lambda: AgentRef(name="oracle"))
     """Who acts: a registered name (oracle, noop, llm, a plugin's) or ``package.module:Class``,
     optionally as ``{name, params, label}``; the agent is imported and its params validated here."""
     models: list[ModelConfig] = Field(default_factory=list)
-    modes: list[Mode] = Field(default_factory=lambda: ["composite"], min_length=1)
     seeds: list[int] = Field(default_factory=lambda: [0], min_length=1)
-    max_steps: Annotated[int | dict[Mode, int], PlainValidator(_step_limits)] = 50
-    """Step limit per episode; a mapping gives each mode its own (a GUI gesture does less than an API call)."""
 
     primitive: ObservationSettings = Field(default_factory=ObservationSettings)
     """How primitive-mode observations are made (OCR backend and scope)."""
@@ -254,14 +234,6 @@ class SweepConfig(BaseModel):
     """How virtual-clock frames are timed (ideal | calibrated); default: calibrated for upstream in virtual
     time, ideal otherwise (part of each job's identity)."""
 
-    oracle_trajectories: Path | None = None
-    """A folder of ``<task id>.json`` trajectories (``scratchworld oracle-plan``'s output) for tasks that
-    ship none: the oracle replays them (composite) or acts them out (primitive) instead of loading the golden."""
-
-    episode_clock: EpisodeClock | None = None
-    """How time passes on the agent's page (``virtual`` or ``{mode, start_ms, settle_ms, think_ms}``);
-    default: virtual, for our suites and upstream clones alike (``real`` is upstream's own protocol)."""
-
     llm: LLMSettings = Field(default_factory=LLMSettings)
     """The llm agent's conversation protocol and model-call retries."""
 
@@ -273,12 +245,6 @@ class SweepConfig(BaseModel):
     """The run directory (default: ``results/<name>`` in the working directory)."""
 
     ray: RayConfig = Field(default_factory=RayConfig)
-    memory: MemorySettings | None = None
-    """Memory shared across jobs, for agents that learn (``awm``): online waves, or offline from a run dir."""
-
-    synthetic: SyntheticEpisodes | None = None
-    """Run browserless synthetic episodes instead, for all tasks or those in ``synthetic.tasks`` (benchmarks)."""
-
     model_cache: ModelCacheSettings | None = None
     """Opt-in: answer a model request made before from ``model_cache.dir`` (no request, no cost)."""
 
@@ -289,19 +255,22 @@ class SweepConfig(BaseModel):
     @model_validator(mode="wrap")
     @classmethod
     def _kind_sections(cls, data: Any, handler: ModelWrapValidatorHandler[SweepConfig]) -> SweepConfig:
-        """Each kind's section validated by its own model, its problems named by their path (``drag.settings.0``)."""
+        """Each kind's section validated by its own model, its problems named by their path (``drag.settings.0``);
+        keys that moved into a section are read at the top level too (a stored config of older code)."""
         if not isinstance(data, dict):
             return handler(data)
         if "sections" in data:
-            raise ValueError("sections is not a field: write each benchmark's section under its name (drag: ...)")
-        data, sections, problems = dict(data), {}, []
+            raise ValueError("sections is not a field: write each benchmark's section under its key (drag: ...)")
+        data, _ = into_sections(data)  # said by sweep_config_from for a file; a stored config is read silently
+        sections, problems = {}, []
         for kind in job_kinds():
             if kind.config_section is None:
                 continue
+            key = kind.section_key()
             try:
-                sections[kind.name] = kind.config_section.model_validate(data.pop(kind.name, None) or {})
+                sections[kind.name] = kind.config_section.model_validate(data.pop(key, None) or {})
             except ValidationError as exc:
-                problems += [{**e, "loc": (kind.name, *e["loc"])} for e in exc.errors()]  # type: ignore[typeddict-item]
+                problems += [{**e, "loc": (key, *e["loc"])} for e in exc.errors()]  # type: ignore[typeddict-item]
         if not problems:
             return handler({**data, "sections": sections})
         try:
@@ -312,9 +281,10 @@ class SweepConfig(BaseModel):
 
     @model_serializer(mode="wrap")
     def _sections_by_name(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        """Sections written back under their kinds' names, as the config file has them."""
+        """Sections written back under their keys, as the config file has them."""
         data = handler(self)
-        return {**{k: v for k, v in data.items() if k != "sections"}, **data.get("sections", {})}
+        sections = {job_kind(kind).section_key(): value for kind, value in data.get("sections", {}).items()}
+        return {**{k: v for k, v in data.items() if k != "sections"}, **sections}
 
     def section(self, kind: str, model: type[SectionT]) -> SectionT:
         """Kind ``kind``'s section of this config, as ``model`` (its defaults when the file has none)."""
@@ -338,21 +308,6 @@ class SweepConfig(BaseModel):
         if len(set(value)) != len(value):
             raise ValueError("seeds must be distinct")
         return value
-
-    @field_validator("modes")
-    @classmethod
-    def _distinct_modes(cls, value: list[Mode]) -> list[Mode]:
-        if len(set(value)) != len(value):
-            raise ValueError("modes must be distinct")
-        return value
-
-    @model_validator(mode="after")
-    def _steps_for_every_mode(self) -> SweepConfig:
-        if isinstance(self.max_steps, dict):
-            missing = [mode for mode in self.modes if mode not in self.max_steps]
-            if missing:
-                raise ValueError(f"max_steps has no limit for mode {', '.join(missing)}")
-        return self
 
     @field_validator("benchmark")
     @classmethod
@@ -414,10 +369,14 @@ class SweepConfig(BaseModel):
 
 
 def load_sweep_config(
-    path: str | Path, overrides: dict[str, Any] | None = None, changes: SweepOverrides | None = None
+    path: str | Path,
+    overrides: dict[str, Any] | None = None,
+    changes: SweepOverrides | None = None,
+    notice: Notice | None = None,
 ) -> SweepConfig:
     """Read, validate and resolve a sweep config, with the command line's ``changes`` to its fields and
-    ``overrides`` of whole fields; raises ``ConfigError`` listing every problem."""
+    ``overrides`` of whole fields; raises ``ConfigError`` listing every problem. ``notice`` hears where each
+    key given in a former place lives now (default: standard error)."""
     path = Path(path)
     try:
         text = read_text(path)
@@ -429,7 +388,7 @@ def load_sweep_config(
         raise ConfigError(f"not valid YAML: {_yaml_problem(exc)}", path) from exc
     if not isinstance(data, dict):
         raise ConfigError("the config must be a mapping of fields (name, suite, agent, ...)", path)
-    return sweep_config_from(data, path.parent, overrides, changes, where=path)
+    return sweep_config_from(data, path.parent, overrides, changes, where=path, notice=notice)
 
 
 def sweep_config_from(
@@ -439,11 +398,20 @@ def sweep_config_from(
     changes: SweepOverrides | None = None,
     *,
     where: Path | None = None,
+    notice: Notice | None = None,
 ) -> SweepConfig:
     """A config's fields (a file's mapping, or one a command builds) validated and resolved, relative paths
-    against ``base``; ``ConfigError`` names ``where`` the fields came from."""
-    data = (changes or SweepOverrides()).apply(data)
+    against ``base``; ``ConfigError`` names ``where`` the fields came from. Keys in a former place are moved
+    where they are now, ``notice`` (default: standard error) hearing of each once."""
+    said: list[str] = []
+    try:
+        data, said = into_sections(data)  # before the changes, which name a moved key where it is now
+    except ValueError as exc:
+        raise ConfigError(str(exc), where) from None
+    data = (changes or SweepOverrides()).apply(data, said.append)
     data.update(overrides or {})
+    for line in dict.fromkeys(said):
+        (notice or stderr_notice)(line)
     try:
         config = SweepConfig.model_validate(data)
     except ValidationError as exc:
@@ -455,12 +423,7 @@ def sweep_config_from(
     task_list = config.tasks.task_list
     if task_list is not None and (base / task_list).is_file():  # a file next to the config, not a list name
         resolved["tasks"] = config.tasks.model_copy(update={"task_list": str((base / task_list).resolve())})
-    if config.memory is not None and config.memory.from_run is not None:
-        from_run = _resolve(base, config.memory.from_run)
-        resolved["memory"] = config.memory.model_copy(update={"from_run": from_run})
     resolved["sections"] = {kind: _resolved_paths(base, section) for kind, section in config.sections.items()}
-    if config.oracle_trajectories is not None:
-        resolved["oracle_trajectories"] = _resolve(base, config.oracle_trajectories)
     if config.model_cache is not None and "model_cache" not in (overrides or {}):
         resolved["model_cache"] = ModelCacheSettings(dir=_resolve(base, config.model_cache.dir))
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):
@@ -468,8 +431,9 @@ def sweep_config_from(
     return config.model_copy(update=resolved)
 
 
-def _resolved_paths(base: Path, section: BaseModel) -> BaseModel:
-    """A kind's section with its paths (fields of ``Path`` values, or lists of them) resolved against ``base``."""
+def _resolved_paths(base: Path, section: SectionT) -> SectionT:
+    """A kind's section with its paths (fields of ``Path`` values, or lists of them, in it or in a model it holds:
+    ``episodes.memory.from_run``) resolved against ``base``."""
     update: dict[str, Any] = {}
     for name in type(section).model_fields:
         value = getattr(section, name)
@@ -477,6 +441,8 @@ def _resolved_paths(base: Path, section: BaseModel) -> BaseModel:
             update[name] = _resolve(base, value)
         elif isinstance(value, list) and value and all(isinstance(item, Path) for item in value):
             update[name] = [_resolve(base, item) for item in value]
+        elif isinstance(value, BaseModel):
+            update[name] = _resolved_paths(base, value)
     return section.model_copy(update=update)
 
 

@@ -2,7 +2,8 @@
 
 They are applied to the file's data before it is validated, so a bad override is reported exactly as the
 same mistake in the file would be (``tasks.limit: Input should be greater than 0``), and the run's manifest
-records the config as overridden.
+records the config as overridden. A key that moved into a kind's section keeps its old spelling here
+(``--modes``, ``--set max_steps=9`` set ``episodes.modes`` and ``episodes.max_steps``).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import yaml
 from pydantic import BaseModel, Field
 
 from scratchworld_dist._errors import ConfigError
+from scratchworld_dist.sweep._former_keys import Notice, moved_keys, moved_notice
 
 
 class SweepOverrides(BaseModel):
@@ -31,15 +33,18 @@ class SweepOverrides(BaseModel):
     """A seed count (``3``) or the seeds themselves (``0,4,7``)."""
 
     modes: list[str] = Field(default_factory=list)
+    """Modes to run: ``episodes.modes``."""
+
     settings: list[str] = Field(default_factory=list)
     """``dotted.key=value`` assignments, each value read as YAML (``limits.retries=2``, ``drag.types=[T1]``)."""
 
     values: dict[str, Any] = Field(default_factory=dict)
     """Dotted keys and their values as they are (the Python API's keyword arguments), applied last."""
 
-    def apply(self, data: dict[str, Any]) -> dict[str, Any]:
-        """``data`` (a config file's mapping) with these changes, the ``--set`` ones last."""
-        changed = dict(data)
+    def apply(self, data: dict[str, Any], notice: Notice | None = None) -> dict[str, Any]:
+        """``data`` (a config file's mapping) with these changes, the ``--set`` ones last; ``notice`` hears of
+        each key given in a former spelling (``max_steps`` for ``episodes.max_steps``)."""
+        changed, moved = dict(data), moved_keys()
         if self.models:
             changed["models"] = _chosen_models(data.get("models"), self.models)
         if self.tasks:
@@ -49,7 +54,7 @@ class SweepOverrides(BaseModel):
         if self.seeds is not None:
             _assign(changed, ["seeds"], _seeds(self.seeds))
         if self.modes:
-            _assign(changed, ["modes"], _split(self.modes))
+            _assign(changed, _current(["modes"], moved), _split(self.modes))
         for setting in self.settings:
             key, sep, value = setting.partition("=")
             path = key.strip().split(".")
@@ -59,10 +64,20 @@ class SweepOverrides(BaseModel):
                 parsed = yaml.safe_load(value)
             except yaml.YAMLError:
                 raise ConfigError(f"--set {key}: the value is not valid YAML") from None
-            _assign(changed, path, parsed)
+            _assign(changed, _current(path, moved, notice), parsed)
         for key, value in self.values.items():
-            _assign(changed, key.split("."), value)
+            _assign(changed, _current(key.split("."), moved, notice), value)
         return changed
+
+
+def _current(path: list[str], moved: dict[str, str], notice: Notice | None = None) -> list[str]:
+    """``path`` as the config spells it now: a key that moved into a section, under its section."""
+    section = moved.get(path[0])
+    if section is None:
+        return path
+    if notice is not None:
+        notice(moved_notice(path[0], section))
+    return [section, *path]
 
 
 def _split(values: list[str]) -> list[str]:

@@ -7,23 +7,20 @@ is sent for one attempt of one of its jobs (``worker_job``).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Protocol, runtime_checkable
 
 from pydantic import BaseModel, InstanceOf
 
-from scratchworld_dist._console import make_console
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems
 from scratchworld_dist.suites import StabilityMarks
 from scratchworld_dist.sweep._config import KindConfig, SweepConfig
+from scratchworld_dist.sweep._former_keys import Notice, stderr_notice
 from scratchworld_dist.sweep._plan import JobSpec
-from workers.contract import HarnessFingerprint, Mode, WorkerJob
+from workers.contract import HarnessFingerprint, MemorySettings, Mode, SyntheticEpisodes, WorkerJob
 from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
-
-Notice = Callable[[str], None]
-"""Where planning says what it left out (a missing optional suite, an unusable task)."""
 
 
 class SuiteInfo(BaseModel):
@@ -73,8 +70,14 @@ class RunPlan(BaseModel):
     """Each selected item read into memory: its kind's content model."""
 
     jobs: list[JobSpec]
+    memory: MemorySettings | None = None
+    """Memory shared across the jobs (a learning agent's): the run keeps it in a service of its own."""
+
     memory_sources: dict[tuple[str, Mode], list[JobItems]] = {}
     """Offline memory: the previous run's proposals per (model name, mode)."""
+
+    synthetic: SyntheticEpisodes | None = None
+    """Browserless stand-ins for the jobs of the tasks it covers: the workers run those instead, calling no model."""
 
 
 class KindPlanning(KindConfig):
@@ -92,9 +95,7 @@ class KindPlanning(KindConfig):
 def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None, notice: Notice | None = None) -> RunPlan:
     """The sweep's jobs under ``harness`` (default: this machine's code, editor and browser); ``notice``
     hears what planning leaves out (default: standard error)."""
-    if notice is None:
-        console = make_console(stderr=True)
-        notice = lambda message: console.print(message, markup=False)  # noqa: E731
+    notice = notice or stderr_notice
     harness = kind_fingerprint(harness or harness_fingerprint(), config.benchmark)  # the core + this kind's code
     plan = job_kind(config.benchmark, KindPlanning).plan(config, harness, notice)
     return plan if config.tasks.limit is None else first_items(plan, config.tasks.limit)

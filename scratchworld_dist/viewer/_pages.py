@@ -15,6 +15,7 @@ from pydantic import BaseModel, JsonValue
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.results import JobRow
 from scratchworld_dist.suites import StabilityMarks
+from scratchworld_dist.sweep import stored_section
 from scratchworld_dist.viewer._kind import AttemptPanel
 from scratchworld_dist.viewer._listing import project_listing
 from scratchworld_dist.viewer._runs import Attempt, ViewedRun
@@ -174,7 +175,7 @@ def run_page(index: int, run: ViewedRun, plots_html: str) -> RunPage:
         report_html, warnings = run.kind().report_html(run.path)
     errors = Counter(r.error_class or "unknown" for r in effective if r.outcome == "error")
     config = manifest.config
-    clock = config.get("episode_clock")
+    clock = stored_section(config, "tasks").get("episode_clock")  # manifests of older code: a top-level key
     conditions = {
         "evaluation profile": str(config.get("profile") or "the suite's"),
         "evaluation clock": str(config.get("clock") or "the suite's"),

@@ -25,7 +25,7 @@ TASKS = ["countdown_launch", "sum_two_numbers"]
 @pytest.mark.ray
 def test_a_sweep_runs_from_python_and_reads_back_as_tables_and_report(tmp_path: Path, shared_ray: int) -> None:
     out = tmp_path / "run"
-    result = api.run(DEMO, tasks__ids=TASKS, modes=["composite"], output=str(out))
+    result = api.run(DEMO, tasks__ids=TASKS, episodes__modes=["composite"], output=str(out))
     assert (result.run_dir, result.planned, result.outcomes["passed"]) == (out, 2, 2)
     assert isinstance(result.report, RunReport) and result.report.rows[0].sr == 1.0
 
@@ -44,7 +44,7 @@ def test_a_sweep_runs_from_python_and_reads_back_as_tables_and_report(tmp_path: 
     steps = api.load_results(out, "steps", as_="polars")
     assert steps.height > 0 and set(steps["job_id"]) == set(counted["job_id"])
     store.close()
-    assert api.plan(DEMO, tasks__ids=TASKS, modes=["composite"], output=str(out)).to_run == 0
+    assert api.plan(DEMO, tasks__ids=TASKS, modes=["composite"], output=str(out)).to_run == 0  # the former key too
 
 
 def test_keyword_overrides_are_checked_like_the_file(tmp_path: Path) -> None:

@@ -32,10 +32,9 @@ def source(tmp_path_factory: pytest.TempPathFactory, shared_ray: int) -> Path:
         "name": "source",
         "suite": str(REPO / "tasks"),
         "agent": "oracle",
-        "modes": ["composite"],
         "seeds": SEEDS,
         "tasks": {"ids": [*REAL, SYNTHETIC]},
-        "synthetic": {"tasks": [SYNTHETIC]},
+        "episodes": {"modes": ["composite"], "synthetic": {"tasks": [SYNTHETIC]}},
         "limits": {"episode_timeout_s": 240, "pages_per_worker": 1},
         "output": str(folder / "run"),
     }

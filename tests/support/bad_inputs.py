@@ -63,7 +63,10 @@ def write_config(path: Path, **fields: object) -> Path:
 def llm_config(path: Path, **model: object) -> Path:
     """An llm sweep whose model reads its key from the canary's variable."""
     return write_config(
-        path, agent="llm", models=[{"model": "openai/gpt-4o", "api_key_env": CANARY_ENV, **model}], synthetic={}
+        path,
+        agent="llm",
+        models=[{"model": "openai/gpt-4o", "api_key_env": CANARY_ENV, **model}],
+        episodes={"synthetic": {}},
     )
 
 
@@ -212,7 +215,9 @@ CONFIG_CASES = [
     CliCase("task-project-over-limits", _small_limits, 2, "over project_limits.max_file_mb"),
     CliCase(
         "ray-address-garbage",
-        _config("not an address", ray={"address": "not an address", "connect_timeout_s": 3}, synthetic={}),
+        _config(
+            "not an address", ray={"address": "not an address", "connect_timeout_s": 3}, episodes={"synthetic": {}}
+        ),
         2,
         "cannot join the Ray cluster at not an address",
     ),

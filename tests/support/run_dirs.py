@@ -243,7 +243,7 @@ def make_run(
         harness=harness,
         config=config
         if config is not None
-        else {"agent": "llm", "models": [{"model": "gpt"}], "modes": ["composite"], "seeds": [0]},
+        else {"agent": "llm", "models": [{"model": "gpt"}], "episodes": {"modes": ["composite"]}, "seeds": [0]},
         config_hash="c",
         suite=SuiteInfo(name="ours", kind="native", root="/suite", hash=suite_hash, tasks=tasks, stability=stability),
         planned_jobs=planned,

@@ -43,5 +43,5 @@ def marked_run(
         for (task, seed), results in tests.items()
     ]
     rows.append(job(f"t3-1-{model}", "error", task_id="t3", seed=1, model=model, task_hash="t3"))
-    config = {"agent": "llm", "models": [{"model": model}], "modes": ["composite"], "seeds": [0, 1]}
+    config = {"agent": "llm", "models": [{"model": model}], "episodes": {"modes": ["composite"]}, "seeds": [0, 1]}
     return make_run(run_dir, rows, planned=len(rows), tasks=4, config=config, stability=marks)

@@ -16,7 +16,7 @@ from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, audit_
 from scratchworld_dist.kinds.audit._rows import AuditRow, audit_row
 from scratchworld_dist.kinds.audit._settings import AuditSweep
 from scratchworld_dist.kinds.base import Kind
-from scratchworld_dist.kinds.tasks import selected_tasks
+from scratchworld_dist.kinds.tasks import episode_settings, selected_tasks
 from scratchworld_dist.reports import ReportFormat
 from scratchworld_dist.sweep import JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
 from scratchworld_dist.viewer import AttemptPanel
@@ -39,7 +39,8 @@ class AuditKind(Kind):
             raise AgentUnavailableError("the grader audit runs no agent: leave agent out")
 
     def check_sweep(self, config: SweepConfig) -> None:
-        if config.models or config.memory is not None or config.synthetic is not None:
+        episodes = episode_settings(config)
+        if config.models or episodes.memory is not None or episodes.synthetic is not None:
             raise ValueError("the grader audit calls no model: leave models, memory and synthetic out")
 
     def needs_model(self, config: SweepConfig) -> bool:

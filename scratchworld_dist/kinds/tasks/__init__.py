@@ -4,18 +4,23 @@ from scratchworld_dist.kinds.tasks._kind import (
     TASKS,
     TasksKind,
     default_episode_clock,
+    episode_settings,
     offline_sources,
     selected_tasks,
 )
 from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, TaskContent, job_id, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks._settings import EPISODES_KEY, EpisodeSweep
 
 __all__ = [
+    "EPISODES_KEY",
     "TASKS",
     "EpisodeBody",
     "EpisodeMatrix",
+    "EpisodeSweep",
     "TaskContent",
     "TasksKind",
     "default_episode_clock",
+    "episode_settings",
     "job_id",
     "offline_sources",
     "plan_jobs",

@@ -1,5 +1,5 @@
-"""Task episodes (``benchmark: tasks``): an agent works on a task of a suite for up to ``max_steps`` steps,
-then the task's tests judge the project it leaves; the kind ``regrade`` evaluates again."""
+"""Task episodes (``benchmark: tasks``): an agent works on a task of a suite for up to ``episodes.max_steps``
+steps, then the task's tests judge the project it leaves; the kind ``regrade`` evaluates again."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from pydantic import BaseModel
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.kinds.base import Kind
 from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, TaskContent, plan_jobs, read_task
+from scratchworld_dist.kinds.tasks._settings import EPISODES_KEY, EpisodeSweep
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
 from scratchworld_dist.reports import DiagnosisPart, ReportFormat
 from scratchworld_dist.suites import Suite, load_suite, stability_marks
@@ -36,31 +37,35 @@ class TasksKind(Kind):
     title = "task episodes"
     needs_browser = True
     episodes = True
+    config_section = EpisodeSweep
+    config_key = EPISODES_KEY  # not its name: ``tasks:`` is the selection every kind reads
     regrade_refusal: str | None = None
 
     def check_sweep(self, config: SweepConfig) -> None:
-        agent = agent_class(config.agent.name)
+        agent, episodes = agent_class(config.agent.name), episode_settings(config)
         supported = getattr(agent, "modes", ("composite", "primitive"))
-        unsupported = [mode for mode in config.modes if mode not in supported]
+        unsupported = [mode for mode in episodes.modes if mode not in supported]
         if unsupported:
             raise ValueError(f"agent {config.agent.name!r} cannot act in {', '.join(unsupported)} mode")
         learns = getattr(agent, "learns", False)
-        if config.memory is not None and not learns:
+        if episodes.memory is not None and not learns:
             raise ValueError(f"memory is for agents that learn across jobs; {config.agent.name!r} does not")
-        if learns and config.memory is None:
+        if learns and episodes.memory is None:
             raise ValueError(
-                f"agent {config.agent.name!r} learns across jobs: give a memory section (kind: online or offline)"
+                f"agent {config.agent.name!r} learns across jobs: give episodes.memory (kind: online or offline)"
             )
 
     def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
         return extra_models(agent_params(agent_class(agent.name), agent))
 
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
-        suite, contents = selected_tasks(config, config.oracle_trajectories)
+        episodes = episode_settings(config)
+        suite, contents = selected_tasks(config, episodes.oracle_trajectories)
         tasks = [content.task for content in contents]
-        unknown = sorted(set(config.synthetic.tasks or []) - {t.id for t in tasks}) if config.synthetic else []
+        synthetic = episodes.synthetic
+        unknown = sorted(set(synthetic.tasks or []) - {t.id for t in tasks}) if synthetic is not None else []
         if unknown:
-            raise ConfigError(f"synthetic.tasks names task(s) not in the selection: {', '.join(unknown)}")
+            raise ConfigError(f"episodes.synthetic.tasks names task(s) not in the selection: {', '.join(unknown)}")
         info = SuiteInfo(
             name=suite.name,
             kind=suite.kind,
@@ -70,28 +75,37 @@ class TasksKind(Kind):
             stability=stability_marks(suite, tasks),
         )
         found = agent_class(config.agent.name)
-        sources = offline_sources(config) if config.memory is not None else {}
+        sources = offline_sources(config) if episodes.memory is not None else {}
         matrix = EpisodeMatrix(
             models=config.model_specs(),
-            modes=config.modes,
+            modes=episodes.modes,
             agent=config.agent,
             tasks=contents,
             seeds=config.seeds,
-            max_steps=config.max_steps,
+            max_steps=episodes.max_steps,
             observation=config.primitive,
             llm=config.llm,
             project_limits=config.project_limits,
             harness=harness.digest,
-            synthetic=config.synthetic,
+            synthetic=synthetic,
             agent_code=agent_code(found),
             extra_models=extra_models(agent_params(found, config.agent)),
-            memory=config.memory,
+            memory=episodes.memory,
             memory_sources={stream: source_digest(entries) for stream, entries in sources.items()},
-            episode_clock=config.episode_clock or default_episode_clock(),
+            episode_clock=episodes.episode_clock or default_episode_clock(),
             model_cache=config.model_cache,
         )
         jobs = list(plan_jobs(matrix))
-        return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs, memory_sources=sources)
+        return RunPlan(
+            config=config,
+            harness=harness,
+            suite=info,
+            contents=contents,
+            jobs=jobs,
+            memory=episodes.memory,
+            memory_sources=sources,
+            synthetic=synthetic,
+        )
 
     def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
         body = job.body
@@ -166,6 +180,11 @@ def selected_tasks(config: SweepConfig, trajectories: Path | None) -> tuple[Suit
     return suite, [read_task(task, *conditions) for task in tasks]
 
 
+def episode_settings(config: SweepConfig) -> EpisodeSweep:
+    """The sweep's ``episodes:`` section (its defaults when the file has none)."""
+    return config.section(TasksKind.name, EpisodeSweep)
+
+
 def default_episode_clock() -> EpisodeClock:
     """Virtual, for our suites and upstream clones alike: on upstream tasks the two clocks gave the same
     verdicts, test for test (docs/episodes-virtual-time.md), and only virtual ones repeat whatever the load."""
@@ -174,13 +193,14 @@ def default_episode_clock() -> EpisodeClock:
 
 def offline_sources(config: SweepConfig) -> dict[tuple[str, Mode], list[JobItems]]:
     """Offline memory's items per (model name, mode), read from the previous run (empty for online memory)."""
-    memory = config.memory
+    episodes = episode_settings(config)
+    memory = episodes.memory
     if memory is None or memory.from_run is None:
         return {}
     if not memory.from_run.is_dir():
-        raise ConfigError(f"memory.from_run: {memory.from_run} is not a run directory")
+        raise ConfigError(f"episodes.memory.from_run: {memory.from_run} is not a run directory")
     names = [spec.name if spec is not None else NO_MODEL for spec in config.model_specs()]
-    return {(name, mode): offline_source(memory.from_run, name, mode) for name in names for mode in config.modes}
+    return {(name, mode): offline_source(memory.from_run, name, mode) for name in names for mode in episodes.modes}
 
 
 TASKS = TasksKind()

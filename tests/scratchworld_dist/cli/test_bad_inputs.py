@@ -325,7 +325,7 @@ def finished_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
         agent="llm",
         models=[{"model": "openai/gpt-4o", "api_key_env": bad.CANARY_ENV}],
         seeds=2,
-        synthetic={"duration_s": 0, "fail_tasks": ["bouncing_ball_stuck"]},
+        episodes={"synthetic": {"duration_s": 0, "fail_tasks": ["bouncing_ball_stuck"]}},
         limits={"browser_slots": 1},
     )
     environment = {**os.environ, bad.CANARY_ENV: bad.CANARY}

@@ -87,8 +87,7 @@ def sweep(tmp_path: Path, name: str, memory: dict[str, Any], tasks: list[str] = 
                 "api_key_env": "SCRATCHWORLD_LLM_API_KEY",
             }
         ],
-        "memory": memory,
-        "max_steps": 5,
+        "episodes": {"memory": memory, "max_steps": 5},
         "llm": {"retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
         "limits": {"retries": 0, "episode_timeout_s": 240},
         "output": str(tmp_path / name),

@@ -101,7 +101,7 @@ def write_config(tmp_path: Path, **fields: Any) -> Path:
         "suite": str(SUITE_DIR),
         "agent": "awm",
         "models": [{"model": "openai/gpt-4o-mini", "name": "mini"}],
-        "memory": {"kind": "online", "wave_size": 2},
+        "episodes": {"memory": {"kind": "online", "wave_size": 2}},
         **fields,
     }
     path = tmp_path / "sweep.yaml"
@@ -113,10 +113,10 @@ def write_config(tmp_path: Path, **fields: Any) -> Path:
     ("fields", "fragment"),
     [
         ({"agent": "llm"}, "memory is for agents that learn across jobs"),
-        ({"memory": None}, "learns across jobs: give a memory section"),
-        ({"memory": {"kind": "offline"}}, "offline memory needs from_run"),
-        ({"memory": {"wave_size": 0}}, "memory.wave_size"),
-        ({"memory": {"learn_from": "verdict"}}, "memory.learn_from"),
+        ({"episodes": {"memory": None}}, "learns across jobs: give episodes.memory"),
+        ({"episodes": {"memory": {"kind": "offline"}}}, "offline memory needs from_run"),
+        ({"episodes": {"memory": {"wave_size": 0}}}, "episodes.memory.wave_size"),
+        ({"episodes": {"memory": {"learn_from": "verdict"}}}, "episodes.memory.learn_from"),
         (
             {"agent": {"name": "planner_grounder", "params": {"grounder": {"name": "g", "model": "openai/ui-tars"}}}},
             "cannot act in composite mode",

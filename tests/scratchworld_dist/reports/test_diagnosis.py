@@ -43,7 +43,12 @@ def episode_run(run_dir: Path) -> Path:
         for (model, mode, seed), results in outcomes.items()
         for task, outcome in enumerate(results)
     ]
-    config = {"agent": "llm", "models": [GPT_T0, CLAUDE], "modes": ["composite", "primitive"], "seeds": [0, 1]}
+    config = {
+        "agent": "llm",
+        "models": [GPT_T0, CLAUDE],
+        "episodes": {"modes": ["composite", "primitive"]},
+        "seeds": [0, 1],
+    }
     return make_run(run_dir, rows, planned=24, tasks=3, config=config, name="episodes")
 
 

@@ -87,7 +87,11 @@ def sweep_rows(models: tuple[str, str] = ("alpha", "beta")) -> list[JobRow]:
 
 
 def sweep(run_dir: Path, models: tuple[str, str] = ("alpha", "beta")) -> Path:
-    config = {"agent": "llm", "models": [{"model": m} for m in models], "modes": ["composite", "primitive"]}
+    config = {
+        "agent": "llm",
+        "models": [{"model": m} for m in models],
+        "episodes": {"modes": ["composite", "primitive"]},
+    }
     config["seeds"] = list(SEEDS)
     return make_run(run_dir, sweep_rows(models), planned=48, tasks=4, config=config)
 
@@ -230,7 +234,7 @@ def test_plots_with_nothing_to_show_are_left_out(tmp_path: Path) -> None:
     # One scripted agent, one mode, one seed, no cost, no error: no gap, front, pass@k or errors over time.
     rows = [job("a", "passed", agent="oracle", model="-", cost_usd=0.0), job("b", "failed", agent="oracle", model="-")]
     rows[1] = rows[1].model_copy(update={"cost_usd": 0.0})
-    config = {"agent": "oracle", "models": None, "modes": ["composite"], "seeds": [0]}
+    config = {"agent": "oracle", "models": None, "episodes": {"modes": ["composite"]}, "seeds": [0]}
     plots = report_plots([make_run(tmp_path / "run", rows, planned=2, tasks=2, config=config)])
     assert [p.key for p in plots] == ["sr_by_category", "steps_to_success"]
     assert plots[0].rows == [["oracle", "composite", "50.0% (1/2)", "50.0% (1/2)"]]

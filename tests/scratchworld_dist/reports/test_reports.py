@@ -177,7 +177,7 @@ def seeds_run(run_dir: Path) -> Path:
         job(f"{task}{seed}", outcome, task_id=task, seed=seed, agent="oracle", model="-", mode="primitive", cost_usd=0)
         for (task, seed), outcome in outcomes.items()
     ]
-    config = {"agent": "oracle", "models": [], "modes": ["primitive"], "seeds": [0, 1, 2]}
+    config = {"agent": "oracle", "models": [], "episodes": {"modes": ["primitive"]}, "seeds": [0, 1, 2]}
     return make_run(run_dir, rows, planned=6, tasks=2, config=config)
 
 
@@ -206,7 +206,7 @@ def other_model_run(run_dir: Path, **manifest: Any) -> Path:
     suite = manifest.get("suite_hash", "suite1")
     harness = manifest.get("harness", HARNESS).digest
     rows = [job(j, "passed", model="claude", suite_hash=suite, harness_fingerprint=harness) for j in ("m1", "m2")]
-    config = {"agent": "llm", "models": [{"model": "claude"}], "modes": ["composite"], "seeds": [0]}
+    config = {"agent": "llm", "models": [{"model": "claude"}], "episodes": {"modes": ["composite"]}, "seeds": [0]}
     return make_run(run_dir, rows, planned=2, tasks=2, config=config, name="sweep-b", **manifest)
 
 
@@ -290,7 +290,12 @@ def test_markdown_main_table(tmp_path: Path) -> None:
 
 def test_html_is_self_contained_and_escaped(tmp_path: Path) -> None:
     rows = [job("a", "passed", model="<b>gpt&co</b>"), job("b", "error", error_class="<script>x</script>")]
-    config = {"agent": "llm", "models": [{"model": "<b>gpt&co</b>"}], "modes": ["composite"], "seeds": [0]}
+    config = {
+        "agent": "llm",
+        "models": [{"model": "<b>gpt&co</b>"}],
+        "episodes": {"modes": ["composite"]},
+        "seeds": [0],
+    }
     page = render_html(build_report([make_run(tmp_path / "run", rows, planned=2, tasks=2, config=config)]))
     assert page.startswith("<!DOCTYPE html>") and page.rstrip().endswith("</html>")
     assert "&lt;b&gt;gpt&amp;co&lt;/b&gt;" in page and "<b>gpt" not in page

@@ -190,7 +190,8 @@ def test_the_probe_is_on_when_a_model_names_a_key_and_settings_are_checked_eithe
 ) -> None:
     def preflight(models: list[dict[str, Any]], **fields: Any) -> Any:
         config = load_sweep_config(perception_sweep(tmp_path, models, **fields))
-        return run_preflight(config, plan_run(config).jobs, None)
+        plan = plan_run(config)
+        return run_preflight(plan, plan.jobs, None)
 
     keyed = preflight([GOOD])
     assert keyed.probe and keyed.where == "driver" and server.count == 1
@@ -215,17 +216,19 @@ def test_only_the_models_jobs_call_are_checked(tmp_path: Path) -> None:
         "suite": str(SUITE_DIR),
         "tasks": {"ids": ["quiz_score", "star_shower"]},
         "models": [{"model": "openai/gpt-4o", "name": "planner", "api_key_env": KEY_ENV}],
-        "modes": ["primitive"],
+        "episodes": {"modes": ["primitive"]},
     }
 
     def called(**more: Any) -> list[str]:
         path = tmp_path / "calls.yaml"
         path.write_text(yaml.safe_dump({**fields, **more}))
         config = load_sweep_config(path)
-        return [spec.name for spec in ModelCalls(config).over(plan_run(config).jobs)]
+        plan = plan_run(config)
+        return [spec.name for spec in ModelCalls(plan).over(plan.jobs)]
 
     assert called(agent="llm") == ["planner"]
     assert called(agent={"name": "planner_grounder", "params": {"grounder": helper}}) == ["planner", "pointer"]
     assert called(agent="oracle") == []  # a model label the oracle's jobs carry, never call
-    assert called(agent="llm", synthetic={}) == []
-    assert called(agent="llm", synthetic={"tasks": ["quiz_score"]}) == ["planner"]  # star_shower runs for real
+    assert called(agent="llm", episodes={"modes": ["primitive"], "synthetic": {}}) == []
+    synthetic = {"modes": ["primitive"], "synthetic": {"tasks": ["quiz_score"]}}
+    assert called(agent="llm", episodes=synthetic) == ["planner"]  # star_shower runs for real

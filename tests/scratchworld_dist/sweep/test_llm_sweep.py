@@ -86,8 +86,7 @@ def sweep(tmp_path: Path, name: str, **fields: Any) -> Path:
             {"model": "openai/gpt-4o", "name": "big", **model},
             {"model": "openai/denied", "name": "denied", **model},
         ],
-        "modes": ["composite", "primitive"],
-        "max_steps": 40,
+        "episodes": {"modes": ["composite", "primitive"], "max_steps": 40},
         "primitive": {"ocr": "none"},
         "llm": {"history_messages": 200, "retry": {"max_attempts": 2, "initial_backoff_s": 0.05}},
         "limits": {"retries": 1, "episode_timeout_s": 240},
@@ -173,7 +172,7 @@ def test_a_budget_stops_new_jobs_and_the_report_says_so(tmp_path: Path) -> None:
                 "api_key_env": "SCRATCHWORLD_LLM_API_KEY",
             }
         ],
-        modes=["composite"],
+        episodes={"modes": ["composite"], "max_steps": 40},
         seeds=[0, 1, 2],
         limits={"budget_usd": 0.001, "max_in_flight": 1, "retries": 0},
     )
@@ -195,7 +194,8 @@ def test_a_rerun_with_the_model_cache_replays_every_reply_at_no_cost(tmp_path: P
     server.reset(TrajectoryModel(turns=1))
     model = {"api_base_env": "SCRATCHWORLD_LLM_BASE_URL", "api_key_env": "SCRATCHWORLD_LLM_API_KEY"}
     fields: dict[str, Any] = {"models": [{"model": "openai/gpt-4o", "temperature": 0, **model}]}
-    first = sweep(tmp_path, "cached-first", model_cache={"dir": "model-cache"}, modes=["composite"], **fields)
+    fields["episodes"] = {"modes": ["composite"], "max_steps": 40}
+    first = sweep(tmp_path, "cached-first", model_cache={"dir": "model-cache"}, **fields)
     code, log = run_here(first)
     assert code == 0, log
     assert "\n1 worker(s) x 1 page(s) on " in log  # one job: no other slot's browser starts
@@ -206,7 +206,7 @@ def test_a_rerun_with_the_model_cache_replays_every_reply_at_no_cost(tmp_path: P
     assert len(stored) == 2 and all(SECRET.encode() not in path.read_bytes() for path in stored)
 
     # Another run (another directory), given the same folder on the command line: every reply is replayed.
-    second = sweep(tmp_path, "cached-again", modes=["composite"], **fields)
+    second = sweep(tmp_path, "cached-again", **fields)
     code, log = run_here(second, "--model-cache", str(tmp_path / "model-cache"))
     assert code == 0, log
     assert "1 kept warm from this process's last sweep" in " ".join(log.split())  # the first run's, browser open

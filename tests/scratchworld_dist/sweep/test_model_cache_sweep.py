@@ -100,7 +100,7 @@ def test_a_seeded_model_may_sample_and_be_cached(tmp_path: Path) -> None:
 
 def test_an_agents_other_models_are_checked_too(tmp_path: Path) -> None:
     agent = {"name": "planner_grounder", "params": {"grounder": {"name": "pointer", "model": UNSEEDED}}}
-    message = refusal(config_file(tmp_path, agent=agent, modes=["primitive"]))
+    message = refusal(config_file(tmp_path, agent=agent, episodes={"modes": ["primitive"]}))
     assert "model pointer: temperature unset" in message
 
 

@@ -63,7 +63,8 @@ LLM = {"api_base_env": "SCRATCHWORLD_LLM_BASE_URL", "api_key_env": "SCRATCHWORLD
         ({"perception": {"agents": ["llm"]}}, "needs at least one entry under models"),
         ({"perception": {"kinds": ["colour"]}}, "perception.kinds.0"),
         ({"tasks": {"ids": ["no-such-item"]}}, "not in the suites: no-such-item"),
-        ({"memory": {"kind": "online"}}, "memory and synthetic are for task suites"),
+        ({"episodes": {"memory": {"kind": "online"}}}, "memory and synthetic are for task suites"),
+        ({"memory": {"kind": "online"}}, "memory and synthetic are for task suites"),  # its former top-level key
     ],
 )
 def test_bad_perception_configs_are_one_line_naming_the_field(

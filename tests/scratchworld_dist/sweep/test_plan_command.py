@@ -11,6 +11,7 @@ import yaml
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._plan_preview import preview_plan
+from scratchworld_dist.kinds.tasks import episode_settings
 from scratchworld_dist.results import JobRecord, RunStore
 from scratchworld_dist.sweep import SweepOverrides, load_sweep_config
 from scratchworld_dist.sweep._run_plan import plan_run
@@ -21,9 +22,10 @@ from tests.support.run_dirs import job
 MODEL = {"model": "openai/scripted", "name": "scripted", "api_base": "http://127.0.0.1:9/v1"}
 
 
-def write(tmp_path: Path, **fields: Any) -> Path:
+def write(tmp_path: Path, episodes: dict[str, Any] | None = None, **fields: Any) -> Path:
     path = tmp_path / "sweep.yaml"
-    config = {"name": "preview", "suite": str(SUITE_DIR), "agent": "llm", "models": [MODEL], "max_steps": 7}
+    config = {"name": "preview", "suite": str(SUITE_DIR), "agent": "llm", "models": [MODEL]}
+    config["episodes"] = {"max_steps": 7, **(episodes or {})}
     path.write_text(yaml.safe_dump({**config, "output": str(tmp_path / "run"), **fields}))
     return path
 
@@ -32,7 +34,8 @@ def test_each_override_fails_as_the_same_field_in_the_file_would(tmp_path: Path)
     cases = [
         (SweepOverrides(limit=0), {"tasks": {"limit": 0}}),
         (SweepOverrides(settings=["limits.retries=-1"]), {"limits": {"retries": -1}}),
-        (SweepOverrides(modes=["composite,gui"]), {"modes": ["composite", "gui"]}),
+        (SweepOverrides(modes=["composite,gui"]), {"episodes": {"modes": ["composite", "gui"]}}),
+        (SweepOverrides(settings=["max_steps=0"]), {"episodes": {"max_steps": 0}}),  # a former key's old spelling
         (SweepOverrides(seeds="0,0"), {"seeds": [0, 0]}),
         (SweepOverrides(settings=["drag.types=[T9]"]), {"drag": {"types": ["T9"]}}),
     ]
@@ -53,7 +56,7 @@ def test_overrides_change_the_config_a_run_records(tmp_path: Path) -> None:
     assert [m.name or m.model for m in config.models] == ["scripted", "openai/other"]
     assert config.models[0].api_base == MODEL["api_base"]  # chosen by name: the file's entry, whole
     assert config.tasks.ids == ["countdown_launch", "star_shower"] and config.tasks.categories == ["create"]
-    assert (config.seeds, config.modes, config.limits.retries) == ([0, 1, 2], ["primitive"], 4)
+    assert (config.seeds, episode_settings(config).modes, config.limits.retries) == ([0, 1, 2], ["primitive"], 4)
     assert config.llm.retry.max_attempts == 2
     assert config.model_dump(mode="json")["limits"]["retries"] == 4  # what the manifest stores
 
@@ -77,7 +80,7 @@ def test_limit_keeps_the_first_items_and_only_their_jobs(tmp_path: Path) -> None
 
 
 def test_plan_counts_decided_jobs_calls_and_estimates_cost_from_earlier_attempts(tmp_path: Path) -> None:
-    config_file = write(tmp_path, modes=["composite", "primitive"], seeds=2)
+    config_file = write(tmp_path, episodes={"modes": ["composite", "primitive"]}, seeds=2)
     config = load_sweep_config(config_file)
     jobs = plan_run(config).jobs
     composite = [j for j in jobs if j.mode == "composite"]

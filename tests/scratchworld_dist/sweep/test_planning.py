@@ -13,6 +13,7 @@ from scratchworld_dist.kinds.tasks import (
     EpisodeMatrix,
     TaskContent,
     default_episode_clock,
+    episode_settings,
     job_id,
     plan_jobs,
     read_task,
@@ -365,9 +366,10 @@ def test_the_demo_config_plans_our_whole_suite_for_the_oracle() -> None:
 
     config = load_sweep_config(SUITE_DIR.parent / "configs" / "demo.yaml")
     planned = plan_run(config)
-    assert (config.agent.name, config.modes, config.seeds) == ("oracle", ["composite", "primitive"], [0])
+    modes = episode_settings(config).modes
+    assert (config.agent.name, modes, config.seeds) == ("oracle", ["composite", "primitive"], [0])
     assert config.suite == SUITE_DIR
-    for mode in config.modes:
+    for mode in modes:
         tasks = sorted(job.task_id for job in planned.jobs if job.body.mode == mode)
         assert tasks == sorted(task.id for task in load_suite(SUITE_DIR).tasks)
     assert all(content.payload.golden_project for content in planned.contents)  # the oracle needs every golden

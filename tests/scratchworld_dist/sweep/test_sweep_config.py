@@ -9,6 +9,7 @@ import pytest
 import yaml
 
 from scratchworld_dist._errors import ConfigError
+from scratchworld_dist.kinds.tasks import EpisodeSweep, episode_settings
 from scratchworld_dist.sweep import ModelConfig, SweepConfig, load_sweep_config
 from tests.conftest import REPO
 from workers.contract import ModelSpec
@@ -50,9 +51,9 @@ def test_minimal_config_and_defaults(tmp_path: Path) -> None:
     assert config.suite == Path("/suites/ours")
     assert config.agent.name == "oracle"
     assert config.models == []
-    assert config.modes == ["composite"]
     assert config.seeds == [0]
-    assert config.max_steps == 50
+    assert episode_settings(config) == EpisodeSweep()  # the file has no episodes section: its defaults
+    assert episode_settings(config).modes == ["composite"] and episode_settings(config).max_steps == 50
     assert config.tasks.categories == [] and config.tasks.ids == [] and config.tasks.task_list is None
     assert config.limits.episode_timeout_s == 900.0
     assert config.limits.retries == 2
@@ -61,7 +62,7 @@ def test_minimal_config_and_defaults(tmp_path: Path) -> None:
     assert config.output is None
     assert config.run_dir() == Path("results") / "smoke"
     assert config.ray.address is None
-    assert config.synthetic is None
+    assert episode_settings(config).synthetic is None and episode_settings(config).memory is None
 
 
 def test_full_config_keeps_every_field(tmp_path: Path) -> None:
@@ -74,9 +75,8 @@ def test_full_config_keeps_every_field(tmp_path: Path) -> None:
                     {"model": "openai/gpt-4o", "temperature": 0.2, "max_tokens": 512, "api_key_env": "OPENAI_API_KEY"},
                     {"model": "openai/gpt-4o", "name": "gpt-4o-hot", "temperature": 1.0, "params": {"top_p": 0.9}},
                 ],
-                modes=["primitive", "composite"],
+                episodes={"modes": ["primitive", "composite"], "max_steps": 7},
                 tasks={"categories": ["debug"], "ids": ["quiz_score"]},
-                max_steps=7,
                 limits={"episode_timeout_s": 60, "retries": 0, "pages_per_worker": 3, "max_in_flight": 5},
                 output="/runs/smoke",
                 ray={"address": "10.1.2.3:6379"},
@@ -84,9 +84,9 @@ def test_full_config_keeps_every_field(tmp_path: Path) -> None:
         )
     )
     assert config.agent.name == "llm"
-    assert config.modes == ["primitive", "composite"]
+    assert episode_settings(config).modes == ["primitive", "composite"]
     assert config.tasks.categories == ["debug"] and config.tasks.ids == ["quiz_score"]
-    assert config.max_steps == 7
+    assert episode_settings(config).max_steps == 7
     assert (config.limits.episode_timeout_s, config.limits.retries) == (60.0, 0)
     assert (config.limits.pages_per_worker, config.limits.max_in_flight) == (3, 5)
     assert config.output == Path("/runs/smoke")
@@ -118,8 +118,8 @@ def test_seeds_as_a_count_or_a_list(tmp_path: Path) -> None:
         ({"seeds": [1, 2, 1]}, "seeds"),
         ({"seeds": 0}, "seeds"),
         ({"seeds": []}, "seeds"),
-        ({"modes": ["composite", "composite"]}, "modes"),
-        ({"modes": []}, "modes"),
+        ({"episodes": {"modes": ["composite", "composite"]}}, "episodes.modes"),
+        ({"episodes": {"modes": []}}, "episodes.modes"),
     ],
 )
 def test_duplicate_or_empty_seeds_and_modes_are_refused(tmp_path: Path, fields: dict[str, Any], field: str) -> None:
@@ -135,15 +135,23 @@ def test_duplicate_or_empty_seeds_and_modes_are_refused(tmp_path: Path, fields: 
     [
         ({"nmae": "x"}, ["nmae: Extra inputs are not permitted"]),
         ({"limits": {"retry": 3}}, ["limits.retry: Extra inputs are not permitted"]),
-        ({"max_steps": "many"}, ["max_steps: ", "integer"]),
-        ({"max_steps": {"composite": 0}}, ["max_steps: ", "the step limit of composite must be a positive integer"]),
-        ({"max_steps": {"gui": 5}}, ["max_steps: ", "unknown mode gui"]),
-        ({"modes": ["composite", "primitive"], "max_steps": {"composite": 5}}, ["no limit for mode primitive"]),
+        ({"episodes": {"max_steps": "many"}}, ["episodes.max_steps: ", "integer"]),
+        (
+            {"episodes": {"max_steps": {"composite": 0}}},
+            ["episodes.max_steps: ", "the step limit of composite must be a positive integer"],
+        ),
+        ({"episodes": {"max_steps": {"gui": 5}}}, ["episodes.max_steps: ", "unknown mode gui"]),
+        (
+            {"episodes": {"modes": ["composite", "primitive"], "max_steps": {"composite": 5}}},
+            ["episodes: ", "no limit for mode primitive"],
+        ),
+        ({"episodes": {"maxsteps": 5}}, ["episodes.maxsteps: Extra inputs are not permitted"]),
+        ({"episodes": [50]}, ["episodes: ", "dictionary"]),
         ({"primitive": {"ocr": "tesseract"}}, ["primitive.ocr: "]),
         ({"limits": {"episode_timeout_s": "soon"}}, ["limits.episode_timeout_s: ", "number"]),
         ({"limits": {"retries": -1}}, ["limits.retries: ", "greater than or equal to 0"]),
         ({"agent": "gpt"}, ["agent: ", "agent 'gpt' is not registered (registered: awm, llm, noop, oracle"]),
-        ({"modes": ["mixed"]}, ["modes.0: "]),
+        ({"episodes": {"modes": ["mixed"]}}, ["episodes.modes.0: "]),
         ({"name": "has space"}, ["name: ", "pattern"]),
         ({"tasks": {"categories": ["games"]}}, ["tasks.categories.0: "]),
         ({"models": [{"name": "no model string"}]}, ["models.0.model: Field required"]),
@@ -167,9 +175,9 @@ def test_name_and_suite_are_required(tmp_path: Path) -> None:
 
 
 def test_every_problem_is_listed_at_once(tmp_path: Path) -> None:
-    message = config_error(tmp_path, minimal(agent="gpt", max_steps=0, limits={"retries": "x"}))
+    message = config_error(tmp_path, minimal(agent="gpt", episodes={"max_steps": 0}, limits={"retries": "x"}))
     assert "agent: " in message
-    assert "max_steps: " in message
+    assert "episodes.max_steps: " in message
     assert "limits.retries: " in message
 
 
@@ -320,7 +328,7 @@ def test_every_shipped_config_loads_and_points_at_our_suite(path: Path) -> None:
 def test_local_llm_config_reads_endpoint_and_key_from_the_environment() -> None:
     config = load_sweep_config(REPO / "configs" / "local-llm.yaml")
     (model,) = config.model_specs()
-    assert model is not None and config.agent.name == "llm" and config.modes == ["composite"]
+    assert model is not None and config.agent.name == "llm" and episode_settings(config).modes == ["composite"]
     assert (model.model, model.api_base_env, model.api_key_env) == (
         "openai/local",
         "SCRATCHWORLD_LLM_BASE_URL",

@@ -57,7 +57,7 @@ def wait_for(condition: object, timeout: float, what: str) -> None:
 
 @pytest.mark.slow
 def test_resume_after_killing_the_driver_loses_and_duplicates_nothing(tmp_path: Path, drivers: list[Driver]) -> None:
-    config = write_config(tmp_path, seeds=5, synthetic={"duration_s": 0.3, "fail_tasks": ["quiz_score"]})
+    config = write_config(tmp_path, seeds=5, episodes={"synthetic": {"duration_s": 0.3, "fail_tasks": ["quiz_score"]}})
     run_dir = tmp_path / "run"
     first = Driver(config)
     drivers.append(first)
@@ -88,7 +88,9 @@ def test_resume_after_killing_the_driver_loses_and_duplicates_nothing(tmp_path: 
 @pytest.mark.slow
 def test_jobs_of_a_killed_worker_are_rescheduled(tmp_path: Path, drivers: list[Driver]) -> None:
     # Workers restart in seconds (imports, browser); Ray fails calls sent to one meanwhile.
-    config = write_config(tmp_path, seeds=2, synthetic={"duration_s": 1.0, "startup_s": 5}, limits={"browser_slots": 2})
+    config = write_config(
+        tmp_path, seeds=2, episodes={"synthetic": {"duration_s": 1.0, "startup_s": 5}}, limits={"browser_slots": 2}
+    )
     run_dir = tmp_path / "run"
     driver = Driver(config)
     drivers.append(driver)
@@ -126,7 +128,7 @@ def test_jobs_spread_over_a_two_node_cluster(tmp_path: Path, drivers: list[Drive
     try:
         cluster.add_node(num_cpus=1, resources={"browser": 1})
         cluster.wait_for_nodes()
-        config = write_config(tmp_path, seeds=2, synthetic={"duration_s": 0.5})
+        config = write_config(tmp_path, seeds=2, episodes={"synthetic": {"duration_s": 0.5}})
         code, out = run(drivers, config, "--address", cluster.address)
         assert code == 0, out
         assert "2 worker(s) x 1 page(s) on 2 browser slot(s)" in out
@@ -154,7 +156,7 @@ def test_results_of_another_harness_are_refused_then_set_aside(
     tmp_path: Path, drivers: list[Driver], monkeypatch: pytest.MonkeyPatch, shared_ray: int
 ) -> None:
     """The runs under the "upgraded" editor are processes of their own: a process computes its harness once."""
-    config = write_config(tmp_path, tasks={"ids": TASKS[:2]}, synthetic={"duration_s": 0})
+    config = write_config(tmp_path, tasks={"ids": TASKS[:2]}, episodes={"synthetic": {"duration_s": 0}})
     run_dir = tmp_path / "run"
     assert run_here(config)[0] == 0
     before = {row.job_id for row in RunStore(run_dir).job_rows()}
@@ -178,7 +180,9 @@ def test_results_of_another_harness_are_refused_then_set_aside(
     assert {row.job_id for row in loaded.rows} == after and loaded.stale_rows == 2
 
     monkeypatch.delenv("SCRATCHWORLD_GUI_DIR")
-    other = write_config(tmp_path, tasks={"ids": TASKS[:2]}, synthetic={"duration_s": 0}, output=str(tmp_path / "b"))
+    other = write_config(
+        tmp_path, tasks={"ids": TASKS[:2]}, episodes={"synthetic": {"duration_s": 0}}, output=str(tmp_path / "b")
+    )
     assert run_here(other)[0] == 0
     report = invoke("report", str(run_dir), str(tmp_path / "b"))
     assert report.returncode == 2
@@ -191,7 +195,7 @@ def test_a_cluster_that_cannot_be_joined_fails_fast_naming_it(tmp_path: Path, li
         silent.bind(("0.0.0.0", 0))
         silent.listen()
         address = "127.0.0.1:9" if listener == "refusing" else f"127.0.0.1:{silent.getsockname()[1]}"
-        config = write_config(tmp_path, ray={"address": address, "connect_timeout_s": 3}, synthetic={})
+        config = write_config(tmp_path, ray={"address": address, "connect_timeout_s": 3}, episodes={"synthetic": {}})
         started = time.monotonic()
         done = subprocess.run([SCRATCHWORLD, "run", str(config)], capture_output=True, text=True, timeout=120)
         elapsed = time.monotonic() - started
@@ -210,7 +214,7 @@ def test_a_cluster_that_cannot_be_joined_fails_fast_naming_it(tmp_path: Path, li
 def test_an_unwritable_output_is_one_line_naming_it(tmp_path: Path, output: str) -> None:
     (tmp_path / "a-file").write_text("not a folder")
     target = output if output.startswith("/") else str(tmp_path / output)
-    config = write_config(tmp_path, output=target, synthetic={})
+    config = write_config(tmp_path, output=target, episodes={"synthetic": {}})
     done = invoke("run", str(config))
     assert done.returncode == 2
     last = done.stderr.strip().splitlines()[-1]
@@ -243,7 +247,7 @@ def test_episode_timeout_is_recorded_retried_and_kept_out_of_verdicts(tmp_path: 
     config = write_config(
         tmp_path,
         tasks={"ids": TASKS[:2]},
-        synthetic={"duration_s": 60},
+        episodes={"synthetic": {"duration_s": 60}},
         limits={"episode_timeout_s": 1, "retries": 1},
     )
     code, out = run_here(config)
@@ -274,7 +278,7 @@ def test_real_episodes_in_the_browser_mixed_with_synthetic_ones(tmp_path: Path, 
     """
     synthetic = {"tasks": ["quiz_score", "star_shower"], "fail_tasks": ["quiz_score"]}
     oracle = write_config(
-        tmp_path, tasks={"ids": TASKS}, synthetic=synthetic, seeds=2, limits={"episode_timeout_s": 240}
+        tmp_path, tasks={"ids": TASKS}, episodes={"synthetic": synthetic}, seeds=2, limits={"episode_timeout_s": 240}
     )
     code, out = run_here(oracle)
     assert code == 0, out
@@ -322,9 +326,9 @@ def test_real_episodes_in_the_browser_mixed_with_synthetic_ones(tmp_path: Path, 
 
 
 def test_a_run_dir_of_another_sweep_is_refused(tmp_path: Path, shared_ray: int) -> None:
-    config = write_config(tmp_path, tasks={"ids": TASKS[:1]}, synthetic={"duration_s": 0})
+    config = write_config(tmp_path, tasks={"ids": TASKS[:1]}, episodes={"synthetic": {"duration_s": 0}})
     assert run_here(config)[0] == 0
-    changed = write_config(tmp_path, tasks={"ids": TASKS[:1]}, seeds=2, synthetic={"duration_s": 0})
+    changed = write_config(tmp_path, tasks={"ids": TASKS[:1]}, seeds=2, episodes={"synthetic": {"duration_s": 0}})
     code, out = run_here(changed)
     assert code == 2
     assert "holds results of another sweep" in out
