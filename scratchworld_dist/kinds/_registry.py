@@ -1,45 +1,41 @@
 """Finding a job kind by name: the built-in benchmarks and any a plugin package registers.
 
-Kinds are entry points of the ``scratchworld.kinds`` group (pyproject.toml registers the three built-in
-ones), each naming an object that follows ``JobKind``. They are loaded on first use, not at import, so
-the modules the core imports never import a kind's code, and a kind's code may import the core.
+Kinds are entry points of the ``scratchworld.kinds`` group (pyproject.toml registers the four built-in ones),
+each naming an object that follows ``JobKind``, loaded through the one entry-point registry (``workers.Registry``).
+They are loaded on first use, not at import, so the modules the core imports never import a kind's code, and a
+kind's code may import the core. Reports show the kinds in the order of the ``rank`` each declares (a plugin's,
+which need not declare one, after the built-ins, by name).
 """
 
 from __future__ import annotations
 
 from functools import cache
-from importlib.metadata import entry_points
 from pathlib import Path
 
 from scratchworld_dist.kinds._protocol import JobKind
+from workers import Registry
 
 ENTRY_POINT_GROUP = "scratchworld.kinds"
 
 DEFAULT_KIND = "tasks"
 """The kind of a sweep config without ``benchmark:``, and of older runs no other kind claims."""
 
-BUILT_IN_ORDER = ("tasks", "drag", "perception", "audit")
-"""The order reports show the built-in kinds in; a plugin's kinds follow, by name."""
-
 
 class UnknownKindError(ValueError):
-    """A benchmark name no installed kind provides."""
+    """A benchmark name no installed kind provides, or an installed kind that cannot be loaded."""
+
+
+def _misnamed(name: str, found: object) -> str | None:
+    called = getattr(found, "name", None)
+    return None if called == name else f"names a kind called {called!r}"
+
+
+_KINDS: Registry[JobKind] = Registry(ENTRY_POINT_GROUP, "benchmark", UnknownKindError, _misnamed)
 
 
 @cache
 def _registered() -> dict[str, JobKind]:
-    found: dict[str, JobKind] = {}
-    for point in entry_points(group=ENTRY_POINT_GROUP):
-        try:
-            kind = point.load()
-        except Exception as exc:  # a plugin's import may fail in any way: say which and how, in one line
-            detail = " ".join(str(exc).split()) or type(exc).__name__
-            raise UnknownKindError(f"benchmark {point.name} ({point.value}) cannot be imported: {detail}") from exc
-        if getattr(kind, "name", None) != point.name:
-            raise UnknownKindError(f"entry point {point.name} ({point.value}) names a kind called {kind.name!r}")
-        found[point.name] = kind
-    order = {name: index for index, name in enumerate(BUILT_IN_ORDER)}
-    return dict(sorted(found.items(), key=lambda item: (order.get(item[0], len(order)), item[0])))
+    return _KINDS.load_all()
 
 
 def kind_names() -> list[str]:

@@ -14,9 +14,6 @@ from workers.agent_api._agent import Agent, AgentBase, EpisodeEnd, NoParams, Ste
 from workers.agent_api._context import ModelHandle, ModelReply, Privileges, TaskContext
 from workers.agent_api._memory import AgentMemory, InductionRequest, LearningAgent, MemoryUpdate
 from workers.agent_api._registry import (
-    AGENT_GROUPS,
-    ENTRY_POINT_GROUP,
-    AgentKind,
     agent_class,
     agent_code,
     agent_kinds,
@@ -64,14 +61,11 @@ from workers.contract import (
 )
 
 __all__ = [
-    "AGENT_GROUPS",
-    "ENTRY_POINT_GROUP",
     "Action",
     "ActionEnvelope",
     "ActionFailure",
     "Agent",
     "AgentBase",
-    "AgentKind",
     "AgentMemory",
     "AgentRef",
     "AgentUnableError",

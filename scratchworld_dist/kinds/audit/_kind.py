@@ -30,6 +30,8 @@ class AuditKind:
 
     name = "audit"
     title = "grader audit"
+    rank = 3
+    """Where reports put it among the kinds (``workers.Registry``: the built-ins first, by rank)."""
     needs_browser = True
     episodes = False
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"audits": AuditRow})

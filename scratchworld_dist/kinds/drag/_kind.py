@@ -33,6 +33,8 @@ class DragKind:
 
     name = "drag"
     title = "single-step drag"
+    rank = 1
+    """Where reports put it among the kinds (``workers.Registry``: the built-ins first, by rank)."""
     needs_browser = True
     episodes = False
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"drags": DragRow})

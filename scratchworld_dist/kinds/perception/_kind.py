@@ -40,6 +40,8 @@ class PerceptionJobKind:
 
     name = "perception"
     title = "perception"
+    rank = 2
+    """Where reports put it among the kinds (``workers.Registry``: the built-ins first, by rank)."""
     needs_browser = False
     episodes = False
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"perception": PerceptionRow})

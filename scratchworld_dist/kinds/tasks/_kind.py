@@ -39,6 +39,8 @@ class TasksKind:
 
     name = "tasks"
     title = "task episodes"
+    rank = 0
+    """Where reports put it among the kinds (``workers.Registry``: the built-ins first, by rank)."""
     needs_browser = True
     episodes = True
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({})

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pydantic import BaseModel
 
 from workers.contract import JobResult, PerceptionPayload, PerceptionSpec, WorkerJob
-from workers.kinds._protocol import WorkerHost
+from workers.kinds._protocol import AgentGroup, WorkerHost
 
 
 class PerceptionKind:
@@ -18,6 +18,9 @@ class PerceptionKind:
     """This folder: no other kind nor the core imports it."""
 
     needs_browser = False
+    agents: AgentGroup | None = AgentGroup(
+        group="scratchworld.perception_agents", methods=("answer",), base="workers.agent_api.PerceptionAgentBase"
+    )
 
     async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
         from workers.kinds.perception._runner import run_perception  # the model stack, on the first job
