@@ -19,7 +19,8 @@ from scratchworld_dist.kinds.audit._settings import AuditSweep
 from scratchworld_dist.kinds.tasks import selected_tasks
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
-from workers.contract import AgentRef, AgentUnavailableError, AuditSpec, HarnessFingerprint, JobResult, ModelSpec
+from workers.contract import AgentRef, AgentUnavailableError, HarnessFingerprint, JobResult, ModelSpec
+from workers.kinds.audit import AuditSpec
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat

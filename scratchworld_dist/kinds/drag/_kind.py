@@ -22,7 +22,8 @@ from scratchworld_dist.kinds.drag.items import DragTask, load_drag_suite
 from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.sweep import JobSpec, SweepConfig, present_suites, suite_hash, wanted_ids
 from workers.agent_api import agent_class, checked_agent
-from workers.contract import AgentRef, DragAttempt, DragSpec, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
+from workers.contract import AgentRef, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
+from workers.kinds.drag import DragAttempt, DragSpec
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
@@ -107,7 +108,7 @@ class DragKind:
         if not isinstance(body, DragBody):
             raise ValueError(f"job {job.job_id} is not a drag job")
         return DragSpec(
-            **job.worker_header(attempt, timeout_s),
+            **job.agent_header(attempt, timeout_s),
             setting=body.setting,
             element_list=body.element_list,
             observation=body.observation,

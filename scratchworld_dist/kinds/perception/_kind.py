@@ -21,15 +21,8 @@ from scratchworld_dist.kinds.perception._settings import PerceptionSweep
 from scratchworld_dist.results import RunStore, SuiteInfo, shared_image_path
 from scratchworld_dist.sweep import JobSpec, SweepConfig, suite_hash
 from workers.agent_api import agent_class, checked_agent
-from workers.contract import (
-    AgentRef,
-    HarnessFingerprint,
-    JobResult,
-    ModelSpec,
-    PerceptionAttempt,
-    PerceptionSpec,
-    WorkerJob,
-)
+from workers.contract import AgentRef, HarnessFingerprint, JobResult, ModelSpec, WorkerJob
+from workers.kinds.perception import PerceptionAttempt, PerceptionSpec
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
@@ -89,7 +82,7 @@ class PerceptionJobKind:
 
     def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
         return PerceptionSpec(
-            **job.worker_header(attempt, timeout_s),
+            **job.agent_header(attempt, timeout_s),
         )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:

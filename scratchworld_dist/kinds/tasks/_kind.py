@@ -19,16 +19,8 @@ from scratchworld_dist.results import RunStore, SuiteInfo
 from scratchworld_dist.suites import Suite, load_suite, stability_marks
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, SweepConfig, suite_hash
 from workers.agent_api import agent_class, agent_code, agent_params, checked_agent, extra_models
-from workers.contract import (
-    AgentRef,
-    EpisodeClock,
-    EpisodeSpec,
-    HarnessFingerprint,
-    JobResult,
-    Mode,
-    ModelSpec,
-    WorkerJob,
-)
+from workers.contract import AgentRef, EpisodeClock, HarnessFingerprint, JobResult, Mode, ModelSpec, WorkerJob
+from workers.kinds.tasks import EpisodeSpec
 
 if TYPE_CHECKING:
     from scratchworld_dist.reports import ReportFormat
@@ -113,7 +105,7 @@ class TasksKind:
         if not isinstance(body, EpisodeBody):
             raise ValueError(f"job {job.job_id} is not an episode")
         return EpisodeSpec(
-            **job.worker_header(attempt, timeout_s),
+            **job.agent_header(attempt, timeout_s),
             mode=body.mode,
             max_steps=body.max_steps,
             observation=body.observation,

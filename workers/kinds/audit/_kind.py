@@ -11,8 +11,9 @@ from typing import TYPE_CHECKING
 
 from pydantic import BaseModel
 
-from workers.contract import AuditObservation, AuditSpec, JobResult, Sb3Archive, TaskPayload, WorkerJob
+from workers.contract import JobResult, Sb3Archive, TaskPayload, WorkerJob
 from workers.kinds._protocol import AgentGroup, WorkerHost
+from workers.kinds.audit._contract import AuditObservation, AuditSpec
 
 if TYPE_CHECKING:
     from workers.evaluation import Evaluator

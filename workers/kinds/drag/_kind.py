@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from pydantic import BaseModel
 
-from workers.contract import DragPayload, DragSpec, JobResult, WorkerJob
+from workers.contract import JobResult, WorkerJob
 from workers.kinds._protocol import AgentGroup, WorkerHost
+from workers.kinds.drag._contract import DragPayload, DragSpec
 
 
 class DragKind:

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from pydantic import BaseModel
 
-from workers.contract import JobResult, PerceptionPayload, PerceptionSpec, WorkerJob
+from workers.contract import JobResult, WorkerJob
 from workers.kinds._protocol import AgentGroup, WorkerHost
+from workers.kinds.perception._contract import PerceptionPayload, PerceptionSpec
 
 
-class PerceptionKind:
+class PerceptionWorkerKind:
     """Perception jobs: one model call (or a scripted answer), scored both ways."""
 
     name = "perception"
@@ -32,4 +33,4 @@ class PerceptionKind:
         return await run_perception(spec, payload)
 
 
-PERCEPTION = PerceptionKind()
+PERCEPTION = PerceptionWorkerKind()

@@ -6,8 +6,9 @@ from __future__ import annotations
 from pydantic import BaseModel
 
 from workers.agent_api import agent_code, build_agent
-from workers.contract import AgentUnavailableError, EpisodeSpec, JobResult, RegradeSpec, TaskPayload, WorkerJob
+from workers.contract import AgentUnavailableError, JobResult, TaskPayload, WorkerJob
 from workers.kinds._protocol import AgentGroup, WorkerHost
+from workers.kinds.tasks._contract import EpisodeSpec, RegradeSpec
 
 REGRADED = "regraded"
 """Stop reason of a regrade's result (the driver keeps the source's in the row)."""

@@ -15,8 +15,9 @@ from scratchworld_dist.kinds.drag import plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag.items import load_drag_suite
 from tests.conftest import REPO
 from tests.support.openai_server import OpenAIServer, reply, status
-from workers.contract import AgentRef, DragPayload, DragRegions, DragSpec, LLMSettings, ModelSpec, RetryPolicy
+from workers.contract import AgentRef, DragRegions, LLMSettings, ModelSpec, RetryPolicy
 from workers.editor import BrowserSession, EditorPool
+from workers.kinds.drag import DragPayload, DragSpec
 from workers.kinds.drag import _page as page
 from workers.kinds.drag._runner import DragRunner
 

@@ -24,21 +24,19 @@ from workers.contract import (
     Action,
     AgentRef,
     Done,
-    EpisodeSpec,
     LLMSettings,
     LoadProject,
     Mode,
     ModelSpec,
     Observation,
-    PerceptionPayload,
-    PerceptionSpec,
     RetryPolicy,
     SyntheticEpisodes,
     TaskPayload,
 )
 from workers.editor import BrowserSession
 from workers.kinds import kind_fingerprint
-from workers.kinds.tasks import EpisodeRunner
+from workers.kinds.perception import PerceptionPayload, PerceptionSpec
+from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 from workers.node import harness_fingerprint, thread_policies
 from workers.primitive import PRIMITIVE_APIS
 
