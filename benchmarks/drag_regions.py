@@ -35,8 +35,9 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
 from scratchworld_dist.kinds.drag.items import DragTask, load_drag_suite  # noqa: E402
-from workers.contract import DragPayload, DragRegions, Point, Region  # noqa: E402
+from workers.contract import DragRegions, Point, Region  # noqa: E402
 from workers.editor import BrowserConfig, BrowserSession, Editor, EditorPool  # noqa: E402
+from workers.kinds.drag import DragPayload  # noqa: E402
 from workers.kinds.drag import _page as page  # noqa: E402
 
 UPSTREAM = REPO.parent / "shared" / "scratchworld-upstream"

@@ -37,6 +37,10 @@ def loaded_after(statement: str) -> set[str]:
             "kind_fingerprint(harness_fingerprint(), 'drag')",
             (),
         ),
+        # A kind's package (what its entry point names, and where its contract models are): its runner is not loaded.
+        ("import workers.kinds.tasks, workers.kinds.drag, workers.kinds.perception, workers.kinds.audit", ()),
+        # The agent registry, which finds a kind's agents through the worker kinds' registry (loading no agent).
+        ("from workers.agent_api import registered_agents; registered_agents('drag'), registered_agents()", ()),
         # Reports and status read Parquet (pyarrow, which brings numpy), but start no browser.
         ("from scratchworld_dist.cli import main", ("pyarrow", "numpy")),
         ("import scratchworld_dist.reports, scratchworld_dist.results", ("pyarrow", "numpy")),

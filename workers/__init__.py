@@ -9,9 +9,11 @@
 - ``episode``: an agent in an environment, then the evaluation, and the Ray actor that runs them;
 - ``node``: this machine's installation, harness fingerprint and self-description.
 
-``lazy_exports`` lets a package (here or on the driver) export its browser-stack names without importing them.
+``lazy_exports`` lets a package (here or on the driver) export its browser-stack names without importing them;
+``Registry`` is the one entry-point loader behind the driver's kinds, the worker's kinds and the agents.
 """
 
 from workers._lazy import lazy_exports
+from workers._registry import PLUGIN_RANK, Registry, one_line
 
-__all__ = ["lazy_exports"]
+__all__ = ["PLUGIN_RANK", "Registry", "lazy_exports", "one_line"]

@@ -27,7 +27,29 @@ EXIT_INTERRUPTED = 130
 LOG_LEVELS = ("debug", "info", "warning", "error")
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class _Commands(click.Group):
+    """The shared commands, and each installed kind's own (a plugin's too), added when a command is first looked
+    up: loading the kinds imports their code, which must not happen while this package is being imported."""
+
+    _kinds_added = False
+
+    def _add_kind_commands(self) -> None:
+        if not self._kinds_added:
+            self._kinds_added = True
+            for kind in job_kinds(KindCommands):
+                for command in kind.commands():
+                    self.add_command(command)
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        self._add_kind_commands()
+        return super().list_commands(ctx)
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        self._add_kind_commands()
+        return super().get_command(ctx, cmd_name)
+
+
+@click.group(cls=_Commands, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="scratchworld-dist", prog_name="scratchworld", message="%(prog)s %(version)s")
 @click.option(
     "--log-level",
@@ -49,9 +71,6 @@ cli.add_command(status_command)
 cli.add_command(capacity_command)
 cli.add_command(view_command)
 cli.add_command(schemas_command)
-for _kind in job_kinds(KindCommands):  # each benchmark's own commands (a plugin's too)
-    for _command in _kind.commands():
-        cli.add_command(_command)
 
 
 def main() -> None:

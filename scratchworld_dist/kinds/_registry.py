@@ -1,20 +1,24 @@
 """Finding a benchmark kind by name: the built-in ones and any a plugin package registers.
 
 Kinds are entry points of the ``scratchworld.kinds`` group (pyproject.toml registers the built-in ones), each
-naming an instance of ``scratchworld_dist.kinds.base.Kind``. They are loaded on first use, not at import. Every
-layer of the driver looks kinds up here, asking for the facet it uses (``job_kind("drag", KindRows)``): this
-module imports none of them, so a layer and the kinds built on it never import each other in a circle.
+naming an instance of ``scratchworld_dist.kinds.base.Kind``, read through the one entry-point registry
+(``workers.Registry``) on first use, not at import. Reports show them in the order of the ``rank`` each declares
+(a plugin's, which need not declare one, after the built-ins, by name). Every layer of the driver looks kinds up
+here, asking for the facet it uses (``job_kind("drag", KindRows)``): this module imports none of them, so a layer
+and the kinds built on it never import each other in a circle.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from functools import cache
-from importlib.metadata import entry_points
 from types import MappingProxyType
 from typing import ClassVar, TypeVar
 
 from pydantic import BaseModel
+
+from workers import Registry
+from workers._registry import PLUGIN_RANK
 
 ENTRY_POINT_GROUP = "scratchworld.kinds"
 
@@ -23,7 +27,7 @@ DEFAULT_KIND = "tasks"
 
 
 class UnknownKindError(ValueError):
-    """A benchmark name no installed kind provides, or a registered object that is no kind."""
+    """A benchmark name no installed kind provides, or an installed kind that cannot be loaded."""
 
 
 class KindTraits:
@@ -35,8 +39,8 @@ class KindTraits:
     title: ClassVar[str] = ""
     """How messages name the kind (``task episodes``, ``single-step drag``...)."""
 
-    rank: ClassVar[int] = 100
-    """Where reports list it among the kinds (built-ins below 100; plugins after them, by name)."""
+    rank: ClassVar[int] = PLUGIN_RANK
+    """Where reports list it among the kinds (the built-ins declare theirs; a plugin's come after, by name)."""
 
     needs_browser: ClassVar[bool] = True
     """Whether its jobs open an editor (admission and warm editors count only those that do)."""
@@ -66,23 +70,18 @@ class KindTraits:
 FacetT = TypeVar("FacetT", bound=KindTraits)
 
 
+def _not_a_kind(name: str, found: object) -> str | None:
+    if not isinstance(found, KindTraits):
+        return "is not a kind: see scratchworld_dist.kinds.base.Kind"
+    return None if found.name == name else f"names a kind called {found.name!r}"
+
+
+_KINDS: Registry[KindTraits] = Registry(ENTRY_POINT_GROUP, "benchmark", UnknownKindError, _not_a_kind)
+
+
 @cache
 def _registered() -> dict[str, KindTraits]:
-    found: dict[str, KindTraits] = {}
-    for point in entry_points(group=ENTRY_POINT_GROUP):
-        try:
-            kind = point.load()
-        except Exception as exc:  # a plugin's import may fail in any way: say which and how, in one line
-            detail = " ".join(str(exc).split()) or type(exc).__name__
-            raise UnknownKindError(f"benchmark {point.name} ({point.value}) cannot be imported: {detail}") from exc
-        if not isinstance(kind, KindTraits):
-            raise UnknownKindError(
-                f"entry point {point.name} ({point.value}) is not a kind: see scratchworld_dist.kinds.base.Kind"
-            )
-        if kind.name != point.name:
-            raise UnknownKindError(f"entry point {point.name} ({point.value}) names a kind called {kind.name!r}")
-        found[point.name] = kind
-    return dict(sorted(found.items(), key=lambda item: (item[1].rank, item[0])))
+    return _KINDS.load_all()
 
 
 def kind_names() -> list[str]:

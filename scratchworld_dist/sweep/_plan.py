@@ -122,18 +122,26 @@ class JobSpec(BaseModel):
         return "+".join([self.model.name, *(extra.name for extra in self.extra_models)])
 
     def worker_header(self, attempt: int, timeout_s: float) -> dict[str, Any]:
-        """The fields every kind's worker job takes from the header, for ``attempt`` within ``timeout_s``."""
+        """The fields of every kind's worker job (``workers.contract.JobHeader``), for ``attempt`` within
+        ``timeout_s``."""
         return {
             "job_id": self.job_id,
             "attempt": attempt,
             "task_id": self.task_id,
+            "timeout_s": timeout_s,
+            "harness": self.harness,
+        }
+
+    def agent_header(self, attempt: int, timeout_s: float) -> dict[str, Any]:
+        """The fields of a worker job an agent acts in (``workers.contract.AgentJob``): the header, and who acts
+        with which model, seed and model settings."""
+        return {
+            **self.worker_header(attempt, timeout_s),
             "agent": self.agent,
             "agent_code": self.agent_code,
             "model": self.model,
             "seed": self.seed,
-            "timeout_s": timeout_s,
             "llm": self.llm,
-            "harness": self.harness,
             "model_cache": self.model_cache,
         }
 

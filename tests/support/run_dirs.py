@@ -22,7 +22,8 @@ from scratchworld_dist.results import (
 )
 from scratchworld_dist.suites import StabilityMarks
 from scratchworld_dist.sweep import SuiteInfo
-from workers.contract import AnswerFormat, HarnessFingerprint, ValueKind
+from workers.agent_api import AnswerFormat, ValueKind
+from workers.contract import HarnessFingerprint
 from workers.kinds.perception import score_reply
 
 T0 = datetime(2026, 1, 1, tzinfo=UTC)

@@ -43,7 +43,9 @@ def digests(parts: dict[str, str]) -> dict[str, str]:
 def test_the_built_in_kinds_are_registered_light_and_own_their_specs() -> None:
     kinds = worker_kinds()
     assert set(kinds) >= set(KINDS)
-    from workers.contract import DragSpec, EpisodeSpec, PerceptionSpec, RegradeSpec
+    from workers.kinds.drag import DragSpec
+    from workers.kinds.perception import PerceptionSpec
+    from workers.kinds.tasks import EpisodeSpec, RegradeSpec
 
     assert [kind_of(spec_class.model_construct()).name for spec_class in (EpisodeSpec, RegradeSpec)] == ["tasks"] * 2
     assert kind_of(DragSpec.model_construct()) is kinds["drag"]
@@ -273,7 +275,7 @@ def test_a_plugin_kind_that_claims_a_built_in_spec_is_refused(plugin: Path) -> N
     source = plugin / "mutation_kind" / "__init__.py"
     source.write_text(
         source.read_text().replace(
-            "specs = (MutationSpec,)", "specs = (__import__('workers.contract').contract.DragSpec,)"
+            "specs = (MutationSpec,)", "specs = (__import__('workers.kinds.drag').kinds.drag.DragSpec,)"
         )
     )
     with pytest.raises(KindRegistryError, match="both claim DragSpec"):

@@ -11,12 +11,9 @@ question (``DragAgentBase``, ``PerceptionAgentBase``) and register in groups of 
 """
 
 from workers.agent_api._agent import Agent, AgentBase, EpisodeEnd, NoParams, StepResult
-from workers.agent_api._context import ModelHandle, ModelReply, Privileges, TaskContext
-from workers.agent_api._memory import AgentMemory, InductionRequest, LearningAgent, MemoryUpdate
+from workers.agent_api._context import AgentMemory, ModelHandle, ModelReply, Privileges, TaskContext
+from workers.agent_api._memory import InductionRequest, LearningAgent, MemoryUpdate
 from workers.agent_api._registry import (
-    AGENT_GROUPS,
-    ENTRY_POINT_GROUP,
-    AgentKind,
     agent_class,
     agent_code,
     agent_kinds,
@@ -29,13 +26,17 @@ from workers.agent_api._registry import (
     registered_agents,
 )
 from workers.agent_api._single_step import (
+    AnswerFormat,
     DragAgentBase,
     DragAnswer,
+    DragParse,
     DragQuestion,
+    DragSetting,
     ModelSource,
     PerceptionAgentBase,
     PerceptionQuestion,
     SingleStepAgent,
+    ValueKind,
 )
 from workers.contract import (
     Action,
@@ -64,24 +65,24 @@ from workers.contract import (
 )
 
 __all__ = [
-    "AGENT_GROUPS",
-    "ENTRY_POINT_GROUP",
     "Action",
     "ActionEnvelope",
     "ActionFailure",
     "Agent",
     "AgentBase",
-    "AgentKind",
     "AgentMemory",
     "AgentRef",
     "AgentUnableError",
     "AgentUnavailableError",
+    "AnswerFormat",
     "CompositeAction",
     "CompositeObservation",
     "Done",
     "DragAgentBase",
     "DragAnswer",
+    "DragParse",
     "DragQuestion",
+    "DragSetting",
     "Element",
     "EpisodeEnd",
     "Failed",
@@ -108,6 +109,7 @@ __all__ = [
     "StepResult",
     "TargetName",
     "TaskContext",
+    "ValueKind",
     "agent_class",
     "agent_code",
     "agent_kinds",

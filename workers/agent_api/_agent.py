@@ -8,14 +8,12 @@ an agent remembers can carry the tests into later episodes.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, ClassVar, Protocol, runtime_checkable
+from typing import ClassVar, Protocol, runtime_checkable
 
 from pydantic import BaseModel, ConfigDict, JsonValue
 
+from workers.agent_api._context import TaskContext
 from workers.contract import Action, Mode, Observation
-
-if TYPE_CHECKING:
-    from workers.agent_api._context import TaskContext
 
 
 class NoParams(BaseModel):

@@ -1,4 +1,4 @@
-"""What an agent is given at the start of an episode: the task, and the means to call models.
+"""What an agent is given at the start of an episode: the task, the means to call models, and its memory.
 
 Every model call goes through the harness's own client: retries, the cluster-wide rate
 limiter, the circuit breaker, token and cost accounting, and the trajectory log (what each
@@ -9,14 +9,19 @@ from __future__ import annotations
 
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import Any, Protocol
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, JsonValue
 
-from workers.contract import AgentUnavailableError, CompositeAction, LLMSettings, Mode, ModelSpec
-
-if TYPE_CHECKING:
-    from workers.agent_api._memory import AgentMemory
+from workers.contract import (
+    AgentUnavailableError,
+    CompositeAction,
+    LLMSettings,
+    MemoryItem,
+    MemorySnapshot,
+    Mode,
+    ModelSpec,
+)
 
 
 class ModelReply(BaseModel):
@@ -53,6 +58,27 @@ class Privileges:
     golden_trajectory: list[CompositeAction] | None
     editor: Any  # a workers.editor.Editor; typed loosely so that this API loads no browser stack
     """The page the episode runs in (for oracles that plan gestures from what it shows)."""
+
+
+class AgentMemory:
+    """A learning agent's memory within one episode."""
+
+    def __init__(self, snapshot: MemorySnapshot | None, job_id: str, task_id: str) -> None:
+        self.snapshot = snapshot
+        self._job_id = job_id
+        self._task_id = task_id
+        self.items: list[MemoryItem] = []
+
+    @property
+    def text(self) -> str:
+        """The memory as induced so far ("" before anything was learnt, or in a sweep without memory)."""
+        return self.snapshot.text if self.snapshot is not None else ""
+
+    def propose(self, content: JsonValue, *, judged_success: bool) -> None:
+        """Offer this episode's record for later inductions, with the agent's own judgement of success."""
+        self.items.append(
+            MemoryItem(source=self._job_id, task_id=self._task_id, judged_success=judged_success, content=content)
+        )
 
 
 class TaskContext:
@@ -109,8 +135,6 @@ class TaskContext:
     def memory(self) -> AgentMemory:
         """The memory shared across the sweep's jobs (see ``LearningAgent``): read ``text``, ``propose`` items."""
         if self._memory is None:
-            from workers.agent_api._memory import AgentMemory
-
             self._memory = AgentMemory(None, "", self.task_id)
         return self._memory
 

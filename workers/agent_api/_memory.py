@@ -4,39 +4,19 @@ An agent that declares ``learns = True`` reads ``context.memory.text`` at start 
 an episode, proposes what it may learn from with ``context.memory.propose(content,
 judged_success=...)``: the judgement is the agent's own (e.g. a self-evaluation call by its
 model), since the agent never learns the verdict. Between waves the harness calls the class's
-``induce`` with the items judged worth learning from, and its answer becomes the next snapshot.
+``induce`` with the items judged worth learning from, and its answer becomes the next snapshot. (What an episode
+holds of its memory, ``AgentMemory``, is part of the agent's context: ``workers.agent_api._context``.)
 """
 
 from __future__ import annotations
 
 from typing import ClassVar, Protocol, runtime_checkable
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue
+from pydantic import BaseModel, ConfigDict, Field
 
 from workers.agent_api._agent import Agent
 from workers.agent_api._context import ModelHandle
-from workers.contract import MemoryItem, MemorySnapshot, Mode
-
-
-class AgentMemory:
-    """A learning agent's memory within one episode."""
-
-    def __init__(self, snapshot: MemorySnapshot | None, job_id: str, task_id: str) -> None:
-        self.snapshot = snapshot
-        self._job_id = job_id
-        self._task_id = task_id
-        self.items: list[MemoryItem] = []
-
-    @property
-    def text(self) -> str:
-        """The memory as induced so far ("" before anything was learnt, or in a sweep without memory)."""
-        return self.snapshot.text if self.snapshot is not None else ""
-
-    def propose(self, content: JsonValue, *, judged_success: bool) -> None:
-        """Offer this episode's record for later inductions, with the agent's own judgement of success."""
-        self.items.append(
-            MemoryItem(source=self._job_id, task_id=self._task_id, judged_success=judged_success, content=content)
-        )
+from workers.contract import MemoryItem, Mode
 
 
 class InductionRequest(BaseModel):

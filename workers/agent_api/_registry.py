@@ -1,13 +1,13 @@
 """Finding an agent by benchmark kind and name, and building it with validated parameters.
 
-Each benchmark kind has its own entry-point group: ``scratchworld.agents`` (episodes, ``tasks``: the
-group plugins have always used, kept as it was), ``scratchworld.drag_agents`` and
-``scratchworld.perception_agents``. One group per kind, rather than one group with kind-qualified
-names (``drag.oracle``), because the same short names (``oracle``, ``llm``) stand for different
-classes in each benchmark and configs keep writing them as they are (``agent: oracle`` under
-``benchmark: drag``); the group a config's benchmark names is the only place its names are looked up,
-so no name can reach an agent of another benchmark. A class also says which kinds it serves
-(``kinds``; episode agents without the attribute serve ``tasks``), so an agent named by
+Each benchmark kind whose jobs run agents says where they register (its worker kind's ``agents``, an
+``AgentGroup``): ``scratchworld.agents`` for episodes (``tasks``: the group plugins have always used, kept as it
+was), ``scratchworld.drag_agents``, ``scratchworld.perception_agents``, or a plugin kind's own group; this registry
+keeps no table of kinds. One group per kind, rather than one group with kind-qualified names (``drag.oracle``),
+because the same short names (``oracle``, ``llm``) stand for different classes in each benchmark and configs keep
+writing them as they are (``agent: oracle`` under ``benchmark: drag``); the group a config's benchmark names is
+the only place its names are looked up, so no name can reach an agent of another benchmark. A class also says
+which kinds it serves (``kinds``; episode agents without the attribute serve ``tasks``), so an agent named by
 ``package.module:Class`` or registered in the wrong group is refused with what it serves.
 
 The driver resolves each agent and validates its parameters while loading the sweep config, so an
@@ -20,96 +20,90 @@ import hashlib
 import importlib
 import inspect
 import socket
-from importlib.metadata import PackageNotFoundError, entry_points, packages_distributions, version
+from importlib.metadata import PackageNotFoundError, packages_distributions, version
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
+from workers import Registry, one_line
 from workers.agent_api._agent import NoParams
 from workers.contract import AgentRef, AgentUnavailableError, ModelSpec
-
-AgentKind = Literal["tasks", "drag", "perception"]
-
-ENTRY_POINT_GROUP = "scratchworld.agents"
-"""The episode agents' group (``tasks``)."""
-
-AGENT_GROUPS: dict[str, str] = {
-    "tasks": ENTRY_POINT_GROUP,
-    "drag": "scratchworld.drag_agents",
-    "perception": "scratchworld.perception_agents",
-}
-
-_REQUIRED = {"tasks": ("start", "act", "finish"), "drag": ("answer",), "perception": ("answer",)}
-_PROTOCOL = {
-    "tasks": "workers.agent_api.Agent",
-    "drag": "workers.agent_api.DragAgentBase",
-    "perception": "workers.agent_api.PerceptionAgentBase",
-}
+from workers.kinds import DEFAULT_KIND, AgentGroup, KindRegistryError, agents_of, worker_kinds
 
 
 def agent_kinds(cls: type) -> tuple[str, ...]:
     """The benchmark kinds ``cls`` serves (``tasks`` for an episode agent that does not say)."""
-    return tuple(getattr(cls, "kinds", ("tasks",)))
+    return tuple(getattr(cls, "kinds", (DEFAULT_KIND,)))
 
 
-def registered_agents(kind: str = "tasks") -> list[str]:
+def registered_agents(kind: str = DEFAULT_KIND) -> list[str]:
     """The names registered for ``kind`` in this environment."""
-    return sorted({point.name for point in entry_points(group=_group(kind))})
+    return _registry(kind).names()
 
 
-def agent_class(name: str, kind: str = "tasks") -> type[Any]:
+def agent_class(name: str, kind: str = DEFAULT_KIND) -> type[Any]:
     """The class ``name`` stands for in benchmark ``kind``; raises ``AgentUnavailableError`` saying why it
     cannot be had (not registered for that kind, not importable, or serving other kinds)."""
-    group = _group(kind)
-    if ":" in name:
-        module_name, _, attribute = name.partition(":")
-        where = name
-        try:
-            found = getattr(importlib.import_module(module_name), attribute)
-        except AttributeError:
-            raise AgentUnavailableError(f"agent {name}: module {module_name} has no {attribute}") from None
-        except Exception as exc:  # a plugin's import may fail in any way: say how, in one line
-            raise AgentUnavailableError(f"agent {name} cannot be imported: {_one_line(exc)}") from exc
-    else:
-        points = [point for point in entry_points(group=group) if point.name == name]
-        if not points:
+    registry = _registry(kind)
+    if ":" not in name:
+        point = registry.points().get(name)
+        if point is None:
             raise AgentUnavailableError(_unregistered(name, kind))
-        where = f"{name} ({points[0].value})"
-        try:
-            found = points[0].load()
-        except Exception as exc:
-            raise AgentUnavailableError(f"agent {where} cannot be imported: {_one_line(exc)}") from exc
-    if not isinstance(found, type):
-        raise AgentUnavailableError(f"agent {where} is not a class: see {_PROTOCOL[kind]}")
-    serves = agent_kinds(found)
-    if kind not in serves:
-        raise AgentUnavailableError(f"agent {where} serves {', '.join(serves) or 'no benchmark'}, not {kind}")
-    missing = [method for method in _REQUIRED[kind] if not callable(getattr(found, method, None))]
-    if missing:
-        raise AgentUnavailableError(f"agent {where} lacks {', '.join(missing)}: see {_PROTOCOL[kind]}")
+        return registry.load(point)
+    module_name, _, attribute = name.partition(":")
+    try:
+        found = getattr(importlib.import_module(module_name), attribute)
+    except AttributeError:
+        raise AgentUnavailableError(f"agent {name}: module {module_name} has no {attribute}") from None
+    except Exception as exc:  # a plugin's import may fail in any way: say how, in one line
+        raise AgentUnavailableError(f"agent {name} cannot be imported: {one_line(exc)}") from exc
+    problem = registry.check(name, found)
+    if problem is not None:
+        raise AgentUnavailableError(f"agent {name} {problem}")
     return found
 
 
-def _group(kind: str) -> str:
-    if kind not in AGENT_GROUPS:
-        raise AgentUnavailableError(f"no agents serve {kind!r}: the benchmarks are {', '.join(AGENT_GROUPS)}")
-    return AGENT_GROUPS[kind]
+def _agent_groups() -> dict[str, AgentGroup]:
+    """Each installed kind that runs agents, with where they register."""
+    try:
+        kinds = worker_kinds()
+    except KindRegistryError as exc:  # a broken plugin kind: one line, as every agent problem
+        raise AgentUnavailableError(str(exc)) from exc
+    return {name: group for name, kind in kinds.items() if (group := agents_of(kind)) is not None}
+
+
+def _registry(kind: str) -> Registry[type[Any]]:
+    """The agents of ``kind``: its group, each checked against what the kind asks of its agents."""
+    groups = _agent_groups()
+    if kind not in groups:
+        raise AgentUnavailableError(f"no agents serve {kind!r}: the benchmarks are {', '.join(groups)}")
+    agents = groups[kind]
+
+    def problem(name: str, found: object) -> str | None:
+        if not isinstance(found, type):
+            return f"is not a class: see {agents.base}"
+        serves = agent_kinds(found)
+        if kind not in serves:
+            return f"serves {', '.join(serves) or 'no benchmark'}, not {kind}"
+        missing = [method for method in agents.methods if not callable(getattr(found, method, None))]
+        return f"lacks {', '.join(missing)}: see {agents.base}" if missing else None
+
+    return Registry(agents.group, "agent", AgentUnavailableError, problem)
 
 
 def _unregistered(name: str, kind: str) -> str:
     """Why ``name`` is no agent of ``kind``: the names that are, and the kinds it is registered for instead."""
     known = ", ".join(registered_agents(kind)) or "none"
-    elsewhere = [other for other in AGENT_GROUPS if other != kind and name in registered_agents(other)]
+    elsewhere = [other for other in _agent_groups() if other != kind and name in registered_agents(other)]
     serves = f"; {name!r} is an agent of {' and '.join(elsewhere)}" if elsewhere else ""
-    benchmark = "" if kind == "tasks" else f" for the {kind} benchmark"
     return (
-        f"agent {name!r} is not registered{benchmark} (registered: {known}){serves}; name an installed "
+        f"agent {name!r} is not registered for the {kind} benchmark (registered: {known}){serves}; name an installed "
         "plugin's entry point or package.module:Class (built-in names missing: run ./install.sh again)"
     )
 
 
-def checked_agent(ref: AgentRef, kind: str = "tasks") -> type[Any]:
+def checked_agent(ref: AgentRef, kind: str = DEFAULT_KIND) -> type[Any]:
     """The class of ``ref`` for ``kind`` once its params validate and it claims no privilege it may not have:
     what the driver checks of every agent a config names."""
     found = agent_class(ref.name, kind)
@@ -196,7 +190,7 @@ def code_mismatch(ref: AgentRef, planned: str | None, cls: type) -> str | None:
     )
 
 
-def build_agent(ref: AgentRef, kind: str = "tasks") -> Any:
+def build_agent(ref: AgentRef, kind: str = DEFAULT_KIND) -> Any:
     """A new agent of ``kind`` for one job (an ``Agent`` for an episode), built with its validated params."""
     cls = agent_class(ref.name, kind)
     try:
@@ -204,9 +198,4 @@ def build_agent(ref: AgentRef, kind: str = "tasks") -> Any:
     except AgentUnavailableError:
         raise
     except Exception as exc:
-        raise AgentUnavailableError(f"agent {ref.name} could not be built: {_one_line(exc)}") from exc
-
-
-def _one_line(exc: BaseException) -> str:
-    text = " ".join(str(exc).split()) or "no message"
-    return f"{type(exc).__name__}: {text[:300]}"
+        raise AgentUnavailableError(f"agent {ref.name} could not be built: {one_line(exc)}") from exc

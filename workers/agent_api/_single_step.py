@@ -3,19 +3,36 @@
 An episode agent acts step by step in a live editor; a drag or perception agent is asked once: it gets a
 question and answers it, calling the job's model through ``models.connect(model)`` if it needs one (the
 same client as episodes: retries, rate limits, costs, the model cache). Each class says which benchmark
-it serves (``kinds``) and is registered like episode agents (see ``workers.agent_api._registry``).
+it serves (``kinds``) and is registered like episode agents (see ``workers.agent_api._registry``). The words the
+questions and answers are made of (a drag's setting, how its reply was read, a perception item's answer format)
+are defined here, where agents meet them; the kinds' own models use them too.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar, Protocol
+from typing import ClassVar, Literal, Protocol
 
 from pydantic import BaseModel, ConfigDict
 
 from workers.agent_api._agent import NoParams
 from workers.agent_api._context import ModelHandle
-from workers.contract import AnswerFormat, DragParse, DragRegions, DragSetting, ModelSpec, Point, ValueKind
+from workers.contract import DragRegions, ModelSpec, Point
+
+DragSetting = Literal["baseline", "gt_start", "knowledge"]
+"""``baseline``: screenshot and instruction; ``gt_start``: a feasible start is marked and stated;
+``knowledge``: hints about where to grab and where to drop."""
+
+DragParse = Literal["ok", "no_answer", "unparsed", "bad_index", "out_of_screen"]
+"""How the model's reply was read: two points (``ok``), an empty reply, no drag found, an element
+index the list does not have, or a point off the screenshot."""
+
+AnswerFormat = Literal["yes_no", "value"]
+"""``yes_no``: the answer is YES or NO; ``value``: the exact text a field shows."""
+
+ValueKind = Literal["number", "text", "dropdown"]
+"""What a ``value`` answer is: a number (compared as a number when normalized), free text, or a dropdown's
+option (compared case-insensitively when normalized)."""
 
 
 class ModelSource(Protocol):

@@ -1,9 +1,11 @@
 """The contract between the driver and its workers: the data and errors both sides share.
 
-Pydantic models (what an episode is given and returns, the actions an agent takes, what it sees
-and what the environment answers, evaluation specs and verdicts, model and observation settings,
-project limits, the harness fingerprint) and the single exception hierarchy. It imports pydantic
-and the standard library only, so the driver, reports and plugins load it without a browser stack.
+Pydantic models (the header every job a worker is sent has, and what any job returns; the actions an agent
+takes, what it sees and what the environment answers, evaluation specs and verdicts, model and observation
+settings, project limits, the editor views and page regions the single-step kinds share, the harness
+fingerprint) and the single exception hierarchy. A kind's own job spec and models are in its folder
+(``workers.kinds.<kind>``). It imports pydantic and the standard library only, so the driver, reports and
+plugins load it without a browser stack.
 """
 
 from workers.contract._actions import (
@@ -18,50 +20,8 @@ from workers.contract._actions import (
     composite_action,
     primitive_action,
 )
-from workers.contract._audit import AuditObservation, AuditSpec, VariantKind
 from workers.contract._detail import JobDetail
-from workers.contract._drag import (
-    CONNECTIONS_OF,
-    DRAG_SETTINGS,
-    DRAG_VIEWPORT,
-    CanvasSource,
-    ConnectionKind,
-    DragAttempt,
-    DragParse,
-    DragPayload,
-    DragRegions,
-    DragSetting,
-    DragSource,
-    DragType,
-    DragView,
-    ExpectedConnection,
-    FlyoutSource,
-    PaletteCategory,
-    Point,
-    Region,
-)
 from workers.contract._envelope import ActionEnvelope, ActionFailure
-from workers.contract._episode import (
-    PERMANENT_ERRORS,
-    AgentRef,
-    ClockMode,
-    DragSpec,
-    EpisodeClock,
-    EpisodeSpec,
-    EpisodeTimings,
-    ErrorClass,
-    JobResult,
-    Mode,
-    Outcome,
-    PerceptionSpec,
-    Refusal,
-    StepRecord,
-    TaskPayload,
-    WorkerInfo,
-    WorkerJob,
-    WorkerLoad,
-    outcome_of,
-)
 from workers.contract._errors import (
     AgentUnableError,
     AgentUnavailableError,
@@ -111,6 +71,26 @@ from workers.contract._harness import (
     describe_differences,
     fingerprint,
 )
+from workers.contract._job import (
+    PERMANENT_ERRORS,
+    AgentJob,
+    AgentRef,
+    ClockMode,
+    EpisodeClock,
+    EpisodeTimings,
+    ErrorClass,
+    JobHeader,
+    JobResult,
+    Mode,
+    Outcome,
+    Refusal,
+    StepRecord,
+    TaskPayload,
+    WorkerInfo,
+    WorkerJob,
+    WorkerLoad,
+    outcome_of,
+)
 from workers.contract._memory import (
     LearnFrom,
     MemoryItem,
@@ -139,19 +119,6 @@ from workers.contract._observations import (
     StepObservation,
     TargetName,
 )
-from workers.contract._perception import (
-    NO,
-    PERCEPTION_KINDS,
-    YES,
-    AnswerFormat,
-    AnswerParse,
-    PerceptionAttempt,
-    PerceptionKind,
-    PerceptionPayload,
-    PerceptionScore,
-    ValueKind,
-    answer_problem,
-)
 from workers.contract._perturbation import (
     VM_FRAME_MS,
     EvaluationPerturbation,
@@ -160,36 +127,27 @@ from workers.contract._perturbation import (
     frames_per_second,
 )
 from workers.contract._preflight import ModelCheck, Preflight
-from workers.contract._regrade import RegradeSpec
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
 from workers.contract._sb3_archive import Sb3Archive
 from workers.contract._synthetic import SyntheticEpisodes
+from workers.contract._view import DRAG_VIEWPORT, ConnectionKind, DragRegions, DragView, PaletteCategory, Point, Region
 
 __all__ = [
-    "CONNECTIONS_OF",
-    "DRAG_SETTINGS",
     "DRAG_VIEWPORT",
     "ENVIRONMENT_PARTS",
     "FINAL_ACTIONS",
     "MIB",
-    "NO",
-    "PERCEPTION_KINDS",
     "PERMANENT_ERRORS",
     "VERDICT_ERROR_KINDS",
     "VM_FRAME_MS",
-    "YES",
     "Action",
     "ActionEnvelope",
     "ActionFailure",
+    "AgentJob",
     "AgentRef",
     "AgentUnableError",
     "AgentUnavailableError",
-    "AnswerFormat",
-    "AnswerParse",
-    "AuditObservation",
-    "AuditSpec",
     "BridgeError",
-    "CanvasSource",
     "ChromiumNotFoundError",
     "ClockMode",
     "CompositeAction",
@@ -197,14 +155,7 @@ __all__ = [
     "ConnectionKind",
     "CoordinateSystem",
     "Done",
-    "DragAttempt",
-    "DragParse",
-    "DragPayload",
     "DragRegions",
-    "DragSetting",
-    "DragSource",
-    "DragSpec",
-    "DragType",
     "DragView",
     "EditorBundleMissingError",
     "EditorCrashedError",
@@ -213,7 +164,6 @@ __all__ = [
     "Element",
     "ElementSource",
     "EpisodeClock",
-    "EpisodeSpec",
     "EpisodeTimings",
     "ErrorClass",
     "EvalError",
@@ -227,14 +177,13 @@ __all__ = [
     "EvaluationRender",
     "EvaluationSpec",
     "EvaluationTiming",
-    "ExpectedConnection",
     "Failed",
-    "FlyoutSource",
     "FrameLateness",
     "FrameTimingCalibration",
     "HarnessFingerprint",
     "InvalidReply",
     "JobDetail",
+    "JobHeader",
     "JobResult",
     "LLMSettings",
     "LatenessModel",
@@ -259,11 +208,6 @@ __all__ = [
     "ObservationTimings",
     "Outcome",
     "PaletteCategory",
-    "PerceptionAttempt",
-    "PerceptionKind",
-    "PerceptionPayload",
-    "PerceptionScore",
-    "PerceptionSpec",
     "Point",
     "Preflight",
     "PrimitiveAction",
@@ -276,7 +220,6 @@ __all__ = [
     "RecordedTiming",
     "Refusal",
     "Region",
-    "RegradeSpec",
     "RendererUnavailableError",
     "RetryPolicy",
     "Sb3Archive",
@@ -288,12 +231,9 @@ __all__ = [
     "TaskPayload",
     "TestVerdict",
     "TimerLateness",
-    "ValueKind",
-    "VariantKind",
     "WorkerInfo",
     "WorkerJob",
     "WorkerLoad",
-    "answer_problem",
     "calibrated_frame_lateness",
     "check_project",
     "composite_action",

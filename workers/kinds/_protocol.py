@@ -8,6 +8,7 @@ for that kind's harness, and hands it over. A kind keeps its runner out of this 
 from __future__ import annotations
 
 from collections.abc import Awaitable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol
 
 from pydantic import BaseModel
@@ -45,6 +46,21 @@ class WorkerHost(Protocol):
         ...
 
 
+@dataclass(frozen=True)
+class AgentGroup:
+    """Where a kind's agents register and what each must have: the agent registry (``workers.agent_api``) finds
+    and checks a kind's agents by it, so a kind that brings agents edits no table of that registry."""
+
+    group: str
+    """The entry-point group its agents are registered in (``scratchworld.drag_agents``)."""
+
+    methods: tuple[str, ...]
+    """The methods an agent of the kind must have (``answer``)."""
+
+    base: str
+    """The class messages point an agent's author to (``workers.agent_api.DragAgentBase``)."""
+
+
 class WorkerKind(Protocol):
     """One benchmark as a worker runs it; registered under the ``scratchworld.worker_kinds`` entry points."""
 
@@ -74,6 +90,11 @@ class WorkerKind(Protocol):
     @property
     def needs_browser(self) -> bool:
         """Whether its jobs open an editor (a perception job only asks a model about a stored screenshot)."""
+        ...
+
+    @property
+    def agents(self) -> AgentGroup | None:
+        """Where its agents register and what they must have; None (or no such attribute): its jobs run no agent."""
         ...
 
     async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:

@@ -25,17 +25,13 @@ import logging
 import os
 import secrets
 import stat
-import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from workers.contract import ModelSpec
 from workers.llm._litellm import takes_seed
-
-if TYPE_CHECKING:
-    from workers.llm._client import Completion
 
 logger = logging.getLogger(__name__)
 
@@ -145,23 +141,6 @@ class ModelCache:
             _write_atomic(path, entry.model_dump_json().encode())
         except OSError as exc:
             logger.warning("model cache: cannot store %s (%s)", path, exc.strerror or exc)
-
-
-def new_entry(key: str, model: str, seed: int | None, completion: Completion) -> CacheEntry:
-    """The entry of a successful ``Completion`` answering the request ``key``."""
-    return CacheEntry(
-        format=CACHE_FORMAT,
-        key=key,
-        model=model,
-        seed=seed,
-        text=completion.text,
-        input_tokens=completion.input_tokens,
-        output_tokens=completion.output_tokens,
-        cost_usd=completion.cost_usd,
-        answered_by=completion.model,
-        finish_reason=completion.finish_reason,
-        stored_at=time.time(),
-    )
 
 
 def _read_regular_file(path: Path, limit: int) -> bytes:

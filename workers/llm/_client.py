@@ -25,7 +25,7 @@ from tenacity import AsyncRetrying, RetryCallState, retry_if_exception
 
 from workers.contract import ModelCallError, ModelErrorClass, ModelSpec, RetryPolicy
 from workers.llm._breaker import CircuitBreaker, circuit_breaker
-from workers.llm._cache import CACHE_FORMAT, CacheEntry, ModelCache, new_entry, request_key, uncacheable
+from workers.llm._cache import CACHE_FORMAT, CacheEntry, ModelCache, request_key, uncacheable
 from workers.llm._limiter import RateLimiterHandle
 from workers.llm._litellm import litellm_version, load_litellm, takes_seed
 
@@ -75,6 +75,22 @@ class Completion(BaseModel):
             model=entry.answered_by,
             finish_reason=entry.finish_reason,
             cached=True,
+        )
+
+    def entry(self, key: str, model: str, seed: int | None) -> CacheEntry:
+        """This completion as the cache entry answering the request ``key`` (``model``: the LiteLLM string called)."""
+        return CacheEntry(
+            format=CACHE_FORMAT,
+            key=key,
+            model=model,
+            seed=seed,
+            text=self.text,
+            input_tokens=self.input_tokens,
+            output_tokens=self.output_tokens,
+            cost_usd=self.cost_usd,
+            answered_by=self.model,
+            finish_reason=self.finish_reason,
+            stored_at=time.time(),
         )
 
 
@@ -154,7 +170,7 @@ class ModelClient:
                 return Completion.replayed(entry, time.monotonic() - started)
         completion = await self._call(messages, seed)
         if cache is not None and key is not None:
-            await cache.put(new_entry(key, self.spec.model, seed, completion))
+            await cache.put(completion.entry(key, self.spec.model, seed))
         return completion
 
     async def _cache_key(self, messages: list[dict[str, Any]], seed: int | None) -> str | None:

@@ -20,7 +20,8 @@ from scratchworld_dist.kinds.tasks import episode_settings, selected_tasks
 from scratchworld_dist.reports import ReportFormat
 from scratchworld_dist.sweep import JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
 from scratchworld_dist.viewer import AttemptPanel
-from workers.contract import AgentRef, AgentUnavailableError, AuditSpec, HarnessFingerprint, JobResult
+from workers.contract import AgentRef, AgentUnavailableError, HarnessFingerprint, JobResult
+from workers.kinds.audit import AuditSpec
 
 
 class AuditKind(Kind):

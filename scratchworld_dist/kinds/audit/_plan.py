@@ -21,7 +21,8 @@ from scratchworld_dist.kinds.audit.variants import (
 )
 from scratchworld_dist.kinds.tasks import TaskContent
 from scratchworld_dist.sweep import JobBody, JobSpec, SweepConfig, identity_id
-from workers.contract import AgentRef, ProjectLimits, ScratchWorldError, VariantKind, check_project
+from workers.contract import AgentRef, ProjectLimits, ScratchWorldError, check_project
+from workers.kinds.audit import VariantKind
 
 DEFAULT_AGENT = AgentRef(name="oracle")
 """The config's default agent: the audit runs none, so it takes no other."""

@@ -9,7 +9,8 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.kinds.audit._plan import AuditBody
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import AuditObservation, JobResult
+from workers.contract import JobResult
+from workers.kinds.audit import AuditObservation
 
 Verdict = Literal[
     "killed", "equivalent", "hole", "survived", "passed", "brittle", "golden_passes", "golden_fails", "error"

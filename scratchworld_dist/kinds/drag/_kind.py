@@ -31,7 +31,8 @@ from scratchworld_dist.sweep import (
     wanted_ids,
 )
 from workers.agent_api import agent_class
-from workers.contract import AgentRef, DragAttempt, DragSpec, HarnessFingerprint, JobResult, WorkerJob
+from workers.contract import AgentRef, HarnessFingerprint, JobResult, WorkerJob
+from workers.kinds.drag import DragAttempt, DragSpec
 
 
 class DragKind(Kind):
@@ -105,7 +106,7 @@ class DragKind(Kind):
         if not isinstance(body, DragBody):
             raise ValueError(f"job {job.job_id} is not a drag job")
         return DragSpec(
-            **job.worker_header(attempt, timeout_s),
+            **job.agent_header(attempt, timeout_s),
             setting=body.setting,
             element_list=body.element_list,
             observation=body.observation,

@@ -16,13 +16,10 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.kinds.drag.items import DragTask
 from scratchworld_dist.sweep import JobBody, JobSpec, agent_identity, identity_id, read_project
-from workers.agent_api import agent_class, agent_code
+from workers.agent_api import DragSetting, agent_class, agent_code
 from workers.contract import (
     AgentRef,
     ConnectionKind,
-    DragPayload,
-    DragSetting,
-    DragType,
     LLMSettings,
     ModelCacheSettings,
     ModelSpec,
@@ -30,6 +27,7 @@ from workers.contract import (
     ProjectLimits,
 )
 from workers.kinds import kind_fingerprint
+from workers.kinds.drag import DragPayload, DragType
 from workers.node import harness_fingerprint
 
 DRAG_MODE = "primitive"

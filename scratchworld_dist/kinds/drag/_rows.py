@@ -6,7 +6,8 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.kinds.drag._plan import DragBody
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import DragAttempt, JobResult
+from workers.contract import JobResult
+from workers.kinds.drag import DragAttempt
 
 
 class DragRow(BaseModel):

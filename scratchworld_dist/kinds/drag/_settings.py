@@ -7,7 +7,9 @@ from pathlib import Path
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from scratchworld_dist.kinds._single_answer import checked_agents
-from workers.contract import AgentRef, DragSetting, DragType
+from workers.agent_api import DragSetting
+from workers.contract import AgentRef
+from workers.kinds.drag import DragType
 
 
 class DragSweep(BaseModel):

@@ -21,7 +21,7 @@ from scratchworld_dist.reports import (
     blocks_markdown,
     pct,
 )
-from workers.contract import PERCEPTION_KINDS
+from workers.kinds.perception import PERCEPTION_KINDS
 
 
 class PerceptionDiagnosis:

@@ -23,14 +23,8 @@ from scratchworld_dist.results import SharedFiles, shared_image_path
 from scratchworld_dist.sweep import ItemContent, JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
 from scratchworld_dist.viewer import AttemptPanel
 from workers.agent_api import agent_class
-from workers.contract import (
-    AgentRef,
-    HarnessFingerprint,
-    JobResult,
-    PerceptionAttempt,
-    PerceptionSpec,
-    WorkerJob,
-)
+from workers.contract import AgentRef, HarnessFingerprint, JobResult, WorkerJob
+from workers.kinds.perception import PerceptionAttempt, PerceptionSpec
 
 
 class PerceptionJobKind(Kind):
@@ -79,7 +73,7 @@ class PerceptionJobKind(Kind):
 
     def worker_job(self, job: JobSpec, attempt: int, timeout_s: float) -> WorkerJob:
         return PerceptionSpec(
-            **job.worker_header(attempt, timeout_s),
+            **job.agent_header(attempt, timeout_s),
         )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:

@@ -24,7 +24,7 @@ from pydantic import BaseModel, ConfigDict
 from scratchworld_dist.kinds.perception._rows import PerceptionRow
 from scratchworld_dist.reports import ClassCount, class_counts
 from scratchworld_dist.results import JobRow, effective_rows
-from workers.contract import NO, PERCEPTION_KINDS, YES
+from workers.kinds.perception import NO, PERCEPTION_KINDS, YES
 
 ALL = "ALL"
 """The group that pools every kind (or every tag)."""

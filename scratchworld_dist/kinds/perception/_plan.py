@@ -23,18 +23,10 @@ from scratchworld_dist.kinds.perception.items import (
     read_screenshot,
 )
 from scratchworld_dist.sweep import JobBody, JobSpec, agent_identity, identity_id, present_suites, wanted_ids
-from workers.agent_api import agent_class, agent_code
-from workers.contract import (
-    AgentRef,
-    AnswerFormat,
-    LLMSettings,
-    ModelCacheSettings,
-    ModelSpec,
-    PerceptionKind,
-    PerceptionPayload,
-    ValueKind,
-)
+from workers.agent_api import AnswerFormat, ValueKind, agent_class, agent_code
+from workers.contract import AgentRef, LLMSettings, ModelCacheSettings, ModelSpec
 from workers.kinds import kind_fingerprint
+from workers.kinds.perception import PerceptionKind, PerceptionPayload
 from workers.node import harness_fingerprint
 
 PERCEPTION_MODE = "primitive"

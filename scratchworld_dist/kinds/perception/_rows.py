@@ -7,7 +7,8 @@ from pydantic import BaseModel, ConfigDict
 from scratchworld_dist.kinds.perception._plan import PerceptionBody
 from scratchworld_dist.results import shared_image_path
 from scratchworld_dist.sweep import JobSpec
-from workers.contract import JobResult, PerceptionAttempt
+from workers.contract import JobResult
+from workers.kinds.perception import PerceptionAttempt
 
 
 class PerceptionRow(BaseModel):

@@ -7,7 +7,8 @@ from pathlib import Path
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from scratchworld_dist.kinds._single_answer import checked_agents
-from workers.contract import AgentRef, PerceptionKind
+from workers.contract import AgentRef
+from workers.kinds.perception import PerceptionKind
 
 
 class PerceptionSweep(BaseModel):

@@ -18,15 +18,8 @@ from scratchworld_dist.reports import DiagnosisPart, ReportFormat
 from scratchworld_dist.suites import Suite, load_suite, stability_marks
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
 from workers.agent_api import agent_class, agent_code, agent_params, extra_models
-from workers.contract import (
-    AgentRef,
-    EpisodeClock,
-    EpisodeSpec,
-    HarnessFingerprint,
-    Mode,
-    ModelSpec,
-    WorkerJob,
-)
+from workers.contract import AgentRef, EpisodeClock, HarnessFingerprint, Mode, ModelSpec, WorkerJob
+from workers.kinds.tasks import EpisodeSpec
 
 
 class TasksKind(Kind):
@@ -112,7 +105,7 @@ class TasksKind(Kind):
         if not isinstance(body, EpisodeBody):
             raise ValueError(f"job {job.job_id} is not an episode")
         return EpisodeSpec(
-            **job.worker_header(attempt, timeout_s),
+            **job.agent_header(attempt, timeout_s),
             mode=body.mode,
             max_steps=body.max_steps,
             observation=body.observation,

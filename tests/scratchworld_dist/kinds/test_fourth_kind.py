@@ -2,7 +2,8 @@
 run by its own runner on the sweep's Ray workers, recorded with its name in the benchmark column and in a result
 table of its own, configured by a section of its own, reported by its own report, shown by the viewer, resumed.
 What it takes is what this module's plugin holds: a ``Kind`` (with its config section, row model and viewer
-panel), a ``JobBody``, a worker spec, a ``WorkerKind`` and two entry points."""
+panel), a ``JobBody``, a worker spec, a ``WorkerKind`` and two entry points; and, since its jobs run agents, the
+group they register in (declared by its ``WorkerKind``) and an agent there. It edits no file of this package."""
 
 from __future__ import annotations
 
@@ -25,6 +26,8 @@ from scratchworld_dist.viewer import ViewerSite
 from tests.conftest import REPO
 from tests.support.cli_runner import invoke
 from tests.support.sweep_driver import run_here
+from workers.agent_api import agent_class, registered_agents
+from workers.contract import AgentUnavailableError
 
 PLUGIN = '''
 """Echo: each item names a word; a job passes when the word is "yes"."""
@@ -38,7 +41,9 @@ from scratchworld_dist.kinds.base import Kind
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.sweep import JobBody, JobSpec, RunPlan, SuiteInfo, identity_id, suite_hash
 from scratchworld_dist.viewer import AttemptPanel
-from workers.contract import AgentUnavailableError, JobResult, ModelSpec
+from workers.agent_api import build_agent, checked_agent
+from workers.contract import AgentJob, JobResult
+from workers.kinds import AgentGroup
 
 
 class EchoSection(BaseModel):
@@ -85,18 +90,20 @@ class EchoContent(BaseModel):
     task_hash: str
 
 
-class EchoSpec(BaseModel):
-    job_id: str
-    attempt: int
-    task_id: str
-    timeout_s: float
-    harness: str | None = None
-    agent: object = None
-    agent_code: str | None = None
-    model: ModelSpec | None = None
-    seed: int = 0
-    llm: object = None
-    model_cache: object = None
+class EchoSpec(AgentJob):
+    """An echo job: the header of a job an agent acts in, nothing more."""
+
+
+class EchoAgent:
+    """Says the word back."""
+
+    kinds = ("echo",)
+
+    def __init__(self, params):
+        self.params = params
+
+    def echo(self, word):
+        return word
 
 
 class EchoKind(Kind):
@@ -106,11 +113,6 @@ class EchoKind(Kind):
     tables = {"echoes": EchoRow}
     config_section = EchoSection
     regrade_refusal = "an echo run stores words, not projects"
-
-    def check_agent(self, agent):
-        if agent.name != "echo" or agent.params:
-            raise AgentUnavailableError(f"the echo benchmark's agent is echo, not {agent.name!r}")
-
 
     def needs_model(self, config):
         return False
@@ -138,7 +140,7 @@ class EchoKind(Kind):
         return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs)
 
     def worker_job(self, job, attempt, timeout_s):
-        return EchoSpec(**job.worker_header(attempt, timeout_s))
+        return EchoSpec(**job.agent_header(attempt, timeout_s))
 
     def own_rows(self, job, result, artifact_dir):
         row = EchoRow(job_id=job.job_id, attempt=result.attempt, word=job.body.word, passing_word=job.body.passing_word)
@@ -174,9 +176,11 @@ class EchoWorkerKind:
     payloads = (EchoPayload,)
     code = ()
     needs_browser = False
+    agents = AgentGroup(group="echo_kind.agents", methods=("echo",), base="echo_kind.EchoAgent")
 
     async def run(self, host, spec, payload):
-        outcome = "passed" if payload.word == payload.passing_word else "failed"
+        said = build_agent(spec.agent, self.name).echo(payload.word)
+        outcome = "passed" if said == payload.passing_word else "failed"
         return JobResult(job_id=spec.job_id, attempt=spec.attempt, outcome=outcome, stop_reason="done")
 
 
@@ -194,7 +198,8 @@ def echo_plugin(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     info.mkdir()
     (info / "METADATA").write_text("Metadata-Version: 2.1\nName: echo-kind\nVersion: 1.0\n")
     entry_points = (
-        "[scratchworld.kinds]\necho = echo_kind:KIND\n\n[scratchworld.worker_kinds]\necho = echo_kind:WORKER_KIND\n"
+        "[scratchworld.kinds]\necho = echo_kind:KIND\n\n[scratchworld.worker_kinds]\necho = echo_kind:WORKER_KIND\n\n"
+        "[echo_kind.agents]\necho = echo_kind:EchoAgent\n"
     )
     (info / "entry_points.txt").write_text(entry_points)
     with pytest.MonkeyPatch.context() as patch:
@@ -250,6 +255,24 @@ def test_a_plugin_kind_is_planned_run_recorded_reported_and_resumed(tmp_path: Pa
     config.write_text(yaml.safe_dump({**sweep, "echo": {"passing_word": "no"}, "output": str(tmp_path / "run")}))
     code, out = run_here(config)  # the plugin's own section shapes its jobs: another sweep
     assert code != 0 and "holds results of another sweep (sweep config" in " ".join(out.split()), out
+
+
+def test_a_plugin_kind_brings_agents_in_a_group_it_declares(echo_plugin: Path, tmp_path: Path) -> None:
+    """Its worker kind names the group (``agents``); the agent registry finds the kind's agents there, and only
+    there, with no table of this package edited."""
+    assert registered_agents("echo") == ["echo"] and "echo" not in registered_agents("tasks")
+    assert agent_class("echo", "echo").__module__ == "echo_kind"
+    with pytest.raises(AgentUnavailableError, match=r"^agent echo_kind:EchoAgent serves echo, not tasks$"):
+        agent_class("echo_kind:EchoAgent")
+    with pytest.raises(AgentUnavailableError, match=r"^agent pathlib:Path serves tasks, not echo$"):
+        agent_class("pathlib:Path", "echo")
+    config = tmp_path / "echo.yaml"
+    config.write_text(yaml.safe_dump({"name": "e", "benchmark": "echo", "suite": str(tmp_path), "agent": "oracle"}))
+    with pytest.raises(ConfigError) as caught:
+        load_sweep_config(config)
+    message = str(caught.value)
+    assert "agent 'oracle' is not registered for the echo benchmark (registered: echo)" in message, message
+    assert "\n" not in message
 
 
 def test_a_plugin_section_is_checked_and_written_back_under_its_name(echo_plugin: Path, tmp_path: Path) -> None:

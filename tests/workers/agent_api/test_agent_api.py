@@ -13,8 +13,8 @@ from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR
 from tests.support.openai_server import OpenAIServer, reply
 from workers.agent_api import AgentBase, EpisodeEnd, StepResult, TaskContext
-from workers.contract import Action, CompositeAction, Done, EpisodeSpec, LoadProject, ModelSpec, Observation
-from workers.kinds.tasks import EpisodeRunner
+from workers.contract import Action, CompositeAction, Done, LoadProject, ModelSpec, Observation
+from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 
 pytestmark = pytest.mark.browser
 

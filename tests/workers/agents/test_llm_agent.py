@@ -16,16 +16,8 @@ from tests.support.openai_server import OpenAIServer, reply, status
 from workers.agent_api import TaskContext
 from workers.agents import EpisodeModels, LLMAgent
 from workers.agents._coordinates import smart_resize, to_page
-from workers.contract import (
-    EpisodeSpec,
-    LLMSettings,
-    Mode,
-    ModelSpec,
-    ObservationSettings,
-    PrimitiveObservation,
-    RetryPolicy,
-)
-from workers.kinds.tasks import EpisodeRunner
+from workers.contract import LLMSettings, Mode, ModelSpec, ObservationSettings, PrimitiveObservation, RetryPolicy
+from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 from workers.llm import load_litellm
 
 FAST = RetryPolicy(max_attempts=2, initial_backoff_s=0.01, max_backoff_s=0.02, request_timeout_s=10, max_total_s=30)

@@ -22,13 +22,12 @@ from workers.contract import (
     CompositeObservation,
     Done,
     EpisodeClock,
-    EpisodeSpec,
     Mode,
     Observation,
     ObservationSettings,
 )
 from workers.editor import BrowserSession, Editor, EditorPool
-from workers.kinds.tasks import EpisodeRunner
+from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 from workers.primitive._elements import settle
 
 pytestmark = pytest.mark.browser

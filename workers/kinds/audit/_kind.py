@@ -11,8 +11,9 @@ from typing import TYPE_CHECKING
 
 from pydantic import BaseModel
 
-from workers.contract import AuditObservation, AuditSpec, JobResult, Sb3Archive, TaskPayload, WorkerJob
-from workers.kinds._protocol import WorkerHost
+from workers.contract import JobResult, Sb3Archive, TaskPayload, WorkerJob
+from workers.kinds._protocol import AgentGroup, WorkerHost
+from workers.kinds.audit._contract import AuditObservation, AuditSpec
 
 if TYPE_CHECKING:
     from workers.evaluation import Evaluator
@@ -34,6 +35,8 @@ class AuditKind:
     """This folder; the evaluation it runs is every kind's (core)."""
 
     needs_browser = True
+    agents: AgentGroup | None = None
+    """No agent acts: the variant is the project judged."""
 
     async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
         if not (isinstance(spec, AuditSpec) and isinstance(payload, TaskPayload)):

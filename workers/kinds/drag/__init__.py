@@ -1,5 +1,5 @@
 """The ``drag`` kind inside a worker: single-step drag jobs (set up the view, compute the exact regions, ask once,
-drag for real, verify).
+drag for real, verify), and its contract with the driver (``DragSpec``, ``DragPayload``, ``DragAttempt``...).
 
 The driver finds the drag agents through the registry (``workers.agent_api.agent_class(name, "drag")``). The
 runner and the page's steps (``DragRunner``, ``show``, ``view_held``, ``SETTLE_MS``) need the browser stack, so
@@ -9,6 +9,18 @@ they are imported on first use: importing this package (what the kind registry d
 import typing
 
 import workers
+from workers.kinds.drag._contract import (
+    CONNECTIONS_OF,
+    DRAG_SETTINGS,
+    CanvasSource,
+    DragAttempt,
+    DragPayload,
+    DragSource,
+    DragSpec,
+    DragType,
+    ExpectedConnection,
+    FlyoutSource,
+)
 from workers.kinds.drag._kind import DRAG, DragKind
 
 if typing.TYPE_CHECKING:
@@ -19,4 +31,21 @@ __getattr__ = workers.lazy_exports(
     __name__, {"._page": ("SETTLE_MS", "show", "view_held"), "._runner": ("DragRunner",)}
 )
 
-__all__ = ["DRAG", "SETTLE_MS", "DragKind", "DragRunner", "show", "view_held"]
+__all__ = [
+    "CONNECTIONS_OF",
+    "DRAG",
+    "DRAG_SETTINGS",
+    "SETTLE_MS",
+    "CanvasSource",
+    "DragAttempt",
+    "DragKind",
+    "DragPayload",
+    "DragRunner",
+    "DragSource",
+    "DragSpec",
+    "DragType",
+    "ExpectedConnection",
+    "FlyoutSource",
+    "show",
+    "view_held",
+]

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from pydantic import BaseModel
 
-from workers.contract import DragPayload, DragSpec, JobResult, WorkerJob
-from workers.kinds._protocol import WorkerHost
+from workers.contract import JobResult, WorkerJob
+from workers.kinds._protocol import AgentGroup, WorkerHost
+from workers.kinds.drag._contract import DragPayload, DragSpec
 
 
 class DragKind:
@@ -19,6 +20,9 @@ class DragKind:
     mode's element list, which therefore stay core)."""
 
     needs_browser = True
+    agents: AgentGroup | None = AgentGroup(
+        group="scratchworld.drag_agents", methods=("answer",), base="workers.agent_api.DragAgentBase"
+    )
 
     async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
         from workers.kinds.drag._runner import DragRunner  # the browser stack, on the first job

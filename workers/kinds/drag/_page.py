@@ -10,15 +10,9 @@ import time
 
 from pydantic import BaseModel, ConfigDict
 
-from workers.contract import (
-    DragPayload,
-    DragRegions,
-    DragView,
-    EditorError,
-    ProjectLimits,
-    Region,
-)
+from workers.contract import DragRegions, DragView, EditorError, ProjectLimits, Region
 from workers.editor import Editor
+from workers.kinds.drag._contract import DragPayload
 from workers.primitive import settle
 
 SETTLE_MS = 3000

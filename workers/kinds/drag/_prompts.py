@@ -15,8 +15,9 @@ from typing import Any
 import cv2
 import numpy as np
 
+from workers.agent_api import DragSetting
 from workers.agents import PRIMITIVE_POSITIONS, SCREEN, model_space
-from workers.contract import CoordinateSystem, DragSetting
+from workers.contract import CoordinateSystem
 from workers.primitive import LEGEND
 
 MARKER_RADIUS = 12

@@ -20,7 +20,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict
 
-from workers.contract import DragParse
+from workers.agent_api import DragParse
 from workers.llm import repair_json
 
 MAX_SCAN = 100_000

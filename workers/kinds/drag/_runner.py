@@ -19,10 +19,7 @@ from workers.agents import EpisodeModels
 from workers.contract import (
     AgentUnavailableError,
     BridgeError,
-    DragAttempt,
-    DragPayload,
     DragRegions,
-    DragSpec,
     EditorError,
     EpisodeTimings,
     EvalResult,
@@ -37,6 +34,7 @@ from workers.contract import (
 from workers.editor import Editor, EditorPool
 from workers.kinds.drag._agents import DragAnswer, DragQuestion, drag_agent
 from workers.kinds.drag._annotate import annotate
+from workers.kinds.drag._contract import DragAttempt, DragPayload, DragSpec
 from workers.kinds.drag._prompts import draw_start_marker
 from workers.llm import ModelCache
 from workers.primitive import PrimitiveObserver, region_ocr, settle

@@ -1,5 +1,6 @@
 """The ``perception`` kind inside a worker: a question about a stored screenshot, one model call, both scorings;
-no editor.
+no editor; and its contract with the driver (``PerceptionSpec``, ``PerceptionPayload``, ``PerceptionAttempt``...;
+``PerceptionKind`` is an item's kind of question, ``PerceptionWorkerKind`` the kind as the worker runs it).
 
 The scoring and the prompt are exported here (the reports' comparisons score canned replies with them); the
 agents are found through the registry (``workers.agent_api.agent_class(name, "perception")``); the runner
@@ -9,7 +10,19 @@ agents are found through the registry (``workers.agent_api.agent_class(name, "pe
 import typing
 
 import workers
-from workers.kinds.perception._kind import PERCEPTION, PerceptionKind
+from workers.kinds.perception._contract import (
+    NO,
+    PERCEPTION_KINDS,
+    YES,
+    AnswerParse,
+    PerceptionAttempt,
+    PerceptionKind,
+    PerceptionPayload,
+    PerceptionScore,
+    PerceptionSpec,
+    answer_problem,
+)
+from workers.kinds.perception._kind import PERCEPTION, PerceptionWorkerKind
 from workers.kinds.perception._prompts import perception_messages
 from workers.kinds.perception._scoring import score_reply, strict_correct
 
@@ -18,4 +31,21 @@ if typing.TYPE_CHECKING:
 
 __getattr__ = workers.lazy_exports(__name__, {"._runner": ("run_perception",)})
 
-__all__ = ["PERCEPTION", "PerceptionKind", "perception_messages", "run_perception", "score_reply", "strict_correct"]
+__all__ = [
+    "NO",
+    "PERCEPTION",
+    "PERCEPTION_KINDS",
+    "YES",
+    "AnswerParse",
+    "PerceptionAttempt",
+    "PerceptionKind",
+    "PerceptionPayload",
+    "PerceptionScore",
+    "PerceptionSpec",
+    "PerceptionWorkerKind",
+    "answer_problem",
+    "perception_messages",
+    "run_perception",
+    "score_reply",
+    "strict_correct",
+]

@@ -12,7 +12,8 @@ from the question, the answer's form and the screenshot alone.
 from __future__ import annotations
 
 from workers.agent_api import ModelSource, PerceptionAgentBase, PerceptionQuestion, build_agent
-from workers.contract import YES, AgentRef, AgentUnavailableError, ModelSpec
+from workers.contract import AgentRef, AgentUnavailableError, ModelSpec
+from workers.kinds.perception._contract import YES
 from workers.kinds.perception._prompts import perception_messages
 
 __all__ = ["AlwaysYesAgent", "LLMPerceptionAgent", "OraclePerceptionAgent", "PerceptionQuestion", "perception_agent"]

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from pydantic import BaseModel
 
-from workers.contract import JobResult, PerceptionPayload, PerceptionSpec, WorkerJob
-from workers.kinds._protocol import WorkerHost
+from workers.contract import JobResult, WorkerJob
+from workers.kinds._protocol import AgentGroup, WorkerHost
+from workers.kinds.perception._contract import PerceptionPayload, PerceptionSpec
 
 
-class PerceptionKind:
+class PerceptionWorkerKind:
     """Perception jobs: one model call (or a scripted answer), scored both ways."""
 
     name = "perception"
@@ -18,6 +19,9 @@ class PerceptionKind:
     """This folder: no other kind nor the core imports it."""
 
     needs_browser = False
+    agents: AgentGroup | None = AgentGroup(
+        group="scratchworld.perception_agents", methods=("answer",), base="workers.agent_api.PerceptionAgentBase"
+    )
 
     async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
         from workers.kinds.perception._runner import run_perception  # the model stack, on the first job
@@ -29,4 +33,4 @@ class PerceptionKind:
         return await run_perception(spec, payload)
 
 
-PERCEPTION = PerceptionKind()
+PERCEPTION = PerceptionWorkerKind()

@@ -10,7 +10,7 @@ from __future__ import annotations
 import base64
 from typing import Any
 
-from workers.contract import AnswerFormat, ValueKind
+from workers.agent_api import AnswerFormat, ValueKind
 
 SYSTEM = """\
 You are shown a screenshot of the Scratch 3 editor: the block palette on the left, the code area in the middle \

@@ -21,13 +21,11 @@ from workers.contract import (
     JobResult,
     LLMSettings,
     ModelCallError,
-    PerceptionAttempt,
-    PerceptionPayload,
-    PerceptionSpec,
     StepRecord,
     TestVerdict,
 )
 from workers.kinds.perception._agents import PerceptionQuestion, perception_agent
+from workers.kinds.perception._contract import PerceptionAttempt, PerceptionPayload, PerceptionSpec
 from workers.kinds.perception._scoring import score_reply
 from workers.llm import ModelCache
 

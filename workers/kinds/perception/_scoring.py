@@ -17,7 +17,8 @@ from __future__ import annotations
 import math
 import re
 
-from workers.contract import AnswerFormat, AnswerParse, PerceptionScore, ValueKind
+from workers.agent_api import AnswerFormat, ValueKind
+from workers.kinds.perception._contract import AnswerParse, PerceptionScore
 
 MAX_SCAN = 20_000
 """Characters read, from the end of the reply, where answers are."""

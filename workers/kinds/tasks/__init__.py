@@ -1,5 +1,6 @@
 """The ``tasks`` kind inside a worker: multi-step episodes (an agent acting in an environment until it stops, then
-the evaluation), and regrades of the projects they left (the evaluation alone, in the same recycled editors).
+the evaluation), and regrades of the projects they left (the evaluation alone, in the same recycled editors); their
+jobs as the driver sends them are ``EpisodeSpec`` and ``RegradeSpec``.
 
 The runner and environments need the browser stack, so they are imported on first use: importing this package
 (what the kind registry does) stays light.
@@ -8,6 +9,7 @@ The runner and environments need the browser stack, so they are imported on firs
 import typing
 
 import workers
+from workers.kinds.tasks._contract import EpisodeSpec, RegradeSpec
 from workers.kinds.tasks._kind import REGRADED, TASKS, TasksKind
 
 if typing.TYPE_CHECKING:
@@ -30,7 +32,9 @@ __all__ = [
     "CompositeEnvironment",
     "Environment",
     "EpisodeRunner",
+    "EpisodeSpec",
     "PrimitiveEnvironment",
+    "RegradeSpec",
     "TasksKind",
     "run_synthetic",
 ]

@@ -6,8 +6,9 @@ from __future__ import annotations
 from pydantic import BaseModel
 
 from workers.agent_api import agent_code, build_agent
-from workers.contract import AgentUnavailableError, EpisodeSpec, JobResult, RegradeSpec, TaskPayload, WorkerJob
-from workers.kinds._protocol import WorkerHost
+from workers.contract import AgentUnavailableError, JobResult, TaskPayload, WorkerJob
+from workers.kinds._protocol import AgentGroup, WorkerHost
+from workers.kinds.tasks._contract import EpisodeSpec, RegradeSpec
 
 REGRADED = "regraded"
 """Stop reason of a regrade's result (the driver keeps the source's in the row)."""
@@ -24,6 +25,10 @@ class TasksKind:
     every kind's, in ``workers.actor``, ``workers.editor`` and ``workers.evaluation``)."""
 
     needs_browser = True
+    agents: AgentGroup | None = AgentGroup(
+        group="scratchworld.agents", methods=("start", "act", "finish"), base="workers.agent_api.Agent"
+    )
+    """Episode agents: the group plugins have always used."""
 
     async def run(self, host: WorkerHost, spec: WorkerJob, payload: BaseModel) -> JobResult:
         from workers.evaluation import judged

@@ -35,7 +35,6 @@ from workers.contract import (
     Done,
     EditorError,
     EpisodeClock,
-    EpisodeSpec,
     EpisodeTimings,
     ErrorClass,
     Failed,
@@ -56,6 +55,7 @@ from workers.contract import (
     outcome_of,
 )
 from workers.editor import Editor
+from workers.kinds.tasks._contract import EpisodeSpec
 from workers.kinds.tasks._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
 from workers.llm import ModelCache
 from workers.ocr import RegionOCR

@@ -12,7 +12,6 @@ import asyncio
 import time
 
 from workers.contract import (
-    EpisodeSpec,
     EpisodeTimings,
     EvalResult,
     JobResult,
@@ -21,6 +20,7 @@ from workers.contract import (
     TaskPayload,
     TestVerdict,
 )
+from workers.kinds.tasks._contract import EpisodeSpec
 
 
 async def run_synthetic(spec: EpisodeSpec, task: TaskPayload, behaviour: SyntheticEpisodes) -> JobResult:

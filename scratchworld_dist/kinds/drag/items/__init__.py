@@ -11,17 +11,8 @@ from scratchworld_dist.kinds.drag.items._native import NativeDragLoader, write_d
 from scratchworld_dist.kinds.drag.items._suite import DragSuite
 from scratchworld_dist.kinds.drag.items._task import DragTask, UpstreamAction, UpstreamDragReference
 from scratchworld_dist.kinds.drag.items._upstream import UpstreamDragLoader
-from workers.contract import (
-    CONNECTIONS_OF,
-    CanvasSource,
-    ConnectionKind,
-    DragSource,
-    DragType,
-    DragView,
-    ExpectedConnection,
-    FlyoutSource,
-    PaletteCategory,
-)
+from workers.contract import ConnectionKind, DragView, PaletteCategory
+from workers.kinds.drag import CONNECTIONS_OF, CanvasSource, DragSource, DragType, ExpectedConnection, FlyoutSource
 
 if typing.TYPE_CHECKING:
     from scratchworld_dist.kinds.drag.items._make import MadeSuite, make_drag_suite

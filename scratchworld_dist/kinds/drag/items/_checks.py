@@ -10,7 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from scratchworld_dist.kinds.drag.items._project import ProjectIndex, palette_category_of
-from workers.contract import CanvasSource, DragSource, DragView, FlyoutSource
+from workers.contract import DragView
+from workers.kinds.drag import CanvasSource, DragSource, FlyoutSource
 
 
 @dataclass(frozen=True)

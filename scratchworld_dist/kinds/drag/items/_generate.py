@@ -35,17 +35,8 @@ from scratchworld_dist.sb3.editing import (
     stack_tail,
 )
 from scratchworld_dist.suites import task_id_problem
-from workers.contract import (
-    CONNECTIONS_OF,
-    CanvasSource,
-    ConnectionKind,
-    DragSource,
-    DragType,
-    DragView,
-    ExpectedConnection,
-    FlyoutSource,
-    PaletteCategory,
-)
+from workers.contract import ConnectionKind, DragView, PaletteCategory
+from workers.kinds.drag import CONNECTIONS_OF, CanvasSource, DragSource, DragType, ExpectedConnection, FlyoutSource
 
 _SUBSTACKS: dict[str, ConnectionKind] = {"SUBSTACK": "substack_1", "SUBSTACK2": "substack_2"}
 

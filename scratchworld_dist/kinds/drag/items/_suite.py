@@ -5,7 +5,7 @@ from __future__ import annotations
 from scratchworld_dist._errors import TaskNotFoundError
 from scratchworld_dist.kinds.drag.items._task import DragTask
 from scratchworld_dist.suites import BaseSuite
-from workers.contract import DragType
+from workers.kinds.drag import DragType
 
 
 class DragSuite(BaseSuite[DragTask]):

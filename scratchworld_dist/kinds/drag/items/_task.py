@@ -16,16 +16,8 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from scratchworld_dist.suites import task_id_problem
-from workers.contract import (
-    CONNECTIONS_OF,
-    DragPayload,
-    DragSource,
-    DragType,
-    DragView,
-    ExpectedConnection,
-    FlyoutSource,
-    Point,
-)
+from workers.contract import DragView, Point
+from workers.kinds.drag import CONNECTIONS_OF, DragPayload, DragSource, DragType, ExpectedConnection, FlyoutSource
 
 
 class UpstreamAction(BaseModel):

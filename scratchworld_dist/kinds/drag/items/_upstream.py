@@ -24,16 +24,8 @@ from scratchworld_dist.kinds.drag.items._project import ProjectIndex, read_proje
 from scratchworld_dist.kinds.drag.items._suite import DragSuite, sort_drag_tasks
 from scratchworld_dist.kinds.drag.items._task import DragTask, UpstreamAction, UpstreamDragReference
 from scratchworld_dist.suites import SuiteKind, SuiteProblem, SuiteProblems, task_id_problem
-from workers.contract import (
-    CONNECTIONS_OF,
-    CanvasSource,
-    ConnectionKind,
-    DragSource,
-    DragType,
-    ExpectedConnection,
-    FlyoutSource,
-    Point,
-)
+from workers.contract import ConnectionKind, Point
+from workers.kinds.drag import CONNECTIONS_OF, CanvasSource, DragSource, DragType, ExpectedConnection, FlyoutSource
 
 TASKS_DIR = Path("single_step_drag_benchmark/tasks")
 PROJECTS_DIR = Path("scratch-gui/static")

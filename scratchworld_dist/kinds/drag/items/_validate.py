@@ -14,9 +14,9 @@ from collections.abc import Callable, Sequence
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.kinds.drag.items._task import DragTask
-from workers.contract import AgentRef, DragAttempt, DragPayload, DragRegions, DragSpec, JobResult
+from workers.contract import AgentRef, DragRegions, JobResult
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
-from workers.kinds.drag import DragRunner
+from workers.kinds.drag import DragAttempt, DragPayload, DragRunner, DragSpec
 
 
 class DragTaskCheck(BaseModel):

@@ -39,7 +39,8 @@ from scratchworld_dist.kinds.perception.items._names import (
     look_alikes,
 )
 from scratchworld_dist.kinds.perception.items._refs import phrase, resolve
-from workers.contract import NO, YES, ValueKind
+from workers.agent_api import ValueKind
+from workers.kinds.perception import NO, YES
 
 SEAM = 0.80
 """Share of the bands where two stacked blocks meet that must show to judge whether they are joined."""

@@ -14,14 +14,9 @@ from typing import Annotated, Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from scratchworld_dist.suites import task_id_problem
-from workers.contract import (
-    AnswerFormat,
-    DragView,
-    PerceptionKind,
-    PerceptionPayload,
-    ValueKind,
-    answer_problem,
-)
+from workers.agent_api import AnswerFormat, ValueKind
+from workers.contract import DragView
+from workers.kinds.perception import PerceptionKind, PerceptionPayload, answer_problem
 
 Position = Literal["topmost", "bottommost", "leftmost", "rightmost"]
 """How a question singles out one of several visible blocks of the same kind."""

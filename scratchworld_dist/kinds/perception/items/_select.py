@@ -14,7 +14,7 @@ from collections import Counter, defaultdict
 from collections.abc import Mapping, Sequence
 
 from scratchworld_dist.kinds.perception.items._candidates import Candidate
-from workers.contract import NO, YES
+from workers.kinds.perception import NO, YES
 
 
 def select(candidates: Mapping[str, Sequence[Candidate]], *, per_view: int, seed: int) -> dict[str, list[Candidate]]:

@@ -23,7 +23,8 @@ from scratchworld_dist._errors import validation_summary
 from scratchworld_dist.kinds.perception.items._item import PerceptionItem, UpstreamItemInfo
 from scratchworld_dist.kinds.perception.items._suite import PerceptionSuite
 from scratchworld_dist.suites import SuiteKind, SuiteProblem, SuiteProblems
-from workers.contract import NO, YES, PerceptionKind, ValueKind
+from workers.agent_api import ValueKind
+from workers.kinds.perception import NO, YES, PerceptionKind
 
 BENCHMARK_DIR = Path("visual_perception_benchmark")
 TASKS_DIR = BENCHMARK_DIR / "tasks"

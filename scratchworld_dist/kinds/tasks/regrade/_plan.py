@@ -25,8 +25,8 @@ from workers.contract import (
     EvaluationRender,
     HarnessFingerprint,
     ProjectLimits,
-    RegradeSpec,
 )
+from workers.kinds.tasks import RegradeSpec
 
 
 class RegradeJob(BaseModel):

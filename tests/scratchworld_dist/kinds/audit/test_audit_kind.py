@@ -17,18 +17,21 @@ import pyarrow as pa
 import pyarrow.compute as pc
 import pyarrow.parquet as pq
 import pytest
+from pydantic import ValidationError
 
 from scratchworld_dist.kinds.audit import AuditSweep, build_audit_report, render_audit, task_variants
 from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.sb3 import Project, block, rect_costume
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import sweep_config_from
+from scratchworld_dist.sweep import sweep_config_from, worker_job
 from scratchworld_dist.sweep._run_plan import plan_run
 from scratchworld_dist.viewer import ViewerSite
 from tests.conftest import SUITE_DIR
 from tests.support.cli_runner import Done, invoke
 from tests.support.small_suites import TASK_DIR, upstream_clone
+from workers.contract import AgentJob, JobHeader
+from workers.kinds.audit import AuditSpec
 
 GREETING = '<script>alert("Hello")</script>'
 """What the golden's greeter says: markup that must reach every page as text."""
@@ -117,6 +120,27 @@ def test_variants_are_planned_from_the_golden_deterministically(weak_suite: Path
     named = content.model_copy(update={"payload": content.payload.model_copy(update={"instruction": "Set score."})})
     # A variable the instruction names is part of the task: renaming it is no refactoring.
     assert not any(v.operator == "rename_variable" for v in task_variants(named, AuditSweep()))
+
+
+def test_an_audit_job_is_sent_its_header_and_variant_and_refuses_agent_fields(weak_suite: Path, tmp_path: Path) -> None:
+    """No agent acts in an audit: the worker is sent no agent, model, seed or model settings, and its spec takes
+    none, so no code can come to read them."""
+    section = {"mutants_per_task": 1, "refactorings_per_task": 0}
+    data = {"name": "a", "benchmark": "audit", "suite": str(weak_suite), "audit": section, "output": str(tmp_path)}
+    job = plan_run(sweep_config_from(data, tmp_path), notice=lambda message: None).jobs[-1]
+    sent = worker_job(job, 2, 60)
+    assert isinstance(sent, AuditSpec) and isinstance(sent, JobHeader) and not isinstance(sent, AgentJob)
+    assert set(sent.model_dump()) == {
+        *JobHeader.model_fields,
+        "variant",
+        "project_json",
+        "project_limits",
+    }
+    assert (sent.job_id, sent.attempt, sent.timeout_s, sent.harness) == (job.job_id, 2, 60, job.harness)
+    with pytest.raises(ValidationError) as caught:
+        AuditSpec(**job.agent_header(2, 60), variant=sent.variant, project_json=sent.project_json)
+    refused = {str(error["loc"][0]): error["type"] for error in caught.value.errors()}
+    assert refused == dict.fromkeys(("agent", "agent_code", "model", "seed", "llm", "model_cache"), "extra_forbidden")
 
 
 @pytest.mark.ray

@@ -12,8 +12,9 @@ import pytest
 
 from scratchworld_dist.kinds.drag.items import DragTask, load_drag_suite
 from tests.conftest import REPO, pooled_editor
-from workers.contract import DragPayload, Point
+from workers.contract import Point
 from workers.editor import Editor, EditorPool
+from workers.kinds.drag import DragPayload
 from workers.kinds.drag import _page as page
 
 pytestmark = [pytest.mark.browser]

@@ -16,8 +16,9 @@ from scratchworld_dist.kinds.drag.items import load_drag_suite
 from scratchworld_dist.sweep import worker_job
 from tests.conftest import REPO
 from tests.support.openai_server import OpenAIServer, reply, status
-from workers.contract import AgentRef, DragPayload, DragRegions, DragSpec, LLMSettings, ModelSpec, RetryPolicy
+from workers.contract import AgentRef, DragRegions, LLMSettings, ModelSpec, RetryPolicy
 from workers.editor import BrowserSession, EditorPool
+from workers.kinds.drag import DragPayload, DragSpec
 from workers.kinds.drag import _page as page
 from workers.kinds.drag._runner import DragRunner
 

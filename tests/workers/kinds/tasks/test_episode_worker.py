@@ -24,21 +24,19 @@ from workers.contract import (
     Action,
     AgentRef,
     Done,
-    EpisodeSpec,
     LLMSettings,
     LoadProject,
     Mode,
     ModelSpec,
     Observation,
-    PerceptionPayload,
-    PerceptionSpec,
     RetryPolicy,
     SyntheticEpisodes,
     TaskPayload,
 )
 from workers.editor import BrowserSession
 from workers.kinds import kind_fingerprint
-from workers.kinds.tasks import EpisodeRunner
+from workers.kinds.perception import PerceptionPayload, PerceptionSpec
+from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 from workers.node import harness_fingerprint, thread_policies
 from workers.primitive import PRIMITIVE_APIS
 
@@ -157,8 +155,9 @@ async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
     assert session is not None
     assert session._browser is not None
     # The cancelled episode closed its pages; only evaluation pages waiting for reuse stay open.
-    assert worker._runner is not None and worker._runner.browser.evaluator.pool is not None
-    waiting = {editor.page for pages in worker._runner.browser.evaluator.pool._ready.values() for editor in pages}
+    browser = worker._browser
+    assert browser is not None and browser.evaluator.pool is not None
+    waiting = {editor.page for pages in browser.evaluator.pool._ready.values() for editor in pages}
     assert set(editor_pages(session._browser)) == waiting
     again = await worker.run(*episode(contents["sum_two_numbers"]))
     assert again.outcome == "passed"

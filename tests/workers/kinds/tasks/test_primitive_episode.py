@@ -18,14 +18,13 @@ from workers.contract import (
     CompositeAction,
     CompositeObservation,
     Done,
-    EpisodeSpec,
     Mode,
     Observation,
     ObservationSettings,
     PrimitiveAction,
     PrimitiveObservation,
 )
-from workers.kinds.tasks import EpisodeRunner
+from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 
 pytestmark = pytest.mark.browser
 

@@ -1,9 +1,10 @@
-"""The visual perception QA benchmark as driver and worker share it: an item, and what one answer to it was.
+"""The visual perception QA benchmark's own contract: an item, the job a worker is given, and what one answer to
+it was.
 
-A perception job (``PerceptionSpec``, next to ``EpisodeSpec``) is one model call about one static
-screenshot: no editor, no action. It returns an ordinary ``JobResult`` (one step, the answer;
-one test, "the answer is right" under the normalized scoring) carrying a ``PerceptionAttempt``
-with the reply read both ways: ``strict`` as upstream scores it, ``normalized`` as we do.
+A perception job (``PerceptionSpec``) is one model call about one static screenshot: no editor, no action. It
+returns an ordinary ``JobResult`` (one step, the answer; one test, "the answer is right" under the normalized
+scoring) carrying a ``PerceptionAttempt`` with the reply read both ways: ``strict`` as upstream scores it,
+``normalized`` as we do. The answer's format and value kind are the agent API's words (``workers.agent_api``).
 """
 
 from __future__ import annotations
@@ -12,20 +13,14 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from workers.contract._detail import JobDetail
+from workers.agent_api import AnswerFormat, ValueKind
+from workers.contract import AgentJob, JobDetail
 
 PerceptionKind = Literal["connection", "existence", "field"]
 """``connection``: is block A attached to block B, or in that slot; ``existence``: is a block of this kind
 visible; ``field``: what a block's field shows (or whether it shows a given value)."""
 
 PERCEPTION_KINDS: tuple[PerceptionKind, ...] = ("connection", "existence", "field")
-
-AnswerFormat = Literal["yes_no", "value"]
-"""``yes_no``: the answer is YES or NO; ``value``: the exact text a field shows."""
-
-ValueKind = Literal["number", "text", "dropdown"]
-"""What a ``value`` answer is: a number (compared as a number when normalized), free text, or a dropdown's
-option (compared case-insensitively when normalized)."""
 
 YES, NO = "YES", "NO"
 
@@ -69,6 +64,10 @@ class PerceptionPayload(BaseModel):
         if problem is not None:
             raise ValueError(problem)
         return self
+
+
+class PerceptionSpec(AgentJob):
+    """One perception job as a worker sees it: who answers which item (``task_id`` is the item's id)."""
 
 
 class PerceptionScore(BaseModel):

@@ -1,31 +1,27 @@
-"""The contract between the driver and a worker: what one episode is given and what it returns.
+"""The contract between the driver and a worker: what every job is given and what it returns, whatever its kind.
 
-Everything here crosses process (and host) boundaries through Ray, so it is plain pydantic data:
-the driver never sends paths a remote node could not open, only the bytes and sources it needs.
+Every kind's job spec extends ``JobHeader`` (and ``AgentJob`` when an agent acts in it) in the kind's own
+folder (``workers/kinds/<kind>/_contract.py``); here is what they all share: the header, the agent reference,
+the task payload, the result and its steps. Everything here crosses process (and host) boundaries through Ray,
+so it is plain pydantic data: the driver never sends paths a remote node could not open, only the bytes and
+sources it needs.
 """
 
 from __future__ import annotations
 
 import re
-from typing import TYPE_CHECKING, Any, Literal, Union
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, SerializeAsAny, field_validator, model_validator
 
 from workers.contract._actions import CompositeAction
 from workers.contract._detail import JobDetail
-from workers.contract._drag import DragSetting
 from workers.contract._errors import ModelErrorClass
 from workers.contract._eval_result import EvalResult
 from workers.contract._evaluation_spec import EvaluationSpec
-from workers.contract._memory import MemoryItem, MemorySnapshot
+from workers.contract._memory import MemoryItem
 from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
-from workers.contract._observation_settings import ObservationSettings
 from workers.contract._observations import StepObservation
-from workers.contract._regrade import RegradeSpec
-from workers.contract._sb3 import ProjectLimits
-
-if TYPE_CHECKING:
-    from workers.contract._audit import AuditSpec
 
 Mode = Literal["composite", "primitive"]
 Outcome = Literal["passed", "failed", "error"]
@@ -134,96 +130,43 @@ class EpisodeClock(BaseModel):
         return self.settle_ms + self.think_ms
 
 
-class EpisodeSpec(BaseModel):
-    """One job as a worker sees it: who acts, in which mode, for how long."""
+class JobHeader(BaseModel):
+    """What every job a worker is sent has, whatever its kind: which job and attempt, its item, its time limit and
+    the harness it was planned under. Each kind's spec extends it with what only that kind uses."""
 
     model_config = ConfigDict(frozen=True)
 
     job_id: str
     attempt: int = Field(ge=1)
     task_id: str
-    mode: Mode
+    """The task's (or drag task's, or perception item's) id."""
+
+    timeout_s: float = Field(gt=0)
+    """Wall-clock limit for the whole job (an episode: agent and evaluation included; a regrade: the evaluation,
+    editor included)."""
+
+    harness: str | None = None
+    """The harness fingerprint the driver planned the job under; a worker running other code refuses it."""
+
+
+class AgentJob(JobHeader):
+    """The header of a job an agent acts in: who acts, with which model and seed, how its model is called."""
+
     agent: AgentRef
     agent_code: str | None = None
     """Digest of a plugin agent's code as the driver found it; a worker with other code refuses the job."""
 
     model: ModelSpec | None
     seed: int
-    max_steps: int = Field(gt=0)
-    timeout_s: float = Field(gt=0)
-    """Wall-clock limit for the whole episode, agent and evaluation included."""
-
-    observation: ObservationSettings | None = None
-    """How primitive observations are made (primitive mode; None means the defaults)."""
-
     llm: LLMSettings | None = None
     """The conversation protocol and retry policy of model calls (None means the defaults)."""
-
-    project_limits: ProjectLimits = Field(default_factory=ProjectLimits)
-    """The largest project the worker loads (initial, loaded by the agent, evaluated)."""
-
-    harness: str | None = None
-    """The harness fingerprint the driver planned the job under; a worker running other code refuses it."""
-
-    memory: MemorySnapshot | None = None
-    """What a learning agent is shown of its memory in this episode (None: the sweep keeps no memory)."""
-
-    episode_clock: EpisodeClock = Field(default_factory=EpisodeClock)
-    """How time passes on the agent's page."""
 
     model_cache: ModelCacheSettings | None = None
     """Where successful model replies are stored and replayed from (None: every call goes to the model)."""
 
 
-class DragSpec(BaseModel):
-    """One drag job as a worker sees it: who answers, under which setting."""
-
-    model_config = ConfigDict(frozen=True)
-
-    job_id: str
-    attempt: int = Field(ge=1)
-    task_id: str
-    setting: DragSetting
-    agent: AgentRef
-    agent_code: str | None = None
-    model: ModelSpec | None
-    seed: int
-    timeout_s: float = Field(gt=0)
-    element_list: bool = False
-    """Show the model primitive mode's element list and accept ``<index>`` answers."""
-
-    observation: ObservationSettings | None = None
-    """How the element list is made (None without one)."""
-
-    llm: LLMSettings | None = None
-    harness: str | None = None
-    model_cache: ModelCacheSettings | None = None
-
-
-class PerceptionSpec(BaseModel):
-    """One perception job as a worker sees it: who answers which item."""
-
-    model_config = ConfigDict(frozen=True)
-
-    job_id: str
-    attempt: int = Field(ge=1)
-    task_id: str
-    """The item's id."""
-
-    agent: AgentRef
-    agent_code: str | None = None
-    """Digest of a plugin agent's code as the driver found it; a worker with other code refuses the job."""
-
-    model: ModelSpec | None
-    seed: int
-    timeout_s: float = Field(gt=0)
-    llm: LLMSettings | None = None
-    harness: str | None = None
-    model_cache: ModelCacheSettings | None = None
-
-
-WorkerJob = Union[EpisodeSpec, DragSpec, PerceptionSpec, RegradeSpec, "AuditSpec"]
-"""Any job a worker runs, as it is sent for one attempt."""
+WorkerJob = JobHeader
+"""Any job a worker runs, as it is sent for one attempt: a kind's spec, found by its class (``workers.kinds``)."""
 
 
 class TaskPayload(BaseModel):

@@ -1,42 +1,29 @@
-"""An audit job: one variant of a task's golden project (a mutant or a refactoring), evaluated by the task's
-own tests to judge the tests (see ``scratchworld_dist.kinds.audit``)."""
+"""The ``audit`` kind's job and detail: one variant of a task's golden project (a mutant or a refactoring),
+evaluated by the task's own tests to judge the tests (see ``scratchworld_dist.kinds.audit``)."""
 
 from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import ConfigDict, Field
 
-from workers.contract._detail import JobDetail
-from workers.contract._episode import AgentRef
-from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
-from workers.contract._sb3 import ProjectLimits
+from workers.contract import JobDetail, JobHeader, ProjectLimits
 
 VariantKind = Literal["golden", "mutant", "refactoring"]
 """The golden itself (its verdict says whether the variants' verdicts measure the grader), or a variant."""
 
 
-class AuditSpec(BaseModel):
-    """One variant as a worker sees it: the project.json to evaluate against its task's payload (no agent acts)."""
+class AuditSpec(JobHeader):
+    """One variant as a worker sees it: the project.json to evaluate against its task's payload. No agent acts,
+    so it carries no agent, model or seed, and refuses them."""
 
-    model_config = ConfigDict(frozen=True)
+    model_config = ConfigDict(frozen=True, extra="forbid")
 
-    job_id: str
-    attempt: int = Field(ge=1)
-    task_id: str
     variant: VariantKind
     project_json: str = Field(repr=False)
     """The variant's project.json; the worker puts it with the assets of its task's golden project."""
 
-    timeout_s: float = Field(gt=0)
     project_limits: ProjectLimits = Field(default_factory=ProjectLimits)
-    harness: str | None = None
-    agent: AgentRef | None = None
-    agent_code: str | None = None
-    model: ModelSpec | None = None
-    seed: int = 0
-    llm: LLMSettings | None = None
-    model_cache: ModelCacheSettings | None = None
 
 
 class AuditObservation(JobDetail):
