@@ -38,3 +38,15 @@ def install_plugin(
     command = [sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--no-build-isolation"]
     subprocess.run([*command, "--target", str(site), str(package)], check=True, capture_output=True, timeout=300)
     return site
+
+
+def install_package(root: Path, files: Mapping[str, str]) -> Path:
+    """A package given whole (``pyproject.toml`` and its modules, by path), installed into ``root/site``: returned."""
+    package = root / "pkg"
+    for path, text in files.items():
+        (package / path).parent.mkdir(parents=True, exist_ok=True)
+        (package / path).write_text(text)
+    site = root / "site"
+    command = [sys.executable, "-m", "pip", "install", "--quiet", "--no-deps", "--no-build-isolation"]
+    subprocess.run([*command, "--target", str(site), str(package)], check=True, capture_output=True, timeout=300)
+    return site

@@ -1,12 +1,12 @@
-"""A fourth job kind from a plugin package, driver and worker side, run end to end: planned from its own suite,
-run by its own runner on the sweep's Ray workers, recorded with its name in the benchmark column and in a result
-table of its own, configured by a section of its own, reported by its own report, shown by the viewer, resumed.
-What it takes is what this module's plugin holds: a ``Kind`` (with its config section, row model and viewer
-panel), a ``JobBody``, a worker spec, a ``WorkerKind`` and two entry points; and, since its jobs run agents, the
-group they register in (declared by its ``WorkerKind``) and an agent there. It edits no file of this package."""
+"""A kind added as docs/architecture.md ("Add a kind") says: the test builds the package from the doc's own
+blocks, checks it is one folder per side plus its metadata, installs it with pip, and runs it end to end:
+planned from its own suite, run by its own worker kind on the sweep's Ray workers with an agent from the group
+it declares, recorded with its name in the benchmark column and in a table of its own, configured by a section
+of its own, reported by its own report, shown by the viewer, resumed. It edits no file of this repository."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -25,183 +25,40 @@ from scratchworld_dist.sweep import SweepConfig, load_sweep_config
 from scratchworld_dist.viewer import ViewerSite
 from tests.conftest import REPO
 from tests.support.cli_runner import invoke
+from tests.support.plugins import install_package
 from tests.support.sweep_driver import run_here
 from workers.agent_api import agent_class, registered_agents
 from workers.contract import AgentUnavailableError
 
-PLUGIN = '''
-"""Echo: each item names a word; a job passes when the word is "yes"."""
-import hashlib
-from html import escape
-from pathlib import Path
-
-from pydantic import BaseModel, ConfigDict
-
-from scratchworld_dist.kinds.base import Kind
-from scratchworld_dist.results import RunStore
-from scratchworld_dist.sweep import JobBody, JobSpec, RunPlan, SuiteInfo, identity_id, suite_hash
-from scratchworld_dist.viewer import AttemptPanel
-from workers.agent_api import build_agent, checked_agent
-from workers.contract import AgentJob, JobResult
-from workers.kinds import AgentGroup
+DOC = REPO / "docs" / "architecture.md"
+FILE_BLOCK = re.compile(r"^File `([^`]+)`:\n\n```\w+\n(.*?)^```$", re.M | re.S)
 
 
-class EchoSection(BaseModel):
-    """The ``echo:`` section of a sweep config."""
-    model_config = ConfigDict(extra="forbid")
-    passing_word: str = "yes"
+def doc_package() -> dict[str, str]:
+    """The files the doc's "Add a kind" section gives, by path, as it gives them."""
+    text = DOC.read_text()
+    section = text[text.index("## Add a kind") :]
+    section = section[: section.index("\n## ")] if "\n## " in section else section
+    return {path: body for path, body in FILE_BLOCK.findall(section)}
 
 
-class EchoRow(BaseModel):
-    """A row of the ``echoes`` table."""
-    job_id: str
-    attempt: int
-    word: str
-    passing_word: str
-
-
-class EchoReport(BaseModel):
-    echoed_yes: int
-    jobs: int
-
-
-class EchoBody(JobBody):
-    kind: str = "echo"
-    word: str
-    passing_word: str
-
-    def columns(self):
-        return {"mode": "primitive", "max_steps": 1}
-
-
-class EchoItem(BaseModel):
-    id: str
-
-
-class EchoPayload(BaseModel):
-    task_id: str
-    word: str
-    passing_word: str = "yes"
-
-
-class EchoContent(BaseModel):
-    task: EchoItem
-    payload: EchoPayload
-    task_hash: str
-
-
-class EchoSpec(AgentJob):
-    """An echo job: the header of a job an agent acts in, nothing more."""
-
-
-class EchoAgent:
-    """Says the word back."""
-
-    kinds = ("echo",)
-
-    def __init__(self, params):
-        self.params = params
-
-    def echo(self, word):
-        return word
-
-
-class EchoKind(Kind):
-    name = "echo"
-    title = "echo"
-    needs_browser = False
-    tables = {"echoes": EchoRow}
-    config_section = EchoSection
-    regrade_refusal = "an echo run stores words, not projects"
-
-    def needs_model(self, config):
-        return False
-
-
-    def plan(self, config, harness, notice):
-        passing = config.section(self.name, EchoSection).passing_word
-        lines = (config.suite / "items.txt").read_text().split("\\n")
-        contents = []
-        for line in filter(None, lines):
-            item_id, word = line.split()
-            digest = hashlib.sha256(line.encode()).hexdigest()[:16]
-            payload = EchoPayload(task_id=item_id, word=word, passing_word=passing)
-            contents.append(EchoContent(task=EchoItem(id=item_id), payload=payload, task_hash=digest))
-        jobs = [
-            JobSpec(
-                job_id=identity_id({"echo": c.task.id, "hash": c.task_hash, "seed": seed, "harness": harness.digest}),
-                model=None, agent=config.agent, task_id=c.task.id, category="echo", task_hash=c.task_hash, seed=seed,
-                harness=harness.digest, body=EchoBody(word=c.payload.word, passing_word=passing),
-            )
-            for seed in config.seeds for c in contents
-        ]
-        root, count = str(config.suite), len(contents)
-        info = SuiteInfo(name="echo", kind="echo", root=root, hash=suite_hash(contents), tasks=count)
-        return RunPlan(config=config, harness=harness, suite=info, contents=contents, jobs=jobs)
-
-    def worker_job(self, job, attempt, timeout_s):
-        return EchoSpec(**job.agent_header(attempt, timeout_s))
-
-    def own_rows(self, job, result, artifact_dir):
-        row = EchoRow(job_id=job.job_id, attempt=result.attempt, word=job.body.word, passing_word=job.body.passing_word)
-        return {"echoes": [row]}
-
-    def attempt_panel(self, rows, root, run_dir):
-        (row,) = rows["echoes"]
-        return AttemptPanel(title="Echoed", html=f"<p class=echoed>{escape(row.word)}</p>", shows_project=False)
-
-
-
-    def report(self, run_dirs, fmt, *, force):
-        rows = [row for run_dir in run_dirs for row in RunStore(Path(run_dir)).job_rows()]
-        passed = sum(row.outcome == "passed" for row in rows)
-        return f"# Echo report\\n\\n{passed} of {len(rows)} echoed yes\\n", []
-
-    def report_model(self):
-        return EchoReport
-
-    def report_data(self, run_dirs, *, force):
-        rows = [row for run_dir in run_dirs for row in RunStore(Path(run_dir)).job_rows()]
-        return EchoReport(echoed_yes=sum(row.outcome == "passed" for row in rows), jobs=len(rows))
-
-    def report_html(self, run_dir):
-        text, warnings = self.report([run_dir], "md", force=False)
-        return f"<p>{text}</p>", warnings
-
-
-
-class EchoWorkerKind:
-    name = "echo"
-    specs = (EchoSpec,)
-    payloads = (EchoPayload,)
-    code = ()
-    needs_browser = False
-    agents = AgentGroup(group="echo_kind.agents", methods=("echo",), base="echo_kind.EchoAgent")
-
-    async def run(self, host, spec, payload):
-        said = build_agent(spec.agent, self.name).echo(payload.word)
-        outcome = "passed" if said == payload.passing_word else "failed"
-        return JobResult(job_id=spec.job_id, attempt=spec.attempt, outcome=outcome, stop_reason="done")
-
-
-KIND = EchoKind()
-WORKER_KIND = EchoWorkerKind()
-'''
+def test_the_doc_s_kind_is_one_folder_per_side_and_its_metadata() -> None:
+    files = doc_package()
+    assert set(files) == {
+        "pyproject.toml",
+        "echo_bench/__init__.py",
+        "echo_bench/driver/__init__.py",
+        "echo_bench/worker/__init__.py",
+    }
+    assert "from workers" not in files["echo_bench/__init__.py"]
+    assert "scratchworld_dist" not in files["echo_bench/worker/__init__.py"]  # a worker needs no driver code
 
 
 @pytest.fixture(scope="module")
 def echo_plugin(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
-    """The plugin installed (its module and dist-info on the path of this process and of its Ray's workers)."""
-    site = tmp_path_factory.mktemp("echo-plugin")
-    (site / "echo_kind.py").write_text(PLUGIN)
-    info = site / "echo_kind-1.0.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: echo-kind\nVersion: 1.0\n")
-    entry_points = (
-        "[scratchworld.kinds]\necho = echo_kind:KIND\n\n[scratchworld.worker_kinds]\necho = echo_kind:WORKER_KIND\n\n"
-        "[echo_kind.agents]\necho = echo_kind:EchoAgent\n"
-    )
-    (info / "entry_points.txt").write_text(entry_points)
+    """The doc's package installed with pip into a folder of its own, on the path of this process and of its
+    Ray's workers."""
+    site = install_package(tmp_path_factory.mktemp("echo-plugin"), doc_package())
     with pytest.MonkeyPatch.context() as patch:
         patch.syspath_prepend(str(site))
         patch.setenv("PYTHONPATH", f"{site}:{REPO}")
@@ -261,9 +118,9 @@ def test_a_plugin_kind_brings_agents_in_a_group_it_declares(echo_plugin: Path, t
     """Its worker kind names the group (``agents``); the agent registry finds the kind's agents there, and only
     there, with no table of this package edited."""
     assert registered_agents("echo") == ["echo"] and "echo" not in registered_agents("tasks")
-    assert agent_class("echo", "echo").__module__ == "echo_kind"
-    with pytest.raises(AgentUnavailableError, match=r"^agent echo_kind:EchoAgent serves echo, not tasks$"):
-        agent_class("echo_kind:EchoAgent")
+    assert agent_class("echo", "echo").__module__ == "echo_bench.worker"
+    with pytest.raises(AgentUnavailableError, match=r"^agent echo_bench.worker:EchoAgent serves echo, not tasks$"):
+        agent_class("echo_bench.worker:EchoAgent")
     with pytest.raises(AgentUnavailableError, match=r"^agent pathlib:Path serves tasks, not echo$"):
         agent_class("pathlib:Path", "echo")
     config = tmp_path / "echo.yaml"
