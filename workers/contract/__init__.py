@@ -11,6 +11,8 @@ plugins load it without a browser stack.
 from workers.contract._actions import (
     FINAL_ACTIONS,
     Action,
+    ActionEnvelope,
+    ActionFailure,
     CompositeAction,
     Done,
     Failed,
@@ -20,8 +22,6 @@ from workers.contract._actions import (
     composite_action,
     primitive_action,
 )
-from workers.contract._detail import JobDetail
-from workers.contract._envelope import ActionEnvelope, ActionFailure
 from workers.contract._errors import (
     AgentUnableError,
     AgentUnavailableError,
@@ -48,13 +48,13 @@ from workers.contract._eval_result import (
     ProfileConditions,
     TestVerdict,
 )
-from workers.contract._evaluation_page import editor_need
 from workers.contract._evaluation_spec import (
     EvaluationClock,
     EvaluationPage,
     EvaluationProfile,
     EvaluationRender,
     EvaluationSpec,
+    editor_need,
 )
 from workers.contract._frame_timing import (
     EvaluationTiming,
@@ -79,6 +79,7 @@ from workers.contract._job import (
     EpisodeClock,
     EpisodeTimings,
     ErrorClass,
+    JobDetail,
     JobHeader,
     JobResult,
     Mode,
@@ -108,12 +109,12 @@ from workers.contract._model import (
     RateLimits,
     RetryPolicy,
 )
-from workers.contract._observation_settings import ObservationSettings
 from workers.contract._observations import (
     CompositeObservation,
     Element,
     ElementSource,
     Observation,
+    ObservationSettings,
     ObservationTimings,
     PrimitiveObservation,
     StepObservation,

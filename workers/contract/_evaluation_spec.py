@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from typing import Literal
 
 from pydantic import (
@@ -14,7 +15,6 @@ from pydantic import (
     model_validator,
 )
 
-from workers.contract._evaluation_page import editor_need
 from workers.contract._frame_timing import EvaluationTiming, FrameLateness
 from workers.contract._perturbation import EvaluationPerturbation
 
@@ -70,7 +70,7 @@ class EvaluationSpec(BaseModel):
     page: EvaluationPage = "bare"
     """The page the script runs in; part of a job's identity. The bare page gives the verdicts of the editor
     page (README, "Evaluation page") for less CPU; a script that needs the editor runs there whatever is asked
-    (``workers.contract._evaluation_page``)."""
+    (``editor_need``)."""
 
     timing: EvaluationTiming = "ideal"
     """How the VM's frames are timed in virtual time (``workers.contract._frame_timing``); part of a
@@ -138,3 +138,22 @@ def drop_unset_perturbation(
     if perturbation is None:
         dumped.pop("perturbation", None)
     return dumped
+
+
+# Whether an evaluation script needs the editor page, or the bare evaluation page serves it. The bare page
+# (``scratch-gui/bare.html``) has the VM, the renderer and the audio engine, and no editor GUI. A script that
+# reaches for the editor's DOM or its block editor cannot run there, and is detected from its source (and its
+# helper's) before any page opens: a mention of ``document``, ``ScratchBlocks`` or ``Blockly``, a DOM query or
+# React's internals sends its evaluations to the editor page. None of our tasks and none of upstream's mention any.
+_GUI_NAMES = re.compile(
+    r"\b(document|ScratchBlocks|Blockly|querySelector(?:All)?|getElementsBy\w+|getElementById|__reactFiber\w*|ReactDOM)\b"
+)
+
+
+def editor_need(*sources: str | None) -> str | None:
+    """The first name in ``sources`` that only the editor page has, or None when the bare page serves."""
+    for source in sources:
+        found = _GUI_NAMES.search(source or "")
+        if found:
+            return found.group(1)
+    return None

@@ -15,7 +15,6 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, SerializeAsAny, field_validator, model_validator
 
 from workers.contract._actions import CompositeAction
-from workers.contract._detail import JobDetail
 from workers.contract._errors import ModelErrorClass
 from workers.contract._eval_result import EvalResult
 from workers.contract._evaluation_spec import EvaluationSpec
@@ -57,6 +56,15 @@ PERMANENT_ERRORS: frozenset[str] = frozenset(
 
 
 _AGENT_NAME = re.compile(r"[A-Za-z_][\w.-]*(:[A-Za-z_][\w.]*)?")
+
+
+class JobDetail(BaseModel):
+    """A kind's own result; each kind's detail adds its fields (a plugin kind's too)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    kind: str
+    """The job kind that made it (``drag``, ``perception`` or a plugin's)."""
 
 
 class AgentRef(BaseModel):

@@ -1,4 +1,5 @@
-"""What an agent sees: the observation of each mode, as plain data a plugin can import without a browser.
+"""What an agent sees: the observation of each mode, as plain data a plugin can import without a browser, and
+how primitive observations are made (``ObservationSettings``, part of a primitive job's identity).
 
 Composite mode shows the project as text; primitive mode a screenshot with an indexed element
 list (the DOM fused with OCR). The environments that build them live in ``workers.composite``
@@ -8,9 +9,10 @@ and ``workers.primitive``.
 from __future__ import annotations
 
 import hashlib
+from pathlib import Path
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 
 class TargetName(BaseModel):
@@ -124,3 +126,26 @@ class StepObservation(BaseModel):
             return cls(text=observation.text), None
         digest = hashlib.sha256(observation.screenshot_png).hexdigest()
         return cls(screenshot=digest, elements=observation.elements), observation.screenshot_png
+
+
+class ObservationSettings(BaseModel):
+    """How primitive observations are made; part of a primitive job's identity."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    ocr: Literal["rapidocr", "paddleocr", "none"] = "rapidocr"
+    ocr_scope: Literal["pixels", "screen"] = "pixels"
+    """``pixels``: OCR only where the DOM has no text; ``screen``: the whole frame, like upstream."""
+
+    ocr_min_score: float = Field(default=0.5, ge=0, le=1)
+    paddle_det_model_dir: Path | None = None
+    paddle_rec_model_dir: Path | None = None
+
+    @model_validator(mode="after")
+    def _paddle_needs_models(self) -> ObservationSettings:
+        if self.ocr == "paddleocr" and (self.paddle_det_model_dir is None or self.paddle_rec_model_dir is None):
+            raise ValueError(
+                "ocr 'paddleocr' needs paddle_det_model_dir and paddle_rec_model_dir (local PaddleOCR model "
+                "directories: it cannot download weights offline)"
+            )
+        return self

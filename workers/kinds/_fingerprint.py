@@ -5,20 +5,13 @@ full fingerprint (``workers.node.harness_fingerprint``, what nodes report and co
 ``workers/``; a kind's jobs are planned and checked under it minus the code only OTHER kinds import,
 so editing drag code leaves episode and perception runs resumable, and the drag runs refuse.
 
-What each built-in kind claims (``WorkerKind.code``), decided from the imports (a path may be claimed
-only when neither the core nor another kind's runner imports it; what is shared stays core):
-
-- ``drag``: ``workers/kinds/drag/`` and its dispatch ``workers/kinds/drag/_run.py``. Drag's runner imports
-  ``agents`` (coordinate helpers, prompts, model calls), ``primitive`` (element list, settle), ``editor``
-  and ``llm``: those stay core.
-- ``perception``: ``workers/kinds/perception/`` and ``workers/kinds/perception/_run.py``. It imports ``agents``
-  (model calls) and ``llm``: core.
-- ``audit``: ``workers/kinds/audit/_run.py``; the evaluation it runs is the episodes' (core).
-- ``tasks``: only ``workers/kinds/tasks/_run.py``. The episode code cannot be claimed today:
-  ``workers/kinds/tasks`` holds the actor itself, whose ``EpisodeRunner`` owns the browser and editor pool
-  every browser kind runs in (so ``evaluation``, ``composite``, ``ocr`` and ``agent_api``, which it
-  imports, are imported by every worker), and ``agents`` and ``primitive`` serve drag too. An edit
-  there changes every kind's digest, which is the safe side.
+Each built-in kind claims its whole folder, ``workers/kinds/<name>/`` (``WorkerKind.code``): neither the core
+nor another kind imports anything there (a path may be claimed only then; what is shared stays core). The
+browser, editor pool and evaluator every kind runs in are the worker's (``workers/actor``, ``editor``,
+``evaluation``), and what several kinds use (``agents``' coordinate helpers and model calls, ``primitive``'s
+element list, ``composite``, ``ocr``, ``llm``) is core: an edit there changes every kind's digest, which is the
+safe side. A plugin kind's code lies outside ``workers/`` and claims nothing: it names its own version in its
+jobs' ids.
 
 Everything under ``workers/`` that no kind claims is core: contract, node, editor, llm, agents,
 the actor, this package, and the page JavaScript, packages, editor bundle and browser parts.

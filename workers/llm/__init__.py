@@ -8,7 +8,6 @@ network) nor Ray; both load on first use.
 from workers.llm._breaker import BreakerState, CircuitBreaker, circuit_breaker
 from workers.llm._cache import CacheEntry, ModelCache, request_key, uncacheable
 from workers.llm._client import Completion, ModelClient, estimate_tokens, model_key
-from workers.llm._errors import ParseFailure, ReplyParseError
 from workers.llm._limiter import (
     LIMITER_NAMESPACE,
     Grant,
@@ -25,7 +24,7 @@ from workers.llm._limiter import (
     get_or_create_limiter,
 )
 from workers.llm._litellm import close_litellm_clients, litellm_version, load_litellm, takes_seed
-from workers.llm._parsing import EXPECTED_FORMAT, ParsedReply, parse_reply
+from workers.llm._parsing import EXPECTED_FORMAT, ParsedReply, ParseFailure, ReplyParseError, parse_reply
 from workers.llm._probe import PROBE_MESSAGES, check_models, probe_model, setting_problem
 from workers.llm._repair import repair_json
 

@@ -12,12 +12,24 @@ from __future__ import annotations
 import json
 import re
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 from pydantic import BaseModel, JsonValue
 
-from workers.llm._errors import ParseFailure, ReplyParseError
+from workers.contract import ScratchWorldError
 from workers.llm._repair import repair_json
+
+ParseFailure = Literal["no_json", "invalid_json", "missing_api", "bad_api", "bad_args"]
+"""Why a reply could not be parsed."""
+
+
+class ReplyParseError(ScratchWorldError):
+    """A model reply holds no usable action; ``str(error)`` is written to be shown back to the model."""
+
+    def __init__(self, reason: ParseFailure, message: str) -> None:
+        super().__init__(message)
+        self.reason: ParseFailure = reason
+
 
 EXPECTED_FORMAT = (
     'Write "Analysis: <your reasoning>" and then exactly one fenced JSON block:\n'
