@@ -37,7 +37,7 @@ def audit_command(
     """Evaluate mutants and refactorings of each task's golden with the task's own tests (a sweep of kind
     ``audit``: run it again to resume), then print the audit report (also RUN_DIR/report.md)."""
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
-    from scratchworld_dist.kinds.audit import AuditReport
+    from scratchworld_dist.kinds.audit._report import AuditReport
     from scratchworld_dist.reports import report_data, report_runs
 
     name = "audit-" + (re.sub(r"[^A-Za-z0-9._-]+", "-", suite_dir.resolve().name).strip("-") or "suite")

@@ -13,7 +13,7 @@ from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist._errors import TaskNotFoundError
 from scratchworld_dist._files import FileTooLargeError, read_file
-from scratchworld_dist.kinds.tasks import TaskContent, read_task
+from scratchworld_dist.kinds.tasks._plan import TaskContent, read_task
 from scratchworld_dist.kinds.tasks.regrade._source import FINAL_PROJECT, SourceJob, SourceRun
 from scratchworld_dist.suites import load_suite, stability_marks
 from scratchworld_dist.sweep import Limits, SuiteInfo, identity_id, suite_hash
