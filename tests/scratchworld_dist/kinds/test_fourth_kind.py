@@ -1,11 +1,13 @@
 """A fourth job kind from a plugin package, driver and worker side, run end to end: planned from its own suite,
 run by its own runner on the sweep's Ray workers, recorded with its name in the benchmark column and in a result
-table of its own, configured by a section of its own, reported by its own report, shown by the viewer, resumed.
-What it takes is what this module's plugin holds: a ``Kind`` (with its config section, row model and viewer
-panel), a ``JobBody``, a worker spec, a ``WorkerKind`` and two entry points."""
+table of its own, configured by a section of its own, reported by its own report, shown by the viewer, resumed,
+and given its cells, axis and section in the diagnosis over several kinds. What it takes is what this module's
+plugin holds: a ``Kind`` (with its config section, row model, viewer panel and diagnosis part), a ``JobBody``, a
+worker spec, a ``WorkerKind`` and two entry points."""
 
 from __future__ import annotations
 
+import json
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -17,13 +19,14 @@ from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run import config_hash
 from scratchworld_dist.kinds import job_kind, kind_names
 from scratchworld_dist.kinds._registry import _registered
-from scratchworld_dist.reports import report_schemas
+from scratchworld_dist.reports import diagnosis_models, report_runs, report_schemas
 from scratchworld_dist.results import RunStore, kind_of_run
 from scratchworld_dist.results._schema import row_tables
 from scratchworld_dist.sweep import SweepConfig, load_sweep_config
 from scratchworld_dist.viewer import ViewerSite
 from tests.conftest import REPO
 from tests.support.cli_runner import invoke
+from tests.support.run_dirs import job, make_run
 from tests.support.sweep_driver import run_here
 
 PLUGIN = '''
@@ -35,7 +38,8 @@ from pathlib import Path
 from pydantic import BaseModel, ConfigDict
 
 from scratchworld_dist.kinds.base import Kind
-from scratchworld_dist.results import RunStore
+from scratchworld_dist.reports import Rate, rate_cell
+from scratchworld_dist.results import RunStore, effective_rows
 from scratchworld_dist.sweep import JobBody, JobSpec, RunPlan, SuiteInfo, identity_id, suite_hash
 from scratchworld_dist.viewer import AttemptPanel
 from workers.contract import AgentUnavailableError, JobResult, ModelSpec
@@ -58,6 +62,56 @@ class EchoRow(BaseModel):
 class EchoReport(BaseModel):
     echoed_yes: int
     jobs: int
+
+
+class EchoCells(BaseModel):
+    """The echo cells of a diagnosis row."""
+    echo_yes: Rate | None = None
+
+
+class EchoAxes(BaseModel):
+    echo_words: list[str] = []
+
+
+class EchoInDiagnosis(BaseModel):
+    echo: EchoReport | None = None
+
+
+class EchoDiagnosis:
+    cells_model = EchoCells
+    axes_model = EchoAxes
+    section_model = EchoInDiagnosis
+    runs_label = "Echo runs"
+    definitions = "Echo yes = passed / decided echo jobs."
+
+    def units(self, group):
+        rows = [row for run in group.runs for row in run.rows]
+        return [(row.job_id, row) for row in effective_rows(rows)]
+
+    def cells(self, units):
+        decided = [row for row in units if row.outcome != "error"]
+        passed = sum(row.outcome == "passed" for row in decided)
+        return EchoCells(echo_yes=Rate(value=passed / len(decided), n=len(decided)) if decided else None)
+
+    def axes(self, units):
+        return EchoAxes(echo_words=sorted({row.task_id for row in units}))
+
+    def header(self, table):
+        return [f"echo yes ({', '.join(table.echo_words)})"]
+
+    def row(self, row, table):
+        return [rate_cell(row.echo_yes)]
+
+    def section(self, group):
+        rows = [row for run in group.runs for row in run.rows]
+        return EchoReport(echoed_yes=sum(row.outcome == "passed" for row in rows), jobs=len(rows))
+
+    def render_section(self, section, fmt, group):
+        text = f"# Echo report\\n\\n{section.echoed_yes} of {section.jobs} echoed yes\\n"
+        return text if fmt == "md" else f"<p>{escape(text)}</p>"
+
+
+DIAGNOSIS = EchoDiagnosis()
 
 
 class EchoBody(JobBody):
@@ -166,6 +220,9 @@ class EchoKind(Kind):
         text, warnings = self.report([run_dir], "md", force=False)
         return f"<p>{text}</p>", warnings
 
+    def diagnosis(self):
+        return DIAGNOSIS
+
 
 
 class EchoWorkerKind:
@@ -250,6 +307,37 @@ def test_a_plugin_kind_is_planned_run_recorded_reported_and_resumed(tmp_path: Pa
     config.write_text(yaml.safe_dump({**sweep, "echo": {"passing_word": "no"}, "output": str(tmp_path / "run")}))
     code, out = run_here(config)  # the plugin's own section shapes its jobs: another sweep
     assert code != 0 and "holds results of another sweep (sweep config" in " ".join(out.split()), out
+
+
+def test_a_plugin_kind_adds_its_cells_axis_and_section_to_the_diagnosis(echo_plugin: Path, tmp_path: Path) -> None:
+    echoes = [
+        job(f"e-{word}", outcome, benchmark="echo", agent="echo", model="-", task_id=word, mode="primitive")
+        for word, outcome in (("yes", "passed"), ("no", "failed"), ("maybe", "error"))
+    ]
+    echo_run = make_run(tmp_path / "echo", echoes, planned=3, tasks=3, config={"benchmark": "echo"}, name="echo")
+    episode = [job("t1", benchmark="tasks", agent="echo", model="-")]  # the same scripted agent, in an episode
+    episodes = make_run(tmp_path / "episodes", episode, planned=1, tasks=1, name="episodes")
+    text, _ = report_runs([echo_run, episodes], "json")
+    data = json.loads(text)
+    # The plugin's section, axis and cells come after the built-in kinds', where its rank puts them.
+    assert list(data) == ["version", "diagnosis", "episodes", "drag", "perception", "echo"]
+    assert data["echo"] == {"echoed_yes": 1, "jobs": 3}
+    table = data["diagnosis"]
+    assert list(table) == ["version", "runs", "drag_settings", "perception_kinds", "echo_words", "warnings", "rows"]
+    assert table["echo_words"] == ["maybe", "no", "yes"]
+    (row,) = table["rows"]
+    assert list(row)[-2:] == ["perception", "echo_yes"] and row["label"] == "echo [scripted]"
+    assert row["echo_yes"] == {"value": 0.5, "n": 2} and row["composite_sr"] == {"value": 1.0, "n": 1}
+    report = diagnosis_models().report.model_validate_json(text)
+    assert report.echo.echoed_yes == 1 and report.diagnosis.rows[0].echo_yes.n == 2  # typed, not extra fields
+    markdown, _ = report_runs([echo_run, episodes], "md")
+    assert "| echo yes (maybe, no, yes) |" in markdown and "| 50.0% (n=2) |" in markdown
+    assert "Echo runs: echo (" in markdown and "Echo yes = passed / decided echo jobs." in markdown
+    assert markdown.rstrip().endswith("1 of 3 echoed yes")
+    schema = report_schemas()["diagnosis-report.schema.json"]
+    assert schema["properties"]["echo"]["anyOf"][0] == {"$ref": "#/$defs/EchoReport"}
+    assert "echo_yes" in schema["$defs"]["DiagnosisRow"]["properties"]
+    assert "echo_words" in schema["$defs"]["DiagnosisTable"]["properties"]
 
 
 def test_a_plugin_section_is_checked_and_written_back_under_its_name(echo_plugin: Path, tmp_path: Path) -> None:
