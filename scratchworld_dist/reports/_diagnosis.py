@@ -155,7 +155,7 @@ sections are the fields below; a plugin kind's is a field too (its part's ``sect
 
 @dataclass(frozen=True)
 class DiagnosisModels:
-    """The diagnosis's models for the installed kinds (each a subclass of its core and of the parts' models)."""
+    """The diagnosis's models for a set of kinds' parts (each a subclass of its core and of the parts' models)."""
 
     row: type[DiagnosisRowCore]
     table: type[DiagnosisTableCore]
