@@ -12,6 +12,7 @@ PACKAGES = [
     "scratchworld_dist.sb3.editing",
     "scratchworld_dist.memory",
     "scratchworld_dist.kinds.perception.items",
+    "scratchworld_dist.kinds.tasks.report",
     "scratchworld_dist.reports",
     "scratchworld_dist.results",
     "scratchworld_dist.scheduling",

@@ -12,7 +12,7 @@ from typing import get_args
 from pydantic import BaseModel
 
 from scratchworld_dist._run import RunPlan
-from scratchworld_dist.reports import build_report
+from scratchworld_dist.kinds.tasks.report import build_report
 from scratchworld_dist.results import JobRow, RunStore, effective_rows, read_manifest
 from workers.contract import ErrorClass
 

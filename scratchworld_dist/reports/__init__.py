@@ -1,21 +1,27 @@
-"""Reports over run directories: the main table as Markdown, HTML (with plots) or JSON, the diagnosis across
-benchmarks (each kind's own report comes from its kind), paired comparisons, and what kinds build theirs from."""
+"""The report core: what any kind's report is built from (reading and merging runs, blocks rendered as Markdown or
+HTML, plots, pass@k and intervals, paired statistics, model identity), the report of a set of runs by the kinds
+they hold, and the diagnosis across kinds. Each kind's own report is in its folder (the episodes' in
+``scratchworld_dist.kinds.tasks.report``); this package imports none of them.
 
-from scratchworld_dist.reports._build import build_report, report_of
-from scratchworld_dist.reports._compare import (
-    Comparison,
-    Difference,
-    Selector,
-    SideInfo,
-    TaskOutcome,
-    compare_runs,
-    parse_selector,
-)
-from scratchworld_dist.reports._compare_render import render_comparison
+``draw_plots`` imports matplotlib on first use: reading and reporting as text never load it."""
+
+import typing
+
+import workers
 from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_exact, paired_bootstrap
-from scratchworld_dist.reports._diagnosis import DiagnosisPart, DiagnosisRow, DiagnosisTable, Gap, PerceptionRate
-from scratchworld_dist.reports._diagnosis_cells import MISSING, Rate, optional_rate, pct, rate_cell
-from scratchworld_dist.reports._diagnosis_report import DiagnosisReport, diagnosis_table
+from scratchworld_dist.reports._diagnosis import (
+    MISSING,
+    DiagnosisModels,
+    DiagnosisPart,
+    DiagnosisReportCore,
+    DiagnosisRowCore,
+    DiagnosisTableCore,
+    Rate,
+    optional_rate,
+    pct,
+    rate_cell,
+)
+from scratchworld_dist.reports._diagnosis_report import diagnosis_models, diagnosis_parts, diagnosis_table
 from scratchworld_dist.reports._error_digest import ErrorDigest, digest_lines, error_digest, run_error_digest
 from scratchworld_dist.reports._kind import KindReport
 from scratchworld_dist.reports._metrics import (
@@ -29,8 +35,8 @@ from scratchworld_dist.reports._metrics import (
     pass_hat_k,
     t_quantile_975,
 )
-from scratchworld_dist.reports._plots import Plot, plots_html, plots_of, report_plots
-from scratchworld_dist.reports._ranking import PairTest, RankedSystem, Ranking, holm, rank_systems, render_ranking
+from scratchworld_dist.reports._model_identity import row_label
+from scratchworld_dist.reports._plots import Box, Plot, PlotData, Point, Series, plots_html
 from scratchworld_dist.reports._render import (
     FORMATS,
     Block,
@@ -42,96 +48,70 @@ from scratchworld_dist.reports._render import (
     Table,
     blocks_html,
     blocks_markdown,
+    html_page,
     markdown_table,
-    render,
-    render_html,
-    render_html_body,
-    render_json,
-    render_markdown,
     render_text,
 )
 from scratchworld_dist.reports._report_runs import report_data, report_runs
 from scratchworld_dist.reports._run_groups import RunGroup
-from scratchworld_dist.reports._runs import LoadedRun, load_runs, read_rows, stale_warnings
-from scratchworld_dist.reports._schemas import report_schemas, write_report_schemas
-from scratchworld_dist.reports._stability_section import StabilitySection, UnstableTask
-from scratchworld_dist.reports._stable_only import NO_STABLE_TEST, StableOnly, StableSide
-from scratchworld_dist.reports._summary import (
-    CATEGORIES,
-    DETERMINATE,
-    REPORT_VERSION,
-    CategoryStats,
-    ErrorCount,
-    KEstimate,
-    ReportRow,
-    RunInfo,
-    RunReport,
-    SeedRate,
-    SeedStats,
-    row_label,
+from scratchworld_dist.reports._runs import (
+    LoadedRun,
+    incompatibilities,
+    load_run,
+    load_runs,
+    read_rows,
+    stale_warnings,
+    tests_of_attempts,
 )
-from scratchworld_dist.reports._verdict_changes import VerdictChange, verdict_changes
+from scratchworld_dist.reports._schemas import LaterFields, report_schemas, write_report_schemas
+
+if typing.TYPE_CHECKING:
+    from scratchworld_dist.reports._plot_draw import draw_plots
+
+__getattr__ = workers.lazy_exports(__name__, {"._plot_draw": ("draw_plots",)})
 
 __all__ = [
-    "CATEGORIES",
-    "DETERMINATE",
     "FORMATS",
     "MISSING",
-    "NO_STABLE_TEST",
-    "REPORT_VERSION",
     "Block",
-    "CategoryStats",
+    "Box",
     "ClassCount",
     "Code",
-    "Comparison",
+    "DiagnosisModels",
     "DiagnosisPart",
-    "DiagnosisReport",
-    "DiagnosisRow",
-    "DiagnosisTable",
-    "Difference",
-    "ErrorCount",
+    "DiagnosisReportCore",
+    "DiagnosisRowCore",
+    "DiagnosisTableCore",
     "ErrorDigest",
-    "Gap",
     "Heading",
     "Interval",
-    "KEstimate",
     "KindReport",
+    "LaterFields",
     "Linked",
     "LoadedRun",
     "McNemar",
     "MeanInterval",
-    "PairTest",
     "Paragraph",
-    "PerceptionRate",
     "Plot",
-    "RankedSystem",
-    "Ranking",
+    "PlotData",
+    "Point",
     "Rate",
     "ReportFormat",
-    "ReportRow",
     "RunGroup",
-    "RunInfo",
-    "RunReport",
-    "SeedRate",
-    "SeedStats",
-    "Selector",
-    "SideInfo",
-    "StabilitySection",
-    "StableOnly",
-    "StableSide",
+    "Series",
     "Table",
-    "TaskOutcome",
-    "UnstableTask",
-    "VerdictChange",
     "blocks_html",
     "blocks_markdown",
-    "build_report",
     "class_counts",
-    "compare_runs",
+    "diagnosis_models",
+    "diagnosis_parts",
     "diagnosis_table",
     "digest_lines",
+    "draw_plots",
     "error_digest",
-    "holm",
+    "html_page",
+    "incompatibilities",
+    "load_run",
     "load_runs",
     "markdown_table",
     "mcnemar_exact",
@@ -140,32 +120,20 @@ __all__ = [
     "mean_pass_hat_k",
     "optional_rate",
     "paired_bootstrap",
-    "parse_selector",
     "pass_at_k",
     "pass_hat_k",
     "pct",
     "plots_html",
-    "plots_of",
-    "rank_systems",
     "rate_cell",
     "read_rows",
-    "render",
-    "render_comparison",
-    "render_html",
-    "render_html_body",
-    "render_json",
-    "render_markdown",
-    "render_ranking",
     "render_text",
     "report_data",
-    "report_of",
-    "report_plots",
     "report_runs",
     "report_schemas",
     "row_label",
     "run_error_digest",
     "stale_warnings",
     "t_quantile_975",
-    "verdict_changes",
+    "tests_of_attempts",
     "write_report_schemas",
 ]

@@ -1,8 +1,8 @@
 """The report over runs of several benchmarks: the diagnosis table (one row per model, each kind's cells) first,
 then each benchmark's own report.
 
-Markdown puts the reports one after the other; HTML makes one page of them (the episodes' plots after
-their tables); JSON is one ``DiagnosisReport``.
+Markdown puts the reports one after the other; HTML makes one page of them (each section as its kind renders it:
+the episodes' plots after their tables); JSON is one ``DiagnosisReport`` (``diagnosis_models().report``).
 """
 
 from __future__ import annotations
@@ -12,13 +12,21 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict, JsonValue, SerializeAsAny
+from pydantic import BaseModel, JsonValue
 
 from scratchworld_dist.kinds import job_kind, job_kinds
-from scratchworld_dist.reports._diagnosis import DiagnosisPart, DiagnosisRow, DiagnosisTable
-from scratchworld_dist.reports._diagnosis_cells import MISSING
+from scratchworld_dist.reports._diagnosis import (
+    MISSING,
+    DiagnosisModels,
+    DiagnosisPart,
+    DiagnosisReportCore,
+    DiagnosisRowCore,
+    DiagnosisTableCore,
+    models_of,
+    section_field,
+)
 from scratchworld_dist.reports._kind import KindReport
-from scratchworld_dist.reports._model_identity import ModelKey, ModelResolver, RowModel, describe
+from scratchworld_dist.reports._model_identity import ModelKey, ModelResolver, RowModel, describe, row_label
 from scratchworld_dist.reports._render import (
     Block,
     Heading,
@@ -30,7 +38,6 @@ from scratchworld_dist.reports._render import (
     html_page,
 )
 from scratchworld_dist.reports._run_groups import RunGroup
-from scratchworld_dist.reports._summary import RunReport, row_label
 
 _DEFINITIONS = (
     "One row per model: the LiteLLM model with its temperature, max_tokens and params, matched across runs by "
@@ -44,39 +51,27 @@ _DEFINITIONS = (
 """What every row means; each kind's part adds what its cells mean."""
 
 
-class DiagnosisReport(BaseModel):
-    """The diagnosis table and the report of each benchmark given (None: no run of it). The built-in kinds'
-    sections are the fields below; a plugin kind's is an extra field named by its part's ``section_field``."""
-
-    model_config = ConfigDict(extra="allow")
-
-    version: int = 1
-    diagnosis: DiagnosisTable
-    episodes: RunReport | None = None
-    drag: SerializeAsAny[BaseModel] | None = None
-    """The drag kind's table (``kinds.drag.DragTable``)."""
-
-    perception: SerializeAsAny[BaseModel] | None = None
-    """The perception kind's table (``kinds.perception.PerceptionTable``)."""
-
-    @property
-    def warnings(self) -> list[str]:
-        """The table's and every section's."""
-        sections = [getattr(self, name) for name in self.model_fields_set if name not in ("version", "diagnosis")]
-        return self.diagnosis.warnings + [w for s in sections if s is not None for w in getattr(s, "warnings", [])]
+def diagnosis_parts() -> list[DiagnosisPart]:
+    """The installed kinds' diagnosis parts, in the kinds' order."""
+    return [part for kind in job_kinds(KindReport) if (part := kind.diagnosis()) is not None]
 
 
-def diagnosis_report(groups: list[RunGroup], table: DiagnosisTable) -> DiagnosisReport:
+def diagnosis_models() -> DiagnosisModels:
+    """The diagnosis's row, table and report models for the installed kinds (each kind's fields in them)."""
+    return models_of(tuple(diagnosis_parts()))
+
+
+def diagnosis_report(groups: list[RunGroup], table: DiagnosisTableCore) -> DiagnosisReportCore:
     """The table and each group's section, as its kind makes it."""
     sections = {}
     for group in groups:
         part = job_kind(group.benchmark, KindReport).diagnosis()
         if part is not None:
-            sections[part.section_field] = part.section(group)
-    return DiagnosisReport(diagnosis=table, **sections)
+            sections[section_field(part)] = part.section(group)
+    return diagnosis_models().report(diagnosis=table, **sections)
 
 
-def render_diagnosis_report(report: DiagnosisReport, fmt: ReportFormat, groups: list[RunGroup]) -> str:
+def render_diagnosis_report(report: DiagnosisReportCore, fmt: ReportFormat, groups: list[RunGroup]) -> str:
     """The report as text in ``fmt`` (``md``, ``html`` or ``json``); the sections follow the table in the kinds'
     order, each rendered by its kind (HTML shows the episodes' plots after their tables)."""
     if fmt == "json":
@@ -87,13 +82,13 @@ def render_diagnosis_report(report: DiagnosisReport, fmt: ReportFormat, groups: 
     parts = [blocks_markdown(blocks) if fmt == "md" else blocks_html(blocks)]
     for group in groups:
         part = job_kind(group.benchmark, KindReport).diagnosis()
-        section = getattr(report, part.section_field, None) if part is not None else None
+        section = getattr(report, section_field(part), None) if part is not None else None
         if part is not None and section is not None:
             parts.append(part.render_section(section, fmt, group))
     return "\n".join(parts) if fmt == "md" else html_page("\n".join(parts))
 
 
-def diagnosis_blocks(table: DiagnosisTable) -> list[Block]:
+def diagnosis_blocks(table: DiagnosisTableCore) -> list[Block]:
     """The diagnosis table's heading, warnings, runs, table and definitions."""
     parts = _parts(table)
     blocks: list[Block] = [Heading(1, "ScratchWorld diagnosis")]
@@ -101,17 +96,13 @@ def diagnosis_blocks(table: DiagnosisTable) -> list[Block]:
     blocks += [Paragraph(f"{_runs_label(b)}: {'; '.join(names)}") for b, names in table.runs.items()]
     header = ["agent/model"] + [cell for part in parts for cell in part.header(table)]
     rows = [[row.label] + [cell for part in parts for cell in part.row(row, table)] for row in table.rows]
-    definitions = " ".join([_DEFINITIONS, *(part.definitions for part in _all_parts())])
+    definitions = " ".join([_DEFINITIONS, *(part.definitions for part in diagnosis_parts())])
     return [*blocks, Heading(2, "Diagnosis table"), Table(header, rows), Paragraph(definitions)]
 
 
-def _parts(table: DiagnosisTable) -> list[DiagnosisPart]:
+def _parts(table: DiagnosisTableCore) -> list[DiagnosisPart]:
     """The diagnosis parts of the kinds the table has runs of, in the kinds' order."""
     return [p for kind in job_kinds(KindReport) if kind.name in table.runs and (p := kind.diagnosis()) is not None]
-
-
-def _all_parts() -> list[DiagnosisPart]:
-    return [p for kind in job_kinds(KindReport) if (p := kind.diagnosis()) is not None]
 
 
 def _runs_label(benchmark: str) -> str:
@@ -128,11 +119,11 @@ class _Results:
     units: dict[str, list[Any]] = field(default_factory=lambda: defaultdict(list))
 
 
-def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
+def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTableCore:
     """The table over run groups of different benchmarks; each kind's part says what its cells hold."""
     results: dict[ModelKey, _Results] = defaultdict(_Results)
     warnings: list[str] = []
-    axes: dict[str, list[str]] = {}
+    axes: dict[str, Any] = {}
     for group in groups:
         part = job_kind(group.benchmark, KindReport).diagnosis()
         if part is None:
@@ -142,10 +133,11 @@ def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
         units = part.units(group)
         for job_id, unit in units:
             _gathered(results, models[job_id]).units[group.benchmark].append(unit)
-        axes.update(part.axes([unit for _, unit in units]))
+        found = part.axes([unit for _, unit in units])
+        axes.update(_fields(found) if found is not None else {})
     labels = _labels(results)
     rows = [diagnosis_row(labels[key], key, found) for key, found in results.items()]
-    return DiagnosisTable(
+    return diagnosis_models().table(
         runs={group.benchmark: [run.name for run in group.runs] for group in groups},
         warnings=warnings,
         rows=sorted(rows, key=lambda r: (r.scripted, r.label)),
@@ -153,16 +145,21 @@ def diagnosis_table(groups: Sequence[RunGroup]) -> DiagnosisTable:
     )
 
 
-def diagnosis_row(label: str, key: ModelKey, found: _Results) -> DiagnosisRow:
+def diagnosis_row(label: str, key: ModelKey, found: _Results) -> DiagnosisRowCore:
     """One row: each kind's cells from the units gathered for its key."""
     cells: dict[str, Any] = {}
     for benchmark, units in found.units.items():
         part = job_kind(benchmark, KindReport).diagnosis()
         if part is not None:
-            cells.update(part.cells(units))
-    return DiagnosisRow(
+            cells.update(_fields(part.cells(units)))
+    return diagnosis_models().row(
         label=label, agent=key.agent, scripted=key.scripted, labels=found.labels, models=found.models, **cells
     )
+
+
+def _fields(model: BaseModel) -> dict[str, Any]:
+    """A part's cells or axes as the row's or table's fields (their values as they are, models included)."""
+    return {name: getattr(model, name) for name in type(model).model_fields}
 
 
 def _gathered(results: dict[ModelKey, _Results], resolved: RowModel) -> _Results:

@@ -1,4 +1,5 @@
-"""Which model a result row stands for across runs: the LiteLLM model and its sampling parameters, not its label.
+"""Which model a result row stands for across runs: the LiteLLM model and its sampling parameters, not its label;
+and how every report names a row's agent/model (``row_label``).
 
 A row names its model by label (the config entry's ``name``, else its ``model`` string), and labels are
 free: two runs may call one model by two names, or one name may stand for two settings. So a row's label
@@ -155,3 +156,10 @@ def _model_settings(value: Any) -> Iterator[tuple[str, dict[str, JsonValue]]]:
 
 def _identity(full: dict[str, Any]) -> dict[str, JsonValue]:
     return {field: full.get(field) for field in IDENTITY_FIELDS}
+
+
+def row_label(agent: str, model: str) -> str:
+    """How reports name an agent/model: scripted agents by agent, LLM agents by their model label."""
+    if agent == "llm":
+        return model
+    return agent if model == "-" else f"{agent}/{model}"

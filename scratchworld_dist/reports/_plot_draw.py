@@ -1,4 +1,4 @@
-"""Drawing a ``PlotData`` with matplotlib as an SVG string to inline in a page.
+"""Drawing ``PlotData`` with matplotlib as SVG strings to inline in a page.
 
 Only ``Figure`` and its SVG printer are used, never pyplot, so no GUI backend is ever picked and
 nothing global changes. Text stays text (``svg.fonttype = none``: searchable, small, escaped by
@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import io
 import re
+from collections.abc import Sequence
 
 import matplotlib as mpl
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from scratchworld_dist.reports._plot_data import PlotData
+from scratchworld_dist.reports._plots import Plot, PlotData
 
 _PALETTE = mpl.colormaps["tab10"].colors
 _SIZE = (7.0, 3.8)
@@ -27,6 +28,13 @@ _RC = {
     "axes.spines.top": False,
     "axes.spines.right": False,
 }
+
+
+def draw_plots(data: Sequence[PlotData]) -> list[Plot]:
+    """Each plot's data drawn, with the table of its numbers."""
+    return [
+        Plot(key=d.key, title=d.title, caption=d.caption, svg=draw_svg(d), headers=d.headers, rows=d.rows) for d in data
+    ]
 
 
 def draw_svg(data: PlotData) -> str:
@@ -61,9 +69,9 @@ def _bars(axes: Axes, data: PlotData) -> None:
 def _front(axes: Axes, data: PlotData) -> None:
     for i, point in enumerate(data.points):
         marker = "o" if point.front else "x"
-        axes.scatter([point.cost_usd], [point.sr], marker=marker, color=_color(i), label=_text(point.name), zorder=3)
-    front = sorted((p for p in data.points if p.front), key=lambda p: p.cost_usd)
-    axes.step([p.cost_usd for p in front], [p.sr for p in front], where="post", color="0.4", linestyle="--", zorder=2)
+        axes.scatter([point.x], [point.y], marker=marker, color=_color(i), label=_text(point.name), zorder=3)
+    front = sorted((p for p in data.points if p.front), key=lambda p: p.x)
+    axes.step([p.x for p in front], [p.y for p in front], where="post", color="0.4", linestyle="--", zorder=2)
     axes.set_ylim(0, 100)
     axes.set_xlim(left=0)
     _legend(axes, len(data.points))

@@ -1,29 +1,82 @@
-"""The report's plots as data with inline SVG, and as an HTML fragment for the report page and the viewer.
+"""Plots any report can show: what one plot draws and the table of its numbers (``PlotData``), the plot drawn as
+inline SVG (``Plot``), and plots as an HTML fragment for a report page and the viewer.
 
-matplotlib is imported only when plots are drawn (``report_plots``): the Markdown and JSON reports
-and ``status`` stay light. The fragment is static SVG and tables with no script and no external
-resource, so a page works from ``file://`` and offline.
+Each plot is data first, so a reader (or a screen reader, or a test) gets the values without reading them off a
+chart; a kind computes its plots' data (the episodes' SR by category, cost vs SR...) and ``draw_plots``
+(``_plot_draw``) draws them. Only drawing imports matplotlib: the Markdown and JSON reports and ``status`` stay
+light. The fragment is
+static SVG and tables with no script and no external resource, so a page works from ``file://`` and offline.
 """
 
 from __future__ import annotations
 
 import html
 from collections.abc import Sequence
-from pathlib import Path
+from typing import Literal
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports._plot_data import plot_data
-from scratchworld_dist.reports._runs import load_runs
-from scratchworld_dist.results import JobRow
+PlotKind = Literal["bars", "front", "lines", "boxes", "stacked"]
+
+
+class Series(BaseModel):
+    """One named series: a value per tick (``None`` where it has none)."""
+
+    name: str
+    values: list[float | None]
+
+
+class Point(BaseModel):
+    """One named point of a ``front`` plot (the episodes': an agent/model and mode at its cost and SR)."""
+
+    name: str
+    x: float
+    y: float
+    front: bool
+    """On the Pareto front, which the plot joins: no other point has a higher ``y`` for at most its ``x``."""
+
+
+class Box(BaseModel):
+    """One distribution of a ``boxes`` plot (the episodes': steps to success), whiskers at min and max."""
+
+    name: str
+    n: int
+    low: float
+    q1: float
+    median: float
+    q3: float
+    high: float
+    mean: float
+
+
+class PlotData(BaseModel):
+    """One plot: what it shows, how it is drawn, and the table of its numbers."""
+
+    key: str
+    title: str
+    caption: str
+    kind: PlotKind
+    x_label: str
+    y_label: str
+    ticks: list[str] = []
+    """Categorical x positions of ``bars``, ``lines`` and ``stacked``."""
+
+    series: list[Series] = []
+    notes: list[str] = []
+    """Text drawn above each tick (``bars``), e.g. the gap between two bars."""
+
+    points: list[Point] = []
+    boxes: list[Box] = []
+    headers: list[str]
+    rows: list[list[str]]
 
 
 class Plot(BaseModel):
     """One drawn plot and the table of the numbers it shows."""
 
     key: str
-    """Stable name: ``sr_by_category``, ``reasoning_acting_gap``, ``cost_vs_sr``, ``pass_at_k``,
-    ``steps_to_success`` or ``errors_over_time``."""
+    """Stable name (the episodes': ``sr_by_category``, ``reasoning_acting_gap``, ``cost_vs_sr``, ``pass_at_k``,
+    ``steps_to_success`` or ``errors_over_time``)."""
 
     title: str
     caption: str
@@ -35,28 +88,6 @@ class Plot(BaseModel):
     headers: list[str]
     rows: list[list[str]]
     """Exactly the numbers drawn, as text (user-provided strings unescaped)."""
-
-
-def report_plots(run_dirs: Sequence[Path], *, force: bool = False) -> list[Plot]:
-    """The plots of the runs' episode results; those with nothing to show are left out, drag runs get none.
-
-    Runs are read and checked as for ``build_report`` (``RunDirError`` when they cannot be read or
-    merged without ``force``).
-    """
-    runs, _ = load_runs(run_dirs, force=force)
-    return plots_of([row for run in runs for row in run.rows])
-
-
-def plots_of(rows: Sequence[JobRow]) -> list[Plot]:
-    """The plots of attempt rows already read (each job counts once, as in ``report_plots``)."""
-    data = plot_data(rows)
-    if not data:
-        return []
-    from scratchworld_dist.reports._plot_draw import draw_svg  # imports matplotlib: only when drawing
-
-    return [
-        Plot(key=d.key, title=d.title, caption=d.caption, svg=draw_svg(d), headers=d.headers, rows=d.rows) for d in data
-    ]
 
 
 def plots_html(plots: Sequence[Plot]) -> str:

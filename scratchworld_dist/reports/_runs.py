@@ -17,7 +17,6 @@ from pydantic import BaseModel, ValidationError
 
 from scratchworld_dist._errors import RunDirError, validation_summary
 from scratchworld_dist.results import JobRow, RunManifest, RunStore, TestRow, require_manifest
-from scratchworld_dist.sweep import stored_section
 from workers.contract import describe_differences
 
 RowT = TypeVar("RowT", bound=BaseModel)
@@ -116,19 +115,3 @@ def check_compatible(runs: Sequence[LoadedRun], *, force: bool) -> list[str]:
     if problems and not force:
         raise RunDirError(f"refusing to merge incomparable results: {'; '.join(problems)}; use --force to merge anyway")
     return [f"merged anyway (--force): {p}; their numbers are not comparable" for p in problems]
-
-
-def jobs_per_group(manifest: RunManifest) -> int | None:
-    """Planned jobs of each agent/model and mode (tasks x seeds), when the manifest's config says.
-
-    The sweep plans models x modes x tasks x seeds; the product is checked against
-    ``planned_jobs`` so that a config this cannot read yields ``None`` rather than a wrong count.
-    """
-    config = manifest.config
-    seeds, modes, models = config.get("seeds"), stored_section(config, "tasks").get("modes"), config.get("models")
-    if not isinstance(seeds, list) or not isinstance(modes, list) or not isinstance(models, list | None):
-        return None
-    per_group = manifest.suite.tasks * len(seeds)
-    if max(len(models or []), 1) * len(modes) * per_group != manifest.planned_jobs:
-        return None
-    return per_group

@@ -1,5 +1,5 @@
 """``scratchworld view``: a run's report, jobs and trajectories in a browser, served locally or exported; what it
-asks of a benchmark kind (``KindPanel``).
+asks of a benchmark kind (``KindPanel``: a run page's body and plots, a job's panel, comparison pages).
 
 The server (``serve``, aiohttp) is imported on first use: reading the site needs no web server."""
 
@@ -7,7 +7,7 @@ import typing
 
 import workers
 from scratchworld_dist.viewer._export import ExportSummary, export_site
-from scratchworld_dist.viewer._kind import AttemptPanel, KindPanel
+from scratchworld_dist.viewer._kind import AttemptPanel, KindPanel, RunComparison
 from scratchworld_dist.viewer._site import Resource, ViewerSite
 
 if typing.TYPE_CHECKING:
@@ -15,4 +15,13 @@ if typing.TYPE_CHECKING:
 
 __getattr__ = workers.lazy_exports(__name__, {"._server": ("serve",)})
 
-__all__ = ["AttemptPanel", "ExportSummary", "KindPanel", "Resource", "ViewerSite", "export_site", "serve"]
+__all__ = [
+    "AttemptPanel",
+    "ExportSummary",
+    "KindPanel",
+    "Resource",
+    "RunComparison",
+    "ViewerSite",
+    "export_site",
+    "serve",
+]

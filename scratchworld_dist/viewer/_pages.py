@@ -70,7 +70,7 @@ class RunPage(BaseModel):
     card: RunCard
     warnings: list[str]
     report_html: str
-    """The report's tables, already escaped HTML (``reports.render_html_body``)."""
+    """The report's tables, already escaped HTML (the kind's ``KindPanel.report_html``)."""
 
     plots_html: str
     errors: list[ErrorLink]

@@ -10,7 +10,9 @@
     runs/<k>/jobs/<job_id>.html     one job: header, attempts, tests, steps, final project
     runs/<k>/files/<path>           the run's artifacts (screenshots, final.sb3)
     runs/<k>/images/<sha256>.png    images the run keeps once for many jobs (perception screenshots)
-    compare/<a>-<b>.html            run a against run b; compare/<k>-gap.html: run k's composite vs primitive
+    compare/<a>-<b>.html            run a against run b, of one kind that compares runs (episodes)
+    compare/<k>-<name>.html         a comparison within run k its kind offers (the episodes' gap: composite vs
+                                    primitive)
 """
 
 from __future__ import annotations
@@ -48,7 +50,7 @@ HEADERS = (
     ("attempts", "attempts"),
 )
 _JOB_ID = re.compile(r"[A-Za-z0-9_-]{1,128}")
-_COMPARE = re.compile(r"(\d+)-(\d+|gap)\.html")
+_COMPARE = re.compile(r"(\d+)-(\d+|[a-z_]+)\.html")
 
 
 @dataclass(frozen=True)
@@ -137,13 +139,11 @@ class ViewerSite:
 
     def _plots(self, run: ViewedRun) -> str:
         """The run's plots, drawn again only when its results changed (drawing is most of a run page's time)."""
-        from scratchworld_dist.reports import plots_html, plots_of
-
         version = run.version()
         cached = self._plots_cache.get(run.path)
         if cached is not None and cached[0] == version:
             return cached[1]
-        drawn = plots_html(plots_of(run.rows()))  # the rows the page read already, not the shards again
+        drawn = run.kind().plots_html(run.rows())  # the rows the page read already, not the shards again
         self._plots_cache[run.path] = (version, drawn)
         return drawn
 
@@ -155,31 +155,39 @@ class ViewerSite:
     def _comparisons(self) -> list[tuple[str, str]]:
         found = []
         names = [f"{k}: {run.path.name}" for k, run in enumerate(self.runs)]
+        kinds = [run.kind() for run in self.runs]
         if len(self.runs) <= MAX_PAIRWISE:
             for a in range(len(self.runs)):
-                found += [(f"compare/{a}-{b}.html", f"{names[a]} vs {names[b]}") for b in range(a + 1, len(self.runs))]
+                found += [
+                    (f"compare/{a}-{b}.html", f"{names[a]} vs {names[b]}")
+                    for b in range(a + 1, len(self.runs))
+                    if kinds[a].compares_runs and kinds[b] is kinds[a]
+                ]
         for k, run in enumerate(self.runs):
-            if len({r.mode for r in run.effective_rows()}) == 2:  # only episodes act in two modes
-                found.append((f"compare/{k}-gap.html", f"{names[k]}: composite vs primitive (reasoning-acting gap)"))
+            for view in kinds[k].run_comparisons(run.effective_rows()):
+                note = f" ({view.note})" if view.note else ""
+                found.append((f"compare/{k}-{view.name}.html", f"{names[k]}: {view.title}{note}"))
         return found
 
     def _compare(self, a: int, other: str) -> Resource | None:
-        from scratchworld_dist.reports import Selector, compare_runs
-
-        if a >= len(self.runs) or (other != "gap" and int(other) >= len(self.runs)):
+        if a >= len(self.runs) or (other.isdigit() and int(other) >= len(self.runs)):
             return None
-        if other == "gap":
-            path = self.runs[a].path
-            left, right = Selector(path=path, mode="composite"), Selector(path=path, mode="primitive")
-            title = f"{path.name}: composite vs primitive"
+        kind, path = self.runs[a].kind(), self.runs[a].path
+        if other.isdigit():
+            b = self.runs[int(other)].path
+            if not kind.compares_runs or self.runs[int(other)].kind() is not kind:
+                return None
+            title, make = f"{path.name} vs {b.name}", lambda: kind.comparison_html(path, b)
         else:
-            left, right = Selector(path=self.runs[a].path), Selector(path=self.runs[int(other)].path)
-            title = f"{left.path.name} vs {right.path.name}"
+            view = next((v for v in kind.run_comparisons(self.runs[a].effective_rows()) if v.name == other), None)
+            if view is None:
+                return None
+            title, make = f"{path.name}: {view.title}", lambda: kind.run_comparison_html(path, other)
         try:
-            comparison, error = compare_runs(left, right, resamples=2000), None
+            body, error = make(), None
         except RunDirError as exc:
-            comparison, error = None, str(exc)
-        return _html(render_page("compare.html", "../", title=title, c=comparison, error=error))
+            body, error = None, str(exc)
+        return _html(render_page("compare.html", "../", title=title, body=body, error=error))
 
 
 def _html(body: bytes) -> Resource:

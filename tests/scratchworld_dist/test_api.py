@@ -12,7 +12,8 @@ import pytest
 
 from scratchworld_dist import api
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist.reports import RunReport, report_schemas
+from scratchworld_dist.kinds.tasks.report import RunReport
+from scratchworld_dist.reports import report_schemas
 from scratchworld_dist.results import JobRecord, RunStore
 from tests.conftest import REPO
 from tests.support.cli_runner import invoke

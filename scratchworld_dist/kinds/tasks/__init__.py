@@ -1,4 +1,5 @@
-"""The task-episodes kind (``benchmark: tasks``), the default: planning episodes on a task suite."""
+"""The task-episodes kind (``benchmark: tasks``), the default: planning episodes on a task suite; its report, plots
+and comparisons are in ``report``."""
 
 from scratchworld_dist.kinds.tasks._kind import (
     TASKS,

@@ -9,27 +9,50 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports import (
+from scratchworld_dist.kinds.tasks.report import (
     DETERMINATE,
-    MISSING,
-    DiagnosisRow,
-    DiagnosisTable,
-    Gap,
-    Rate,
-    ReportFormat,
-    RunGroup,
-    mean_interval,
-    rate_cell,
+    RunReport,
     render_html_body,
     render_markdown,
+    report_of,
+    report_plots,
 )
+from scratchworld_dist.reports import MISSING, Rate, ReportFormat, RunGroup, mean_interval, plots_html, rate_cell
 from scratchworld_dist.results import JobRow, effective_rows
+
+
+class Gap(BaseModel):
+    """Composite SR minus primitive SR, in percentage points."""
+
+    points: float
+    half_width: float | None
+    """Of the 95% t interval over per-seed gaps, in points; None with fewer than two seeds."""
+
+    seeds: int
+    """Seeds with verdicts in both modes. With two or more, ``points`` is the mean of the per-seed gaps;
+    else it is the difference of the pooled SRs."""
+
+
+class TasksCells(BaseModel):
+    """The episode cells of a diagnosis row."""
+
+    composite_sr: Rate | None = None
+    primitive_sr: Rate | None = None
+    gap: Gap | None = None
+
+
+class TasksSection(BaseModel):
+    """The episode report's place in the report over several kinds."""
+
+    episodes: RunReport | None = None
 
 
 class TasksDiagnosis:
     """Each model's decided episode jobs, per mode."""
 
-    section_field = "episodes"
+    cells_model = TasksCells
+    axes_model = None
+    section_model = TasksSection
     runs_label = "Episode runs"
     definitions = (
         "Composite and primitive SR = passed / decided episode jobs. Gap = composite SR - primitive SR in "
@@ -41,33 +64,29 @@ class TasksDiagnosis:
         jobs = [row for run in group.runs for row in run.rows]
         return [(row.job_id, row) for row in effective_rows(jobs)]
 
-    def cells(self, units: Sequence[Any]) -> dict[str, Any]:
+    def cells(self, units: Sequence[JobRow]) -> TasksCells:
         decided = [row for row in units if row.outcome in DETERMINATE]
-        return {
-            "composite_sr": success_rate([r for r in decided if r.mode == "composite"]),
-            "primitive_sr": success_rate([r for r in decided if r.mode == "primitive"]),
-            "gap": sr_gap(decided),
-        }
+        return TasksCells(
+            composite_sr=success_rate([r for r in decided if r.mode == "composite"]),
+            primitive_sr=success_rate([r for r in decided if r.mode == "primitive"]),
+            gap=sr_gap(decided),
+        )
 
-    def axes(self, units: Sequence[Any]) -> dict[str, list[str]]:
-        return {}
+    def axes(self, units: Sequence[JobRow]) -> None:
+        return None
 
-    def header(self, table: DiagnosisTable) -> list[str]:
+    def header(self, table: object) -> list[str]:
         return ["composite SR", "primitive SR", "gap (pp, 95% CI)"]
 
-    def row(self, row: DiagnosisRow, table: DiagnosisTable) -> list[str]:
+    def row(self, row: TasksCells, table: object) -> list[str]:
         return [rate_cell(row.composite_sr), rate_cell(row.primitive_sr), gap_cell(row.gap)]
 
-    def section(self, group: RunGroup) -> BaseModel:
-        from scratchworld_dist.reports import report_of
-
+    def section(self, group: RunGroup) -> RunReport:
         return report_of(group.runs, group.warnings)
 
-    def render_section(self, section: Any, fmt: ReportFormat, group: RunGroup) -> str:
+    def render_section(self, section: RunReport, fmt: ReportFormat, group: RunGroup) -> str:
         if fmt == "md":
             return render_markdown(section)
-        from scratchworld_dist.reports import plots_html, report_plots
-
         plots = report_plots(group.paths, force=True)  # the runs were checked for merging already
         return render_html_body(section) + ("\n" + plots_html(plots) if plots else "")
 

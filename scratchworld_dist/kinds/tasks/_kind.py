@@ -14,9 +14,11 @@ from scratchworld_dist.kinds.base import Kind
 from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.kinds.tasks._settings import EPISODES_KEY, EpisodeSweep
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
-from scratchworld_dist.reports import DiagnosisPart, ReportFormat
+from scratchworld_dist.reports import DiagnosisPart, ReportFormat, plots_html
+from scratchworld_dist.results import JobRow
 from scratchworld_dist.suites import Suite, load_suite, stability_marks
 from scratchworld_dist.sweep import NO_MODEL, JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
+from scratchworld_dist.viewer import RunComparison
 from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import AgentRef, EpisodeClock, HarnessFingerprint, Mode, ModelSpec, WorkerJob
 from workers.kinds.tasks import EpisodeSpec
@@ -32,6 +34,7 @@ class TasksKind(Kind):
     episodes = True
     config_section = EpisodeSweep
     config_key = EPISODES_KEY  # not its name: ``tasks:`` is the selection every kind reads
+    compares_runs = True
     regrade_refusal: str | None = None
 
     def check_sweep(self, config: SweepConfig) -> None:
@@ -119,7 +122,7 @@ class TasksKind(Kind):
 
     def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
         # Reports import the plotting and statistics stacks: only a report asks for them.
-        from scratchworld_dist.reports import build_report, render, report_plots
+        from scratchworld_dist.kinds.tasks.report import build_report, render, report_plots
 
         members = list(run_dirs)
         report = build_report(members, force=force)
@@ -127,12 +130,12 @@ class TasksKind(Kind):
         return render(report, fmt, plots), report.warnings
 
     def report_model(self) -> type[BaseModel]:
-        from scratchworld_dist.reports import RunReport
+        from scratchworld_dist.kinds.tasks.report import RunReport
 
         return RunReport
 
     def report_data(self, run_dirs: Sequence[Path], *, force: bool) -> BaseModel:
-        from scratchworld_dist.reports import build_report
+        from scratchworld_dist.kinds.tasks.report import build_report
 
         return build_report(list(run_dirs), force=force)
 
@@ -143,10 +146,33 @@ class TasksKind(Kind):
         return DIAGNOSIS
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
-        from scratchworld_dist.reports import build_report, render_html_body
+        from scratchworld_dist.kinds.tasks.report import build_report, render_html_body
 
         report = build_report([run_dir])
         return render_html_body(report), report.warnings
+
+    def plots_html(self, rows: Sequence[JobRow]) -> str:
+        from scratchworld_dist.kinds.tasks.report import plots_of
+
+        return plots_html(plots_of(rows))
+
+    def comparison_html(self, a: Path, b: Path) -> str:
+        from scratchworld_dist.kinds.tasks.report import Selector, compare_runs, comparison_html
+
+        return comparison_html(compare_runs(Selector(path=a), Selector(path=b), resamples=2000))
+
+    def run_comparisons(self, rows: Sequence[JobRow]) -> list[RunComparison]:
+        if len({row.mode for row in rows}) < 2:  # one model's gap needs both modes
+            return []
+        return [RunComparison("gap", "composite vs primitive", "reasoning-acting gap")]
+
+    def run_comparison_html(self, run_dir: Path, name: str) -> str:
+        from scratchworld_dist.kinds.tasks.report import Selector, compare_runs, comparison_html
+
+        if name != "gap":
+            raise ValueError(f"episode runs have no comparison {name!r}")
+        left, right = Selector(path=run_dir, mode="composite"), Selector(path=run_dir, mode="primitive")
+        return comparison_html(compare_runs(left, right, resamples=2000))
 
     def commands(self) -> list[click.Command]:
         from scratchworld_dist.kinds.tasks.cli import COMMANDS

@@ -2,10 +2,12 @@
 blocks, checks it is one folder per side plus its metadata, installs it with pip, and runs it end to end:
 planned from its own suite, run by its own worker kind on the sweep's Ray workers with an agent from the group
 it declares, recorded with its name in the benchmark column and in a table of its own, configured by a section
-of its own, reported by its own report, shown by the viewer, resumed. It edits no file of this repository."""
+of its own, reported by its own report, shown by the viewer, resumed, and given its cells, axis and section in
+the diagnosis over several kinds. It edits no file of this repository."""
 
 from __future__ import annotations
 
+import json
 import re
 from collections.abc import Iterator
 from pathlib import Path
@@ -18,7 +20,7 @@ from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run import config_hash
 from scratchworld_dist.kinds import job_kind, kind_names
 from scratchworld_dist.kinds._registry import _registered
-from scratchworld_dist.reports import report_schemas
+from scratchworld_dist.reports import diagnosis_models, report_runs, report_schemas
 from scratchworld_dist.results import RunStore, kind_of_run
 from scratchworld_dist.results._schema import row_tables
 from scratchworld_dist.sweep import SweepConfig, load_sweep_config
@@ -26,6 +28,7 @@ from scratchworld_dist.viewer import ViewerSite
 from tests.conftest import REPO
 from tests.support.cli_runner import invoke
 from tests.support.plugins import install_package
+from tests.support.run_dirs import job, make_run
 from tests.support.sweep_driver import run_here
 from workers.agent_api import agent_class, registered_agents
 from workers.contract import AgentUnavailableError
@@ -130,6 +133,37 @@ def test_a_plugin_kind_brings_agents_in_a_group_it_declares(echo_plugin: Path, t
     message = str(caught.value)
     assert "agent 'oracle' is not registered for the echo benchmark (registered: echo)" in message, message
     assert "\n" not in message
+
+
+def test_a_plugin_kind_adds_its_cells_axis_and_section_to_the_diagnosis(echo_plugin: Path, tmp_path: Path) -> None:
+    echoes = [
+        job(f"e-{word}", outcome, benchmark="echo", agent="echo", model="-", task_id=word, mode="primitive")
+        for word, outcome in (("yes", "passed"), ("no", "failed"), ("maybe", "error"))
+    ]
+    echo_run = make_run(tmp_path / "echo", echoes, planned=3, tasks=3, config={"benchmark": "echo"}, name="echo")
+    episode = [job("t1", benchmark="tasks", agent="echo", model="-")]  # the same scripted agent, in an episode
+    episodes = make_run(tmp_path / "episodes", episode, planned=1, tasks=1, name="episodes")
+    text, _ = report_runs([echo_run, episodes], "json")
+    data = json.loads(text)
+    # The plugin's section, axis and cells come after the built-in kinds', where its rank puts them.
+    assert list(data) == ["version", "diagnosis", "episodes", "drag", "perception", "echo"]
+    assert data["echo"] == {"echoed_yes": 1, "jobs": 3}
+    table = data["diagnosis"]
+    assert list(table) == ["version", "runs", "drag_settings", "perception_kinds", "echo_words", "warnings", "rows"]
+    assert table["echo_words"] == ["maybe", "no", "yes"]
+    (row,) = table["rows"]
+    assert list(row)[-2:] == ["perception", "echo_yes"] and row["label"] == "echo [scripted]"
+    assert row["echo_yes"] == {"value": 0.5, "n": 2} and row["composite_sr"] == {"value": 1.0, "n": 1}
+    report = diagnosis_models().report.model_validate_json(text)
+    assert report.echo.echoed_yes == 1 and report.diagnosis.rows[0].echo_yes.n == 2  # typed, not extra fields
+    markdown, _ = report_runs([echo_run, episodes], "md")
+    assert "| echo yes (maybe, no, yes) |" in markdown and "| 50.0% (n=2) |" in markdown
+    assert "Echo runs: echo (" in markdown and "Echo yes = passed / decided echo jobs." in markdown
+    assert markdown.rstrip().endswith("1 of 3 echoed yes")
+    schema = report_schemas()["diagnosis-report.schema.json"]
+    assert schema["properties"]["echo"]["anyOf"][0] == {"$ref": "#/$defs/EchoReport"}
+    assert "echo_yes" in schema["$defs"]["DiagnosisRow"]["properties"]
+    assert "echo_words" in schema["$defs"]["DiagnosisTable"]["properties"]
 
 
 def test_a_plugin_section_is_checked_and_written_back_under_its_name(echo_plugin: Path, tmp_path: Path) -> None:

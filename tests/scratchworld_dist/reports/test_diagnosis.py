@@ -7,12 +7,12 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.kinds.tasks._diagnosis import sr_gap
-from scratchworld_dist.reports import DiagnosisReport, report_runs
-from scratchworld_dist.reports._diagnosis import DiagnosisRow, DiagnosisTable
-from scratchworld_dist.reports._diagnosis_cells import MISSING
+from scratchworld_dist.reports import MISSING, diagnosis_models, report_runs
+from scratchworld_dist.reports._diagnosis import models_of
 from scratchworld_dist.reports._model_identity import ModelResolver
 from scratchworld_dist.reports._run_groups import run_benchmark
 from scratchworld_dist.results import RunManifest
@@ -92,12 +92,12 @@ def three_runs(root: Path) -> list[Path]:
     return [episode_run(root / "episodes"), drag_run(root / "drag"), perception_run(root / "perception")]
 
 
-def table_of(paths: list[Path]) -> DiagnosisTable:
+def table_of(paths: list[Path]) -> Any:
     text, _ = report_runs(paths, "json")
-    return DiagnosisReport.model_validate_json(text).diagnosis
+    return diagnosis_models().report.model_validate_json(text).diagnosis
 
 
-def by_label(table: DiagnosisTable) -> dict[str, DiagnosisRow]:
+def by_label(table: Any) -> dict[str, Any]:
     return {row.label: row for row in table.rows}
 
 
@@ -259,7 +259,7 @@ def test_cli_report_of_three_benchmarks(tmp_path: Path) -> None:
         "| perception existence (norm. / strict) | perception overall (norm. / strict) |"
     )
     as_json = invoke("report", *paths, "--format", "json")
-    report = DiagnosisReport.model_validate(json.loads(as_json.stdout))
+    report = diagnosis_models().report.model_validate(json.loads(as_json.stdout))
     assert report.episodes is not None and report.drag is not None and report.perception is not None
     assert len(report.diagnosis.rows) == 4
     out = tmp_path / "diagnosis.html"
@@ -281,3 +281,59 @@ def test_one_benchmark_keeps_its_own_report(tmp_path: Path) -> None:
     episodes = episode_run(tmp_path / "episodes")
     text, _ = report_runs([episodes, episodes], "md")
     assert text.startswith("# ScratchWorld report\n") and "diagnosis" not in text
+
+
+class _Part:
+    """A diagnosis part as a plugin would write one, with the three models the core builds on."""
+
+    runs_label = definitions = ""
+
+    def __init__(self, cells: type[BaseModel], axes: type[BaseModel] | None, section: type[BaseModel]) -> None:
+        self.cells_model, self.axes_model, self.section_model = cells, axes, section
+
+
+class _Cells(BaseModel):
+    shared: int | None = None
+
+
+class _Section(BaseModel):
+    mine: int | None = None
+
+
+def test_the_models_join_the_parts_fields_in_the_kinds_order_after_the_core_s() -> None:
+    models = diagnosis_models()
+    assert diagnosis_models() is models  # built once for the installed kinds
+    row, table, report = models.row, models.table, models.report
+    assert list(row.model_fields)[:5] == ["label", "agent", "scripted", "labels", "models"]
+    assert list(row.model_fields)[5:] == [
+        *("composite_sr", "primitive_sr", "gap", "drag_pass_at_1", "drag_start_accuracy", "drag_end_accuracy"),
+        "perception",
+    ]
+    assert list(table.model_fields) == ["version", "runs", "drag_settings", "perception_kinds", "warnings", "rows"]
+    assert list(report.model_fields) == ["version", "diagnosis", "episodes", "drag", "perception"]
+    assert table.model_fields["rows"].annotation == list[row] and report.model_fields["diagnosis"].annotation is table
+
+
+def test_a_part_s_fields_need_defaults_and_names_of_their_own() -> None:
+    class Required(BaseModel):
+        needed: int
+
+    class Clash(BaseModel):
+        label: str | None = None
+
+    class TwoSections(BaseModel):
+        first: int | None = None
+        second: int | None = None
+
+    with pytest.raises(TypeError, match=r"Required\.needed needs a default"):
+        models_of((_Part(Required, None, _Section),))
+    with pytest.raises(TypeError, match=r"Clash\.label is a field of the core already"):
+        models_of((_Part(Clash, None, _Section),))
+    with pytest.raises(TypeError, match=r"_Cells\.shared is a field of _Cells already"):
+        models_of((_Part(_Cells, None, _Section), _Part(_Cells, None, _Section)))
+    with pytest.raises(TypeError, match=r"section_model must have one field"):
+        models_of((_Part(_Cells, None, TwoSections),))
+    built = models_of((_Part(_Cells, None, _Section),))
+    assert list(built.report(diagnosis=built.table(runs={}, warnings=[], rows=[])).model_dump()) == [
+        *("version", "diagnosis", "mine"),
+    ]

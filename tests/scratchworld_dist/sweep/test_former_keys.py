@@ -18,7 +18,7 @@ from scratchworld_dist import api
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run import _hash_as_now, config_hash
 from scratchworld_dist.kinds.tasks import EPISODES_KEY, EpisodeSweep, episode_settings
-from scratchworld_dist.reports._runs import jobs_per_group
+from scratchworld_dist.kinds.tasks.report._build import jobs_per_group
 from scratchworld_dist.results import read_manifest
 from scratchworld_dist.sweep import SweepConfig, SweepOverrides, load_sweep_config, moved_keys, plan_run
 from scratchworld_dist.viewer import ViewerSite

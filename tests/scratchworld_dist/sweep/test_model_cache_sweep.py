@@ -15,7 +15,7 @@ import yaml
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.kinds.tasks import EpisodeBody, EpisodeMatrix, plan_jobs, read_task
-from scratchworld_dist.reports import build_report, render_html, render_markdown
+from scratchworld_dist.kinds.tasks.report import build_report, render_html, render_markdown
 from scratchworld_dist.results import RunStore, record_of, table_schema
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, load_sweep_config, worker_job

@@ -28,7 +28,7 @@ from tests.conftest import REPO
 from tests.support.cli_runner import invoke
 from tests.support.openai_server import Behaviour, OpenAIServer, reply
 from tests.support.projects import counter_project
-from tests.support.run_dirs import job, make_run, regrade_run
+from tests.support.run_dirs import drag_record, job, make_run, regrade_run
 from tests.support.sweep_driver import run_here
 from workers.node import default_chromium
 
@@ -300,6 +300,31 @@ def test_a_regrade_shows_its_source_and_the_verdicts_it_changed(tmp_path: Path) 
     run_page = site.get("runs/1/index.html")
     assert run_page is not None and run_page.body is not None
     assert f"regrade of</th><td>sweep ({source.resolve()})" in run_page.body.decode()
+
+
+def test_comparison_pages_are_the_ones_a_run_s_kind_offers(tmp_path: Path) -> None:
+    rows = [
+        job(f"{mode}-{i}", outcome, mode=mode, task_id=f"t{i}", task_hash=f"h{i}")
+        for mode in ("composite", "primitive")
+        for i, outcome in enumerate(("passed", "failed"))
+    ]
+    episodes = make_run(tmp_path / "episodes", rows, planned=4, tasks=2)
+    drags = make_run(tmp_path / "drag", [drag_record("a", 0, "passed", suite_hash="d")], planned=1, tasks=1)
+    site = ViewerSite([episodes, drags])
+    index = site.get("index.html")
+    assert index is not None and index.body is not None
+    links = re.findall(r'href="(compare/[^"]+)"', index.body.decode())
+    assert links == ["compare/0-gap.html"]  # episodes vs drag: no page, as drag runs compare with nothing
+    assert "0: episodes: composite vs primitive (reasoning-acting gap)" in index.body.decode()
+    gap = site.get("compare/0-gap.html")
+    assert gap is not None and gap.body is not None
+    text = gap.body.decode()
+    assert "<h1>episodes: composite vs primitive</h1>" in text and "<p>A: gpt (run sweep, 2 jobs)" in text
+    for missing in ("compare/0-1.html", "compare/1-0.html", "compare/1-gap.html", "compare/0-nothing.html"):
+        assert site.get(missing) is None, missing
+    assert "compare/0-gap.html" in set(site.page_paths())
+    drag_page = site.get("runs/1/index.html")
+    assert drag_page is not None and drag_page.body is not None and b"sw-plots" not in drag_page.body
 
 
 def test_an_export_through_a_symlinked_run_copies_the_final_project_and_lists_its_scripts(tmp_path: Path) -> None:

@@ -8,15 +8,14 @@ from pathlib import Path
 import click
 
 from scratchworld_dist.cli._output import emit
-from scratchworld_dist.reports import (
-    FORMATS,
-    ReportFormat,
+from scratchworld_dist.kinds.tasks.report import (
     compare_runs,
     parse_selector,
     rank_systems,
     render_comparison,
     render_ranking,
 )
+from scratchworld_dist.reports import FORMATS, ReportFormat
 
 
 @click.command("compare")

@@ -59,7 +59,7 @@ def export_runs(run_dirs: Sequence[Path], fmt: ExportFormat, out: Path, *, force
 
 
 def _leaderboard(run_dirs: Sequence[Path], out: Path, force: bool) -> ExportSummary:
-    from scratchworld_dist.reports import build_report
+    from scratchworld_dist.kinds.tasks.report import build_report
 
     report = build_report(list(run_dirs), force=force)
     entries = leaderboard(report)

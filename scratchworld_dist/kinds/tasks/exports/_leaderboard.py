@@ -13,7 +13,7 @@ import io
 from pydantic import BaseModel
 from scipy.stats import binomtest
 
-from scratchworld_dist.reports import ReportRow, RunReport
+from scratchworld_dist.kinds.tasks.report import ReportRow, RunReport
 
 
 class LeaderboardEntry(BaseModel):

@@ -20,7 +20,7 @@ from scratchworld_dist.kinds.tasks.regrade._manifest import regrade_manifest
 from scratchworld_dist.kinds.tasks.regrade._plan import RegradeJob, RegradePlan, plan_regrade
 from scratchworld_dist.kinds.tasks.regrade._record import RegradeRecorder
 from scratchworld_dist.kinds.tasks.regrade._source import read_source
-from scratchworld_dist.reports import VerdictChange, verdict_changes
+from scratchworld_dist.kinds.tasks.report import VerdictChange, verdict_changes
 from scratchworld_dist.results import RunManifest, RunStore, Session, now, write_manifest
 from scratchworld_dist.scheduling import (
     Scheduler,

@@ -1,12 +1,14 @@
-"""``Comparison`` as Markdown, as an HTML page around that Markdown, or as JSON."""
+"""``Comparison`` as Markdown, as an HTML page around that Markdown, or as JSON; and as the viewer shows it."""
 
 from __future__ import annotations
 
 from collections import Counter
 
-from scratchworld_dist.reports._compare import Comparison, Difference, RegradeNote, SideInfo, TaskOutcome
-from scratchworld_dist.reports._render import ReportFormat, markdown_table, render_text
-from scratchworld_dist.reports._stable_only import stable_only_text
+import jinja2
+
+from scratchworld_dist.kinds.tasks.report._compare import Comparison, Difference, RegradeNote, SideInfo, TaskOutcome
+from scratchworld_dist.kinds.tasks.report._stable_only import stable_only_text
+from scratchworld_dist.reports import ReportFormat, markdown_table, render_text
 
 _DEFINITIONS = (
     "Only jobs both systems ran and both got a verdict for are compared (errors have no verdict). "
@@ -96,3 +98,17 @@ def _metric(name: str, d: Difference) -> list[str]:
 def _points(value: float) -> str:
     """A difference of rates in percentage points, signed."""
     return f"{value * 100:+.1f} pp"
+
+
+def comparison_html(comparison: Comparison) -> str:
+    """The comparison as the viewer's comparison page shows it: an HTML fragment of its tables, escaped."""
+    return _VIEWER.get_template("comparison.html").render(c=comparison)
+
+
+_VIEWER = jinja2.Environment(
+    loader=jinja2.PackageLoader("scratchworld_dist.kinds.tasks.report", "templates"),
+    autoescape=True,
+    undefined=jinja2.StrictUndefined,
+    trim_blocks=True,
+    lstrip_blocks=True,
+)

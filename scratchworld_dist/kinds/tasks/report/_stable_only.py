@@ -13,8 +13,8 @@ from collections.abc import Sequence
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports._runs import LoadedRun, tests_of_attempts
-from scratchworld_dist.reports._summary import DETERMINATE
+from scratchworld_dist.kinds.tasks.report._summary import DETERMINATE
+from scratchworld_dist.reports import LoadedRun, tests_of_attempts
 from scratchworld_dist.results import JobRow
 
 NO_STABLE_TEST = "no stable test"

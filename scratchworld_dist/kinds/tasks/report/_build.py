@@ -10,9 +10,8 @@ from collections import Counter, defaultdict
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
-from scratchworld_dist.reports._runs import LoadedRun, jobs_per_group, load_runs
-from scratchworld_dist.reports._stability_section import stability_section
-from scratchworld_dist.reports._summary import (
+from scratchworld_dist.kinds.tasks.report._stability_section import stability_section
+from scratchworld_dist.kinds.tasks.report._summary import (
     CATEGORIES,
     DETERMINATE,
     ErrorCount,
@@ -21,7 +20,9 @@ from scratchworld_dist.reports._summary import (
     ordered_categories,
     summarize,
 )
-from scratchworld_dist.results import JobRow, effective_rows
+from scratchworld_dist.reports import LoadedRun, load_runs
+from scratchworld_dist.results import JobRow, RunManifest, effective_rows
+from scratchworld_dist.sweep import stored_section
 
 _Group = tuple[str, str, str]
 """(agent, model, mode): what one table row stands for."""
@@ -105,6 +106,22 @@ def _missing_per_group(runs: Sequence[LoadedRun]) -> dict[_Group, int | None]:
             else:
                 missing[group] = known + max(planned - len(jobs), 0)
     return missing
+
+
+def jobs_per_group(manifest: RunManifest) -> int | None:
+    """Planned jobs of each agent/model and mode (tasks x seeds), when the manifest's config says.
+
+    The sweep plans models x modes x tasks x seeds; the product is checked against
+    ``planned_jobs`` so that a config this cannot read yields ``None`` rather than a wrong count.
+    """
+    config = manifest.config
+    seeds, modes, models = config.get("seeds"), stored_section(config, "tasks").get("modes"), config.get("models")
+    if not isinstance(seeds, list) or not isinstance(modes, list) or not isinstance(models, list | None):
+        return None
+    per_group = manifest.suite.tasks * len(seeds)
+    if max(len(models or []), 1) * len(modes) * per_group != manifest.planned_jobs:
+        return None
+    return per_group
 
 
 def _error_counts(attempts: Iterable[JobRow], effective: Iterable[JobRow]) -> list[ErrorCount]:

@@ -18,12 +18,25 @@ from typing import Literal, get_args
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.reports._compare_stats import Interval, McNemar, mcnemar_exact, paired_bootstrap
-from scratchworld_dist.reports._later_fields import LaterFields
-from scratchworld_dist.reports._runs import LoadedRun, incompatibilities, load_run
-from scratchworld_dist.reports._stable_only import StableOnly, left_out_tests, stable_only_note, stable_verdicts
-from scratchworld_dist.reports._summary import DETERMINATE, row_label
-from scratchworld_dist.reports._verdict_changes import VerdictChange, verdict_changes
+from scratchworld_dist.kinds.tasks.report._stable_only import (
+    StableOnly,
+    left_out_tests,
+    stable_only_note,
+    stable_verdicts,
+)
+from scratchworld_dist.kinds.tasks.report._summary import DETERMINATE
+from scratchworld_dist.kinds.tasks.report._verdict_changes import VerdictChange, verdict_changes
+from scratchworld_dist.reports import (
+    Interval,
+    LaterFields,
+    LoadedRun,
+    McNemar,
+    incompatibilities,
+    load_run,
+    mcnemar_exact,
+    paired_bootstrap,
+    row_label,
+)
 from scratchworld_dist.results import JobRow, RunManifest, effective_rows
 from workers.contract import Mode
 

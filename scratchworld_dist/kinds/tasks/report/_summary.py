@@ -12,9 +12,15 @@ from collections.abc import Sequence
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports._later_fields import LaterFields
-from scratchworld_dist.reports._metrics import MeanInterval, mean_interval, mean_pass_at_k, mean_pass_hat_k
-from scratchworld_dist.reports._stability_section import StabilitySection
+from scratchworld_dist.kinds.tasks.report._stability_section import StabilitySection
+from scratchworld_dist.reports import (
+    LaterFields,
+    MeanInterval,
+    mean_interval,
+    mean_pass_at_k,
+    mean_pass_hat_k,
+    row_label,
+)
 from scratchworld_dist.results import JobRow
 
 REPORT_VERSION = 1
@@ -182,13 +188,6 @@ class RunReport(LaterFields):
     stability: StabilitySection | None = None
     """The runs' known test stability: tasks with unstable tests and the failed verdicts resting on them alone;
     None (and left out of the JSON) when no run carries stability data."""
-
-
-def row_label(agent: str, model: str) -> str:
-    """Scripted agents are named by agent, LLM agents by their model label."""
-    if agent == "llm":
-        return model
-    return agent if model == "-" else f"{agent}/{model}"
 
 
 def ordered_categories(seen: set[str]) -> list[str]:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from scratchworld_dist.reports import holm
+from scratchworld_dist.kinds.tasks.report import holm
 from tests.support.cli_runner import invoke
 from tests.support.run_dirs import job, make_run
 

@@ -14,12 +14,8 @@ from itertools import combinations
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports._compare import Selector, _system, compare_loaded
-from scratchworld_dist.reports._compare_stats import Interval
-from scratchworld_dist.reports._later_fields import LaterFields
-from scratchworld_dist.reports._render import Block, Heading, Paragraph, Table, blocks_html, blocks_markdown, html_page
-from scratchworld_dist.reports._runs import load_run
-from scratchworld_dist.reports._stable_only import (
+from scratchworld_dist.kinds.tasks.report._compare import Selector, _system, compare_loaded
+from scratchworld_dist.kinds.tasks.report._stable_only import (
     StableOnly,
     StableSide,
     left_out_tests,
@@ -27,7 +23,19 @@ from scratchworld_dist.reports._stable_only import (
     stable_only_text,
     stable_verdicts,
 )
-from scratchworld_dist.reports._summary import DETERMINATE
+from scratchworld_dist.kinds.tasks.report._summary import DETERMINATE
+from scratchworld_dist.reports import (
+    Block,
+    Heading,
+    Interval,
+    LaterFields,
+    Paragraph,
+    Table,
+    blocks_html,
+    blocks_markdown,
+    html_page,
+    load_run,
+)
 
 
 class RankedSystem(BaseModel):

@@ -1,10 +1,9 @@
-"""The numbers behind the report's plots, computed without drawing anything.
+"""The episode report's plots: their numbers computed without drawing anything, and drawn.
 
-Each plot is a ``PlotData``: what to draw and a table of exactly the numbers drawn, so a reader
-(or a screen reader, or a test) gets the values without reading them off a chart. Rates come from
-``summarize`` over the effective rows (one per job), as in the report's tables, so a bar and the
-main table never disagree. A plot with nothing to show (no primitive mode for the gap, one seed
-for pass@k, no error for errors over time) is left out rather than drawn empty.
+Each plot is a ``PlotData`` (``scratchworld_dist.reports``): what to draw and a table of exactly the numbers
+drawn. Rates come from ``summarize`` over the effective rows (one per job), as in the report's tables, so a bar
+and the main table never disagree. A plot with nothing to show (no primitive mode for the gap, one seed for
+pass@k, no error for errors over time) is left out rather than drawn empty.
 """
 
 from __future__ import annotations
@@ -13,74 +12,18 @@ import statistics
 from collections import Counter, defaultdict
 from collections.abc import Sequence
 from datetime import UTC, datetime, timedelta
-from typing import Literal
-
-from pydantic import BaseModel
+from pathlib import Path
 
 from scratchworld_dist.kinds import DEFAULT_KIND, UnknownKindError, job_kind
-from scratchworld_dist.reports._metrics import mean_pass_at_k
-from scratchworld_dist.reports._summary import DETERMINATE, ReportRow, ordered_categories, summarize
+from scratchworld_dist.kinds.tasks.report._summary import DETERMINATE, ReportRow, ordered_categories, summarize
+from scratchworld_dist.reports import Box, Plot, PlotData, Point, Series, load_runs, mean_pass_at_k
 from scratchworld_dist.results import JobRow, effective_rows
-
-PlotKind = Literal["bars", "front", "lines", "boxes", "stacked"]
 
 _BIN_WIDTHS_S = (60, 300, 600, 900, 1800, 3600, 7200, 10800, 21600, 43200, 86400, 172800, 604800)
 """Bin widths errors over time may use, from one minute to a week: the smallest that fits."""
 
 MAX_BINS = 30
 """Errors over time get at most this many bins (wider ones past a week's width, in whole days)."""
-
-
-class Series(BaseModel):
-    """One named series: a value per tick (``None`` where it has none)."""
-
-    name: str
-    values: list[float | None]
-
-
-class Point(BaseModel):
-    """One agent/model and mode in the cost-SR plane."""
-
-    name: str
-    cost_usd: float
-    sr: float
-    front: bool
-    """On the Pareto front: no other point has a higher SR for at most its cost."""
-
-
-class Box(BaseModel):
-    """The distribution of steps to success of one agent/model and mode (whiskers at min and max)."""
-
-    name: str
-    n: int
-    low: float
-    q1: float
-    median: float
-    q3: float
-    high: float
-    mean: float
-
-
-class PlotData(BaseModel):
-    """One plot: what it shows, how it is drawn, and the table of its numbers."""
-
-    key: str
-    title: str
-    caption: str
-    kind: PlotKind
-    x_label: str
-    y_label: str
-    ticks: list[str] = []
-    """Categorical x positions of ``bars``, ``lines`` and ``stacked``."""
-
-    series: list[Series] = []
-    notes: list[str] = []
-    """Text drawn above each tick (``bars``), e.g. the gap between two bars."""
-
-    points: list[Point] = []
-    boxes: list[Box] = []
-    headers: list[str]
-    rows: list[list[str]]
 
 
 def _episodes(kind: str) -> bool:
@@ -115,6 +58,26 @@ def plot_data(attempts: Sequence[JobRow]) -> list[PlotData]:
         errors_over_time(attempts),
     ]
     return [plot for plot in plots if plot is not None]
+
+
+def report_plots(run_dirs: Sequence[Path], *, force: bool = False) -> list[Plot]:
+    """The plots of the runs' episode results; those with nothing to show are left out, drag runs get none.
+
+    Runs are read and checked as for ``build_report`` (``RunDirError`` when they cannot be read or
+    merged without ``force``).
+    """
+    runs, _ = load_runs(run_dirs, force=force)
+    return plots_of([row for run in runs for row in run.rows])
+
+
+def plots_of(rows: Sequence[JobRow]) -> list[Plot]:
+    """The plots of attempt rows already read (each job counts once, as in ``report_plots``)."""
+    data = plot_data(rows)
+    if not data:
+        return []
+    from scratchworld_dist.reports import draw_plots  # imports matplotlib: only when drawing
+
+    return draw_plots(data)
 
 
 def sr_by_category(rows: Sequence[ReportRow], categories: Sequence[str]) -> PlotData | None:
@@ -186,8 +149,7 @@ def cost_vs_sr(rows: Sequence[ReportRow]) -> PlotData | None:
         return None  # scripted agents only: every point at $0
     front = pareto_front([(row.cost_usd, row.sr or 0.0) for row in rated])
     points = [
-        Point(name=_name(row), cost_usd=row.cost_usd, sr=(row.sr or 0.0) * 100, front=i in front)
-        for i, row in enumerate(rated)
+        Point(name=_name(row), x=row.cost_usd, y=(row.sr or 0.0) * 100, front=i in front) for i, row in enumerate(rated)
     ]
     return PlotData(
         key="cost_vs_sr",

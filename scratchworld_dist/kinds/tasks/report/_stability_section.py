@@ -12,7 +12,7 @@ from collections.abc import Iterable, Sequence
 
 from pydantic import BaseModel
 
-from scratchworld_dist.reports._runs import LoadedRun, tests_of_attempts
+from scratchworld_dist.reports import LoadedRun, tests_of_attempts
 from scratchworld_dist.results import JobRow
 
 

@@ -16,15 +16,8 @@ from click.testing import CliRunner
 
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist.cli._main import cli, main
-from scratchworld_dist.reports import (
-    Comparison,
-    Selector,
-    compare_runs,
-    mcnemar_exact,
-    paired_bootstrap,
-    parse_selector,
-    render_comparison,
-)
+from scratchworld_dist.kinds.tasks.report import Comparison, Selector, compare_runs, parse_selector, render_comparison
+from scratchworld_dist.reports import mcnemar_exact, paired_bootstrap
 from scratchworld_dist.results import JobRow
 from tests.support.run_dirs import HARNESS, OTHER_HARNESS, T0, job, make_run, regrade_run
 

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from scratchworld_dist.reports import build_report, render_markdown
+from scratchworld_dist.kinds.tasks.report import build_report, render_markdown
+from scratchworld_dist.kinds.tasks.report._stable_only import left_out_tests, stable_verdicts
 from scratchworld_dist.reports._runs import load_run
-from scratchworld_dist.reports._stable_only import left_out_tests, stable_verdicts
 from tests.support.cli_runner import invoke
 from tests.support.run_dirs import job, job_with_tests, make_run
 from tests.support.unstable_runs import BEAT_NOTE, HOSTILE, HOSTILE_NOTE, MARKS, STRONG, WEAK, marked_run

@@ -10,8 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from scratchworld_dist.reports import Plot, plots_html, report_plots
-from scratchworld_dist.reports._plot_data import bin_width, pareto_front
+from scratchworld_dist.kinds.tasks.report import report_plots
+from scratchworld_dist.kinds.tasks.report._plots import bin_width, pareto_front
+from scratchworld_dist.reports import Plot, plots_html
 from scratchworld_dist.results import JobRow
 from tests.support.cli_runner import invoke
 from tests.support.run_dirs import T0, job, make_run
