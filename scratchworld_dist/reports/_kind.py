@@ -14,11 +14,16 @@ from scratchworld_dist.reports._render import ReportFormat
 
 
 class KindReport(KindTraits):
-    """The reports facet of a kind. A kind overrides ``report_data``, ``report_model`` and ``report``; the
-    defaults are no diagnosis part, and its report's schema as the only one it publishes."""
+    """The reports facet of a kind. A kind gives ``report_data``, ``report_model`` and ``render_report`` (or
+    ``report`` itself); the defaults are no diagnosis part, and its report's schema as the only one it publishes."""
 
     def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
         """This kind's own report over its runs, and its warnings (``RunDirError`` when they cannot be merged)."""
+        data = self.report_data(run_dirs, force=force)
+        return self.render_report(data, fmt), list(getattr(data, "warnings", []))
+
+    def render_report(self, data: BaseModel, fmt: ReportFormat) -> str:
+        """``report_data``'s report as text in ``fmt`` (``md``, ``html`` or ``json``)."""
         raise NotImplementedError(f"benchmark {self.name} has no report")
 
     def report_data(self, run_dirs: Sequence[Path], *, force: bool) -> BaseModel:

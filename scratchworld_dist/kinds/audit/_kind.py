@@ -80,11 +80,11 @@ class AuditKind(Kind):
 
         return build_audit_report(run_dirs, force=force)
 
-    def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
-        from scratchworld_dist.kinds.audit._report import build_audit_report, render_audit
+    def render_report(self, data: BaseModel, fmt: ReportFormat) -> str:
+        from scratchworld_dist.kinds.audit._report import AuditReport, render_audit
 
-        report = build_audit_report(run_dirs, force=force)
-        return render_audit(report, fmt), report.warnings
+        assert isinstance(data, AuditReport)
+        return render_audit(data, fmt)
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         """The report on the run's page, its findings linking to their job pages next to it."""

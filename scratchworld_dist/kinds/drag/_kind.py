@@ -13,8 +13,7 @@ import click
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist.kinds._single_answer import refuse_episode_sections, section_agents
-from scratchworld_dist.kinds.base import Kind
+from scratchworld_dist.kinds._single_answer import SingleAnswerKind
 from scratchworld_dist.kinds.drag._plan import DragBody, plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag._rows import DragRow, drag_row
 from scratchworld_dist.kinds.drag._settings import DragSweep
@@ -30,12 +29,11 @@ from scratchworld_dist.sweep import (
     suite_hash,
     wanted_ids,
 )
-from workers.agent_api import agent_class
-from workers.contract import AgentRef, HarnessFingerprint, JobResult, WorkerJob
+from workers.contract import HarnessFingerprint, JobResult, WorkerJob
 from workers.kinds.drag import DragAttempt, DragSpec
 
 
-class DragKind(Kind):
+class DragKind(SingleAnswerKind):
     """Model x setting x task x seed: one drag each, in a fresh editor framed on the task's view."""
 
     name = "drag"
@@ -45,16 +43,6 @@ class DragKind(Kind):
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"drags": DragRow})
     config_section: type[BaseModel] | None = DragSweep
     regrade_refusal: str | None = "a drag benchmark run stores drags, not projects: nothing to regrade"
-
-    def check_sweep(self, config: SweepConfig) -> None:
-        refuse_episode_sections(config, self.title)
-
-    def needs_model(self, config: SweepConfig) -> bool:
-        return any(agent_class(agent.name, self.name).needs_model for agent in self.agents(config))
-
-    def agents(self, config: SweepConfig) -> list[AgentRef]:
-        """The agents the sweep compares: ``drag.agents``, else ``agent``."""
-        return section_agents(config, config.section(self.name, DragSweep).agents)
 
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
         """The suite's tasks (and those of each optional suite that is present) with a view, selected by
@@ -126,11 +114,11 @@ class DragKind(Kind):
 
         return is_drag_run(run_dir)
 
-    def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
-        from scratchworld_dist.kinds.drag._table import build_drag_report, render_drag
+    def render_report(self, data: BaseModel, fmt: ReportFormat) -> str:
+        from scratchworld_dist.kinds.drag._table import DragTable, render_drag
 
-        drag = build_drag_report(list(run_dirs), force=force)
-        return render_drag(drag, fmt), drag.warnings
+        assert isinstance(data, DragTable)
+        return render_drag(data, fmt)
 
     def report_model(self) -> type[BaseModel]:
         from scratchworld_dist.kinds.drag._table import DragTable

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import ConfigDict, Field, field_validator
 
-from scratchworld_dist.kinds._single_answer import checked_agents
+from scratchworld_dist.kinds._single_answer import AgentsSection, checked_agents
 from workers.agent_api import DragSetting
 from workers.contract import AgentRef
 from workers.kinds.drag import DragType
 
 
-class DragSweep(BaseModel):
+class DragSweep(AgentsSection):
     """The drag benchmark's own axes (``benchmark: drag``): jobs are model x setting x task x seed."""
 
     model_config = ConfigDict(extra="forbid")

@@ -1,6 +1,6 @@
 """The perception QA kind (``benchmark: perception``): planning, rows and report of one answer per job."""
 
-from scratchworld_dist.kinds.perception._kind import PERCEPTION, PerceptionJobKind
+from scratchworld_dist.kinds.perception._kind import PERCEPTION, PerceptionKind
 from scratchworld_dist.kinds.perception._plan import (
     PerceptionBody,
     PerceptionContent,
@@ -16,7 +16,7 @@ __all__ = [
     "PerceptionBody",
     "PerceptionContent",
     "PerceptionItemInfo",
-    "PerceptionJobKind",
+    "PerceptionKind",
     "PerceptionRow",
     "plan_perception_jobs",
     "read_perception_item",

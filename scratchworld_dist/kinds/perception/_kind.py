@@ -12,8 +12,7 @@ from typing import ClassVar
 import click
 from pydantic import BaseModel
 
-from scratchworld_dist.kinds._single_answer import refuse_episode_sections, section_agents
-from scratchworld_dist.kinds.base import Kind
+from scratchworld_dist.kinds._single_answer import SingleAnswerKind
 from scratchworld_dist.kinds.perception._panel import answer_panel
 from scratchworld_dist.kinds.perception._plan import PerceptionContent, plan_perception_jobs, select_perception_items
 from scratchworld_dist.kinds.perception._rows import PerceptionRow, perception_row
@@ -22,12 +21,11 @@ from scratchworld_dist.reports import DiagnosisPart, ReportFormat
 from scratchworld_dist.results import SharedFiles, shared_image_path
 from scratchworld_dist.sweep import ItemContent, JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
 from scratchworld_dist.viewer import AttemptPanel
-from workers.agent_api import agent_class
-from workers.contract import AgentRef, HarnessFingerprint, JobResult, WorkerJob
+from workers.contract import HarnessFingerprint, JobResult, WorkerJob
 from workers.kinds.perception import PerceptionAttempt, PerceptionSpec
 
 
-class PerceptionJobKind(Kind):
+class PerceptionKind(SingleAnswerKind):
     """Agent x model x item x seed: one answer each, about a screenshot; no browser."""
 
     name = "perception"
@@ -37,16 +35,6 @@ class PerceptionJobKind(Kind):
     tables: ClassVar[Mapping[str, type[BaseModel]]] = MappingProxyType({"perception": PerceptionRow})
     config_section: type[BaseModel] | None = PerceptionSweep
     regrade_refusal: str | None = "a perception benchmark run stores answers, not projects: nothing to regrade"
-
-    def check_sweep(self, config: SweepConfig) -> None:
-        refuse_episode_sections(config, self.title)
-
-    def needs_model(self, config: SweepConfig) -> bool:
-        return any(agent_class(agent.name, self.name).needs_model for agent in self.agents(config))
-
-    def agents(self, config: SweepConfig) -> list[AgentRef]:
-        """The agents the sweep compares: ``perception.agents``, else ``agent``."""
-        return section_agents(config, config.section(self.name, PerceptionSweep).agents)
 
     def plan(self, config: SweepConfig, harness: HarnessFingerprint, notice: Notice) -> RunPlan:
         """The items of the suite (and of each optional suite that is present), selected by ``tasks.ids`` and
@@ -91,11 +79,11 @@ class PerceptionJobKind(Kind):
 
         return is_perception_run(run_dir)
 
-    def report(self, run_dirs: Sequence[Path], fmt: ReportFormat, *, force: bool) -> tuple[str, list[str]]:
-        from scratchworld_dist.kinds.perception._table import build_perception_report, render_perception
+    def render_report(self, data: BaseModel, fmt: ReportFormat) -> str:
+        from scratchworld_dist.kinds.perception._table import PerceptionTable, render_perception
 
-        table = build_perception_report(list(run_dirs), force=force)
-        return render_perception(table, fmt), table.warnings
+        assert isinstance(data, PerceptionTable)
+        return render_perception(data, fmt)
 
     def report_model(self) -> type[BaseModel]:
         from scratchworld_dist.kinds.perception._table import PerceptionTable
@@ -129,5 +117,5 @@ class PerceptionJobKind(Kind):
         return [perception_group]
 
 
-PERCEPTION = PerceptionJobKind()
+PERCEPTION = PerceptionKind()
 """The registered kind (entry point ``perception``)."""

@@ -26,7 +26,7 @@ from scratchworld_dist.sweep import JobBody, JobSpec, agent_identity, identity_i
 from workers.agent_api import AnswerFormat, ValueKind, agent_class, agent_code
 from workers.contract import AgentRef, LLMSettings, ModelCacheSettings, ModelSpec
 from workers.kinds import kind_fingerprint
-from workers.kinds.perception import PerceptionKind, PerceptionPayload
+from workers.kinds.perception import PerceptionPayload, QuestionKind
 from workers.node import harness_fingerprint
 
 PERCEPTION_MODE = "primitive"
@@ -39,7 +39,7 @@ class PerceptionItemInfo(BaseModel):
     model_config = ConfigDict(frozen=True)
 
     question: str
-    kind: PerceptionKind
+    kind: QuestionKind
     tag: str
     answer_format: AnswerFormat
     value_kind: ValueKind | None = None
@@ -88,7 +88,7 @@ def select_perception_items(
     suite: Path,
     optional_suites: Sequence[Path],
     ids: Sequence[str],
-    kinds: Sequence[PerceptionKind],
+    kinds: Sequence[QuestionKind],
     say: Callable[[str], None],
 ) -> PerceptionSelection:
     """The items of ``suite`` and of each optional suite that is present, selected by ``ids`` and ``kinds``.

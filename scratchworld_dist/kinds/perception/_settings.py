@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import ConfigDict, Field, field_validator
 
-from scratchworld_dist.kinds._single_answer import checked_agents
+from scratchworld_dist.kinds._single_answer import AgentsSection, checked_agents
 from workers.contract import AgentRef
-from workers.kinds.perception import PerceptionKind
+from workers.kinds.perception import QuestionKind
 
 
-class PerceptionSweep(BaseModel):
+class PerceptionSweep(AgentsSection):
     """The perception benchmark's own axes (``benchmark: perception``): jobs are agent x model x item x seed."""
 
     model_config = ConfigDict(extra="forbid")
@@ -20,7 +20,7 @@ class PerceptionSweep(BaseModel):
     """The perception agents to compare in one sweep (default: the config's ``agent``); a scripted one
     (oracle, always_yes) runs once, without the models, ``llm`` once per model."""
 
-    kinds: list[PerceptionKind] = Field(default_factory=list)
+    kinds: list[QuestionKind] = Field(default_factory=list)
     """Item kinds to run (empty: all of connection, existence and field)."""
 
     optional_suites: list[Path] = Field(default_factory=list)

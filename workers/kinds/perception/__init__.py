@@ -1,6 +1,6 @@
 """The ``perception`` kind inside a worker: a question about a stored screenshot, one model call, both scorings;
 no editor; and its contract with the driver (``PerceptionSpec``, ``PerceptionPayload``, ``PerceptionAttempt``...;
-``PerceptionKind`` is an item's kind of question, ``PerceptionWorkerKind`` the kind as the worker runs it).
+``QuestionKind`` is what an item asks about: a connection, a block's existence or a field).
 
 The scoring and the prompt are exported here (the reports' comparisons score canned replies with them); the
 agents are found through the registry (``workers.agent_api.agent_class(name, "perception")``); the runner
@@ -16,13 +16,13 @@ from workers.kinds.perception._contract import (
     YES,
     AnswerParse,
     PerceptionAttempt,
-    PerceptionKind,
     PerceptionPayload,
     PerceptionScore,
     PerceptionSpec,
+    QuestionKind,
     answer_problem,
 )
-from workers.kinds.perception._kind import PERCEPTION, PerceptionWorkerKind
+from workers.kinds.perception._kind import PERCEPTION, PerceptionKind
 from workers.kinds.perception._prompts import perception_messages
 from workers.kinds.perception._scoring import score_reply, strict_correct
 
@@ -42,7 +42,7 @@ __all__ = [
     "PerceptionPayload",
     "PerceptionScore",
     "PerceptionSpec",
-    "PerceptionWorkerKind",
+    "QuestionKind",
     "answer_problem",
     "perception_messages",
     "run_perception",

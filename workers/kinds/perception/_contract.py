@@ -16,11 +16,11 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 from workers.agent_api import AnswerFormat, ValueKind
 from workers.contract import AgentJob, JobDetail
 
-PerceptionKind = Literal["connection", "existence", "field"]
+QuestionKind = Literal["connection", "existence", "field"]
 """``connection``: is block A attached to block B, or in that slot; ``existence``: is a block of this kind
 visible; ``field``: what a block's field shows (or whether it shows a given value)."""
 
-PERCEPTION_KINDS: tuple[PerceptionKind, ...] = ("connection", "existence", "field")
+PERCEPTION_KINDS: tuple[QuestionKind, ...] = ("connection", "existence", "field")
 
 YES, NO = "YES", "NO"
 
@@ -48,7 +48,7 @@ class PerceptionPayload(BaseModel):
     model_config = ConfigDict(frozen=True)
 
     item_id: str
-    kind: PerceptionKind
+    kind: QuestionKind
     tag: str
     """Finer class of the item (upstream's tags, e.g. ``connection_no_hard``, or ours)."""
 

@@ -9,7 +9,7 @@ from workers.kinds._protocol import AgentGroup, WorkerHost
 from workers.kinds.perception._contract import PerceptionPayload, PerceptionSpec
 
 
-class PerceptionWorkerKind:
+class PerceptionKind:
     """Perception jobs: one model call (or a scripted answer), scored both ways."""
 
     name = "perception"
@@ -33,4 +33,4 @@ class PerceptionWorkerKind:
         return await run_perception(spec, payload)
 
 
-PERCEPTION = PerceptionWorkerKind()
+PERCEPTION = PerceptionKind()

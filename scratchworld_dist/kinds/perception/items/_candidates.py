@@ -38,7 +38,7 @@ from scratchworld_dist.kinds.perception.items._names import (
 )
 from scratchworld_dist.kinds.perception.items._questions import question
 from scratchworld_dist.kinds.perception.items._refs import reference_to
-from workers.kinds.perception import PerceptionKind
+from workers.kinds.perception import QuestionKind
 
 ABSENT_KINDS = 4
 """Kinds absent from a view that are asked about (drawn at random), besides the look-alikes of those in it."""
@@ -56,7 +56,7 @@ class Candidate:
     derived: Derived
 
     @property
-    def kind(self) -> PerceptionKind:
+    def kind(self) -> QuestionKind:
         return self.fact.kind
 
     @property

@@ -16,7 +16,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 from scratchworld_dist.suites import task_id_problem
 from workers.agent_api import AnswerFormat, ValueKind
 from workers.contract import DragView
-from workers.kinds.perception import PerceptionKind, PerceptionPayload, answer_problem
+from workers.kinds.perception import PerceptionPayload, QuestionKind, answer_problem
 
 Position = Literal["topmost", "bottommost", "leftmost", "rightmost"]
 """How a question singles out one of several visible blocks of the same kind."""
@@ -130,7 +130,7 @@ class PerceptionItem(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     id: str
-    kind: PerceptionKind
+    kind: QuestionKind
     tag: str = Field(min_length=1, max_length=80)
     question: str = Field(min_length=1, max_length=2000)
     answer_format: AnswerFormat

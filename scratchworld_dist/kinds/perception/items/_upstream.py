@@ -24,7 +24,7 @@ from scratchworld_dist.kinds.perception.items._item import PerceptionItem, Upstr
 from scratchworld_dist.kinds.perception.items._suite import PerceptionSuite
 from scratchworld_dist.suites import SuiteKind, SuiteProblem, SuiteProblems
 from workers.agent_api import ValueKind
-from workers.kinds.perception import NO, YES, PerceptionKind
+from workers.kinds.perception import NO, YES, QuestionKind
 
 BENCHMARK_DIR = Path("visual_perception_benchmark")
 TASKS_DIR = BENCHMARK_DIR / "tasks"
@@ -45,7 +45,7 @@ class UpstreamPerceptionTask(BaseModel):
     task_id: str = Field(min_length=1, max_length=40)
     instruction: str = Field(min_length=1)
     screenshot: str = Field(min_length=1, max_length=200)
-    task_type: PerceptionKind
+    task_type: QuestionKind
     tag: str = Field(min_length=1, max_length=80)
     ground_truth: str = Field(min_length=1)
     focus_hint: str | None = None
