@@ -9,13 +9,10 @@ import sys
 import click
 
 from scratchworld_dist._errors import ScratchWorldError
-from scratchworld_dist.cli._capacity import capacity_command
-from scratchworld_dist.cli._gui import gui_command
+from scratchworld_dist.cli._editor import capacity_command, gui_command
 from scratchworld_dist.cli._kind import KindCommands
-from scratchworld_dist.cli._plan import plan_command
-from scratchworld_dist.cli._report import report_command
-from scratchworld_dist.cli._run import run_command
-from scratchworld_dist.cli._schemas import schemas_command
+from scratchworld_dist.cli._report import report_command, schemas_command
+from scratchworld_dist.cli._run import plan_command, run_command
 from scratchworld_dist.cli._status import status_command
 from scratchworld_dist.cli._view import view_command
 from scratchworld_dist.kinds import job_kinds

@@ -1,4 +1,5 @@
-"""``scratchworld report``: each benchmark's table over one or more run directories, and the diagnosis across them."""
+"""``scratchworld report``: each benchmark's table over one or more run directories, and the diagnosis across them;
+``scratchworld schemas OUT_DIR``: the JSON schemas of the reports as data, for readers in other languages."""
 
 from __future__ import annotations
 
@@ -28,3 +29,13 @@ def report_command(run_dirs: tuple[Path, ...], fmt: ReportFormat, out: Path | No
     """
     text, warnings = report_runs(list(run_dirs), fmt, force=force)
     emit(text, out, warnings, f"{fmt} report")
+
+
+@click.command("schemas")
+@click.argument("out_dir", type=click.Path(file_okay=False, path_type=Path))
+def schemas_command(out_dir: Path) -> None:
+    """Write the JSON schema of each report ``report --format json`` writes into OUT_DIR (docs/schemas has them)."""
+    from scratchworld_dist.reports import write_report_schemas
+
+    for path in write_report_schemas(out_dir):
+        click.echo(str(path))

@@ -1,4 +1,5 @@
-"""``scratchworld run CONFIG``: run (or resume) a sweep and print its report."""
+"""``scratchworld run CONFIG``: run (or resume) a sweep and print its report; ``scratchworld plan CONFIG``: the jobs
+it would run, what is already decided, and what it may cost."""
 
 from __future__ import annotations
 
@@ -100,3 +101,18 @@ def run_command(
     click.echo(report)
     if outcomes["error"]:
         raise click.exceptions.Exit(EXIT_ERRORS)
+
+
+@click.command("plan")
+@click.argument("config_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (overrides output).")
+@sweep_overrides
+def plan_command(config_file: Path, out: Path | None, overrides: SweepOverrides) -> None:
+    """Show the jobs CONFIG_FILE would run (with the same overrides as ``run``), per model, agent and mode.
+
+    Reads the suite and the run directory; starts nothing and writes nothing.
+    """
+    from scratchworld_dist._plan_preview import preview_plan, render_preview
+
+    config = load_sweep_config(config_file, {"output": out} if out is not None else None, overrides)
+    click.echo(render_preview(preview_plan(config)))

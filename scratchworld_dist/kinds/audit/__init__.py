@@ -1,10 +1,9 @@
 """The grader audit kind (``benchmark: audit``): mutants and refactorings of goldens, judged by the tasks' tests."""
 
 from scratchworld_dist.kinds.audit._kind import AUDIT, AuditKind
-from scratchworld_dist.kinds.audit._plan import AuditBody, audit_jobs, task_variants
+from scratchworld_dist.kinds.audit._plan import AuditBody, AuditSweep, audit_jobs, task_variants
 from scratchworld_dist.kinds.audit._report import AuditReport, build_audit_report, render_audit
 from scratchworld_dist.kinds.audit._rows import AuditRow
-from scratchworld_dist.kinds.audit._settings import AuditSweep
 
 __all__ = [
     "AUDIT",

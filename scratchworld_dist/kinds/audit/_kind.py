@@ -12,9 +12,8 @@ import click
 from pydantic import BaseModel
 
 from scratchworld_dist.kinds.audit._panel import variant_panel
-from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, audit_jobs, evaluated_under
+from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, AuditSweep, audit_jobs, evaluated_under
 from scratchworld_dist.kinds.audit._rows import AuditRow, audit_row
-from scratchworld_dist.kinds.audit._settings import AuditSweep
 from scratchworld_dist.kinds.base import Kind
 from scratchworld_dist.kinds.tasks import episode_settings, selected_tasks
 from scratchworld_dist.reports import ReportFormat

@@ -1,4 +1,5 @@
-"""Planning an audit: each selected task's golden project, its variants (mutants and refactorings), one job each."""
+"""Planning an audit: its section of a sweep config (``audit:``: how many variants of each golden, from which
+seed), and each selected task's golden project and its variants (mutants and refactorings), one job each."""
 
 from __future__ import annotations
 
@@ -8,8 +9,9 @@ import re
 from collections.abc import Iterator
 from typing import Any
 
+from pydantic import BaseModel, ConfigDict, Field
+
 from scratchworld_dist._errors import SuiteError
-from scratchworld_dist.kinds.audit._settings import AuditSweep
 from scratchworld_dist.kinds.audit.variants import (
     Mutant,
     ProgramFormatError,
@@ -141,3 +143,18 @@ def _job(content: TaskContent, body: AuditBody, agent: AgentRef, harness: str) -
         job_id=identity_id(identity), model=None, agent=agent, task_id=content.task.id,
         category=content.task.category, task_hash=content.task_hash, seed=0, harness=harness, body=body,
     )  # fmt: skip
+
+
+class AuditSweep(BaseModel):
+    """Which mutants and refactorings of each task's golden project are evaluated."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    mutants_per_task: int | None = Field(default=None, gt=0)
+    """At most this many mutants per task, spread over the operators (None: every one)."""
+
+    refactorings_per_task: int | None = Field(default=None, ge=0)
+    """At most this many refactorings per task (None: every one; 0: none)."""
+
+    seed: int = 0
+    """Which mutants and refactorings a cap picks (the same seed picks the same ones)."""

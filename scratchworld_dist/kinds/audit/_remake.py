@@ -17,8 +17,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, audit_jobs, evaluated_under
-from scratchworld_dist.kinds.audit._settings import AuditSweep
+from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, AuditSweep, audit_jobs, evaluated_under
 from scratchworld_dist.kinds.tasks import selected_tasks
 from scratchworld_dist.results import read_manifest
 from scratchworld_dist.sweep import SweepConfig

@@ -14,9 +14,8 @@ from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.kinds._single_answer import SingleAnswerKind
-from scratchworld_dist.kinds.drag._plan import DragBody, plan_drag_jobs, read_drag_task
+from scratchworld_dist.kinds.drag._plan import DragBody, DragSweep, plan_drag_jobs, read_drag_task
 from scratchworld_dist.kinds.drag._rows import DragRow, drag_row
-from scratchworld_dist.kinds.drag._settings import DragSweep
 from scratchworld_dist.kinds.drag.items import DragTask, load_drag_suite
 from scratchworld_dist.reports import DiagnosisPart, ReportFormat
 from scratchworld_dist.sweep import (

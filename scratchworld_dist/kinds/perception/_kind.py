@@ -14,9 +14,13 @@ from pydantic import BaseModel
 
 from scratchworld_dist.kinds._single_answer import SingleAnswerKind
 from scratchworld_dist.kinds.perception._panel import answer_panel
-from scratchworld_dist.kinds.perception._plan import PerceptionContent, plan_perception_jobs, select_perception_items
+from scratchworld_dist.kinds.perception._plan import (
+    PerceptionContent,
+    PerceptionSweep,
+    plan_perception_jobs,
+    select_perception_items,
+)
 from scratchworld_dist.kinds.perception._rows import PerceptionRow, perception_row
-from scratchworld_dist.kinds.perception._settings import PerceptionSweep
 from scratchworld_dist.reports import DiagnosisPart, ReportFormat
 from scratchworld_dist.results import SharedFiles, shared_image_path
 from scratchworld_dist.sweep import ItemContent, JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash

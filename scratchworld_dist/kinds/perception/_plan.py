@@ -1,4 +1,5 @@
-"""Planning the perception benchmark: the job matrix agent x model x item x seed, named by what decides each job.
+"""Planning the perception benchmark: its section of a sweep config (``perception:``: the question kinds and the
+agents it compares), and the job matrix agent x model x item x seed, named by what decides each job.
 
 A perception job's id hashes the model and its parameters, the agent, the item's content (its question,
 answer, form and the screenshot's bytes), the seed, the conversation protocol, the harness fingerprint
@@ -13,9 +14,10 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from scratchworld_dist._errors import ConfigError
+from scratchworld_dist.kinds._single_answer import AgentsSection, checked_agents
 from scratchworld_dist.kinds.perception.items import (
     PerceptionItem,
     PerceptionSuite,
@@ -180,3 +182,24 @@ def plan_perception_jobs(
                         )
                     ),
                 )
+
+
+class PerceptionSweep(AgentsSection):
+    """The perception benchmark's own axes (``benchmark: perception``): jobs are agent x model x item x seed."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    agents: list[AgentRef] = Field(default_factory=list)
+    """The perception agents to compare in one sweep (default: the config's ``agent``); a scripted one
+    (oracle, always_yes) runs once, without the models, ``llm`` once per model."""
+
+    kinds: list[QuestionKind] = Field(default_factory=list)
+    """Item kinds to run (empty: all of connection, existence and field)."""
+
+    optional_suites: list[Path] = Field(default_factory=list)
+    """More perception suites, each run when present and skipped with a notice when not (e.g. an upstream clone)."""
+
+    @field_validator("agents")
+    @classmethod
+    def _known_agents(cls, agents: list[AgentRef]) -> list[AgentRef]:
+        return checked_agents(agents, "perception")

@@ -1,4 +1,5 @@
-"""``scratchworld capacity``: how many editors this machine holds for agents that wait on a model.
+"""The editor on this machine: ``scratchworld gui`` serves it for a person to look at; ``scratchworld capacity``
+measures how many editors this machine holds for agents that wait on a model.
 
 A local run derives this by itself; a cluster node declares it when it joins
 (``ray start --resources='{"browser": N}'``), so this prints N, measured on the node.
@@ -7,6 +8,7 @@ A local run derives this by itself; a cluster node declares it when it joins
 from __future__ import annotations
 
 import os
+import threading
 
 import click
 
@@ -34,3 +36,15 @@ def capacity_command(clock: str, margin: float | None, reserve_mb: int | None) -
     derivation = derive_local(limits, clock, harness_fingerprint().digest, os.cpu_count() or 1)  # type: ignore[arg-type]
     click.echo(derivation.describe())
     click.echo(f"""ray start --address HEAD:6379 --resources='{{"browser": {derivation.slots}}}'""")
+
+
+@click.command("gui")
+@click.option("--port", type=int, default=8601, show_default=True, help="Port on 127.0.0.1 (0: any free port).")
+def gui_command(port: int) -> None:
+    """Serve the Scratch editor on 127.0.0.1 until Ctrl-C."""
+    from workers.editor import EditorServer
+
+    with EditorServer(port=port) as server:
+        click.echo(f"Scratch editor (with the scratchworld bridge) at {server.url}")
+        click.echo("Press Ctrl-C to stop.")
+        threading.Event().wait()
