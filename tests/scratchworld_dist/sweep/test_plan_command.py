@@ -13,8 +13,7 @@ from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._plan_preview import preview_plan
 from scratchworld_dist.kinds.tasks import episode_settings
 from scratchworld_dist.results import JobRecord, RunStore
-from scratchworld_dist.sweep import SweepOverrides, load_sweep_config
-from scratchworld_dist.sweep import plan_run
+from scratchworld_dist.sweep import SweepOverrides, load_sweep_config, plan_run
 from tests.conftest import SUITE_DIR
 from tests.support.cli_runner import invoke
 from tests.support.run_dirs import job

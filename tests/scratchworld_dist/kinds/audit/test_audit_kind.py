@@ -24,8 +24,7 @@ from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.sb3 import Project, block, rect_costume
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import sweep_config_from, worker_job
-from scratchworld_dist.sweep import plan_run
+from scratchworld_dist.sweep import plan_run, sweep_config_from, worker_job
 from scratchworld_dist.viewer import ViewerSite
 from tests.conftest import SUITE_DIR
 from tests.support.cli_runner import Done, invoke
