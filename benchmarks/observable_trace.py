@@ -23,9 +23,9 @@ import time
 from pathlib import Path
 
 from scratchworld_dist import load_suite
-from workers.contract import EvalResult
+from workers.contract import EvalResult, with_random_seed
 from workers.editor import BrowserSession, EditorPool
-from workers.evaluation import Evaluator, ObservableTrace, with_random_seed
+from workers.evaluation import Evaluator, ObservableTrace
 
 REPO = Path(__file__).resolve().parents[1]
 SEED = 0

@@ -387,9 +387,24 @@
     return {store: store, blocks: () => blocksComponent()};
   }
 
+  // An episode's seeded `Math.random` (random.js): its undo, until the page is recycled.
+  let episodeRandom = null;
+
+  function seedRandom(args) {
+    const seed = args.seed;
+    if (!(Number.isInteger(seed) && seed >= 0 && seed < 2 ** 32)) throw new BridgeFailure('bad_request', 'seed must be an integer from 0 to 2^32 - 1');
+    if (episodeRandom) episodeRandom();
+    episodeRandom = random.seed(seed, requireVm().runtime);
+    return {seed: seed};
+  }
+
   async function recycle() {
     const theVm = requireVm();
     clock.stopVirtual(); // an episode's page may still be on its paused clock
+    if (episodeRandom) {
+      episodeRandom();
+      episodeRandom = null;
+    }
     const differences = await guiState.reset(gui());
     differences.push(...await recycler.recycle(theVm, clock));
     differences.push(...guiState.compare(gui()));
@@ -405,7 +420,7 @@
   }
 
   const api = {
-    status, setStageSize, loadProject, saveProject, evaluate, episodeClock, advanceClock, recycle,
+    status, setStageSize, loadProject, saveProject, evaluate, episodeClock, advanceClock, seedRandom, recycle,
     redrawPanels: () => { requireVm().emitTargetsUpdate(false); },
     clockStatus: () => clock.status(),
     markClean: () => {

@@ -1,16 +1,15 @@
 /*
  * Seeded page randomness, so that a verdict that depends on random numbers can be replayed.
  *
- * An evaluation run under a perturbation (`scratchworld flakes`) draws `Math.random` from a
- * generator seeded with the recorded seed: the VM's "pick random", clones' ids and the script's
- * own draws all follow it (in two streams, see `seed`), and the flake finder varies the seed on purpose. Outside such runs the
- * browser's generator is in place. lateness.js draws its seeded timer lateness from the same
- * generator. bridge.js takes the controller from `window.__scratchworldRandom` (and deletes it).
+ * Every evaluation draws `Math.random` from a generator seeded with its job's seed (see
+ * workers/contract/_evaluation_seed.py), and an agent's page from the same seed during its episode
+ * (bridge.js, `seedRandom`): the VM's "pick random", clones' ids and the script's own draws all
+ * follow it (in two streams, see `seed`); the flake finder varies the seed on purpose. lateness.js
+ * draws its seeded timer lateness from the same generator. bridge.js takes the controller from
+ * `window.__scratchworldRandom` (and deletes it).
  */
 (function () {
   'use strict';
-
-  const browserRandom = Math.random;
 
   // mulberry32: 32 bits of state, uniform in [0, 1), the same sequence for the same seed everywhere.
   function generator(seed) {
@@ -25,7 +24,7 @@
   }
 
   /**
-   * `Math.random` from `seed` on; returns the undo (the browser's generator again). The VM's blocks
+   * `Math.random` from `seed` on; returns the undo (the generator in place before). The VM's blocks
    * (run inside the sequencer's `stepThreads`) draw from a stream of their own, so that what the GUI
    * draws meanwhile (Blockly ids, the loader's tips: their count varies between a fresh and a reused
    * page) does not shift the project's random numbers; the script and the GUI share the other stream.
@@ -47,9 +46,10 @@
         Math.random = outside;
       }
     };
+    const before = Math.random; // the browser's, or an episode's seeded stream under an evaluation's
     Math.random = pageStream;
     return () => {
-      Math.random = browserRandom;
+      Math.random = before;
       if (hadOwn) sequencer.stepThreads = stepThreads;
       else delete sequencer.stepThreads;
     };

@@ -42,6 +42,8 @@ class ProjectCheck(BaseModel):
     wall_s: float
     failed_tests: list[str] = []
     """The names of the tests that did not pass."""
+    random_seed: int | None = None
+    """The seed the evaluation drew ``Math.random`` from (``validate --seed``: the task's jobs' at that seed)."""
 
     @classmethod
     def of(cls, result: EvalResult) -> ProjectCheck:
@@ -53,6 +55,7 @@ class ProjectCheck(BaseModel):
             error=f"{result.error.kind}: {result.error.message}" if result.error else None,
             wall_s=round(result.timings.total_s, 3),
             failed_tests=[test.name for test in result.tests if not test.passed],
+            random_seed=result.random_seed,
         )
 
 
@@ -105,8 +108,10 @@ async def validate_tasks(
     timing: EvaluationTiming | None = None,
     page: EvaluationPage | None = None,
     stability: SuiteStability | None = None,
+    seed: int = 0,
 ) -> list[TaskValidation]:
-    """Evaluate each task's golden and initial project, ``parallel`` pages at a time.
+    """Evaluate each task's golden and initial project, ``parallel`` pages at a time, drawing random numbers
+    as the task's jobs at sweep ``seed`` do (so a rerun repeats every verdict).
 
     ``profile``, ``clock``, ``render``, ``timing`` and ``page`` override each task's defaults;
     ``stability``, the suite's known test stability, marks the rows' unstable tests.
@@ -134,7 +139,7 @@ async def validate_tasks(
             pending = []
             for task in tasks:
                 # Files are read here, before the evaluations start; the script and helper once per task.
-                spec = task.evaluation_spec(profile, clock, render, timing, page=page)
+                spec = task.evaluation_spec(profile, clock, render, timing, page=page, seed=seed)
                 golden_path = task.golden_project
                 golden = group.create_task(run(task, "golden", golden_path.read_bytes(), spec)) if golden_path else None
                 initial = group.create_task(run(task, "initial", task.initial_project.read_bytes(), spec))

@@ -37,6 +37,15 @@ page_option = click.option(
 )
 
 
+evaluation_seed_option = click.option(
+    "--seed",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Sweep seed whose random numbers the evaluations draw, as a job of the task at that seed does.",
+)
+
+
 def comma_list(text: str | None) -> list[str] | None:
     """The items of a comma-separated option, blanks dropped; None when the option was not given."""
     return [item.strip() for item in text.split(",") if item.strip()] if text else None

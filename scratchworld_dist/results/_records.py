@@ -83,6 +83,7 @@ def record_of(
         eval_render=evaluation.conditions.render if evaluation is not None and evaluation.conditions else None,
         eval_page=evaluation.conditions.page if evaluation is not None and evaluation.conditions else None,
         eval_timing=evaluation.conditions.timing if evaluation is not None and evaluation.conditions else None,
+        eval_seed=evaluation.random_seed if evaluation is not None else None,
         stop_reason=result.stop_reason,
         tests_passed=evaluation.passed if evaluation is not None else 0,
         tests_total=evaluation.total if evaluation is not None else 0,

@@ -58,6 +58,10 @@ class JobRow(BaseModel):
     """How the VM's frames were timed (ideal | calibrated under the virtual clock, real on the real clock);
     null if no verdict was reached (and in older runs, whose virtual frames were ideal)."""
 
+    eval_seed: int | None = None
+    """The seed the evaluation drew ``Math.random`` from (``workers.contract.evaluation_seed``: the task and
+    the sweep seed); null if no verdict was reached (and in older runs, whose evaluations were unseeded)."""
+
     stop_reason: str
     tests_passed: int
     tests_total: int

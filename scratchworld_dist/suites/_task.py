@@ -21,6 +21,8 @@ from workers.contract import (
     EvaluationTiming,
     calibrated_frame_lateness,
     editor_need,
+    evaluation_seed,
+    with_random_seed,
 )
 
 TaskCategory = Literal["create", "debug", "extend", "compute"]
@@ -97,15 +99,17 @@ class Task(BaseModel):
         timing: EvaluationTiming | None = None,
         *,
         page: EvaluationPage | None = None,
+        seed: int | None = None,
     ) -> EvaluationSpec:
         """The script and helper sources, read now, ready to send to a worker (render: on demand by default;
-        timing: see ``default_timing``; page: bare, unless the script needs the editor)."""
+        timing: see ``default_timing``; page: bare, unless the script needs the editor). With ``seed`` (a
+        sweep seed), ``Math.random`` draws as in this task's jobs at that seed; without, the worker seeds it."""
         profile = profile or self.default_profile
         clock = clock or self.default_clock
         timing = timing or default_timing(profile, clock)
         if timing == "calibrated" and clock != "virtual":
             raise ConfigError("calibrated frame timing needs the virtual clock (the real clock has its own)")
-        return EvaluationSpec(
+        spec = EvaluationSpec(
             profile=profile,
             clock=clock,
             render=render or "on_demand",
@@ -119,6 +123,7 @@ class Task(BaseModel):
             helper_global=self.helper_global,
             timeout_s=self.timeout_s,
         )
+        return spec if seed is None else with_random_seed(spec, evaluation_seed(self.id, seed))
 
     def editor_need(self) -> str | None:
         """What in the task's scripts only the editor page has (its evaluations then run there), or None."""

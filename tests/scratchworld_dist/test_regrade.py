@@ -18,6 +18,7 @@ from tests.conftest import REPO
 from tests.support.cli_runner import invoke
 from tests.support.run_dirs import job, make_run
 from tests.support.sweep_driver import run_here
+from workers.contract import evaluation_seed
 
 REAL = ["sum_two_numbers", "bouncing_ball_stuck", "quiz_score"]
 SYNTHETIC = "star_shower"
@@ -76,6 +77,8 @@ def test_a_real_clock_regrade_keeps_every_verdict_and_resumes(source: Path, tmp_
         old = before[job_id]
         assert (row.outcome, row.tests_passed, row.tests_total) == (old.outcome, old.tests_passed, old.tests_total)
         assert (old.eval_clock, row.eval_clock, row.eval_profile) == ("virtual", "real", "native")
+        # Judged again under the random numbers the episode was judged under: its task's, at its sweep seed.
+        assert row.eval_seed == old.eval_seed == evaluation_seed(old.task_id, old.seed)
         assert row.job_id != job_id
         assert row.task_hash != old.task_hash  # the clock is part of the task's content hash
         agent_side = ("model", "agent", "mode", "task_id", "category", "seed", "steps", "stop_reason", "agent_s")

@@ -48,6 +48,7 @@ from workers.contract._eval_result import (
     ProfileConditions,
     TestVerdict,
 )
+from workers.contract._evaluation_seed import evaluation_seed, with_random_seed
 from workers.contract._evaluation_spec import (
     EvaluationClock,
     EvaluationPage,
@@ -121,6 +122,7 @@ from workers.contract._observations import (
     TargetName,
 )
 from workers.contract._perturbation import (
+    MAX_SEED,
     VM_FRAME_MS,
     EvaluationPerturbation,
     LatenessModel,
@@ -137,6 +139,7 @@ __all__ = [
     "DRAG_VIEWPORT",
     "ENVIRONMENT_PARTS",
     "FINAL_ACTIONS",
+    "MAX_SEED",
     "MIB",
     "PERMANENT_ERRORS",
     "VERDICT_ERROR_KINDS",
@@ -240,9 +243,11 @@ __all__ = [
     "composite_action",
     "describe_differences",
     "editor_need",
+    "evaluation_seed",
     "fingerprint",
     "frames_per_second",
     "memory_digest",
     "outcome_of",
     "primitive_action",
+    "with_random_seed",
 ]

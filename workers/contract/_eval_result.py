@@ -179,6 +179,12 @@ class EvalResult(BaseModel):
     conditions: ProfileConditions | None = None
     """The evaluation profile and the page conditions it was checked to have (None if it never got there)."""
 
+    @property
+    def random_seed(self) -> int | None:
+        """The seed the run drew ``Math.random`` from (None: no run, or an unseeded one)."""
+        perturbation = self.conditions.perturbation if self.conditions is not None else None
+        return perturbation.random_seed if perturbation is not None else None
+
     @classmethod
     def failure(
         cls, kind: EvalErrorKind, message: str, *, console: list[str] | None = None, timings: EvalTimings | None = None

@@ -312,6 +312,11 @@ class Editor:
         """Put the page on the episode's clock: real, or virtual time that moves only in ``advance_clock``."""
         await self.call("episodeClock", {"mode": clock.mode})
 
+    async def seed_random(self, seed: int) -> None:
+        """Have the page's ``Math.random`` draw from ``seed`` until it is recycled: an episode's random
+        sprites start where they would on a rerun (``workers.contract.evaluation_seed``)."""
+        await self.call("seedRandom", {"seed": seed})
+
     async def advance_clock(self, ms: int) -> None:
         """Let ``ms`` of virtual time pass on a page whose episode runs on the virtual clock."""
         await self.call("advanceClock", {"ms": ms})

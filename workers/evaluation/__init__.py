@@ -8,7 +8,6 @@ from workers.evaluation._trace import (
     ObservableTrace,
     TracedEvaluation,
     TraceFrame,
-    with_random_seed,
 )
 from workers.evaluation._trace_compare import TraceDifference, first_difference
 
@@ -27,5 +26,4 @@ __all__ = [
     "parse_report",
     "project_refusal",
     "wall_limit_s",
-    "with_random_seed",
 ]

@@ -31,6 +31,7 @@ from workers.contract import (
     TaskPayload,
     check_project,
     outcome_of,
+    with_random_seed,
 )
 from workers.editor import BrowserSession, Editor, EditorPool
 from workers.evaluation._profiles import apply_profile
@@ -41,8 +42,10 @@ from workers.evaluation._trace import (
     MIN_TRACE_CHARS,
     ObservableTrace,
     TracedEvaluation,
-    with_random_seed,
 )
+
+UNSEEDED_DEFAULT = 0
+"""The seed of an evaluation whose spec names none (a job's evaluations name theirs: ``evaluation_seed``)."""
 
 KILL_GRACE_S = 5.0
 """Extra time past the in-page timeout before the page itself is killed (a synchronous hang)."""
@@ -86,7 +89,8 @@ class Evaluator:
         self.pool = pool
 
     async def evaluate(self, project: bytes, spec: EvaluationSpec, limits: ProjectLimits | None = None) -> EvalResult:
-        """The verdict on ``project``; one over ``limits`` (default: ``ProjectLimits()``) never reaches a page."""
+        """The verdict on ``project``; one over ``limits`` (default: ``ProjectLimits()``) never reaches a page.
+        A spec that names no seed draws ``Math.random`` from seed 0: no verdict comes from unseeded numbers."""
         result, _ = await self._evaluate(project, spec, limits, None)
         return result
 
@@ -116,6 +120,8 @@ class Evaluator:
         self, project: bytes, spec: EvaluationSpec, limits: ProjectLimits | None, trace_chars: int | None
     ) -> tuple[EvalResult, tuple[ObservableTrace, float] | None]:
         started = time.perf_counter()
+        if spec.perturbation is None:
+            spec = with_random_seed(spec, UNSEEDED_DEFAULT)
         timings = EvalTimings()
         limits = limits or ProjectLimits()
         refusal = project_refusal(project, limits)
@@ -240,11 +246,14 @@ async def judged(
     job_id: str,
     attempt: int,
     stop_reason: str,
+    *,
+    random_seed: int,
 ) -> JobResult:
     """The verdict on ``project`` under ``task.evaluation`` as a job's result without steps (a regrade, an audit
-    variant), made exactly as an episode's final project is judged; ``stop_reason`` says what the job was."""
+    variant), made exactly as an episode's final project is judged, its ``Math.random`` drawn from
+    ``random_seed``; ``stop_reason`` says what the job was."""
     started, clock = time.time(), time.perf_counter()
-    evaluation = await evaluator.evaluate(project, task.evaluation, limits)
+    evaluation = await evaluator.evaluate(project, with_random_seed(task.evaluation, random_seed), limits)
     elapsed = time.perf_counter() - clock
     outcome, error_class = outcome_of(evaluation)
     return JobResult(

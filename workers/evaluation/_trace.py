@@ -12,8 +12,7 @@ from __future__ import annotations
 from pydantic import BaseModel, ConfigDict, Field, JsonValue
 from pydantic.alias_generators import to_camel
 
-from workers.contract import EvalResult, EvaluationPerturbation, EvaluationSpec
-from workers.contract._perturbation import MAX_SEED
+from workers.contract import EvalResult
 
 DEFAULT_TRACE_CHARS = 2_000_000
 """Cap on a trace's JSON (the sum of its frames'): our suite's goldens record well under 100 kB."""
@@ -74,15 +73,3 @@ class TracedEvaluation(BaseModel):
     trace: ObservableTrace | None
     record_s: float | None = None
     """Real seconds the page spent recording (taking snapshots), a part of the script phase's time."""
-
-
-def with_random_seed(spec: EvaluationSpec, seed: int) -> EvaluationSpec:
-    """``spec`` whose run draws ``Math.random`` from ``seed`` (as ``scratchworld flakes`` replays a run), its
-    other perturbations kept: two runs with one seed see the same random numbers."""
-    if not 0 <= seed <= MAX_SEED:
-        raise ValueError(f"a random seed is from 0 to {MAX_SEED}, got {seed}")
-    current = spec.perturbation
-    perturbation = (
-        current.model_copy(update={"random_seed": seed}) if current else EvaluationPerturbation(random_seed=seed)
-    )
-    return spec.model_copy(update={"perturbation": perturbation})

@@ -53,7 +53,8 @@ async def probe(evaluator: Evaluator, perturbation: EvaluationPerturbation | Non
     )
     result: EvalResult = await evaluator.evaluate(picker(), spec)
     assert result.error is None, result.error
-    assert result.conditions is not None and result.conditions.perturbation == perturbation
+    assert result.conditions is not None
+    assert result.conditions.perturbation == (perturbation or EvaluationPerturbation(random_seed=0))
     return result.tests[0].meta  # type: ignore[return-value]
 
 
@@ -64,9 +65,10 @@ async def test_the_random_seed_fixes_the_page_and_vm_random_numbers(evaluator: E
     other = await probe(evaluator, EvaluationPerturbation(random_seed=8))
     assert (first["draws"], first["picked"]) == (again["draws"], again["picked"])
     assert first["draws"] != other["draws"] and first["picked"] != other["picked"]
-    # Unperturbed runs draw from the browser's generator again (the seed was undone).
+    # A run that names no seed draws from seed 0 (the seed before it was undone).
     plain = [(await probe(evaluator, None))["draws"] for _ in range(2)]
-    assert plain[0] != plain[1] and first["draws"] not in plain
+    zero = await probe(evaluator, EvaluationPerturbation(random_seed=0))
+    assert plain[0] == plain[1] == zero["draws"] and first["draws"] not in plain
 
 
 @pytest.mark.browser

@@ -13,8 +13,8 @@ import pytest
 from scratchworld_dist import load_suite
 from scratchworld_dist.suites import Task
 from tests.conftest import REPO
-from workers.contract import EvalResult
-from workers.evaluation import Evaluator, first_difference, with_random_seed
+from workers.contract import EvalResult, with_random_seed
+from workers.evaluation import Evaluator, first_difference
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 

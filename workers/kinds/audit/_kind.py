@@ -22,7 +22,7 @@ EVALUATED = "evaluated"
 """Stop reason of an audit job's result."""
 
 TRACE_SEED = 0
-"""The seed of ``Math.random`` both traces are recorded under."""
+"""The seed of ``Math.random`` the variant is judged under, and both traces are recorded under."""
 
 
 class AuditKind:
@@ -55,7 +55,9 @@ async def _audit(evaluator: Evaluator, spec: AuditSpec, task: TaskPayload, golde
     from workers.evaluation import first_difference, judged  # the browser stack, on the first job
 
     project = _variant(golden, spec.project_json)
-    result = await judged(evaluator, project, task, spec.project_limits, spec.job_id, spec.attempt, EVALUATED)
+    result = await judged(
+        evaluator, project, task, spec.project_limits, spec.job_id, spec.attempt, EVALUATED, random_seed=TRACE_SEED
+    )
     misjudged = (spec.variant == "mutant" and result.outcome == "passed") or (
         spec.variant == "refactoring" and result.outcome == "failed"
     )

@@ -10,6 +10,7 @@ from __future__ import annotations
 from pydantic import Field
 
 from workers.contract import (
+    MAX_SEED,
     AgentJob,
     EpisodeClock,
     JobHeader,
@@ -43,5 +44,8 @@ class RegradeSpec(JobHeader):
 
     project: bytes = Field(repr=False)
     """The final project the source attempt stored (``final.sb3``)."""
+
+    evaluation_seed: int = Field(ge=0, le=MAX_SEED)
+    """The ``Math.random`` seed the source episode was judged under (``workers.contract.evaluation_seed``)."""
 
     project_limits: ProjectLimits = Field(default_factory=ProjectLimits)

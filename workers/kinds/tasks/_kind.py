@@ -40,7 +40,14 @@ class TasksKind:
         if isinstance(spec, RegradeSpec):
             browser = await host.browser()
             work = judged(
-                browser.evaluator, spec.project, payload, spec.project_limits, spec.job_id, spec.attempt, REGRADED
+                browser.evaluator,
+                spec.project,
+                payload,
+                spec.project_limits,
+                spec.job_id,
+                spec.attempt,
+                REGRADED,
+                random_seed=spec.evaluation_seed,
             )
             return await host.in_browser(spec, browser.session, work)
         if not isinstance(spec, EpisodeSpec):

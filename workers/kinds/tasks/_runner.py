@@ -52,7 +52,9 @@ from workers.contract import (
     StepObservation,
     StepRecord,
     TaskPayload,
+    evaluation_seed,
     outcome_of,
+    with_random_seed,
 )
 from workers.editor import Editor
 from workers.kinds.tasks._contract import EpisodeSpec
@@ -154,6 +156,7 @@ class EpisodeRunner:
                 except ProjectFormatError as exc:
                     message = f"the task's initial project cannot be loaded: {exc}"
                     return _finish(JobResult.errored(spec, "task_invalid", message), started, clock, timings)
+                await editor.seed_random(evaluation_seed(spec.task_id, spec.seed))
                 pace = _Pace(editor, spec.episode_clock)
                 environment = await self._environment(spec, editor, pace)
                 await pace.start()
@@ -196,7 +199,8 @@ class EpisodeRunner:
             result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
             return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
         evaluation_start = time.perf_counter()
-        evaluation = await self.browser.evaluate_giving_way(final_project, task.evaluation, spec.project_limits)
+        judging = with_random_seed(task.evaluation, evaluation_seed(spec.task_id, spec.seed))
+        evaluation = await self.browser.evaluate_giving_way(final_project, judging, spec.project_limits)
         timings.evaluation_s = time.perf_counter() - evaluation_start
         outcome, error_class = outcome_of(evaluation)
         result = JobResult(

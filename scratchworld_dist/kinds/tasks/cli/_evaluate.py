@@ -13,7 +13,7 @@ from rich.text import Text
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._files import read_file
-from scratchworld_dist.cli._options import page_option, render_option, timing_option
+from scratchworld_dist.cli._options import evaluation_seed_option, page_option, render_option, timing_option
 from scratchworld_dist.suites import UnstableTest, known_stability, load_suite
 from workers.contract import (
     MIB,
@@ -84,6 +84,7 @@ def render_result(result: EvalResult, console: Console, unstable: dict[str, Unst
 @render_option
 @page_option
 @timing_option
+@evaluation_seed_option
 def evaluate_command(
     suite_dir: Path,
     task_id: str,
@@ -94,6 +95,7 @@ def evaluate_command(
     render: EvaluationRender | None,
     page: EvaluationPage | None,
     timing: EvaluationTiming | None,
+    seed: int,
 ) -> None:
     """Evaluate PROJECT (.sb3) against TASK_ID of the suite in SUITE_DIR.
 
@@ -103,7 +105,7 @@ def evaluate_command(
     """
     suite = load_suite(suite_dir)
     task = suite.task(task_id)
-    spec = task.evaluation_spec(profile, clock, render, timing, page=page)
+    spec = task.evaluation_spec(profile, clock, render, timing, page=page, seed=seed)
     known = known_stability(suite)
     data = read_project_file(project)
     # A project no page may see is refused here, naming the file, before a browser starts.

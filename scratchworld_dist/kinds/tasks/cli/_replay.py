@@ -17,6 +17,7 @@ from rich.markup import escape
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ProjectFormatError
+from scratchworld_dist.cli._options import evaluation_seed_option
 from scratchworld_dist.kinds.tasks.cli._evaluate import (
     EXIT_NO_VERDICT,
     EXIT_NOT_PASSED,
@@ -68,8 +69,15 @@ async def _replay(
     "--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write envelopes and verdict."
 )
 @click.option("--observe", "show_final", is_flag=True, help="Print the final observation.")
+@evaluation_seed_option
 def replay_command(
-    suite_dir: Path, task_id: str, trajectory: Path | None, save: Path | None, json_file: Path | None, show_final: bool
+    suite_dir: Path,
+    task_id: str,
+    trajectory: Path | None,
+    save: Path | None,
+    json_file: Path | None,
+    show_final: bool,
+    seed: int,
 ) -> None:
     """Replay TRAJECTORY (default: the task's golden one) on TASK_ID's initial project and evaluate it.
 
@@ -84,7 +92,9 @@ def replay_command(
             raise click.UsageError(f"task {task_id} has no golden trajectory; give a TRAJECTORY file")
     console = make_console()
     initial = read_project(task.initial_project, ProjectLimits())
-    envelopes, final, result = asyncio.run(_replay(initial, actions, task.evaluation_spec(), console, show_final))
+    envelopes, final, result = asyncio.run(
+        _replay(initial, actions, task.evaluation_spec(seed=seed), console, show_final)
+    )
     render_result(result, console)
     if save is not None:
         save.write_bytes(final)

@@ -13,7 +13,14 @@ from rich.text import Text
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
-from scratchworld_dist.cli._options import comma_list, page_option, render_option, suite_check_options, timing_option
+from scratchworld_dist.cli._options import (
+    comma_list,
+    evaluation_seed_option,
+    page_option,
+    render_option,
+    suite_check_options,
+    timing_option,
+)
 from scratchworld_dist.suites import SuiteStability, Task, known_stability, load_suite, stability_file
 from workers.contract import (
     EvalResult,
@@ -79,6 +86,7 @@ def stability_lines(rows: list[TaskValidation], stability: SuiteStability | None
 @render_option
 @page_option
 @timing_option
+@evaluation_seed_option
 @click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the rows as JSON.")
 def validate_command(
     suite_dir: Path,
@@ -90,6 +98,7 @@ def validate_command(
     render: EvaluationRender | None,
     page: EvaluationPage | None,
     timing: EvaluationTiming | None,
+    seed: int,
     json_file: Path | None,
 ) -> None:
     """Evaluate every task's golden and initial project in SUITE_DIR.
@@ -104,7 +113,7 @@ def validate_command(
     if tasks:  # a suite's tasks share their defaults
         spec = tasks[0].evaluation_spec(profile, clock, render, timing, page=page)
         conditions = f", profile {spec.profile}, clock {spec.clock}, render {spec.render}, timing {spec.timing}"
-        conditions += f", page {spec.page}"
+        conditions += f", page {spec.page}, seed {seed}"
     for task in tasks:
         need = task.editor_need()
         if need is not None and page != "editor":
@@ -129,6 +138,7 @@ def validate_command(
             timing=timing,
             page=page,
             stability=stability,
+            seed=seed,
         )
     )
     out = make_console()

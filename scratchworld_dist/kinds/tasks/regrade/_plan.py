@@ -25,6 +25,7 @@ from workers.contract import (
     EvaluationRender,
     HarnessFingerprint,
     ProjectLimits,
+    evaluation_seed,
 )
 from workers.kinds.tasks import RegradeSpec
 
@@ -54,6 +55,7 @@ class RegradeJob(BaseModel):
             timeout_s=timeout_s,
             project_limits=self.project_limits,
             harness=self.harness,
+            evaluation_seed=evaluation_seed(self.task_id, self.source.row.seed),
         )
 
 

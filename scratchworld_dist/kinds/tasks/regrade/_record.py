@@ -70,6 +70,7 @@ def regraded_row(
             "eval_render": conditions.render if conditions else None,
             "eval_page": conditions.page if conditions else None,
             "eval_timing": conditions.timing if conditions else None,
+            "eval_seed": evaluation.random_seed if evaluation is not None else None,
             # The agent stopped as it did; a regrade without a verdict says why it has none.
             "stop_reason": result.stop_reason if result.outcome == "error" else source.stop_reason,
             "tests_passed": evaluation.passed if evaluation is not None else 0,

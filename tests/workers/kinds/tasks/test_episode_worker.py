@@ -32,6 +32,8 @@ from workers.contract import (
     RetryPolicy,
     SyntheticEpisodes,
     TaskPayload,
+    evaluation_seed,
+    with_random_seed,
 )
 from workers.editor import BrowserSession
 from workers.kinds import kind_fingerprint
@@ -417,7 +419,8 @@ async def test_an_evaluation_gives_way_to_episodes_still_acting(
             assert threads_by_class(background_pid).get(False, set()) == set()
         finally:
             await later.close()
-        at_full_priority = await runner.browser.evaluator.evaluate(solved.final_project, payload.evaluation)
+        judging = with_random_seed(payload.evaluation, evaluation_seed(spec.task_id, spec.seed))
+        at_full_priority = await runner.browser.evaluator.evaluate(solved.final_project, judging)
         assert at_full_priority.model_dump(exclude=SAME_VERDICT) == solved.evaluation.model_dump(exclude=SAME_VERDICT)
         assert background.pool is not None
         opened, reused = background.pool.opened, background.pool.reused
