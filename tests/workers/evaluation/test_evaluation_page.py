@@ -71,6 +71,7 @@ async def test_a_script_that_needs_the_editor_runs_there(evaluator: Evaluator) -
 
 @pytest.mark.browser
 @pytest.mark.slow
+@pytest.mark.timeout(1200)  # 24 projects twice on the real clock: 380 s on a machine loaded 15-fold
 @pytest.mark.parametrize("clock", ["virtual", "real"])
 async def test_our_suite_gets_the_same_verdicts_on_both_pages(
     evaluator: Evaluator, clock: str, second_looks: SecondLooks
