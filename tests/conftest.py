@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 import pytest
 
+from tests.support.retries import PROPERTY, SecondLooks
 from workers.actor import WorkerBrowser
 from workers.editor import BrowserSession, Editor, EditorPool
 from workers.evaluation import Evaluator
@@ -44,6 +45,13 @@ def link_installed_packages(gui_dir: Path) -> None:
 
 BROWSER_FIXTURES = frozenset({"session", "shared_pool", "evaluator", "fresh_evaluator", "episode_runner"})
 RAY_FIXTURES = frozenset({"shared_ray", "model_ray"})
+UPSTREAM_FIXTURE = "upstream_dir"
+"""What every test reading ../shared uses, directly or through another fixture (``upstream_clone``...)."""
+
+
+UPSTREAM_WIDE_TIMEOUT_S = 1800
+"""The ceiling of a slow test that reads upstream: it goes over all of upstream's tasks, so its time is upstream's
+size's (the composite oracle's test: 333 s alone on a busy machine), not ours; the rest have pyproject's 600 s."""
 
 
 MARKER_SECONDS = {"slow": 20.0, "ray": 4.0, "browser": 2.0}
@@ -55,7 +63,8 @@ def expected_seconds(item: pytest.Item) -> float:
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """A test that uses the shared browser (or Ray) is a browser (ray) test, whichever module it is in.
+    """A test that uses the shared browser (or Ray) is a browser (ray) test, whichever module it is in;
+    one that reads upstream's data (``upstream_dir``, however it gets it) is an upstream test.
 
     Modules are then ordered by the time their markers promise, longest first: the parallel run
     (``-n 2 --dist loadfile``, pyproject) hands out whole modules in this order, so the last
@@ -67,10 +76,36 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             item.add_marker(pytest.mark.browser)
         if RAY_FIXTURES & fixtures:
             item.add_marker(pytest.mark.ray)
+        if UPSTREAM_FIXTURE in fixtures:
+            item.add_marker(pytest.mark.upstream)
+            if item.get_closest_marker("slow") and not item.get_closest_marker("timeout"):
+                item.add_marker(pytest.mark.timeout(UPSTREAM_WIDE_TIMEOUT_S))
     modules: Counter[Path] = Counter()  # by path: modules in different folders may share a name
     for item in items:
         modules[item.path] += expected_seconds(item)
     items.sort(key=lambda item: -modules[item.path])  # stable: a module's own order stays
+
+
+def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> None:
+    """Every second look a test took at a load-sensitive reference (``second_looks``), passed or failed."""
+    looks = {
+        report.nodeid: notes
+        for reports in terminalreporter.stats.values()
+        for report in reports
+        if getattr(report, "when", None) == "call"
+        and (notes := [value for name, value in getattr(report, "user_properties", ()) if name == PROPERTY])
+    }
+    if looks:
+        terminalreporter.section("second looks at real-clock references")
+        for nodeid, notes in sorted(looks.items()):
+            for note in notes:
+                terminalreporter.line(f"{nodeid}: {note}")
+
+
+@pytest.fixture
+def second_looks(request: pytest.FixtureRequest) -> SecondLooks:
+    """Where a test records each second look at a real-clock reference (tests/support/retries.py)."""
+    return SecondLooks(request.node)
 
 
 @pytest.fixture(scope="session")
@@ -145,8 +180,17 @@ def upstream_dir() -> Path:
 
 
 @pytest.fixture
+def fake_clone(tmp_path: Path) -> Path:
+    """A clone in upstream's layout with three tasks of ours (tests/support/fake_clone.py); never skipped."""
+    from tests.support.fake_clone import fake_clone as write_clone
+
+    return write_clone(tmp_path / "ScratchWorld")
+
+
+@pytest.fixture
 def upstream_clone(tmp_path: Path, upstream_dir: Path) -> Path:
-    """A clone-shaped folder: upstream tasks and projects (symlinked) plus scripts written here."""
+    """A clone-shaped folder: upstream's tasks and projects (symlinked) plus scripts written here, for tests of
+    upstream's real tasks (a test of the layout alone takes ``fake_clone``)."""
     clone = tmp_path / "ScratchWorld"
     (clone / "scratch-gui").mkdir(parents=True)
     (clone / "scratch-gui" / "static").symlink_to(upstream_dir / "scratch-gui" / "static")

@@ -20,7 +20,7 @@ import pytest
 
 from tests.conftest import REPO
 
-pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow]
+pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow, pytest.mark.timeout(900 + 300)]  # its 900 s run
 
 
 KERNEL = "scratchworld-venv"

@@ -65,6 +65,8 @@ class LimiterStats(BaseModel):
     concurrency: int
     in_flight: int
     granted: int
+    waits: int
+    """Asks answered with a wait: a budget or the window was full (a caller elsewhere may hold the slot)."""
     rate_limited: int
     decreases: int
     reclaimed: int
@@ -117,6 +119,7 @@ class RateLimitState:
     paused_until: float = field(init=False, default=-math.inf)
     last_decrease: float = field(init=False, default=-math.inf)
     granted: int = field(init=False, default=0)
+    waits: int = field(init=False, default=0)
     rate_limited: int = field(init=False, default=0)
     decreases: int = field(init=False, default=0)
     reclaimed: int = field(init=False, default=0)
@@ -153,8 +156,10 @@ class RateLimitState:
         if lease_id in self._tombstones:
             return Wait(None)  # released (cancelled) before it was granted
         if now < self.paused_until:
+            self.waits += 1
             return Wait(self.paused_until - now)
         if len(self._leases) >= self.concurrency:
+            self.waits += 1
             return Wait(None)
         waits = []
         for bucket, cost in ((self._requests, 1), (self._tokens, estimated_tokens)):
@@ -162,6 +167,7 @@ class RateLimitState:
                 bucket.refill(now)
                 waits.append(bucket.wait_for(cost))
         if any(waits):
+            self.waits += 1
             return Wait(max(waits))
         if self._requests is not None:
             self._requests.take(1)
@@ -207,6 +213,7 @@ class RateLimitState:
             concurrency=self.concurrency,
             in_flight=self.in_flight,
             granted=self.granted,
+            waits=self.waits,
             rate_limited=self.rate_limited,
             decreases=self.decreases,
             reclaimed=self.reclaimed,

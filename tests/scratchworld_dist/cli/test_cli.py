@@ -15,6 +15,7 @@ import pytest
 from scratchworld_dist.sb3 import check_project
 from tests.conftest import REPO, SUITE_DIR
 from tests.support.cli_runner import Done, invoke
+from tests.support.retries import SecondLooks
 
 pytestmark = pytest.mark.browser
 
@@ -29,11 +30,15 @@ def run(monkeypatch: pytest.MonkeyPatch) -> Callable[..., Done]:
 
 
 @pytest.mark.slow
-def test_validate_our_suite_is_green_under_both_clocks(tmp_path: Path, run: Callable[..., Done]) -> None:
+def test_validate_our_suite_is_green_under_both_clocks(
+    tmp_path: Path, run: Callable[..., Done], second_looks: SecondLooks
+) -> None:
     """The main job: every golden passes, every initial falls short, JSON as documented.
 
     Our suite's default clock is virtual; real time must give the same verdicts, test for test, once load
-    did not delay it.
+    did not delay it. A real-clock verdict on a timing test depends on load (four editors on two cores, beside
+    the other tests): a task whose verdicts differ is validated again alone, up to twice, and each such look
+    is reported in the run's summary; more than a quarter of the tasks needing one fails the test.
     """
     verdicts: dict[str, list[tuple[object, ...]]] = {}
     for clock in ("default", "real"):
@@ -63,21 +68,24 @@ def test_validate_our_suite_is_green_under_both_clocks(tmp_path: Path, run: Call
             for row in rows
             for which in ("golden", "initial")
         ]
-    # A real-clock verdict on a timing test depends on load (four editors on two cores, beside the other tests):
-    # a task whose verdicts differ is validated again alone, up to twice, as ``undelayed`` does in test_clock.
     for task in sorted({row[0] for row in set(verdicts["default"]) ^ set(verdicts["real"])}):
-        for _ in range(2):
-            out = tmp_path / f"validate-real-{task}.json"
-            done = run("validate", str(SUITE_DIR), "--tasks", task, "--clock", "real", "--json", str(out))
-            again = [
+        virtual = [v for v in verdicts["default"] if v[0] == task]
+        real = [v for v in verdicts["real"] if v[0] == task]
+        for look in range(2):
+            second_looks.took(task, f"real {real} against virtual {virtual}")
+            out = tmp_path / f"validate-real-{task}-{look}.json"
+            run("validate", str(SUITE_DIR), "--tasks", task, "--clock", "real", "--json", str(out))
+            real = [
                 (row["task_id"], which, *(row[which][key] for key in ("success", "passed", "total", "error")))
                 for row in json.loads(out.read_text())
                 for which in ("golden", "initial")
             ]
-            if again == [v for v in verdicts["default"] if v[0] == task]:
+            if real == virtual:
                 break
-        verdicts["real"] = [v for v in verdicts["real"] if v[0] != task] + again
+        verdicts["real"] = [v for v in verdicts["real"] if v[0] != task] + real
     assert sorted(verdicts["default"]) == sorted(verdicts["real"])
+    tasks = len({row[0] for row in verdicts["default"]})
+    second_looks.at_most(tasks // 4, tasks, "tasks")
 
 
 def test_validate_exits_1_when_a_golden_fails(tmp_path: Path, run: Callable[..., Done]) -> None:

@@ -81,6 +81,7 @@ def run(config: Path, cluster: Cluster) -> subprocess.CompletedProcess[str]:
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(2 * 900 + 300)  # two runs, each bounded at 900 s, after the cluster's start
 def test_a_node_from_another_checkout_runs_jobs_and_a_differing_one_is_refused(
     tmp_path: Path, cluster: Cluster
 ) -> None:

@@ -157,12 +157,32 @@ def test_upstream_task_lists(upstream_clone: Path) -> None:
     assert len(load_suite(upstream_clone / "tasks", task_list="15_tasks").tasks) == 15
 
 
-def test_upstream_task_list_naming_a_missing_task(upstream_clone: Path) -> None:
-    listing = upstream_clone / "tasks" / "mine.json"
+def test_a_clone_reads_its_task_lists_and_gives_debug_tasks_their_starters_golden(fake_clone: Path) -> None:
+    suite = load_suite(fake_clone)
+    assert suite.kind == "upstream" and [t.id for t in suite.tasks] == [
+        "say_hello",
+        "sum_two_says_nothing_error",
+        "sum_two",
+    ]
+    assert all(t.timeout_s == UPSTREAM_TIMEOUT_S for t in suite.tasks)
+    debug = suite.task("sum_two_says_nothing_error")
+    assert debug.golden_project is not None and debug.golden_project.name == "sum_two_golden.sb3"
+    helper = suite.task("sum_two").helper_script
+    assert (
+        helper is not None
+        and helper.name == "evaluation_utils.js"
+        and suite.task("sum_two").helper_global == ("EvaluationUtils")
+    )
+    assert [t.id for t in load_suite(fake_clone, task_list="2_tasks").tasks] == ["say_hello", "sum_two"]
+    assert len(load_suite(fake_clone / "tasks", task_list="all_tasks").tasks) == 3  # tasks/ finds the clone
+
+
+def test_upstream_task_list_naming_a_missing_task(fake_clone: Path) -> None:
+    listing = fake_clone / "tasks" / "mine.json"
     listing.write_text(json.dumps({"create": ["say_hello.json", "ghost.json"]}))
-    _expect_problem_list(upstream_clone, "mine", upstream_clone / "tasks" / "create" / "ghost.json", "missing")
+    _expect_problem_list(fake_clone, "mine", fake_clone / "tasks" / "create" / "ghost.json", "missing")
     listing.write_text(json.dumps({"games": ["say_hello.json"]}))
-    _expect_problem_list(upstream_clone, "mine", listing, "unknown category 'games'")
+    _expect_problem_list(fake_clone, "mine", listing, "unknown category 'games'")
 
 
 def _expect_problem_list(root: Path, task_list: str, path: Path, message: str) -> None:
@@ -172,16 +192,16 @@ def _expect_problem_list(root: Path, task_list: str, path: Path, message: str) -
     assert message in str(caught.value)
 
 
-def test_upstream_missing_script_names_the_expected_path(upstream_clone: Path) -> None:
-    script = upstream_clone / "scratch-bench-api" / "api" / "evaluation_scripts" / "say_hello.js"
+def test_upstream_missing_script_names_the_expected_path(fake_clone: Path) -> None:
+    script = fake_clone / "scratch-bench-api" / "api" / "evaluation_scripts" / "say_hello.js"
     script.unlink()
-    _expect_problem(upstream_clone, script, "evaluation script missing")
+    _expect_problem(fake_clone, script, "evaluation script missing")
 
 
-def test_upstream_missing_helper(upstream_clone: Path) -> None:
-    helper = upstream_clone / "scratch-bench-api" / "api" / "evaluation_scripts" / "evaluation_utils.js"
+def test_upstream_missing_helper(fake_clone: Path) -> None:
+    helper = fake_clone / "scratch-bench-api" / "api" / "evaluation_scripts" / "evaluation_utils.js"
     helper.unlink()
-    _expect_problem(upstream_clone, helper, "missing")
+    _expect_problem(fake_clone, helper, "missing")
 
 
 @pytest.mark.parametrize(
@@ -194,10 +214,10 @@ def test_upstream_missing_helper(upstream_clone: Path) -> None:
         ('{"type": "create", "initial_project": "default.sb3"}', "instruction: Field required"),
     ],
 )
-def test_upstream_bad_task_files(upstream_clone: Path, content: str, message: str) -> None:
-    bad = upstream_clone / "tasks" / "create" / "say_hello.json"
+def test_upstream_bad_task_files(fake_clone: Path, content: str, message: str) -> None:
+    bad = fake_clone / "tasks" / "create" / "say_hello.json"
     bad.write_text(content)
-    _expect_problem(upstream_clone, bad, message)
+    _expect_problem(fake_clone, bad, message)
 
 
 def test_shared_data_reports_every_missing_script(upstream_dir: Path) -> None:

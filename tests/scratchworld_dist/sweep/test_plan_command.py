@@ -3,6 +3,7 @@ and a preview that counts what the run directory already decided and what the re
 
 from __future__ import annotations
 
+import hashlib
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +28,14 @@ def write(tmp_path: Path, episodes: dict[str, Any] | None = None, **fields: Any)
     config["episodes"] = {"max_steps": 7, **(episodes or {})}
     path.write_text(yaml.safe_dump({**config, "output": str(tmp_path / "run"), **fields}))
     return path
+
+
+def tree(root: Path) -> dict[str, str]:
+    """Every file and folder under ``root``, a file by its bytes' digest (a folder by its name only)."""
+    return {
+        str(path.relative_to(root)): hashlib.sha256(path.read_bytes()).hexdigest() if path.is_file() else "folder"
+        for path in root.rglob("*")
+    }
 
 
 def test_each_override_fails_as_the_same_field_in_the_file_would(tmp_path: Path) -> None:
@@ -89,6 +98,7 @@ def test_plan_counts_decided_jobs_calls_and_estimates_cost_from_earlier_attempts
         row = job(spec.job_id, outcome, model="scripted", agent="llm", mode="composite", cost_usd=0.25)
         store.commit(JobRecord(job=row))
     store.close()
+    written = tree(tmp_path / "run")
     preview = preview_plan(config)
     lines = {line.mode: line for line in preview.lines}
     per_mode = len(jobs) // 2
@@ -102,4 +112,4 @@ def test_plan_counts_decided_jobs_calls_and_estimates_cost_from_earlier_attempts
         f"{len(jobs) - 2} job(s) to run, 2 already decided; at most {7 * (len(jobs) - 2)} model call(s)" in done.stdout
     )
     assert "(some lines unknown)" in done.stdout
-    assert not (tmp_path / "run" / "journal").exists() or store.attempts()  # planning wrote nothing new
+    assert tree(tmp_path / "run") == written  # planning wrote nothing: no file added, changed or removed

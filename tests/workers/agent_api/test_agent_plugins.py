@@ -217,6 +217,7 @@ def server(monkeypatch: pytest.MonkeyPatch) -> Iterator[OpenAIServer]:
 @pytest.mark.browser
 @pytest.mark.usefixtures("on_path")
 @pytest.mark.slow
+@pytest.mark.timeout(600 + 300)  # its run is bounded at 600 s
 def test_the_readme_agent_runs_both_modes_with_calls_retried_paced_and_costed(
     tmp_path: Path, server: OpenAIServer, drivers: list[Driver]
 ) -> None:

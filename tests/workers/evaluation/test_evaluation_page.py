@@ -11,6 +11,7 @@ from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.suites import Task, load_suite
 from tests.conftest import REPO, SUITE_DIR, copy_page_files
 from tests.support.evaluations import evaluate, spec
+from tests.support.retries import SecondLooks
 from workers.contract import EditorBundleMissingError, EvalResult, editor_need
 from workers.editor import BrowserSession
 from workers.editor._server import EditorAssets
@@ -70,11 +71,17 @@ async def test_a_script_that_needs_the_editor_runs_there(evaluator: Evaluator) -
 
 @pytest.mark.browser
 @pytest.mark.slow
+@pytest.mark.timeout(1200)  # 24 projects twice on the real clock: 380 s on a machine loaded 15-fold
 @pytest.mark.parametrize("clock", ["virtual", "real"])
-async def test_our_suite_gets_the_same_verdicts_on_both_pages(evaluator: Evaluator, clock: str) -> None:
-    """On the real clock a verdict can follow the machine's load (a pacing window missed while other tests run),
-    so there a difference counts only when it shows again on a second pair of evaluations: a page's difference
-    is deterministic, a loaded frame is not. The virtual clock gets one pair and no second look."""
+async def test_our_suite_gets_the_same_verdicts_on_both_pages(
+    evaluator: Evaluator, clock: str, second_looks: SecondLooks
+) -> None:
+    """The virtual clock is deterministic: one pair of evaluations per project, and any difference fails.
+
+    On the real clock a verdict can follow the machine's load (a pacing window missed while other tests run),
+    so a difference there gets a second pair, which must agree; every second look is reported in the run's
+    summary, and more than one project in eight needing one fails the test (a page that drifts that often
+    is not just load)."""
 
     async def both_pages(task: Task, data: bytes) -> tuple[Verdicts, Verdicts]:
         bare = await evaluator.evaluate(data, task.evaluation_spec(clock=clock, page="bare"))  # type: ignore[arg-type]
@@ -83,16 +90,20 @@ async def test_our_suite_gets_the_same_verdicts_on_both_pages(evaluator: Evaluat
         return verdicts(bare), verdicts(editor)
 
     differences = []
+    projects = 0
     for task in load_suite(SUITE_DIR).tasks:
         for project in (task.golden_project, task.initial_project):
             assert project is not None
+            projects += 1
             data = project.read_bytes()
             bare, editor = await both_pages(task, data)
             if bare != editor and clock == "real":
+                second_looks.took(f"{task.id}/{project.stem}", f"bare {bare} against editor {editor}")
                 bare, editor = await both_pages(task, data)
             if bare != editor:
                 differences.append((task.id, project.stem, bare, editor))
     assert differences == []
+    second_looks.at_most(projects // 8, projects, "projects")
 
 
 def test_the_page_is_part_of_a_jobs_identity() -> None:

@@ -165,8 +165,8 @@ def test_our_suite_keeps_ideal_timing_and_its_job_identity() -> None:
     assert read_task(task).task_hash != read_task(task, timing="calibrated").task_hash
 
 
-def test_upstream_is_calibrated_in_virtual_time_and_timing_is_part_of_its_identity(upstream_clone: Path) -> None:
-    task = load_suite(upstream_clone).select()[0]
+def test_upstream_is_calibrated_in_virtual_time_and_timing_is_part_of_its_identity(fake_clone: Path) -> None:
+    task = load_suite(fake_clone).select()[0]
     assert task.evaluation_spec(clock="real").timing == "ideal"  # the real clock has its own
     spec = task.evaluation_spec()  # virtual by default
     assert (spec.timing, spec.frame_lateness) == ("calibrated", calibrated_frame_lateness())

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
@@ -43,11 +45,11 @@ async def test_a_script_sees_the_profile(evaluator: Evaluator, profile: str, see
     assert result.conditions.mouse_known is (profile == "upstream")
 
 
-def test_suites_pick_their_default_profile(upstream_clone) -> None:
+def test_suites_pick_their_default_profile(fake_clone: Path) -> None:
     ours = load_suite(SUITE_DIR).tasks[0]
     assert ours.evaluation_spec().profile == "native"
     assert ours.evaluation_spec("upstream").profile == "upstream"
-    upstream = load_suite(upstream_clone).tasks[0]
+    upstream = load_suite(fake_clone).tasks[0]
     assert upstream.default_profile == "upstream"
     assert upstream.evaluation_spec().profile == "upstream"
 

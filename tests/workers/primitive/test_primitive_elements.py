@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import re
-import statistics
 from collections.abc import AsyncIterator
 from dataclasses import dataclass
 from typing import Any
@@ -122,9 +121,15 @@ async def test_quiz_project_lists_the_editor(editor: Editor) -> None:
     assert "Upload Sprite" not in texts(dom, "buttons")
 
 
-async def test_the_pass_takes_a_few_milliseconds(editor: Editor) -> None:
-    times = [(await read_dom(editor)).elapsed_ms for _ in range(20)]
-    assert statistics.median(times) < 50, times
+async def test_the_pass_reads_without_changing_the_page_and_times_itself(editor: Editor) -> None:
+    """Passes in a row on a settled page list the same elements, each with the time it took in the page.
+
+    How long it takes is a figure, not a verdict: ``benchmarks/primitive_observation.py`` prints it
+    (the ``dom pass`` row; target p50 < 50 ms on 2 cores)."""
+    passes = [await read_dom(editor) for _ in range(3)]
+    assert all(dom.elapsed_ms > 0 for dom in passes), [dom.elapsed_ms for dom in passes]
+    listed = [[(e.type, e.text, e.x, e.y, e.width, e.height) for e in dom.elements] for dom in passes]
+    assert listed[0] and listed[1] == listed[0] and listed[2] == listed[0]
 
 
 async def test_flyout_reporters_are_named_by_opcode_not_by_id(editor: Editor) -> None:

@@ -23,7 +23,7 @@ from tests.support.ray_cluster import Cluster
 from tests.support.sweep_driver import SCRATCHWORLD
 from workers.llm import PROBE_MESSAGES
 
-pytestmark = [pytest.mark.ray, pytest.mark.slow]
+pytestmark = [pytest.mark.ray, pytest.mark.slow, pytest.mark.timeout(2 * 600 + 300)]  # two runs of at most 600 s
 
 BASE_ENV, KEY_ENV = "PREFLIGHT_NODE_BASE_URL", "PREFLIGHT_NODE_API_KEY"
 KEY = "sk-node-only-4f0a"

@@ -151,7 +151,7 @@ async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
     result = await worker.run(*episode(contents["sum_two_numbers"], timeout_s=1.5, mode="primitive"))
     assert (result.outcome, result.error_class, result.stop_reason) == ("error", "episode_timeout", "episode_timeout")
     assert result.error_message == "episode exceeded 1.5 s"
-    assert 1.5 <= result.timings.total_s < 10
+    assert result.timings.total_s >= 1.5  # the cut, not the oracle's end (a lower bound: load only lengthens it)
     assert result.started_at > 0
     session = worker._session
     assert session is not None

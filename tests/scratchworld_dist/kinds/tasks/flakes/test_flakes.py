@@ -134,16 +134,15 @@ def test_bad_options_get_a_one_line_error_and_exit_2(
     assert message in done.stderr and done.stderr.count("\n") == 1, done.stderr
 
 
-def test_the_upstream_clone_runs_and_reports_its_tests(
-    tmp_path: Path, upstream_clone: Path, run: Callable[..., Done]
+def test_an_upstream_clone_runs_and_reports_its_tests(
+    tmp_path: Path, fake_clone: Path, run: Callable[..., Done]
 ) -> None:
-    """The upstream data here has no evaluation scripts: the clone carries ours (tests/data); skipped without it."""
+    """A clone in upstream's layout (tests/support/fake_clone.py) runs under upstream's conditions."""
     out = tmp_path / "flakes.json"
     done = run(
-        "flakes", str(upstream_clone), "--tasks", "calculate_gcd", "--axes", "seed,phase", "--runs", "1",
-        "--json", str(out),
+        "flakes", str(fake_clone), "--tasks", "sum_two", "--axes", "seed,phase", "--runs", "1", "--json", str(out),
     )  # fmt: skip
     assert done.returncode in (0, 1), done.stdout + done.stderr
     report = json.loads(out.read_text())
     assert report["conditions"]["profile"] == "upstream" and report["conditions"]["clock"] == "virtual"
-    assert {row["task_id"] for row in report["tests"]} == {"calculate_gcd"} and len(report["runs"]) == 6
+    assert {row["task_id"] for row in report["tests"]} == {"sum_two"} and len(report["runs"]) == 6

@@ -166,12 +166,12 @@ def test_the_command_plans_in_a_browser_of_its_own(tmp_path: Path) -> None:
     assert [r["task_id"] for r in json.loads((out / "plans.json").read_text())["tasks"]] == ["bouncing_ball_stuck"]
 
 
-def test_an_upstream_clone_is_planned_without_its_evaluation_scripts(upstream_clone: Path) -> None:
-    shutil.rmtree(upstream_clone / "scratch-bench-api", ignore_errors=True)
+def test_an_upstream_clone_is_planned_without_its_evaluation_scripts(fake_clone: Path) -> None:
+    shutil.rmtree(fake_clone / "scratch-bench-api")
     with pytest.raises(SuiteError):
-        load_suite(upstream_clone)
-    suite = planning_suite(upstream_clone)
-    assert suite.tasks and all(t.golden_project is not None for t in suite.tasks if t.category != "debug")
+        load_suite(fake_clone)
+    suite = planning_suite(fake_clone)
+    assert len(suite.tasks) == 3 and all(t.golden_project is not None for t in suite.tasks)
 
 
 def test_a_sweep_takes_planned_trajectories_for_tasks_that_ship_none(tmp_path: Path) -> None:
