@@ -15,6 +15,7 @@
   let projectLoads = 0;
   const projectLoadedHooks = []; // feature modules' state that belongs to one project
   const evaluationObservers = []; // feature modules that watch a script's run (trace/record.js)
+  const runners = new Map(); // feature modules' own scripts, run in place of a task's (explore/run.js)
 
   // The page clock (clock.js, loaded first): real time except while an evaluation runs virtually,
   // or an agent's page runs an episode on the paused virtual clock.
@@ -300,15 +301,17 @@
     if (!/^[A-Za-z_$][\w$]*$/.test(helperGlobal)) {
       throw new BridgeFailure('bad_request', 'helperGlobal must be a JavaScript identifier');
     }
+    // A runner (`{name, args}`) is one of the page's own scripts (explore/run.js), run instead of the task's.
+    const runner = args.runner == null ? null : runnerOf(args.runner);
     recycler.beforeEvaluation(theVm); // before the script's own top-level code runs
     clock.beginEvaluation();
     let helper = null;
-    if (args.helperSource != null) {
+    if (runner === null && args.helperSource != null) {
       helper = loadModule(args.helperSource, args.helperName || 'helper.js', null);
       window[helperGlobal] = helper;
     }
-    const scriptName = args.scriptName || 'evaluation.js';
-    const run = loadModule(args.scriptSource, scriptName, helper);
+    const scriptName = runner !== null ? `runner ${args.runner.name}` : args.scriptName || 'evaluation.js';
+    const run = runner !== null ? runner : loadModule(args.scriptSource, scriptName, helper);
     if (typeof run !== 'function') {
       throw new BridgeFailure('script_invalid', `${scriptName} must set module.exports to a function, got ${typeof run}`);
     }
@@ -340,7 +343,8 @@
       throw new BridgeFailure('script_error', `${scriptName} failed: ${describe(reason)}`);
     } finally {
       clearTimeout(timer);
-      for (const watch of watches) watch.stop(); // what the script saw, not what stopping the VM does
+      // What the script saw, not what stopping the VM does; last started, first stopped (their hooks nest).
+      for (const watch of watches.slice().reverse()) watch.stop();
       try { theVm.runtime.stopAll(); } catch (e) { /* the verdict is already decided */ }
       durationMs = performance.now() - started;
       clock.stopVirtual();
@@ -353,6 +357,13 @@
       throw new BridgeFailure('script_timeout', `${scriptName} did not finish within ${timeoutMs / 1000} ${unit}`);
     }
     return {resultJson: toJson(outcome, scriptName), durationMs: durationMs, frames: frames};
+  }
+
+  // The script a registered runner makes of its checked arguments (a BridgeFailure when they are bad).
+  function runnerOf(value) {
+    const name = value && value.name;
+    if (!runners.has(name)) throw new BridgeFailure('bad_request', `unknown runner ${JSON.stringify(name)}`);
+    return runners.get(name)(value.args == null ? {} : value.args);
   }
 
   const MAX_ADVANCE_MS = 10 * 60 * 1000;
@@ -462,6 +473,11 @@
     pageTimeStands: () => clock.status().paused, // an episode's virtual clock, between two advances
     onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
     onEvaluation: (observer) => evaluationObservers.push(observer), // (vm, evaluate's args) => null | {start, stop}
+    // (name, (args) => script): `evaluate` with `runner: {name, args}` runs the script made, as it runs a task's.
+    addRunner: (name, make) => {
+      if (runners.has(name)) throw new Error(`runner ${name} registered twice`);
+      runners.set(name, make);
+    },
   };
   for (const instance of registry ? registry.createAll(context) : []) {
     for (const [name, fn] of Object.entries(instance.api || {})) {

@@ -19,6 +19,7 @@ scratchworldModule({name: 'trace/record', requires: ['trace/observe', 'trace/hap
   const MIN_CHARS = 1000;
   const MAX_CHARS = 16 * 1024 * 1024;
   let last = null; // the last evaluation's trace, until Python takes it
+  let recording = null; // the recorder of the evaluation under way
 
   function maxCharsOf(options) {
     const maxChars = options.maxChars;
@@ -124,6 +125,7 @@ scratchworldModule({name: 'trace/record', requires: ['trace/observe', 'trace/hap
     }
 
     return {
+      steps: () => steps,
       start() {
         runtime.on('targetWasCreated', onCreated);
         events = happenings.start(vm, keyOf);
@@ -144,11 +146,16 @@ scratchworldModule({name: 'trace/record', requires: ['trace/observe', 'trace/hap
     last = null;
     if (args.observableTrace == null) return null;
     const rec = recorder(vm, maxCharsOf(args.observableTrace));
-    return {start: rec.start, stop: () => { last = rec.stop(); }};
+    return {
+      start: () => { recording = rec; rec.start(); },
+      stop: () => { recording = null; last = rec.stop(); },
+    };
   });
   ctx.onProjectLoaded(() => { last = null; });
 
   return {
+    // The frame the trace under way is at (VM steps since the script started), or null when none records.
+    frame: () => (recording === null ? null : recording.steps()),
     api: {
       takeObservableTrace: () => {
         const trace = last;

@@ -251,11 +251,20 @@ class Editor:
         return base64.b64decode(_Saved.model_validate(await self.call("saveProject")).sb3_base64)
 
     async def run_evaluation(
-        self, spec: EvaluationSpec, *, trace_frames: bool = False, observable_trace_chars: int | None = None
+        self,
+        spec: EvaluationSpec,
+        *,
+        trace_frames: bool = False,
+        observable_trace_chars: int | None = None,
+        runner: dict[str, JsonValue] | None = None,
+        observe_reads: bool = False,
     ) -> EvaluationRun:
         """Run an evaluation script on the loaded project, on the spec's clock (``trace_frames``: and
         record every VM frame, see ``EvaluationRun.frames``; ``observable_trace_chars``: and record what a
-        user could observe, up to that many characters of JSON, see ``take_observable_trace``).
+        user could observe, up to that many characters of JSON, see ``take_observable_trace``;
+        ``observe_reads``: and what the script reads, see ``take_observed_reads``). ``runner``
+        (``{"name", "args"}``) runs one of the page's own scripts instead of the spec's (``scratch-gui/explore/``),
+        under the same conditions.
 
         The page enforces ``spec.timeout_s`` itself (on its clock, so in simulated seconds under
         the virtual clock); a script that blocks the page entirely is the caller's to kill (by
@@ -277,6 +286,10 @@ class Editor:
         }
         if observable_trace_chars is not None:
             args["observableTrace"] = {"maxChars": observable_trace_chars}
+        if runner is not None:
+            args["runner"] = runner
+        if observe_reads:
+            args["observeReads"] = True
         self.uses += 1
         return EvaluationRun.model_validate(await self.call("evaluate", args))
 
@@ -284,6 +297,11 @@ class Editor:
         """The observable trace of the last ``run_evaluation`` that asked for one (``scratch-gui/trace/record.js``),
         also when its script failed; None when there is none. The page forgets it once taken."""
         return await self.call("takeObservableTrace")
+
+    async def take_observed_reads(self) -> JsonValue:
+        """What the script of the last ``run_evaluation`` with ``observe_reads`` read and started
+        (``scratch-gui/trace/reads.js``); None when there is none. The page forgets it once taken."""
+        return await self.call("takeObservedReads")
 
     async def recycle(self) -> list[str]:
         """Undo what the last evaluation or episode left in the page (``scratch-gui/recycle.js``,

@@ -2,7 +2,8 @@
 
 from scratchworld_dist.kinds.audit._kind import AUDIT, AuditKind
 from scratchworld_dist.kinds.audit._plan import AuditBody, AuditSweep, audit_jobs, task_variants
-from scratchworld_dist.kinds.audit._report import AuditReport, build_audit_report, render_audit
+from scratchworld_dist.kinds.audit._report import AuditReport, build_audit_report
+from scratchworld_dist.kinds.audit._report_blocks import render_audit
 from scratchworld_dist.kinds.audit._rows import AuditRow
 
 __all__ = [

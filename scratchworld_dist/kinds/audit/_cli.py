@@ -18,6 +18,12 @@ from scratchworld_dist.sweep import SweepOverrides, sweep_config_from
 @click.option("--refactorings-per-task", type=click.IntRange(min=0), help="At most N refactorings per task.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Which mutants a cap picks.")
 @click.option(
+    "--explanations",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="One file of the suite's declarations (answer domains, explained holes) for every task "
+    "(default: each task's audit.yaml; for an upstream clone, configs/audit-upstream.yaml).",
+)
+@click.option(
     "--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (default: results/audit-<suite>)."
 )
 @click.option(
@@ -30,6 +36,7 @@ def audit_command(
     mutants_per_task: int | None,
     refactorings_per_task: int | None,
     seed: int,
+    explanations: Path | None,
     out: Path | None,
     json_out: Path | None,
     address: str | None,
@@ -46,6 +53,8 @@ def audit_command(
         section["mutants_per_task"] = mutants_per_task
     if refactorings_per_task is not None:
         section["refactorings_per_task"] = refactorings_per_task
+    if explanations is not None:
+        section["explanations"] = str(explanations.resolve())
     data: dict[str, object] = {"name": name, "benchmark": "audit", "suite": str(suite_dir), "audit": section}
     data["output"] = str(out if out is not None else Path("results") / name)
     if address is not None:
@@ -61,7 +70,8 @@ def audit_command(
         figures = [
             {
                 "task_id": task.task_id, "mutants": task.mutants, "killed": task.killed,
-                "equivalent": task.equivalent, "holes": task.holes + task.survived,
+                "equivalent": task.equivalent, "outside_task": task.outside_task,
+                "holes": task.holes + task.survived, "explained": task.explained, "vacuous": task.vacuous,
                 "refactorings": task.refactorings, "brittle": task.brittle, "errors": task.errors,
             }
             for task in report.tasks

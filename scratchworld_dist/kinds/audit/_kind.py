@@ -11,6 +11,7 @@ from typing import ClassVar
 import click
 from pydantic import BaseModel
 
+from scratchworld_dist.kinds.audit._declarations import suite_declarations
 from scratchworld_dist.kinds.audit._panel import variant_panel
 from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, AuditSweep, audit_jobs, evaluated_under
 from scratchworld_dist.kinds.audit._rows import AuditRow, audit_row
@@ -50,11 +51,9 @@ class AuditKind(Kind):
         """The selected tasks' goldens and every variant the ``audit`` section asks for, one job each, evaluated
         under ``evaluated_under(config)``."""
         suite, contents = selected_tasks(evaluated_under(config), None)
-        jobs = list(
-            audit_jobs(
-                contents, config.section(self.name, AuditSweep), DEFAULT_AGENT, harness.digest, config.project_limits
-            )
-        )
+        settings = config.section(self.name, AuditSweep)
+        declarations = suite_declarations(suite, settings.explanations)
+        jobs = list(audit_jobs(contents, settings, DEFAULT_AGENT, harness.digest, config.project_limits, declarations))
         info = SuiteInfo(
             name=suite.name, kind=suite.kind, root=str(suite.root), hash=suite_hash(contents), tasks=len(contents)
         )
@@ -64,7 +63,12 @@ class AuditKind(Kind):
         body = job.body
         if not isinstance(body, AuditBody):
             raise ValueError(f"job {job.job_id} is not an audit job")
-        return AuditSpec(**job.worker_header(attempt, timeout_s), variant=body.variant, project_json=body.project_json)
+        return AuditSpec(
+            **job.worker_header(attempt, timeout_s),
+            variant=body.variant,
+            project_json=body.project_json,
+            exploration=body.exploration,
+        )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
         return {"audits": [audit_row(job, result)]}
@@ -80,14 +84,16 @@ class AuditKind(Kind):
         return build_audit_report(run_dirs, force=force)
 
     def render_report(self, data: BaseModel, fmt: ReportFormat) -> str:
-        from scratchworld_dist.kinds.audit._report import AuditReport, render_audit
+        from scratchworld_dist.kinds.audit._report import AuditReport
+        from scratchworld_dist.kinds.audit._report_blocks import render_audit
 
         assert isinstance(data, AuditReport)
         return render_audit(data, fmt)
 
     def report_html(self, run_dir: Path) -> tuple[str, list[str]]:
         """The report on the run's page, its findings linking to their job pages next to it."""
-        from scratchworld_dist.kinds.audit._report import build_audit_report, job_page, render_audit
+        from scratchworld_dist.kinds.audit._report import build_audit_report, job_page
+        from scratchworld_dist.kinds.audit._report_blocks import render_audit
 
         report = build_audit_report([run_dir], force=False)
         return render_audit(report, "html", link=lambda finding: job_page(finding.job_id)), report.warnings

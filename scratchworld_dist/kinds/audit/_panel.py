@@ -15,6 +15,7 @@ from scratchworld_dist.kinds.audit._programs import programs_html
 from scratchworld_dist.kinds.audit._remake import ProgramsUnavailableError, remade_programs
 from scratchworld_dist.kinds.audit._rows import AuditRow
 from scratchworld_dist.viewer import AttemptPanel
+from workers.kinds.audit import ShownBy
 
 GOOD = {"killed", "passed", "golden_passes"}
 """Verdicts of a grader that judged right (a green badge); a hole, a brittle test or a failing golden are red,
@@ -22,10 +23,18 @@ an equivalent mutant (no test could kill it) grey."""
 
 WRONG = {"hole", "survived", "brittle", "golden_fails"}
 
+VACUOUS = {
+    "never_starts": "its tests never start the program (no green flag, no script started): they pass any program",
+    "observes_nothing": "its tests read nothing the program changes: they pass any program",
+}
+
 MEANING = {
     "killed": "a test failed this mutant, as a sound grader should",
     "equivalent": "every test passed this mutant, and it behaves as the golden does: no test could tell them apart",
-    "hole": "a grader hole: every test passed this mutant, which behaves otherwise than the golden",
+    "hole": "a grader hole: every test passed this mutant, which behaves otherwise than the golden in a run the task"
+    " allows (unless the suite declares the difference open: an explained hole, see the report)",
+    "outside_task": "every test passed this mutant, which behaves otherwise than the golden only under answers the "
+    "task's instruction rules out: outside the task, not a hole",
     "survived": "every test passed this mutant, and it could not be traced to tell whether it behaves as the golden",
     "passed": "every test passed this refactoring, as a sound grader should",
     "brittle": "a brittle grader: a test failed this refactoring, which was written to behave as the golden does",
@@ -46,12 +55,22 @@ def variant_panel(rows: Mapping[str, Sequence[BaseModel]], run_dir: Path) -> Att
 def _evidence(row: AuditRow) -> str:
     """The first observable difference, first: what the tests let through (or that there is none)."""
     if row.evidence:
+        shown = ShownBy.model_validate_json(row.shown_by).describe() if row.shown_by else None
         return (
             '<p class="audit-evidence"><strong>First observable difference from the golden:</strong> '
             f"<code>{escape(row.evidence)}</code></p>\n"
+            + (f'<p class="audit-shown-by">Shown by {escape(shown)}.</p>\n' if shown else "")
         )
     if row.observed == "equivalent":
-        return '<p class="audit-evidence">Observably the same as the golden: both traces agree frame by frame.</p>\n'
+        runs = f"all {row.runs_compared} runs" if row.runs_compared else "both traces"
+        return (
+            f"<p class=\"audit-evidence\">Observably the same as the golden: {runs} (the tests' own, the task's "
+            "exploration) agree frame by frame.</p>\n"
+        )
+    if row.vacuous:
+        return (
+            f'<p class="audit-evidence warning">Vacuous grader: {escape(VACUOUS.get(row.vacuous, row.vacuous))}.</p>\n'
+        )
     return ""
 
 

@@ -1,17 +1,21 @@
 """Planning an audit: its section of a sweep config (``audit:``: how many variants of each golden, from which
-seed), and each selected task's golden project and its variants (mutants and refactorings), one job each."""
+seed, the declarations of an upstream clone), and each selected task's golden project and its variants (mutants
+and refactorings), one job each, with the task's exploration plan (``_exploration``)."""
 
 from __future__ import annotations
 
 import hashlib
 import json
 import re
-from collections.abc import Iterator
-from typing import Any
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+from typing import Any, ClassVar
 
 from pydantic import BaseModel, ConfigDict, Field
 
 from scratchworld_dist._errors import SuiteError
+from scratchworld_dist.kinds.audit._declarations import TaskDeclarations
+from scratchworld_dist.kinds.audit._exploration import exploration_plan
 from scratchworld_dist.kinds.audit.variants import (
     Mutant,
     ProgramFormatError,
@@ -24,7 +28,7 @@ from scratchworld_dist.kinds.audit.variants import (
 from scratchworld_dist.kinds.tasks import TaskContent
 from scratchworld_dist.sweep import JobBody, JobSpec, SweepConfig, identity_id
 from workers.contract import AgentRef, ProjectLimits, ScratchWorldError, check_project
-from workers.kinds.audit import VariantKind
+from workers.kinds.audit import ExplorationPlan, VariantKind
 
 DEFAULT_AGENT = AgentRef(name="oracle")
 """The config's default agent: the audit runs none, so it takes no other."""
@@ -44,6 +48,15 @@ class AuditBody(JobBody):
     after: str
     project_json: str
     """The variant's project.json (compact); the worker gets the golden's assets with it."""
+
+    change: str = ""
+    """The change in stable words (``QUESTION: 'a' -> 'b'``)."""
+
+    block_opcode: str = ""
+    """The changed block's opcode in the golden ('' for a renamed variable or list, whose id ``block_id`` is)."""
+
+    exploration: ExplorationPlan | None = None
+    """The task's exploration plan (the same for every job of the task; part of each one's identity)."""
 
     def columns(self) -> dict[str, Any]:
         return {"mode": self.variant, "max_steps": 0}
@@ -110,14 +123,24 @@ def audit_jobs(
     agent: AgentRef,
     harness: str,
     limits: ProjectLimits | None = None,
+    declarations: Mapping[str, TaskDeclarations] | None = None,
 ) -> Iterator[JobSpec]:
-    """The golden of each task, then one job per variant: named by its project, its task and the harness (not
-    by the seed that picked it: the same variant picked again is the same job)."""
+    """The golden of each task, then one job per variant: named by its project, its task, its exploration plan
+    (``declarations``: the tasks' answer domains) and the harness (not by the seed that picked it: the same
+    variant picked again is the same job)."""
     for content in contents:
         golden = golden_json(content, limits)
+        declared = (declarations or {}).get(content.task.id)
+        plan = exploration_plan(
+            golden,
+            content.payload.instruction,
+            declared.answers if declared else None,
+            declared.source if declared else "",
+        )
         unchanged = AuditBody(
             variant="golden", variant_id="golden", operator="golden", target="", block_id="",
             description="the golden project, unchanged", before="", after="", project_json=_text(golden),
+            exploration=plan,
         )  # fmt: skip
         yield _job(content, unchanged, agent, harness)
         for variant in _variants(golden, content, settings):
@@ -127,9 +150,18 @@ def audit_jobs(
                 variant_id=variant.mutant_id if isinstance(variant, Mutant) else variant.refactoring_id,
                 operator=variant.operator, target=variant.target, block_id=variant.block_id,
                 description=variant.description, before=variant.before, after=variant.after,
-                project_json=_text(variant.project),
+                project_json=_text(variant.project), change=variant.change,
+                block_opcode=_opcode(golden, variant.target, variant.block_id), exploration=plan,
             )  # fmt: skip
             yield _job(content, body, agent, harness)
+
+
+def _opcode(project: dict[str, Any], target: str, block_id: str) -> str:
+    for candidate in project.get("targets", []):
+        if isinstance(candidate, dict) and candidate.get("name") == target:
+            block = (candidate.get("blocks") or {}).get(block_id)
+            return str(block.get("opcode", "")) if isinstance(block, dict) else ""
+    return ""
 
 
 def _text(project: dict[str, Any]) -> str:
@@ -138,7 +170,9 @@ def _text(project: dict[str, Any]) -> str:
 
 def _job(content: TaskContent, body: AuditBody, agent: AgentRef, harness: str) -> JobSpec:
     digest = hashlib.sha256(body.project_json.encode()).hexdigest()
-    identity = {"audit": body.variant, "project": digest, "task": content.task_hash, "harness": harness}
+    identity: dict[str, Any] = {"audit": body.variant, "project": digest, "task": content.task_hash, "harness": harness}
+    if body.exploration is not None:  # what decides equivalence and vacuity besides the tests
+        identity["exploration"] = body.exploration.model_dump(mode="json")
     return JobSpec(
         job_id=identity_id(identity), model=None, agent=agent, task_id=content.task.id,
         category=content.task.category, task_hash=content.task_hash, seed=0, harness=harness, body=body,
@@ -158,3 +192,11 @@ class AuditSweep(BaseModel):
 
     seed: int = 0
     """Which mutants and refactorings a cap picks (the same seed picks the same ones)."""
+
+    explanations: Path | None = None
+    """One file of declarations for every task (an upstream clone's: ``_declarations``); None: each task's own
+    ``audit.yaml`` in our layout, the shipped file for an upstream clone."""
+
+    resume_free: ClassVar[dict[str, Any]] = {"explanations": True}
+    """The file may change between sessions: what it decides (answer domains) is in each job's identity, and
+    explained holes are the report's."""

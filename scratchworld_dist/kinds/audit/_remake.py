@@ -17,6 +17,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from scratchworld_dist.kinds.audit._declarations import suite_declarations
 from scratchworld_dist.kinds.audit._plan import DEFAULT_AGENT, AuditBody, AuditSweep, audit_jobs, evaluated_under
 from scratchworld_dist.kinds.tasks import selected_tasks
 from scratchworld_dist.results import read_manifest
@@ -68,8 +69,10 @@ def _task_jobs(run_dir: str, config_hash: str, harness: str, task_id: str) -> di
         one = config.model_copy(
             update={"tasks": config.tasks.model_copy(update={"ids": [task_id], "categories": [], "limit": None})}
         )
-        _, contents = selected_tasks(evaluated_under(one), None)
-        jobs = audit_jobs(contents, config.section("audit", AuditSweep), DEFAULT_AGENT, harness, config.project_limits)
+        suite, contents = selected_tasks(evaluated_under(one), None)
+        settings = config.section("audit", AuditSweep)
+        declarations = suite_declarations(suite, settings.explanations)
+        jobs = audit_jobs(contents, settings, DEFAULT_AGENT, harness, config.project_limits, declarations)
         return {job.job_id: job.body for job in jobs if isinstance(job.body, AuditBody)}
     except (ScratchWorldError, ValidationError, OSError) as exc:
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__

@@ -10,15 +10,26 @@ from pydantic import BaseModel, ConfigDict
 from scratchworld_dist.kinds.audit._plan import AuditBody
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import JobResult
-from workers.kinds.audit import AuditObservation
+from workers.kinds.audit import AuditObservation, GraderCheck
 
 Verdict = Literal[
-    "killed", "equivalent", "hole", "survived", "passed", "brittle", "golden_passes", "golden_fails", "error"
+    "killed",
+    "equivalent",
+    "hole",
+    "outside_task",
+    "survived",
+    "passed",
+    "brittle",
+    "golden_passes",
+    "golden_fails",
+    "error",
 ]
-"""A mutant is killed (a test failed: right); one that passes every test is equivalent (its observable trace is
-the golden's) or a hole (it differs: the tests pass a wrong program), or survived when it could not be traced;
-a refactoring passed (right) or was judged brittle (a test failed it); the golden itself passes or fails (then
-its variants' verdicts measure nothing); error: no verdict (the evaluation itself failed)."""
+"""A mutant is killed (a test failed: right); one that passes every test is equivalent (the golden's observable
+trace in the tests' own run and in every run of the task's exploration), a hole (a run the task allows differs:
+the tests pass a wrong program), outside the task (only runs with answers the instruction rules out differ), or
+survived when it could not be traced; a refactoring passed (right) or was judged brittle (a test failed it); the
+golden itself passes or fails (then its variants' verdicts measure nothing); error: no verdict (the evaluation
+itself failed)."""
 
 
 class AuditRow(BaseModel):
@@ -52,6 +63,29 @@ class AuditRow(BaseModel):
     evidence: str | None = None
     """The first observable difference from the golden, when there is one."""
 
+    change: str | None = None
+    """The change in stable words (``QUESTION: 'a' -> 'b'``): what an explained hole's ``input`` matches."""
+
+    block_opcode: str | None = None
+    """The changed block's opcode in the golden."""
+
+    shown_by: str | None = None
+    """The run that showed ``evidence``, as JSON: ``{run, seed, answers, stimulus}`` (``run``: ``tests`` or the
+    exploration episode's name; ``stimulus``: the last one done before the difference)."""
+
+    first_difference: str | None = None
+    """``evidence`` as JSON: ``{frame, target, field, a, b, variable}``."""
+
+    runs_compared: int | None = None
+    """Runs whose traces were compared (the tests' own, then the exploration's episodes)."""
+
+    vacuous: str | None = None
+    """On the golden's row: ``never_starts`` or ``observes_nothing`` when the task's tests judge nothing."""
+
+    grader: str | None = None
+    """On the golden's row, as JSON: what the tests do with the golden (``GraderCheck``: started, threads, the
+    fields they read, the fields the golden changes)."""
+
 
 def verdict_of(variant: str, result: JobResult) -> Verdict:
     if result.outcome == "error" or result.evaluation is None:
@@ -63,7 +97,10 @@ def verdict_of(variant: str, result: JobResult) -> Verdict:
         if failed:
             return "killed"
         if isinstance(result.detail, AuditObservation):
-            return "equivalent" if result.detail.observed == "equivalent" else "hole"
+            observed = result.detail.observed
+            return (
+                "equivalent" if observed == "equivalent" else "outside_task" if observed == "outside_task" else "hole"
+            )
         return "survived"
     return "brittle" if failed else "passed"
 
@@ -74,6 +111,7 @@ def audit_row(job: JobSpec, result: JobResult) -> AuditRow:
         raise ValueError(f"job {job.job_id} is not an audit job")
     tests = result.evaluation.tests if result.evaluation is not None else []
     observation = result.detail if isinstance(result.detail, AuditObservation) else None
+    check = result.detail if isinstance(result.detail, GraderCheck) else None
     return AuditRow(
         job_id=job.job_id, attempt=result.attempt, task_id=job.task_id, variant=body.variant,
         operator=body.operator, variant_id=body.variant_id, target=body.target, block_id=body.block_id,
@@ -83,4 +121,10 @@ def audit_row(job: JobSpec, result: JobResult) -> AuditRow:
         verdict=verdict_of(body.variant, result),
         observed=observation.observed if observation else None,
         evidence=observation.difference if observation else None,
+        change=body.change, block_opcode=body.block_opcode,
+        shown_by=observation.shown_by.model_dump_json() if observation and observation.shown_by else None,
+        first_difference=json.dumps(observation.first) if observation and observation.first else None,
+        runs_compared=observation.runs if observation else None,
+        vacuous=check.vacuous if check else None,
+        grader=check.model_dump_json(exclude={"kind"}) if check else None,
     )  # fmt: skip

@@ -1,7 +1,8 @@
 """The ``audit`` kind as a worker runs it: the variant evaluated in the recycled evaluation editors, under the task's
 profile and clock, exactly as an episode's final project (or a regrade) is. A variant the tests misjudge (a
-mutant that passes, a refactoring that fails) is then traced with the golden, under one seed, to tell by
-behaviour whether it is equivalent to the golden."""
+mutant that passes, a refactoring that fails) is then compared with the golden by behaviour (``_judge``: the
+tests' own run and the task's exploration); the golden's own job checks whether its tests judge anything at all
+(``_vacuity``)."""
 
 from __future__ import annotations
 
@@ -13,16 +14,14 @@ from pydantic import BaseModel
 
 from workers.contract import JobResult, Sb3Archive, TaskPayload, WorkerJob
 from workers.kinds._protocol import AgentGroup, WorkerHost
-from workers.kinds.audit._contract import AuditObservation, AuditSpec
+from workers.kinds.audit._contract import AuditSpec
+from workers.kinds.audit._golden_runs import TRACE_SEED
 
 if TYPE_CHECKING:
     from workers.evaluation import Evaluator
 
 EVALUATED = "evaluated"
 """Stop reason of an audit job's result."""
-
-TRACE_SEED = 0
-"""The seed of ``Math.random`` the variant is judged under, and both traces are recorded under."""
 
 
 class AuditKind:
@@ -52,28 +51,27 @@ AUDIT = AuditKind()
 
 
 async def _audit(evaluator: Evaluator, spec: AuditSpec, task: TaskPayload, golden: bytes) -> JobResult:
-    from workers.evaluation import first_difference, judged  # the browser stack, on the first job
+    from workers.evaluation import judged  # the browser stack, on the first job
+    from workers.kinds.audit._judge import judged_by_behaviour
+    from workers.kinds.audit._vacuity import grader_check
 
     project = _variant(golden, spec.project_json)
     result = await judged(
         evaluator, project, task, spec.project_limits, spec.job_id, spec.attempt, EVALUATED, random_seed=TRACE_SEED
     )
+    limits, plan = spec.project_limits, spec.exploration
+    if spec.variant == "golden":
+        if result.outcome != "passed":
+            return result  # its tests fail the golden: what they read says nothing of the variants
+        check = await grader_check(evaluator, golden, task.evaluation, limits, plan)
+        return result if check is None else result.model_copy(update={"detail": check})
     misjudged = (spec.variant == "mutant" and result.outcome == "passed") or (
         spec.variant == "refactoring" and result.outcome == "failed"
     )
     if not misjudged:
         return result
-    theirs = await evaluator.evaluate_traced(golden, task.evaluation, spec.project_limits, random_seed=TRACE_SEED)
-    ours = await evaluator.evaluate_traced(project, task.evaluation, spec.project_limits, random_seed=TRACE_SEED)
-    if theirs.trace is None or ours.trace is None:
-        return result  # a page that could not record: the verdict stands, unobserved
-    difference = first_difference(theirs.trace, ours.trace)
-    detail = AuditObservation(
-        observed="equivalent" if difference is None else "differs",
-        difference=None if difference is None else difference.describe(),
-        truncated=theirs.trace.truncated or ours.trace.truncated,
-    )
-    return result.model_copy(update={"detail": detail})
+    observation = await judged_by_behaviour(evaluator, golden, project, task.evaluation, limits, plan)
+    return result if observation is None else result.model_copy(update={"detail": observation})
 
 
 @lru_cache(maxsize=8)

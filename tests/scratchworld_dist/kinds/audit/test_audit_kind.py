@@ -134,7 +134,9 @@ def test_an_audit_job_is_sent_its_header_and_variant_and_refuses_agent_fields(we
         "variant",
         "project_json",
         "project_limits",
+        "exploration",
     }
+    assert sent.exploration is not None and sent.exploration.episodes  # the task's exploration, as planned
     assert (sent.job_id, sent.attempt, sent.timeout_s, sent.harness) == (job.job_id, 2, 60, job.harness)
     with pytest.raises(ValidationError) as caught:
         AuditSpec(**job.agent_header(2, 60), variant=sent.variant, project_json=sent.project_json)
