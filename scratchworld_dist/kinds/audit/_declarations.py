@@ -10,8 +10,13 @@ on the command line; ``configs/audit-upstream.yaml`` by default):
 answers: numbers                 # any | text | numbers | integers | words
 explained:
   - reason: the instruction asks for a question, not its wording
-    match: {block: sensing_askandwait, input: QUESTION}
+    match: {block: sensing_askandwait, input: QUESTION, change: "-> '.+'"}
 ```
+
+A matcher's keys (each given one must match): ``operator``, ``target`` (the sprite changed), ``block`` (the changed
+block's opcode or id), ``input`` (its input or field), ``change`` (a regular expression found in the change, as
+``QUESTION: 'a' -> 'b'``), ``difference`` (the first difference's trace field; ``var``: any variable's),
+``variable`` (that variable's name).
 
 and, in the one file of a clone, the same under each task's id: ``tasks: {<task_id>: {answers: ..., explained: ...}}``.
 A bad file fails with one line naming it and the first problem.
@@ -57,6 +62,9 @@ class HoleMatcher(BaseModel):
     input: str | None = None
     """The block's input or field the change is in (``QUESTION``, ``STEPS``)."""
 
+    change: str | None = None
+    """A regular expression the change must contain a match of (``STEPS: 20 -> 2[01]``, as the report words it)."""
+
     difference: str | None = None
     """The first observable difference's trace field (``bubble``, ``question``, ``x``...; ``var``: any variable)."""
 
@@ -67,6 +75,11 @@ class HoleMatcher(BaseModel):
     def _says_something(self) -> HoleMatcher:
         if all(value is None for value in self.model_dump().values()):
             raise ValueError(f"a matcher needs at least one of {', '.join(type(self).model_fields)}")
+        if self.change is not None:
+            try:
+                re.compile(self.change)
+            except re.error as exc:
+                raise ValueError(f"change is no regular expression: {exc}") from None
         known = {*OPERATORS, *REFACTORINGS}
         if self.operator is not None and self.operator not in known:
             raise ValueError(f"unknown operator {self.operator!r} (operators: {', '.join(sorted(known))})")
@@ -78,6 +91,7 @@ class HoleMatcher(BaseModel):
             and _same(self.target, hole.target)
             and (self.block is None or self.block in (hole.block_opcode, hole.block_id))
             and _same(self.input, hole.input)
+            and (self.change is None or re.search(self.change, hole.change) is not None)
             and (self.difference is None or _field_matches(self.difference, hole.difference))
             and _same(self.variable, hole.variable)
         )

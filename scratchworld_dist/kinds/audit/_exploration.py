@@ -44,7 +44,7 @@ ANY_KEY = "space"
 
 _NUMBER = re.compile(r"(?<![\w.])-?\d+(?:\.\d+)?(?![\w])")
 _QUOTED = re.compile(r"\"([^\"\n]{1,40})\"|\u201c([^\u201d\n]{1,40})\u201d")
-_ASKS = re.compile(r"\bask(?:s|ed|ing)?\b([^.;:!?()]{0,60})", re.IGNORECASE)
+_ASKS = re.compile(r"\bask(?:s|ed|ing)?\b([^.,;:!?()]{0,60})", re.IGNORECASE)
 _WHAT = (
     ("integers", re.compile(r"\b(whole numbers?|integers?)\b", re.IGNORECASE)),
     ("numbers", re.compile(r"\bnumbers?\b", re.IGNORECASE)),

@@ -172,7 +172,7 @@ def _job(content: TaskContent, body: AuditBody, agent: AgentRef, harness: str) -
     digest = hashlib.sha256(body.project_json.encode()).hexdigest()
     identity: dict[str, Any] = {"audit": body.variant, "project": digest, "task": content.task_hash, "harness": harness}
     if body.exploration is not None:  # what decides equivalence and vacuity besides the tests
-        identity["exploration"] = body.exploration.model_dump(mode="json")
+        identity["exploration"] = body.exploration.model_dump(mode="json", exclude={"domain_source"})
     return JobSpec(
         job_id=identity_id(identity), model=None, agent=agent, task_id=content.task.id,
         category=content.task.category, task_hash=content.task_hash, seed=0, harness=harness, body=body,
