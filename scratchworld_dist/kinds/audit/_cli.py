@@ -21,7 +21,7 @@ from scratchworld_dist.sweep import SweepOverrides, sweep_config_from
     "--explanations",
     type=click.Path(dir_okay=False, path_type=Path),
     help="One file of the suite's declarations (answer domains, explained holes) for every task "
-    "(default: each task's audit.yaml; for an upstream clone, configs/audit-upstream.yaml).",
+    "(default: each task's audit.yaml; for an upstream clone, configs/audit/upstream.yaml).",
 )
 @click.option(
     "--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (default: results/audit-<suite>)."

@@ -4,7 +4,7 @@ holes it explains (``explained``: a reason and a matcher a hole must match; the 
 
 Our suite's layout keeps them next to each task (``<category>/<task>/audit.yaml``); an upstream clone's, whose
 data this repository never writes into, in ONE file beside it (``audit.explanations`` in a config, ``--explanations``
-on the command line; ``configs/audit-upstream.yaml`` by default):
+on the command line; ``configs/audit/upstream.yaml`` by default):
 
 ```yaml
 answers: numbers                 # any | text | numbers | integers | words
@@ -39,7 +39,7 @@ from workers.kinds.audit import AnswerDomain
 TASK_FILE = "audit.yaml"
 """A task's declarations in our suite's layout, next to its task.json."""
 
-DEFAULT_UPSTREAM_FILE = Path(__file__).resolve().parents[3] / "configs" / "audit-upstream.yaml"
+DEFAULT_UPSTREAM_FILE = Path(__file__).resolve().parents[3] / "configs" / "audit" / "upstream.yaml"
 """The declarations shipped for the upstream benchmark (used for an upstream clone unless a config names one)."""
 
 _INPUT = re.compile(r"^([A-Z][A-Z0-9_]*): ")

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 from pydantic import BaseModel, Field
 
 from workers.contract import EvaluationSpec, ProjectLimits
-from workers.kinds.audit._contract import AuditObservation, ShownBy
+from workers.kinds.audit._contract import AuditObservation, Observed, ShownBy
 from workers.kinds.audit._exploration import ExplorationEpisode, ExplorationPlan
 from workers.kinds.audit._golden_runs import GOLDEN_RUNS, TRACE_SEED, explore
 
@@ -61,10 +61,10 @@ def _merged(*lists: list[str]) -> list[str]:
 
 
 def _found(
-    difference: TraceDifference, shown_by: ShownBy, runs: int, truncated: bool, observed: str = "differs"
+    difference: TraceDifference, shown_by: ShownBy, runs: int, truncated: bool, observed: Observed = "differs"
 ) -> AuditObservation:
     return AuditObservation(
-        observed=observed,  # type: ignore[arg-type]
+        observed=observed,
         difference=difference.describe(),
         shown_by=shown_by,
         first=difference.model_dump(mode="json"),
@@ -101,10 +101,9 @@ async def judged_by_behaviour(
             continue  # the golden's own run did not finish: nothing to compare with
         run = await explore(evaluator, project, spec, episode, limits)
         found = _compared(episode, golden_run, run)
-        if found is None:
-            runs += run.trace is not None
-            continue
         runs += 1
+        if found is None:
+            continue
         difference, shown_by, trace = found
         truncated = truncated or golden_run.trace.truncated or (trace is not None and trace.truncated)
         if plan is not None and plan.in_task(shown_by.answers):

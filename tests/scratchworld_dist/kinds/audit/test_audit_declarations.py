@@ -12,6 +12,7 @@ import pytest
 
 from scratchworld_dist._errors import SuiteError
 from scratchworld_dist.kinds.audit._declarations import (
+    DEFAULT_UPSTREAM_FILE,
     HoleFacts,
     read_suite_declarations,
     read_task_declarations,
@@ -109,6 +110,7 @@ def test_our_layout_reads_each_tasks_file_and_an_upstream_clone_one_file(tmp_pat
     with pytest.raises(SuiteError, match=r"tasks.calk: the suite has no such task"):
         suite_declarations(clone, beside)
     assert read_suite_declarations(beside)["calk"].answers == "integers"  # (the shipped file spans every task)
+    assert suite_declarations(clone) == read_suite_declarations(DEFAULT_UPSTREAM_FILE)  # a clone's default: valid
 
 
 def test_an_audit_row_is_explained_only_as_a_hole_and_with_where_it_is_declared(tmp_path: Path) -> None:

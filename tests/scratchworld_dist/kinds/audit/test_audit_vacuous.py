@@ -63,8 +63,9 @@ def test_every_surviving_mutant_of_a_vacuous_grader_is_a_hole_shown_by_the_explo
     assert {row["verdict"] for row in mutants} == {"hole"}  # none killed, none equivalent
     for row in mutants:
         shown_by = json.loads(row["shown_by"])
-        assert shown_by["run"].startswith("seed ") and row["evidence"]  # an exploration, not the tests' run
-        assert json.loads(row["first_difference"])["frame"] >= 1 and row["runs_compared"] >= 2
+        assert row["evidence"] and json.loads(row["first_difference"])["frame"] >= 1
+        if row["task_id"] == "blind":  # its tests' run shows nothing (nothing runs): the exploration does
+            assert shown_by["run"].startswith("seed ") and row["runs_compared"] >= 2
     goldens = {row["task_id"]: row for row in rows if row["variant"] == "golden"}
     assert goldens["blind"]["vacuous"] == "never_starts" and goldens["deaf"]["vacuous"] == "observes_nothing"
     deaf = json.loads(goldens["deaf"]["grader"])
