@@ -142,7 +142,7 @@ def audit_jobs(
             description="the golden project, unchanged", before="", after="", project_json=_text(golden),
             exploration=plan,
         )  # fmt: skip
-        yield _job(content, unchanged, agent, harness)
+        yield _job(content, unchanged, agent, harness, limits)
         for variant in _variants(golden, content, settings):
             mutant = isinstance(variant, Mutant)
             body = AuditBody(
@@ -153,7 +153,7 @@ def audit_jobs(
                 project_json=_text(variant.project), change=variant.change,
                 block_opcode=_opcode(golden, variant.target, variant.block_id), exploration=plan,
             )  # fmt: skip
-            yield _job(content, body, agent, harness)
+            yield _job(content, body, agent, harness, limits)
 
 
 def _opcode(project: dict[str, Any], target: str, block_id: str) -> str:
@@ -168,9 +168,11 @@ def _text(project: dict[str, Any]) -> str:
     return json.dumps(project, separators=(",", ":"), sort_keys=True)
 
 
-def _job(content: TaskContent, body: AuditBody, agent: AgentRef, harness: str) -> JobSpec:
+def _job(content: TaskContent, body: AuditBody, agent: AgentRef, harness: str, limits: ProjectLimits | None) -> JobSpec:
     digest = hashlib.sha256(body.project_json.encode()).hexdigest()
     identity: dict[str, Any] = {"audit": body.variant, "project": digest, "task": content.task_hash, "harness": harness}
+    if limits is not None and limits != ProjectLimits():  # a project over them is refused: another verdict
+        identity["project_limits"] = limits.model_dump(mode="json")
     if body.exploration is not None:  # what decides equivalence and vacuity besides the tests
         identity["exploration"] = body.exploration.model_dump(mode="json", exclude={"domain_source"})
     return JobSpec(

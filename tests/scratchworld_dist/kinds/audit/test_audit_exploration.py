@@ -20,6 +20,7 @@ from scratchworld_dist.kinds.tasks import read_task
 from scratchworld_dist.sb3 import Project, backdrop_costume, block, circle_costume
 from scratchworld_dist.suites import load_suite
 from tests.conftest import SUITE_DIR
+from workers.contract import ProjectLimits
 from workers.kinds.audit import Stimulus
 
 
@@ -112,3 +113,5 @@ def test_the_plan_is_part_of_every_job_id_of_its_task(tmp_path: Path) -> None:
     assert not set(words) & set(plain)  # another answer domain: every job is another
     assert numbers == plain  # what the instruction says already: the same plan (where it is said is no part of it)
     assert ids(TaskDeclarations(explained=[])) == plain  # explained holes are the report's: the jobs stay
+    limited = audit_jobs([content], settings, DEFAULT_AGENT, "h", ProjectLimits(max_json_mb=1), {})
+    assert not {job.job_id for job in limited} & set(plain)  # a project over the limits is refused: other jobs
