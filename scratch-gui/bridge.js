@@ -334,13 +334,14 @@
     let outcome;
     let durationMs;
     let frames = null;
+    const notes = {}; // what the watches report at their stop (evaluation/first-failure.js: earlyStop)
     try {
       outcome = await Promise.race([Promise.resolve().then(() => run(theVm, args.config || {}, cleanup)), timedOut]);
     } catch (reason) {
       throw new BridgeFailure('script_error', `${scriptName} failed: ${describe(reason)}`);
     } finally {
       clearTimeout(timer);
-      for (const watch of watches) watch.stop(); // what the script saw, not what stopping the VM does
+      for (const watch of watches) Object.assign(notes, watch.stop()); // what the script saw, not what stopAll does
       try { theVm.runtime.stopAll(); } catch (e) { /* the verdict is already decided */ }
       durationMs = performance.now() - started;
       clock.stopVirtual();
@@ -352,7 +353,7 @@
       const unit = clockMode === 'virtual' ? 's of virtual time' : 's';
       throw new BridgeFailure('script_timeout', `${scriptName} did not finish within ${timeoutMs / 1000} ${unit}`);
     }
-    return {resultJson: toJson(outcome, scriptName), durationMs: durationMs, frames: frames};
+    return {resultJson: toJson(outcome, scriptName), durationMs: durationMs, frames: frames, notes: notes};
   }
 
   const MAX_ADVANCE_MS = 10 * 60 * 1000;
@@ -446,7 +447,8 @@
     realNow: () => clock.realNow(), realSleep: (ms) => clock.realSleep(ms),
     pageTimeStands: () => clock.status().paused, // an episode's virtual clock, between two advances
     onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
-    onEvaluation: (observer) => evaluationObservers.push(observer), // (vm, evaluate's args) => null | {start, stop}
+    // (vm, evaluate's args) => null | {start, stop}; what stop returns (an object) joins evaluate's `notes`
+    onEvaluation: (observer) => evaluationObservers.push(observer),
   };
   for (const instance of registry ? registry.createAll(context) : []) {
     for (const [name, fn] of Object.entries(instance.api || {})) {

@@ -64,7 +64,12 @@ class AuditKind(Kind):
         body = job.body
         if not isinstance(body, AuditBody):
             raise ValueError(f"job {job.job_id} is not an audit job")
-        return AuditSpec(**job.worker_header(attempt, timeout_s), variant=body.variant, project_json=body.project_json)
+        return AuditSpec(
+            **job.worker_header(attempt, timeout_s),
+            variant=body.variant,
+            project_json=body.project_json,
+            stop_at_first_failure=body.stop_at_first_failure,
+        )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:
         return {"audits": [audit_row(job, result)]}

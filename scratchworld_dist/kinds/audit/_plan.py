@@ -45,6 +45,10 @@ class AuditBody(JobBody):
     project_json: str
     """The variant's project.json (compact); the worker gets the golden's assets with it."""
 
+    stop_at_first_failure: bool = False
+    """Its tests stop at the first that fails it (``EvaluationSpec.stop_at_first_failure``): a mutant's, unless
+    the section says ``stop_at_first_kill: false``."""
+
     def columns(self) -> dict[str, Any]:
         return {"mode": self.variant, "max_steps": 0}
 
@@ -127,7 +131,7 @@ def audit_jobs(
                 variant_id=variant.mutant_id if isinstance(variant, Mutant) else variant.refactoring_id,
                 operator=variant.operator, target=variant.target, block_id=variant.block_id,
                 description=variant.description, before=variant.before, after=variant.after,
-                project_json=_text(variant.project),
+                project_json=_text(variant.project), stop_at_first_failure=mutant and settings.stop_at_first_kill,
             )  # fmt: skip
             yield _job(content, body, agent, harness)
 
@@ -139,6 +143,8 @@ def _text(project: dict[str, Any]) -> str:
 def _job(content: TaskContent, body: AuditBody, agent: AgentRef, harness: str) -> JobSpec:
     digest = hashlib.sha256(body.project_json.encode()).hexdigest()
     identity = {"audit": body.variant, "project": digest, "task": content.task_hash, "harness": harness}
+    if body.stop_at_first_failure:  # its verdict is the same, its row names fewer tests
+        identity["tests"] = "to the first failure"
     return JobSpec(
         job_id=identity_id(identity), model=None, agent=agent, task_id=content.task.id,
         category=content.task.category, task_hash=content.task_hash, seed=0, harness=harness, body=body,
@@ -158,3 +164,9 @@ class AuditSweep(BaseModel):
 
     seed: int = 0
     """Which mutants and refactorings a cap picks (the same seed picks the same ones)."""
+
+    stop_at_first_kill: bool = True
+    """A mutant's tests stop at the first that fails it: a killed mutant needs no more, and one that fails by
+    waiting out its tests' timeouts (a loop that never ends) costs one timeout instead of all. Its row names that
+    test (``stopped_at``); the report's per-test figures then count, for each mutant, the test that killed it first.
+    False: every test of every mutant runs. Goldens and refactorings always run every test."""

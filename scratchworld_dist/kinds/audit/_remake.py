@@ -69,7 +69,10 @@ def _task_jobs(run_dir: str, config_hash: str, harness: str, task_id: str) -> di
             update={"tasks": config.tasks.model_copy(update={"ids": [task_id], "categories": [], "limit": None})}
         )
         _, contents = selected_tasks(evaluated_under(one), None)
-        jobs = audit_jobs(contents, config.section("audit", AuditSweep), DEFAULT_AGENT, harness, config.project_limits)
+        settings = config.section("audit", AuditSweep)
+        if "stop_at_first_kill" not in (manifest.config.get("audit") or {}):  # planned before mutants could stop
+            settings = settings.model_copy(update={"stop_at_first_kill": False})
+        jobs = audit_jobs(contents, settings, DEFAULT_AGENT, harness, config.project_limits)
         return {job.job_id: job.body for job in jobs if isinstance(job.body, AuditBody)}
     except (ScratchWorldError, ValidationError, OSError) as exc:
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__

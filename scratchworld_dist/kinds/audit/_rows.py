@@ -52,6 +52,13 @@ class AuditRow(BaseModel):
     evidence: str | None = None
     """The first observable difference from the golden, when there is one."""
 
+    stopped_at: str | None = None
+    """The test that failed the mutant first, when its tests stopped there (``stop_at_first_kill``)."""
+
+    tests_not_run: int | None = None
+    """With ``stopped_at``: its tests after that one, not run (counted in neither ``tests_passed`` nor
+    ``tests_total``)."""
+
 
 def verdict_of(variant: str, result: JobResult) -> Verdict:
     if result.outcome == "error" or result.evaluation is None:
@@ -74,6 +81,7 @@ def audit_row(job: JobSpec, result: JobResult) -> AuditRow:
         raise ValueError(f"job {job.job_id} is not an audit job")
     tests = result.evaluation.tests if result.evaluation is not None else []
     observation = result.detail if isinstance(result.detail, AuditObservation) else None
+    stopped = result.evaluation.stopped_early if result.evaluation is not None else None
     return AuditRow(
         job_id=job.job_id, attempt=result.attempt, task_id=job.task_id, variant=body.variant,
         operator=body.operator, variant_id=body.variant_id, target=body.target, block_id=body.block_id,
@@ -83,4 +91,5 @@ def audit_row(job: JobSpec, result: JobResult) -> AuditRow:
         verdict=verdict_of(body.variant, result),
         observed=observation.observed if observation else None,
         evidence=observation.difference if observation else None,
+        stopped_at=stopped.test if stopped else None, tests_not_run=stopped.not_run if stopped else None,
     )  # fmt: skip

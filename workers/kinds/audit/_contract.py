@@ -25,6 +25,9 @@ class AuditSpec(JobHeader):
 
     project_limits: ProjectLimits = Field(default_factory=ProjectLimits)
 
+    stop_at_first_failure: bool = False
+    """Its tests stop at the first that fails it (a mutant's: ``EvaluationSpec.stop_at_first_failure``)."""
+
 
 class AuditObservation(JobDetail):
     """What a user could observe of a variant the tests misjudged (a surviving mutant, a failed refactoring):

@@ -55,7 +55,8 @@ async def _audit(evaluator: Evaluator, spec: AuditSpec, task: TaskPayload, golde
     from workers.evaluation import first_difference, judged  # the browser stack, on the first job
 
     project = _variant(golden, spec.project_json)
-    result = await judged(evaluator, project, task, spec.project_limits, spec.job_id, spec.attempt, EVALUATED)
+    judging = _stopping(task) if spec.stop_at_first_failure else task
+    result = await judged(evaluator, project, judging, spec.project_limits, spec.job_id, spec.attempt, EVALUATED)
     misjudged = (spec.variant == "mutant" and result.outcome == "passed") or (
         spec.variant == "refactoring" and result.outcome == "failed"
     )
@@ -72,6 +73,11 @@ async def _audit(evaluator: Evaluator, spec: AuditSpec, task: TaskPayload, golde
         truncated=theirs.trace.truncated or ours.trace.truncated,
     )
     return result.model_copy(update={"detail": detail})
+
+
+def _stopping(task: TaskPayload) -> TaskPayload:
+    """The task judged with its tests stopping at the first failure (its traces run every test)."""
+    return task.model_copy(update={"evaluation": task.evaluation.model_copy(update={"stop_at_first_failure": True})})
 
 
 @lru_cache(maxsize=8)
