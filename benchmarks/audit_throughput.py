@@ -29,14 +29,18 @@ import sys
 import tempfile
 import time
 from collections import Counter, defaultdict
+from collections.abc import Iterator
+from contextlib import contextmanager
+from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
 from rich.console import Console
 
-from scratchworld_dist._run import run_sweep
+from scratchworld_dist._run import AttemptRecorder, run_sweep
 from scratchworld_dist.results import RunStore
-from scratchworld_dist.sweep import SweepConfig, sweep_config_from
+from scratchworld_dist.sweep import JobSpec, SweepConfig, sweep_config_from
+from workers.contract import JobResult
 
 REPO = Path(__file__).resolve().parents[1]
 SCRIPTS = Path("scratch-bench-api/api/evaluation_scripts")
@@ -69,6 +73,40 @@ def config(args: argparse.Namespace, task_list: Path, ids: list[str], out: Path)
     return sweep_config_from(data, Path.cwd())
 
 
+@contextmanager
+def arrivals() -> Iterator[dict[tuple[str, int], float]]:
+    """When each attempt's result reached the driver (its recorder), by (job id, attempt)."""
+    seen: dict[tuple[str, int], float] = {}
+    record = AttemptRecorder.__call__
+
+    def timed(self: AttemptRecorder, job: JobSpec, result: JobResult) -> None:
+        seen[(job.job_id, result.attempt)] = time.time()
+        record(self, job, result)
+
+    AttemptRecorder.__call__ = timed  # type: ignore[method-assign]
+    try:
+        yield seen
+    finally:
+        AttemptRecorder.__call__ = record  # type: ignore[method-assign]
+
+
+def worker_time(jobs: list[dict[str, Any]], arrived: dict[tuple[str, int], float]) -> tuple[float, float, float]:
+    """Where the workers' time went: the verdicts' evaluations, what came after a verdict until its result reached
+    the driver (a misjudged variant's traces, the worker's load, the way back), and from a result's arrival to
+    the worker's next job (the driver's commit, the next job's way there)."""
+    verdicts = sum(j["evaluation_s"] for j in jobs)
+    after = sum(arrived[(j["job_id"], j["attempt"])] - j["finished_at"].timestamp() for j in jobs)
+    between = 0.0
+    by_worker: dict[object, list[dict[str, Any]]] = defaultdict(list)
+    for job in jobs:
+        by_worker[job["worker_pid"]].append(job)
+    for mine in by_worker.values():
+        mine.sort(key=lambda j: j["started_at"])
+        for done, following in pairwise(mine):
+            between += following["started_at"].timestamp() - arrived[(done["job_id"], done["attempt"])]
+    return verdicts, after, between
+
+
 def rows_by_variant(run_dir: Path) -> dict[tuple[str, str, str], dict[str, Any]]:
     """The last attempt's audit row of each variant, by (task, variant kind, variant id)."""
     rows: dict[tuple[str, str, str], dict[str, Any]] = {}
@@ -97,11 +135,12 @@ def measure(args: argparse.Namespace, out: Path, task_list: Path, ids: list[str]
     sweep = config(args, task_list, ids, out)
     load_before = os.getloadavg()[0]
     began = time.time()
-    summary = run_sweep(sweep, console=Console(quiet=True))
+    with arrivals() as arrived:
+        summary = run_sweep(sweep, console=Console(quiet=True))
     wall = time.time() - began
     load_after = os.getloadavg()[0]
     store = RunStore(summary.run_dir)
-    jobs = [j for j in store.read_table("jobs").to_pylist() if j["started_at"].timestamp() >= began]
+    jobs = [j for j in store.read_table("jobs").to_pylist() if (j["job_id"], j["attempt"]) in arrived]
     if not jobs:
         print(f"no job ran (the run directory {summary.run_dir} may hold them all already: use a new --out)")
         return 1
@@ -124,6 +163,11 @@ def measure(args: argparse.Namespace, out: Path, task_list: Path, ids: list[str]
     print(
         f"evaluation per job: mean {statistics.mean(evaluation):.2f} s, median {statistics.median(evaluation):.2f} s, "
         f"sum {sum(evaluation):.0f} s"
+    )
+    verdicts_s, after_s, between_s = worker_time(jobs, arrived)
+    print(
+        f"workers' time: verdicts {verdicts_s:.0f} s, after a verdict (traces, the way back) {after_s:.0f} s, "
+        f"between a result and the next job {between_s:.0f} s"
     )
     by_kind: dict[str, list[float]] = defaultdict(list)
     by_task: dict[str, float] = defaultdict(float)
@@ -153,8 +197,10 @@ def main() -> None:
     if not (args.suite / SCRIPTS).is_dir():
         sys.exit(f"{args.suite} is not an upstream clone with evaluation scripts")
     with tempfile.TemporaryDirectory(prefix="audit-throughput-") as tmp:
-        task_list = Path(tmp) / "scripted.json"
+        # Beside a run directory kept: its manifest names the list, and a resume reads it again.
+        task_list = args.out.with_name(f"{args.out.name}.tasks.json") if args.out else Path(tmp) / "tasks.json"
         tasks = scripted_tasks(args.suite)
+        task_list.parent.mkdir(parents=True, exist_ok=True)
         task_list.write_text(json.dumps(tasks))
         ids = args.tasks.split(",") if args.tasks else sample(tasks, args.every)
         sys.exit(measure(args, args.out or Path(tmp) / "run", task_list, ids))

@@ -46,6 +46,7 @@ from workers.evaluation._trace import (
     TracedEvaluation,
     with_random_seed,
 )
+from workers.evaluation._trace_memo import TraceMemo, run_key
 
 KILL_GRACE_S = 5.0
 """Extra time past the in-page timeout before the page itself is killed (a synchronous hang)."""
@@ -87,6 +88,8 @@ class Evaluator:
         """With a ``pool``, editors come from it (opened ahead of time, or reused once recycled clean)."""
         self.session = session
         self.pool = pool
+        self.traced_runs = TraceMemo()
+        """Traced runs kept for callers that ask to reuse one."""
 
     async def evaluate(self, project: bytes, spec: EvaluationSpec, limits: ProjectLimits | None = None) -> EvalResult:
         """The verdict on ``project``; one over ``limits`` (default: ``ProjectLimits()``) never reaches a page."""
@@ -101,19 +104,30 @@ class Evaluator:
         *,
         random_seed: int | None = 0,
         max_chars: int = DEFAULT_TRACE_CHARS,
+        reuse: bool = False,
     ) -> TracedEvaluation:
         """The verdict on ``project`` and the observable trace of its run (``workers.evaluation._trace``).
 
         ``random_seed`` seeds the page's ``Math.random`` (None: as ``spec`` says), so that a golden and a
         variant traced with one seed draw the same numbers; ``max_chars`` caps the trace's JSON. Recording
-        does not change the verdict (tests/workers/evaluation/test_observable_trace_verdicts.py).
+        does not change the verdict (tests/workers/evaluation/test_observable_trace_verdicts.py). ``reuse``:
+        the run this evaluator made of the same bytes under the same spec, seed, limits and cap, if it kept one
+        (``workers.evaluation._trace_memo``; a golden traced beside each of its variants runs once), else a new
+        run, kept.
         """
         if not MIN_TRACE_CHARS <= max_chars <= MAX_TRACE_CHARS:
             raise ValueError(f"max_chars must be from {MIN_TRACE_CHARS} to {MAX_TRACE_CHARS}, got {max_chars}")
         seeded = spec if random_seed is None else with_random_seed(spec, random_seed)
+        key = run_key(project, seeded, limits or ProjectLimits(), max_chars) if reuse else None
+        kept = self.traced_runs.get(key) if key is not None else None
+        if kept is not None:
+            return kept
         result, recorded = await self._evaluate(project, seeded, limits, max_chars)
         trace, record_s = recorded or (None, None)
-        return TracedEvaluation(result=result, trace=trace, record_s=record_s)
+        traced = TracedEvaluation(result=result, trace=trace, record_s=record_s)
+        if key is not None:
+            self.traced_runs.keep(key, traced)
+        return traced
 
     async def _evaluate(
         self, project: bytes, spec: EvaluationSpec, limits: ProjectLimits | None, trace_chars: int | None

@@ -62,7 +62,9 @@ async def _audit(evaluator: Evaluator, spec: AuditSpec, task: TaskPayload, golde
     )
     if not misjudged:
         return result
-    theirs = await evaluator.evaluate_traced(golden, task.evaluation, spec.project_limits, random_seed=TRACE_SEED)
+    theirs = await evaluator.evaluate_traced(
+        golden, task.evaluation, spec.project_limits, random_seed=TRACE_SEED, reuse=True
+    )  # the same run for each variant of the task: once per worker
     ours = await evaluator.evaluate_traced(project, task.evaluation, spec.project_limits, random_seed=TRACE_SEED)
     if theirs.trace is None or ours.trace is None:
         return result  # a page that could not record: the verdict stands, unobserved
