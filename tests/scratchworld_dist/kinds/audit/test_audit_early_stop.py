@@ -8,7 +8,11 @@ import json
 from pathlib import Path
 from typing import Any
 
+import pytest
+
+from scratchworld_dist.kinds.audit._remake import ProgramsUnavailableError, remade_programs
 from scratchworld_dist.kinds.audit._rows import audit_row
+from scratchworld_dist.results import SCHEMA_VERSION, RunManifest, write_manifest
 from scratchworld_dist.sweep import JobSpec, plan_run, sweep_config_from, worker_job
 from tests.conftest import SUITE_DIR
 from workers.contract import EarlyStop, EvalResult, EvaluationSpec, JobResult, TestVerdict
@@ -59,3 +63,32 @@ def test_a_killed_mutants_row_names_the_test_that_killed_it(tmp_path: Path) -> N
     ran_all = evaluation.model_copy(update={"stopped_early": None, "total": 2, "psr": 0.5})
     row = audit_row(job, result.model_copy(update={"evaluation": ran_all}))
     assert (row.verdict, row.stopped_at, row.tests_not_run) == ("killed", None, None)
+
+
+def manifest_of(tmp_path: Path, stored_audit: dict[str, Any]) -> Path:
+    """A run directory whose manifest stores ``stored_audit`` as its config's audit section."""
+    data = {"name": "a", "benchmark": "audit", "suite": str(SUITE_DIR), "tasks": {"ids": [TASK]}, "output": "x"}
+    plan = plan_run(sweep_config_from(data | {"audit": {"mutants_per_task": 4}}, tmp_path), notice=lambda _: None)
+    config = plan.config.model_dump(mode="json") | {"audit": stored_audit}
+    manifest = RunManifest(
+        run_name="a", schema_version=SCHEMA_VERSION, harness=plan.harness, config=config,
+        config_hash=f"hash {sorted(stored_audit.items())}", suite=plan.suite, planned_jobs=len(plan.jobs),
+    )  # fmt: skip
+    run_dir = tmp_path / "run"
+    run_dir.mkdir(exist_ok=True)
+    write_manifest(run_dir, manifest)
+    return run_dir
+
+
+def test_a_variant_page_finds_mutants_planned_before_they_could_stop(tmp_path: Path) -> None:
+    """A run stored before the option planned its mutants to run every test: their pages still make them again."""
+    mutant = next(job for (kind, _), job in planned(tmp_path, stop_at_first_kill=False).items() if kind == "mutant")
+    old = manifest_of(tmp_path, {"mutants_per_task": 4, "refactorings_per_task": 2, "seed": 0})
+    assert remade_programs(old, TASK, mutant.job_id).variant is not None
+    stopping = next(job for (kind, _), job in planned(tmp_path).items() if kind == "mutant")
+    new = manifest_of(
+        tmp_path, {"mutants_per_task": 4, "refactorings_per_task": 2, "seed": 0, "stop_at_first_kill": True}
+    )
+    assert remade_programs(new, TASK, stopping.job_id).variant is not None
+    with pytest.raises(ProgramsUnavailableError):
+        remade_programs(new, TASK, mutant.job_id)
