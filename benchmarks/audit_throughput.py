@@ -126,7 +126,8 @@ def compare(ours: Path, theirs: Path) -> int:
         if fields:
             differ += 1
             changes = "; ".join(f"{f} {b.get(f)!r} -> {a.get(f)!r}" for f in fields)
-            print(f"  differs: {key[0]} {key[1]} {key[2]}: {changes}")
+            failing = f"failing tests {b['failing_tests']} -> {a['failing_tests']}"
+            print(f"  differs: {key[0]} {key[1]} {key[2]} ({a['description']}): {changes}; {failing}")
     print(f"compared with {theirs}: {len(shared)} variants in both, {differ} judged otherwise")
     return differ
 
