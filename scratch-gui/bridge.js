@@ -337,14 +337,16 @@
     let outcome;
     let durationMs;
     let frames = null;
+    const notes = {}; // what the watches report at their stop (evaluation/first-failure.js: earlyStop)
     try {
       outcome = await Promise.race([Promise.resolve().then(() => run(theVm, args.config || {}, cleanup)), timedOut]);
     } catch (reason) {
       throw new BridgeFailure('script_error', `${scriptName} failed: ${describe(reason)}`);
     } finally {
       clearTimeout(timer);
-      // What the script saw, not what stopping the VM does; last started, first stopped (their hooks nest).
-      for (const watch of watches.slice().reverse()) watch.stop();
+      // What the script saw, not what stopping the VM does; last started, first stopped (their hooks nest);
+      // what a watch's stop returns (an object) joins evaluate's `notes`.
+      for (const watch of watches.slice().reverse()) Object.assign(notes, watch.stop());
       try { theVm.runtime.stopAll(); } catch (e) { /* the verdict is already decided */ }
       durationMs = performance.now() - started;
       clock.stopVirtual();
@@ -356,7 +358,7 @@
       const unit = clockMode === 'virtual' ? 's of virtual time' : 's';
       throw new BridgeFailure('script_timeout', `${scriptName} did not finish within ${timeoutMs / 1000} ${unit}`);
     }
-    return {resultJson: toJson(outcome, scriptName), durationMs: durationMs, frames: frames};
+    return {resultJson: toJson(outcome, scriptName), durationMs: durationMs, frames: frames, notes: notes};
   }
 
   // The script a registered runner makes of its checked arguments (a BridgeFailure when they are bad).
@@ -472,7 +474,8 @@
     realNow: () => clock.realNow(), realSleep: (ms) => clock.realSleep(ms),
     pageTimeStands: () => clock.status().paused, // an episode's virtual clock, between two advances
     onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
-    onEvaluation: (observer) => evaluationObservers.push(observer), // (vm, evaluate's args) => null | {start, stop}
+    // (vm, evaluate's args) => null | {start, stop}; what stop returns (an object) joins evaluate's `notes`
+    onEvaluation: (observer) => evaluationObservers.push(observer),
     // (name, (args) => script): `evaluate` with `runner: {name, args}` runs the script made, as it runs a task's.
     addRunner: (name, make) => {
       if (runners.has(name)) throw new Error(`runner ${name} registered twice`);

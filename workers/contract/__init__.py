@@ -41,6 +41,7 @@ from workers.contract._errors import (
 )
 from workers.contract._eval_result import (
     VERDICT_ERROR_KINDS,
+    EarlyStop,
     EvalError,
     EvalErrorKind,
     EvalResult,
@@ -161,6 +162,7 @@ __all__ = [
     "Done",
     "DragRegions",
     "DragView",
+    "EarlyStop",
     "EditorBundleMissingError",
     "EditorCrashedError",
     "EditorError",

@@ -142,6 +142,18 @@ class EvalTimings(BaseModel):
     """Everything, from request to result."""
 
 
+class EarlyStop(BaseModel):
+    """An evaluation that ran no test after the first that failed (``EvaluationSpec.stop_at_first_failure``)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    test: str
+    """The first test that failed: the one that decided the verdict."""
+
+    not_run: int = Field(ge=1)
+    """The script's tests after it, not run: counted in ``total`` as not passed, left out of ``tests``."""
+
+
 class EvalResult(BaseModel):
     """The verdict on one project for one task, exactly as the benchmark scores it.
 
@@ -178,6 +190,9 @@ class EvalResult(BaseModel):
 
     conditions: ProfileConditions | None = None
     """The evaluation profile and the page conditions it was checked to have (None if it never got there)."""
+
+    stopped_early: EarlyStop | None = None
+    """Set when the script's tests stopped at the first that failed, with tests left to run."""
 
     @property
     def random_seed(self) -> int | None:

@@ -86,6 +86,11 @@ class EvaluationSpec(BaseModel):
     """Conditions varied on purpose by ``scratchworld flakes`` (seeded randomness, frame phase, mouse,
     timer lateness); None, the default, is left out of the dump so that job ids stay as they were."""
 
+    stop_at_first_failure: bool = False
+    """Run no test after the first one that fails (``scratch-gui/evaluation/first-failure.js``): the verdict
+    "failed" is then decided, so a grader audit's mutant needs no more (``EvalResult.stopped_early``). Only the
+    audit asks for it; False, the default, is left out of the dump so that job ids stay as they were."""
+
     @model_validator(mode="before")
     @classmethod
     def _editor_for_a_script_that_needs_it(cls, data: object) -> object:
@@ -120,6 +125,8 @@ class EvaluationSpec(BaseModel):
     @model_serializer(mode="wrap")
     def _without_default_perturbation(self, handler: SerializerFunctionWrapHandler) -> dict[str, object]:
         dumped = drop_unset_timing(handler(self), self.timing)
+        if not self.stop_at_first_failure:
+            dumped.pop("stop_at_first_failure", None)
         return drop_unset_perturbation(dumped, self.perturbation)
 
 

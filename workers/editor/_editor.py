@@ -121,6 +121,10 @@ class EvaluationRun(BaseModel):
     """With ``trace_frames``: per VM frame, its start on the page clock and on the real clock (ms), the
     block functions it called, whether it asked for a redraw (1/0) and the real ms it took."""
 
+    notes: dict[str, JsonValue] = Field(default_factory=dict)
+    """What the page's watches of the run reported (``earlyStop``: the test that failed first and how many were
+    not run, under ``EvaluationSpec.stop_at_first_failure``)."""
+
 
 Release = Callable[[list[Page]], Awaitable[None]]
 """Closes an editor's pages in a shared context and clears its origin (``SharedContext.release``)."""
@@ -283,6 +287,7 @@ class Editor:
             "perturbation": _perturbation_args(spec.perturbation),
             "frameTiming": spec.frame_lateness.bridge_args() if spec.frame_lateness else None,
             "traceFrames": trace_frames,
+            "stopAtFirstFailure": spec.stop_at_first_failure,
         }
         if observable_trace_chars is not None:
             args["observableTrace"] = {"maxChars": observable_trace_chars}

@@ -15,6 +15,8 @@ import json
 import time
 from typing import cast, get_args
 
+from pydantic import JsonValue
+
 from workers.contract import (
     BridgeError,
     EditorError,
@@ -34,6 +36,7 @@ from workers.contract import (
     with_random_seed,
 )
 from workers.editor import BrowserSession, Editor, EditorPool
+from workers.evaluation._early_stop import early_stop
 from workers.evaluation._profiles import apply_profile
 from workers.evaluation._report import ReportError, parse_report
 from workers.evaluation._trace import (
@@ -183,11 +186,13 @@ class Evaluator:
         console_start = len(editor.console)
         phase_start = time.perf_counter()
         result_json: str | None = None
+        notes: dict[str, JsonValue] = {}
         limit_s = wall_limit_s(spec.timeout_s, spec.clock)
         try:
             running = editor.run_evaluation(spec, observable_trace_chars=trace_chars)
             run = await asyncio.wait_for(running, limit_s)
             result_json = run.result_json
+            notes = run.notes
             timings.script_clock_s = run.duration_ms / 1000
         except TimeoutError:
             # The page is stuck in synchronous code; leaving the ``editor()`` block kills it.
@@ -205,6 +210,7 @@ class Evaluator:
             report = parse_report(json.loads(result_json))
         except ReportError as exc:
             return EvalResult.failure("result_invalid", f"{spec.script_name}: {exc}", console=console, timings=timings)
+        stopped = early_stop(report, notes.get("earlyStop"))
         return EvalResult(
             success=report.passed == report.total,
             passed=report.passed,
@@ -214,6 +220,7 @@ class Evaluator:
             warnings=report.warnings,
             console=console,
             timings=timings,
+            stopped_early=stopped,
         )
 
 

@@ -68,6 +68,7 @@ class AuditKind(Kind):
             variant=body.variant,
             project_json=body.project_json,
             exploration=body.exploration,
+            stop_at_first_failure=body.stop_at_first_failure,
         )
 
     def own_rows(self, job: JobSpec, result: JobResult, artifact_dir: str | None) -> dict[str, list[BaseModel]]:

@@ -58,6 +58,10 @@ class AuditBody(JobBody):
     exploration: ExplorationPlan | None = None
     """The task's exploration plan (the same for every job of the task; part of each one's identity)."""
 
+    stop_at_first_failure: bool = False
+    """Its tests stop at the first that fails it (``EvaluationSpec.stop_at_first_failure``): a mutant's, unless
+    the section says ``stop_at_first_kill: false``."""
+
     def columns(self) -> dict[str, Any]:
         return {"mode": self.variant, "max_steps": 0}
 
@@ -152,6 +156,7 @@ def audit_jobs(
                 description=variant.description, before=variant.before, after=variant.after,
                 project_json=_text(variant.project), change=variant.change,
                 block_opcode=_opcode(golden, variant.target, variant.block_id), exploration=plan,
+                stop_at_first_failure=mutant and settings.stop_at_first_kill,
             )  # fmt: skip
             yield _job(content, body, agent, harness, limits)
 
@@ -175,6 +180,8 @@ def _job(content: TaskContent, body: AuditBody, agent: AgentRef, harness: str, l
         identity["project_limits"] = limits.model_dump(mode="json")
     if body.exploration is not None:  # what decides equivalence and vacuity besides the tests
         identity["exploration"] = body.exploration.model_dump(mode="json", exclude={"domain_source"})
+    if body.stop_at_first_failure:  # its verdict is the same, its row names fewer tests
+        identity["tests"] = "to the first failure"
     return JobSpec(
         job_id=identity_id(identity), model=None, agent=agent, task_id=content.task.id,
         category=content.task.category, task_hash=content.task_hash, seed=0, harness=harness, body=body,
@@ -202,3 +209,9 @@ class AuditSweep(BaseModel):
     resume_free: ClassVar[dict[str, Any]] = {"explanations": True}
     """The file may change between sessions: what it decides (answer domains) is in each job's identity, and
     explained holes are the report's."""
+
+    stop_at_first_kill: bool = True
+    """A mutant's tests stop at the first that fails it: a killed mutant needs no more, and one that fails by
+    waiting out its tests' timeouts (a loop that never ends) costs one timeout instead of all. Its row names that
+    test (``stopped_at``); the report's per-test figures then count, for each mutant, the test that killed it first.
+    False: every test of every mutant runs. Goldens and refactorings always run every test."""

@@ -71,6 +71,8 @@ def _task_jobs(run_dir: str, config_hash: str, harness: str, task_id: str) -> di
         )
         suite, contents = selected_tasks(evaluated_under(one), None)
         settings = config.section("audit", AuditSweep)
+        if "stop_at_first_kill" not in (manifest.config.get("audit") or {}):  # planned before mutants could stop
+            settings = settings.model_copy(update={"stop_at_first_kill": False})
         declarations = suite_declarations(suite, settings.explanations)
         jobs = audit_jobs(contents, settings, DEFAULT_AGENT, harness, config.project_limits, declarations)
         return {job.job_id: job.body for job in jobs if isinstance(job.body, AuditBody)}

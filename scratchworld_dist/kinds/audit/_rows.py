@@ -86,6 +86,13 @@ class AuditRow(BaseModel):
     """On the golden's row, as JSON: what the tests do with the golden (``GraderCheck``: started, threads, the
     fields they read, the fields the golden changes)."""
 
+    stopped_at: str | None = None
+    """The test that failed the mutant first, when its tests stopped there (``stop_at_first_kill``)."""
+
+    tests_not_run: int | None = None
+    """With ``stopped_at``: its tests after that one, not run (counted in neither ``tests_passed`` nor
+    ``tests_total``)."""
+
 
 def verdict_of(variant: str, result: JobResult) -> Verdict:
     if result.outcome == "error" or result.evaluation is None:
@@ -112,6 +119,7 @@ def audit_row(job: JobSpec, result: JobResult) -> AuditRow:
     tests = result.evaluation.tests if result.evaluation is not None else []
     observation = result.detail if isinstance(result.detail, AuditObservation) else None
     check = result.detail if isinstance(result.detail, GraderCheck) else None
+    stopped = result.evaluation.stopped_early if result.evaluation is not None else None
     return AuditRow(
         job_id=job.job_id, attempt=result.attempt, task_id=job.task_id, variant=body.variant,
         operator=body.operator, variant_id=body.variant_id, target=body.target, block_id=body.block_id,
@@ -127,4 +135,5 @@ def audit_row(job: JobSpec, result: JobResult) -> AuditRow:
         runs_compared=observation.runs if observation else None,
         vacuous=check.vacuous if check else None,
         grader=check.model_dump_json(exclude={"kind"}) if check else None,
+        stopped_at=stopped.test if stopped else None, tests_not_run=stopped.not_run if stopped else None,
     )  # fmt: skip

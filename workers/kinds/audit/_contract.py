@@ -36,6 +36,9 @@ class AuditSpec(JobHeader):
     exploration: ExplorationPlan | None = None
     """The task's exploration (None: the tests' own run alone decides equivalence, as before explorations)."""
 
+    stop_at_first_failure: bool = False
+    """Its tests stop at the first that fails it (a mutant's: ``EvaluationSpec.stop_at_first_failure``)."""
+
 
 class ShownBy(BaseModel):
     """The run in which a difference showed, and what had been done to the program by then."""

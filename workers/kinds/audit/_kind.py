@@ -56,8 +56,9 @@ async def _audit(evaluator: Evaluator, spec: AuditSpec, task: TaskPayload, golde
     from workers.kinds.audit._vacuity import grader_check
 
     project = _variant(golden, spec.project_json)
+    judging = _stopping(task) if spec.stop_at_first_failure else task
     result = await judged(
-        evaluator, project, task, spec.project_limits, spec.job_id, spec.attempt, EVALUATED, random_seed=TRACE_SEED
+        evaluator, project, judging, spec.project_limits, spec.job_id, spec.attempt, EVALUATED, random_seed=TRACE_SEED
     )
     limits, plan = spec.project_limits, spec.exploration
     if spec.variant == "golden":
@@ -72,6 +73,11 @@ async def _audit(evaluator: Evaluator, spec: AuditSpec, task: TaskPayload, golde
         return result
     observation = await judged_by_behaviour(evaluator, golden, project, task.evaluation, limits, plan)
     return result if observation is None else result.model_copy(update={"detail": observation})
+
+
+def _stopping(task: TaskPayload) -> TaskPayload:
+    """The task judged with its tests stopping at the first failure (its traces run every test)."""
+    return task.model_copy(update={"evaluation": task.evaluation.model_copy(update={"stop_at_first_failure": True})})
 
 
 @lru_cache(maxsize=8)

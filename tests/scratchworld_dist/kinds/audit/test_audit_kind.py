@@ -135,6 +135,7 @@ def test_an_audit_job_is_sent_its_header_and_variant_and_refuses_agent_fields(we
         "project_json",
         "project_limits",
         "exploration",
+        "stop_at_first_failure",
     }
     assert sent.exploration is not None and sent.exploration.episodes  # the task's exploration, as planned
     assert (sent.job_id, sent.attempt, sent.timeout_s, sent.harness) == (job.job_id, 2, 60, job.harness)
@@ -156,6 +157,10 @@ def test_the_audit_finds_the_planted_hole_and_the_brittle_test_and_resumes(audit
     assert holes and {row["operator"] for row in holes} == {"text_literal"}
     assert all("Greeter, bubble" in row["evidence"] and row["observed"] == "differs" for row in holes)
     assert ("mutant", "number_literal", "killed") in verdicts
+    # A mutant the first test kills stops there (the second is not run); only killed mutants stop.
+    stopped = [row for row in rows if row["stopped_at"] is not None]
+    assert stopped and {(row["variant"], row["verdict"]) for row in stopped} == {("mutant", "killed")}
+    assert all((row["stopped_at"], row["tests_not_run"]) == ("the greeter says something", 1) for row in stopped)
     # The brittle test: the score renamed fails "the score is 10", which looks it up by name.
     renamed = [row for row in rows if row["operator"] == "rename_variable"]
     assert renamed and all(row["verdict"] == "brittle" for row in renamed)
