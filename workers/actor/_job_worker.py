@@ -45,10 +45,15 @@ from workers.editor import BrowserConfig, BrowserSession, EditorPool
 from workers.kinds import WorkerKind, kind_fingerprint, kind_of, worker_kinds
 from workers.llm import close_litellm_clients
 from workers.llm import load_litellm as import_litellm
-from workers.node import browser_usage, harness_fingerprint, node_memory
+from workers.node import BrowserUsage, browser_usage, harness_fingerprint, node_memory
 
 MEMORY_POLL_S = 0.5
 """How often a worker short of memory looks again."""
+
+USAGE_MAX_AGE_S = 5.0
+"""How old the browsers' memory a load may report: reading every browser process's PSS takes 35-100 ms on 2
+busy cores, which after every job of a sweep of short jobs (grader audit variants: about 0.7 s each) was a
+twentieth of its workers' time. The node's available memory, which admission decides on, is always read anew."""
 
 
 class JobWorker:
@@ -76,19 +81,28 @@ class JobWorker:
         self._session: BrowserSession | None = None
         self._browser: WorkerBrowser | None = None
         self._starting = asyncio.Lock()
+        self._usage: tuple[float, BrowserUsage] | None = None
+        """The browsers' usage last read, and when (``time.monotonic``)."""
 
     async def info(self) -> WorkerInfo:
         return self.info_
 
     async def load(self) -> WorkerLoad:
         """This worker's editors and their memory, the node's available memory, and whether it takes jobs."""
-        usage, memory = await asyncio.to_thread(lambda: (browser_usage(), node_memory()))
+        usage, memory = await asyncio.to_thread(lambda: (self._browser_usage(), node_memory()))
         return WorkerLoad(
             editors=self._browser.editors_held if self._browser is not None else 0,
             browser_pss_bytes=usage.pss_bytes,
             node_available_bytes=memory.available_bytes,
             admits=memory.available_bytes >= self.memory_reserve_bytes,
         )
+
+    def _browser_usage(self) -> BrowserUsage:
+        """The browsers' usage, read again once the last reading is ``USAGE_MAX_AGE_S`` old."""
+        now = time.monotonic()
+        if self._usage is None or now - self._usage[0] >= USAGE_MAX_AGE_S:
+            self._usage = (now, browser_usage())
+        return self._usage[1]
 
     async def wait_admitting(self, within_s: float) -> WorkerLoad:
         """The load as soon as the node has its memory reserve available again, or after ``within_s``."""
