@@ -29,36 +29,17 @@ import sys
 import tempfile
 import time
 from collections import Counter
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+from _audit_arrivals import arrivals
 from rich.console import Console
 
-from scratchworld_dist._run import AttemptRecorder, run_sweep
+from scratchworld_dist._run import run_sweep
 from scratchworld_dist.results import RunStore
-from scratchworld_dist.sweep import JobSpec, SweepConfig, sweep_config_from
-from workers.contract import JobResult
+from scratchworld_dist.sweep import SweepConfig, sweep_config_from
 
 REPO = Path(__file__).resolve().parents[1]
-
-
-@contextmanager
-def arrivals() -> Iterator[dict[tuple[str, int], float]]:
-    """When each attempt's result reached the driver (its recorder), by (job id, attempt)."""
-    seen: dict[tuple[str, int], float] = {}
-    record = AttemptRecorder.__call__
-
-    def timed(self: AttemptRecorder, job: JobSpec, result: JobResult) -> None:
-        seen[(job.job_id, result.attempt)] = time.time()
-        record(self, job, result)
-
-    AttemptRecorder.__call__ = timed  # type: ignore[method-assign]
-    try:
-        yield seen
-    finally:
-        AttemptRecorder.__call__ = record  # type: ignore[method-assign]
 
 
 def config(args: argparse.Namespace, out: Path) -> SweepConfig:
