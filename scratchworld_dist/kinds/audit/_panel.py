@@ -88,9 +88,17 @@ def _verdict(row: AuditRow) -> str:
         f"<tr><th>change</th><td>{change}</td></tr>\n"
         f'<tr><th>verdict</th><td><span class="badge {badge}">{escape(row.verdict)}</span> '
         f"{escape(MEANING.get(row.verdict, ''))}</td></tr>\n"
-        f"<tr><th>tests</th><td>{row.tests_passed} of {row.tests_total} passed; failing: {failing}</td></tr>\n"
+        f"<tr><th>tests</th><td>{row.tests_passed} of {row.tests_total} passed; failing: {failing}"
+        f"{_stop(row)}</td></tr>\n"
         "</table>\n"
     )
+
+
+def _stop(row: AuditRow) -> str:
+    """That a killed mutant's tests stopped at the one that killed it, and how many did not run."""
+    if row.stopped_at is None:
+        return ""
+    return f" (its tests stopped at {escape(row.stopped_at)}: {row.tests_not_run} after it not run)"
 
 
 def _programs(row: AuditRow, run_dir: Path) -> str:

@@ -10,6 +10,7 @@ from typing import Any
 
 import pytest
 
+from scratchworld_dist.kinds.audit._panel import variant_panel
 from scratchworld_dist.kinds.audit._remake import ProgramsUnavailableError, remade_programs
 from scratchworld_dist.kinds.audit._rows import audit_row
 from scratchworld_dist.results import SCHEMA_VERSION, RunManifest, write_manifest
@@ -60,6 +61,8 @@ def test_a_killed_mutants_row_names_the_test_that_killed_it(tmp_path: Path) -> N
     row = audit_row(job, result)
     assert (row.verdict, row.stopped_at, row.tests_not_run) == ("killed", "walks up", 2)
     assert (row.tests_passed, row.tests_total, json.loads(row.failing_tests)) == (1, 2, ["walks up"])
+    panel = variant_panel({"audits": [row.model_copy(update={"stopped_at": "walks <up>"})]}, tmp_path)
+    assert panel is not None and "its tests stopped at walks &lt;up&gt;: 2 after it not run" in panel.html
     ran_all = evaluation.model_copy(update={"stopped_early": None, "total": 2, "psr": 0.5})
     row = audit_row(job, result.model_copy(update={"evaluation": ran_all}))
     assert (row.verdict, row.stopped_at, row.tests_not_run) == ("killed", None, None)
