@@ -1,17 +1,18 @@
 """The options several commands share, declared once and read the same way everywhere: the evaluation
 conditions (``--timing``, ``--render``, ``--evaluation-page``), how a suite check chooses its tasks and editors
-(``--tasks``, ``--task-list``, ``--parallel``, ``--profile``), and how ``run`` and ``plan`` change a sweep
-config without editing it."""
+(``--tasks``, ``--task-list``, ``--parallel``, ``--profile``), the Ray cluster (``--address``), and how ``run``
+and ``plan`` change a sweep config without editing it.
+
+Only click is imported here: every command's module imports this one, and ``scratchworld --help`` loads them all.
+"""
 
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any, TypeVar
 
 import click
-
-from scratchworld_dist.sweep import SweepOverrides
 
 _Command = TypeVar("_Command", bound=Callable[..., object])
 
@@ -51,7 +52,45 @@ def comma_list(text: str | None) -> list[str] | None:
     return [item.strip() for item in text.split(",") if item.strip()] if text else None
 
 
-tasks_option = click.option("--tasks", "task_ids", help="Comma-separated task ids (default: all).")
+def _id_list(ctx: click.Context, param: click.Parameter, value: Sequence[str]) -> list[str] | None:
+    """A repeatable, comma-separated option's items in order, repeated flags accumulating; None when not given."""
+    items = [item for text in value for item in comma_list(text) or []]
+    return items or None
+
+
+def id_list_option(*names: str, help: str) -> Callable[[_Command], _Command]:  # noqa: A002 (click's own word)
+    """An option of ids that may be repeated and comma-separated alike (``--tasks a,b --tasks c``: a, b, c)."""
+    return click.option(*names, multiple=True, callback=_id_list, metavar="ID[,ID...]", help=help)
+
+
+tasks_option = id_list_option(
+    "--tasks", "task_ids", help="Task ids, comma-separated or repeated (default: all)."
+)
+
+
+class AliasedOption(click.Option):
+    """An option whose former spellings still work but are not shown in ``--help`` (``--ray-address``)."""
+
+    def __init__(self, *args: Any, hidden_aliases: Sequence[str] = (), **kwargs: Any) -> None:
+        names = list(args[0]) + list(hidden_aliases)
+        super().__init__(names, *args[1:], **kwargs)
+        self.hidden_aliases = tuple(hidden_aliases)
+
+    def get_help_record(self, ctx: click.Context) -> tuple[str, str] | None:
+        shown, self.opts = self.opts, [name for name in self.opts if name not in self.hidden_aliases]
+        try:
+            return super().get_help_record(ctx)
+        finally:
+            self.opts = shown
+
+
+address_option = click.option(
+    "--address",
+    cls=AliasedOption,
+    hidden_aliases=("--ray-address",),
+    metavar="HOST:PORT",
+    help="Ray cluster to join, or auto (default: RAY_ADDRESS, else a private local Ray).",
+)
 
 
 def suite_check_options(command: _Command) -> _Command:
@@ -78,7 +117,7 @@ _SWEEP_OPTIONS = (
     click.option(
         "--model", "models", multiple=True, help="Run this model (a config model's name, or a LiteLLM model)."
     ),
-    click.option("--tasks", multiple=True, help="Run these task or item ids (comma-separated or repeated)."),
+    click.option("--tasks", multiple=True, metavar="ID[,ID...]", help="Run these task or item ids (comma-separated or repeated)."),
     click.option("--limit", type=click.IntRange(min=1), help="Run only the first N selected tasks or items."),
     click.option("--seeds", help="A seed count (3) or the seeds themselves (0,4,7)."),
     click.option("--modes", multiple=True, help="Run these modes (composite, primitive)."),
@@ -93,6 +132,8 @@ def sweep_overrides(command: Callable[..., Any]) -> Callable[..., Any]:
 
     @functools.wraps(command)
     def wrapped(**kwargs: Any) -> Any:
+        from scratchworld_dist.sweep import SweepOverrides  # the config models: for the command that runs only
+
         fields = {name: kwargs.pop(name) for name in ("models", "tasks", "limit", "seeds", "modes", "settings")}
         return command(
             overrides=SweepOverrides(**{k: list(v) if isinstance(v, tuple) else v for k, v in fields.items()}), **kwargs

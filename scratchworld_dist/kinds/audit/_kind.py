@@ -8,7 +8,6 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import ClassVar
 
-import click
 from pydantic import BaseModel
 
 from scratchworld_dist.kinds.audit._declarations import suite_declarations
@@ -101,11 +100,6 @@ class AuditKind(Kind):
 
     def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
         return variant_panel(rows, run_dir)
-
-    def commands(self) -> list[click.Command]:
-        from scratchworld_dist.kinds.audit._cli import audit_command
-
-        return [audit_command]
 
 
 AUDIT = AuditKind()

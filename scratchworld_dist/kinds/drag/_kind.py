@@ -9,7 +9,6 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import ClassVar
 
-import click
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
@@ -140,11 +139,6 @@ class DragKind(SingleAnswerKind):
 
         drag = build_drag_report([run_dir])
         return f"<pre>{html.escape(render_drag_markdown(drag))}</pre>", drag.warnings
-
-    def commands(self) -> list[click.Command]:
-        from scratchworld_dist.kinds.drag._cli import drag_group
-
-        return [drag_group]
 
 
 DRAG = DragKind()

@@ -9,7 +9,6 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import ClassVar
 
-import click
 from pydantic import BaseModel
 
 from scratchworld_dist.kinds._single_answer import SingleAnswerKind
@@ -114,11 +113,6 @@ class PerceptionKind(SingleAnswerKind):
 
     def attempt_panel(self, rows: Mapping[str, Sequence[BaseModel]], root: str, run_dir: Path) -> AttemptPanel | None:
         return answer_panel(rows, root)
-
-    def commands(self) -> list[click.Command]:
-        from scratchworld_dist.kinds.perception._cli import perception_group
-
-        return [perception_group]
 
 
 PERCEPTION = PerceptionKind()

@@ -6,7 +6,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import click
 from pydantic import BaseModel
 
 from scratchworld_dist._errors import ConfigError
@@ -173,11 +172,6 @@ class TasksKind(Kind):
             raise ValueError(f"episode runs have no comparison {name!r}")
         left, right = Selector(path=run_dir, mode="composite"), Selector(path=run_dir, mode="primitive")
         return comparison_html(compare_runs(left, right, resamples=2000))
-
-    def commands(self) -> list[click.Command]:
-        from scratchworld_dist.kinds.tasks.cli import COMMANDS
-
-        return COMMANDS
 
 
 def selected_tasks(config: SweepConfig, trajectories: Path | None) -> tuple[Suite, list[TaskContent]]:
