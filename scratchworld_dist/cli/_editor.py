@@ -12,10 +12,8 @@ import threading
 
 import click
 
-from scratchworld_dist.sweep import Limits
 
-
-@click.command("capacity")
+@click.command("capacity", epilog="Example: scratchworld capacity --clock virtual --margin 0.25")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), default="virtual", help="The episodes' clock.")
 @click.option(
     "--margin",
@@ -29,6 +27,7 @@ from scratchworld_dist.sweep import Limits
 def capacity_command(clock: str, margin: float | None, reserve_mb: int | None) -> None:
     """Measure a waiting editor's CPU and memory here and print the browser slots they allow."""
     from scratchworld_dist.scheduling import derive_local  # imports Ray and the browser stack: only for this command
+    from scratchworld_dist.sweep import Limits
     from workers.node import harness_fingerprint
 
     overrides = {"capacity_margin": margin, "memory_reserve_mb": reserve_mb}
@@ -38,7 +37,7 @@ def capacity_command(clock: str, margin: float | None, reserve_mb: int | None) -
     click.echo(f"""ray start --address HEAD:6379 --resources='{{"browser": {derivation.slots}}}'""")
 
 
-@click.command("gui")
+@click.command("gui", epilog="Example: scratchworld gui --port 8601")
 @click.option("--port", type=int, default=8601, show_default=True, help="Port on 127.0.0.1 (0: any free port).")
 def gui_command(port: int) -> None:
     """Serve the Scratch editor on 127.0.0.1 until Ctrl-C."""

@@ -68,7 +68,8 @@ def agents_command(benchmark: str | None, as_json: bool) -> None:
 
 
 @list_group.command(
-    "models", epilog="Example: scratchworld list models configs/local-llm.yaml; scratchworld list models --provider openai"
+    "models",
+    epilog="Example: scratchworld list models configs/local-llm.yaml; scratchworld list models --provider openai",
 )
 @click.argument("config_file", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--provider", help="LiteLLM's known models of this provider (openai, anthropic...) with their prices.")

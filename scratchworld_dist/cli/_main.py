@@ -115,7 +115,7 @@ class _Commands(click.Group):
     cls=_Commands,
     context_settings={"help_option_names": ["-h", "--help"]},
     epilog="Example: scratchworld run configs/demo.yaml --tasks a,b --log-level info. Shell completion: see "
-    "docs/commands.md (eval \"$(_SCRATCHWORLD_COMPLETE=bash_source scratchworld)\").",
+    'docs/commands.md (eval "$(_SCRATCHWORLD_COMPLETE=bash_source scratchworld)").',
 )
 @click.version_option(package_name="scratchworld-dist", prog_name="scratchworld", message="%(prog)s %(version)s")
 def cli() -> None:

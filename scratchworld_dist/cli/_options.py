@@ -38,6 +38,14 @@ page_option = click.option(
 )
 
 
+REPORT_FORMATS = ("md", "html", "json")
+"""``scratchworld_dist.reports.FORMATS``, spelled here so a command's help does not load the reports (a test checks
+the two agree)."""
+
+report_format_option = click.option(
+    "--format", "fmt", type=click.Choice(REPORT_FORMATS), default="md", show_default=True, help="Output format."
+)
+
 evaluation_seed_option = click.option(
     "--seed",
     type=click.IntRange(min=0),
@@ -58,14 +66,12 @@ def _id_list(ctx: click.Context, param: click.Parameter, value: Sequence[str]) -
     return items or None
 
 
-def id_list_option(*names: str, help: str) -> Callable[[_Command], _Command]:  # noqa: A002 (click's own word)
+def id_list_option(*names: str, help: str) -> Callable[[_Command], _Command]:
     """An option of ids that may be repeated and comma-separated alike (``--tasks a,b --tasks c``: a, b, c)."""
     return click.option(*names, multiple=True, callback=_id_list, metavar="ID[,ID...]", help=help)
 
 
-tasks_option = id_list_option(
-    "--tasks", "task_ids", help="Task ids, comma-separated or repeated (default: all)."
-)
+tasks_option = id_list_option("--tasks", "task_ids", help="Task ids, comma-separated or repeated (default: all).")
 
 
 class AliasedOption(click.Option):
@@ -117,7 +123,9 @@ _SWEEP_OPTIONS = (
     click.option(
         "--model", "models", multiple=True, help="Run this model (a config model's name, or a LiteLLM model)."
     ),
-    click.option("--tasks", multiple=True, metavar="ID[,ID...]", help="Run these task or item ids (comma-separated or repeated)."),
+    click.option(
+        "--tasks", multiple=True, metavar="ID[,ID...]", help="Run these task or item ids (comma-separated or repeated)."
+    ),
     click.option("--limit", type=click.IntRange(min=1), help="Run only the first N selected tasks or items."),
     click.option("--seeds", help="A seed count (3) or the seeds themselves (0,4,7)."),
     click.option("--modes", multiple=True, help="Run these modes (composite, primitive)."),

@@ -4,16 +4,22 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
+from scratchworld_dist.cli._options import report_format_option
 from scratchworld_dist.cli._output import emit
-from scratchworld_dist.reports import FORMATS, ReportFormat, report_runs
+
+if TYPE_CHECKING:
+    from scratchworld_dist.reports import ReportFormat
 
 
-@click.command("report")
+@click.command(
+    "report", epilog="Example: scratchworld report results/demo results/demo-2 --format html --out report.html"
+)
 @click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option("--format", "fmt", type=click.Choice(FORMATS), default="md", show_default=True, help="Output format.")
+@report_format_option
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), help="Write here instead of stdout.")
 @click.option("--force", is_flag=True, help="Merge runs of different suites or harnesses anyway.")
 def report_command(run_dirs: tuple[Path, ...], fmt: ReportFormat, out: Path | None, force: bool) -> None:
@@ -27,11 +33,13 @@ def report_command(run_dirs: tuple[Path, ...], fmt: ReportFormat, out: Path | No
     diagnosis table, one row per model (composite and primitive SR and their gap, drag Pass@1,
     perception accuracy), then each benchmark's own report.
     """
+    from scratchworld_dist.reports import report_runs  # the statistics stack: when a report is made
+
     text, warnings = report_runs(list(run_dirs), fmt, force=force)
     emit(text, out, warnings, f"{fmt} report")
 
 
-@click.command("schemas")
+@click.command("schemas", epilog="Example: scratchworld schemas docs/schemas")
 @click.argument("out_dir", type=click.Path(file_okay=False, path_type=Path))
 def schemas_command(out_dir: Path) -> None:
     """Write the JSON schema of each report ``report --format json`` writes into OUT_DIR (docs/schemas has them)."""

@@ -4,21 +4,22 @@ it would run, what is already decided, and what it may cost."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
-from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._options import page_option, render_option, sweep_overrides, timing_option
-from scratchworld_dist.reports import digest_lines, report_runs, run_error_digest
-from scratchworld_dist.sweep import SweepOverrides, load_sweep_config
+from scratchworld_dist.cli._options import address_option, page_option, render_option, sweep_overrides, timing_option
+
+if TYPE_CHECKING:
+    from scratchworld_dist.sweep import SweepOverrides
 
 EXIT_ERRORS = 1
 
 
-@click.command("run")
+@click.command("run", epilog="Example: scratchworld run configs/demo.yaml --tasks a,b --seeds 2 --out results/demo")
 @click.argument("config_file", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (overrides output).")
-@click.option("--address", help="Ray cluster to join (default: RAY_ADDRESS, else a private local Ray).")
+@address_option
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (overrides profile).")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (overrides clock).")
 @render_option
@@ -82,7 +83,10 @@ def run_command(
         fields["model_cache"] = {"dir": str(model_cache.resolve())}
     if probe is not None:
         fields["probe"] = probe
+    from scratchworld_dist._console import make_console
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
+    from scratchworld_dist.reports import digest_lines, report_runs, run_error_digest
+    from scratchworld_dist.sweep import load_sweep_config
 
     config = load_sweep_config(config_file, fields, overrides)
     console = make_console(stderr=True)
@@ -103,7 +107,7 @@ def run_command(
         raise click.exceptions.Exit(EXIT_ERRORS)
 
 
-@click.command("plan")
+@click.command("plan", epilog="Example: scratchworld plan configs/demo.yaml --model openai/gpt-4o-mini --limit 5")
 @click.argument("config_file", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (overrides output).")
 @sweep_overrides
@@ -113,6 +117,7 @@ def plan_command(config_file: Path, out: Path | None, overrides: SweepOverrides)
     Reads the suite and the run directory; starts nothing and writes nothing.
     """
     from scratchworld_dist._plan_preview import preview_plan, render_preview
+    from scratchworld_dist.sweep import load_sweep_config
 
     config = load_sweep_config(config_file, {"output": out} if out is not None else None, overrides)
     click.echo(render_preview(preview_plan(config)))

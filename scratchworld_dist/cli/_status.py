@@ -9,17 +9,15 @@ import click
 from rich.markup import escape
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.results import RunStore, effective_rows, read_manifest
 
 
-@click.command("status")
+@click.command("status", epilog="Example: scratchworld status results/demo")
 @click.argument("run_dir", type=click.Path(file_okay=False, path_type=Path))
 def status_command(run_dir: Path) -> None:
     """Print the progress of the run in RUN_DIR without running anything."""
-    manifest = read_manifest(run_dir)
-    if manifest is None:
-        raise RunDirError(f"{run_dir}: no manifest.json here; is this a run directory?")
+    from scratchworld_dist.results import RunStore, effective_rows, require_manifest  # pyarrow: when it runs
+
+    manifest = require_manifest(run_dir)
     rows = manifest.current_rows(RunStore(run_dir).job_rows())
     effective = list(effective_rows(rows))
     outcomes = Counter(r.outcome for r in effective)

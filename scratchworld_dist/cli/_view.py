@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 
-@click.command("view")
+@click.command("view", epilog="Example: scratchworld view results/demo --export site/")
 @click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
 @click.option("--port", type=click.IntRange(0, 65535), default=0, show_default=True, help="Port (0: a free one).")
 @click.option(

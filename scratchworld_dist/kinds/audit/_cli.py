@@ -8,10 +8,10 @@ from pathlib import Path
 
 import click
 
-from scratchworld_dist.sweep import SweepOverrides, sweep_config_from
+from scratchworld_dist.cli._options import address_option
 
 
-@click.command("audit")
+@click.command("audit", epilog="Example: scratchworld audit ../scratchworld-upstream --tasks a,b --mutants-per-task 20")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
 @click.option("--tasks", multiple=True, help="Audit these task ids (comma-separated or repeated; default: all).")
 @click.option("--mutants-per-task", type=click.IntRange(min=1), help="At most N mutants per task (default: all).")
@@ -29,7 +29,7 @@ from scratchworld_dist.sweep import SweepOverrides, sweep_config_from
 @click.option(
     "--json", "json_out", type=click.Path(dir_okay=False, path_type=Path), help="Also write per-task figures here."
 )
-@click.option("--address", help="Ray cluster to join (default: RAY_ADDRESS, else a private local Ray).")
+@address_option
 def audit_command(
     suite_dir: Path,
     tasks: tuple[str, ...],
@@ -46,6 +46,7 @@ def audit_command(
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
     from scratchworld_dist.kinds.audit._report import AuditReport
     from scratchworld_dist.reports import report_data, report_runs
+    from scratchworld_dist.sweep import SweepOverrides, sweep_config_from
 
     name = "audit-" + (re.sub(r"[^A-Za-z0-9._-]+", "-", suite_dir.resolve().name).strip("-") or "suite")
     section: dict[str, object] = {"seed": seed}

@@ -9,17 +9,17 @@ from pathlib import Path
 
 import click
 
-from scratchworld_dist.cli._options import comma_list, tasks_option
+from scratchworld_dist.cli._options import tasks_option
 
 EXIT_INVALID = 1
 
 
-@click.group("drag")
+@click.group("drag", epilog="Example: scratchworld drag make projects/*.sb3 --out drag-tasks --per-project 5")
 def drag_group() -> None:
     """Single-step drag tasks: generate a suite from projects, validate a suite in this editor."""
 
 
-@drag_group.command("make")
+@drag_group.command("make", epilog="Example: scratchworld drag make projects/*.sb3 --out drag-tasks --per-project 5")
 @click.argument("projects", nargs=-1, required=True, type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--out", required=True, type=click.Path(file_okay=False, path_type=Path), help="New suite folder.")
 @click.option("--name", default=None, help="Suite name (default: the folder's name).")
@@ -46,14 +46,14 @@ def make_command(projects: tuple[Path, ...], out: Path, name: str | None, per_pr
     click.echo(f"wrote {made.tasks} drag task(s) of {made.candidates} candidate(s) to {made.root}")
 
 
-@drag_group.command("validate")
+@drag_group.command("validate", epilog="Example: scratchworld drag validate drag-tasks --tasks a,b --parallel 2")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
 @tasks_option
 @click.option("--parallel", type=click.IntRange(min=1), default=1, show_default=True, help="Editors at a time.")
 @click.option(
     "--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write each task's check and regions."
 )
-def validate_command(suite_dir: Path, task_ids: str | None, parallel: int, json_file: Path | None) -> None:
+def validate_command(suite_dir: Path, task_ids: list[str] | None, parallel: int, json_file: Path | None) -> None:
     """Check every drag task of SUITE_DIR in this editor: its exact regions, and the oracle's drag through them.
 
     A task is valid when its view sets up, its regions are not empty and a real drag from the start
@@ -64,7 +64,7 @@ def validate_command(suite_dir: Path, task_ids: str | None, parallel: int, json_
     from scratchworld_dist.kinds.drag.items import DragTaskCheck, load_drag_suite, validate_drag_tasks
 
     suite = load_drag_suite(suite_dir)
-    wanted = comma_list(task_ids)
+    wanted = task_ids
     tasks = [suite.task(task_id) for task_id in wanted] if wanted else list(suite.tasks)
     console = make_console(stderr=True)
     for problem in suite.problems:

@@ -5,21 +5,24 @@ from __future__ import annotations
 
 import asyncio
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
-from scratchworld_dist.cli._options import comma_list
-from scratchworld_dist.kinds.perception.items import PerceptionView
+from scratchworld_dist.cli._options import id_list_option
+
+if TYPE_CHECKING:
+    from scratchworld_dist.kinds.perception.items import PerceptionView
 
 EXIT_INVALID = 1
 
 
-@click.group("perception")
+@click.group("perception", epilog="Example: scratchworld perception make projects/*.sb3 --out perception-items")
 def perception_group() -> None:
     """Perception items: generate a suite from projects, validate a suite in this editor."""
 
 
-@perception_group.command("make")
+@perception_group.command("make", epilog="Example: scratchworld perception make projects/*.sb3 --out perception-items")
 @click.argument("projects", nargs=-1, required=True, type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--out", required=True, type=click.Path(file_okay=False, path_type=Path), help="New suite folder.")
 @click.option("--name", default=None, help="Suite name (default: the folder's name).")
@@ -64,11 +67,11 @@ def make_command(
         click.echo(f"  {key}: {count}")
 
 
-@perception_group.command("validate")
+@perception_group.command("validate", epilog="Example: scratchworld perception validate perception-items --views a,b")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
-@click.option("--views", "view_ids", help="Comma-separated view ids (default: all).")
+@id_list_option("--views", "view_ids", help="View ids, comma-separated or repeated (default: all).")
 @click.option("--parallel", type=click.IntRange(min=1), default=1, show_default=True, help="Editors at a time.")
-def validate_command(suite_dir: Path, view_ids: str | None, parallel: int) -> None:
+def validate_command(suite_dir: Path, view_ids: list[str] | None, parallel: int) -> None:
     """Re-derive every item of SUITE_DIR (a suite made by `perception make`) from its saved project, here.
 
     Each view's project is shown again at its view, its facts collected again, and every item's answer and
@@ -85,7 +88,7 @@ def validate_command(suite_dir: Path, view_ids: str | None, parallel: int) -> No
 
     suite = load_perception_suite(suite_dir)
     refuse_upstream(suite)
-    wanted = comma_list(view_ids)
+    wanted = view_ids
     if wanted is not None:
         for view_id in wanted:
             suite.view(view_id)  # an unknown view is a one-line error

@@ -4,25 +4,22 @@ ranked, every pair tested with Holm's correction."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
+from scratchworld_dist.cli._options import report_format_option
 from scratchworld_dist.cli._output import emit
-from scratchworld_dist.kinds.tasks.report import (
-    compare_runs,
-    parse_selector,
-    rank_systems,
-    render_comparison,
-    render_ranking,
-)
-from scratchworld_dist.reports import FORMATS, ReportFormat
+
+if TYPE_CHECKING:
+    from scratchworld_dist.reports import ReportFormat
 
 
-@click.command("compare")
+@click.command("compare", epilog="Example: scratchworld compare results/a:gpt-4o results/b:gpt-4o-mini --format md")
 @click.argument("system_a", metavar="RUN_A[:SYSTEM][@MODE]")
 @click.argument("system_b", metavar="RUN_B[:SYSTEM][@MODE]")
 @click.argument("more", nargs=-1, metavar="[RUN_C[:SYSTEM][@MODE]...]")
-@click.option("--format", "fmt", type=click.Choice(FORMATS), default="md", show_default=True, help="Output format.")
+@report_format_option
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), help="Write here instead of stdout.")
 @click.option("--force", is_flag=True, help="Compare runs of different suites, harnesses or conditions anyway.")
 @click.option("--resamples", type=click.IntRange(min=100), default=10_000, show_default=True, help="Bootstrap draws.")
@@ -59,6 +56,14 @@ def compare_command(
     run marks unstable (their verdict can change with frame timing or phase); a job left with no test has no
     verdict. The output names the tests left out and how many verdicts changed.
     """
+    from scratchworld_dist.kinds.tasks.report import (  # the statistics stack: when a comparison is made
+        compare_runs,
+        parse_selector,
+        rank_systems,
+        render_comparison,
+        render_ranking,
+    )
+
     if more:
         selectors = [parse_selector(text) for text in (system_a, system_b, *more)]
         ranking = rank_systems(

@@ -72,7 +72,9 @@ def render_result(result: EvalResult, console: Console, unstable: dict[str, Unst
         console.print(f"[yellow]warning[/yellow]: {escape(warning)}", soft_wrap=True)
 
 
-@click.command("evaluate")
+@click.command(
+    "evaluate", epilog="Example: scratchworld evaluate tasks sum_two_numbers my_project.sb3 --json result.json"
+)
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
 @click.argument("task_id")
 @click.argument("project", type=click.Path(exists=True, dir_okay=False, path_type=Path))

@@ -81,7 +81,7 @@ def _levels(text: str) -> tuple[float, ...]:
     return levels
 
 
-@click.command("flakes")
+@click.command("flakes", epilog="Example: scratchworld flakes tasks --tasks a --tasks b --runs 3 --json flakes.json")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
 @suite_check_options
 @click.option(
@@ -115,7 +115,7 @@ def _levels(text: str) -> tuple[float, ...]:
 )
 def flakes_command(
     suite_dir: Path,
-    task_ids: str | None,
+    task_ids: list[str] | None,
     task_list: str | None,
     parallel: int,
     profile: EvaluationProfile | None,
@@ -143,7 +143,7 @@ def flakes_command(
         load_processes=load_processes or os.cpu_count() or 1,
     )
     suite = load_suite(suite_dir, task_list=task_list)
-    tasks = suite.select(ids=comma_list(task_ids))
+    tasks = suite.select(ids=task_ids)
     console = make_console(stderr=True)
     if not tasks:
         raise click.UsageError(f"{suite_dir} has no tasks to check")

@@ -13,7 +13,7 @@ from rich.table import Table
 from rich.text import Text
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._options import comma_list, tasks_option
+from scratchworld_dist.cli._options import tasks_option
 from scratchworld_dist.suites import CATEGORIES
 
 if TYPE_CHECKING:
@@ -41,7 +41,9 @@ def render_totals(records: list[TaskPlanRecord]) -> Table:
     return table
 
 
-@click.command("oracle-plan")
+@click.command(
+    "oracle-plan", epilog="Example: scratchworld oracle-plan ../scratchworld-upstream --out plans --tasks a,b"
+)
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
 @tasks_option
 @click.option(
@@ -50,7 +52,7 @@ def render_totals(records: list[TaskPlanRecord]) -> Table:
     type=click.Path(file_okay=False, path_type=Path),
     help="Folder for <task_id>.json and plans.json (never inside the suite).",
 )
-def oracle_plan_command(suite_dir: Path, task_ids: str | None, out: Path) -> None:
+def oracle_plan_command(suite_dir: Path, task_ids: list[str] | None, out: Path) -> None:
     """Plan a composite trajectory from each task's initial project to its golden project.
 
     Each plan is made on a live editor through the composite API itself, then replayed on a fresh
@@ -67,7 +69,7 @@ def oracle_plan_command(suite_dir: Path, task_ids: str | None, out: Path) -> Non
     )
 
     suite = planning_suite(suite_dir)
-    tasks = suite.select(ids=comma_list(task_ids))
+    tasks = suite.select(ids=task_ids)
     folder = plan_folder(out, suite)
     console = make_console(stderr=True)
     console.print(f"planning {len(tasks)} task(s) of {suite.name} into {folder}", markup=False)

@@ -7,14 +7,15 @@ from pathlib import Path
 import click
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._options import page_option, render_option
-from scratchworld_dist.reports import report_runs
+from scratchworld_dist.cli._options import address_option, page_option, render_option
 from workers.contract import EvaluationClock, EvaluationPage, EvaluationProfile, EvaluationRender
 
 EXIT_ERRORS = 1
 
 
-@click.command("regrade")
+@click.command(
+    "regrade", epilog="Example: scratchworld regrade results/demo --out results/demo-fixed --suite tasks-fixed"
+)
 @click.argument("run_dir", type=click.Path(file_okay=False, path_type=Path))
 @click.option("--out", required=True, type=click.Path(file_okay=False, path_type=Path), help="The new run directory.")
 @click.option("--suite", type=click.Path(file_okay=False, path_type=Path), help="Suite (default: the source's).")
@@ -24,7 +25,7 @@ EXIT_ERRORS = 1
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (default: the source's).")
 @render_option
 @page_option
-@click.option("--ray-address", help="Ray cluster to join (default: a private local Ray).")
+@address_option
 @click.option("--force", is_flag=True, help="Continue in an --out that holds another regrade or run.")
 def regrade_command(
     run_dir: Path,
@@ -34,7 +35,7 @@ def regrade_command(
     clock: EvaluationClock | None,
     render: EvaluationRender | None,
     page: EvaluationPage | None,
-    ray_address: str | None,
+    address: str | None,
     force: bool,
 ) -> None:
     """Evaluate every final project stored in RUN_DIR again, under another suite (e.g. a fixed
@@ -44,6 +45,7 @@ def regrade_command(
     RUN_DIR OUT` lists the changed jobs. Exits 1 when regrades are left without a verdict.
     """
     from scratchworld_dist.kinds.tasks.regrade import run_regrade  # imports Ray: only for this command
+    from scratchworld_dist.reports import report_runs
 
     console = make_console(stderr=True)
     summary = run_regrade(
@@ -54,7 +56,7 @@ def regrade_command(
         clock=clock,
         render=render,
         page=page,
-        address=ray_address,
+        address=address,
         force=force,
         console=console,
     )

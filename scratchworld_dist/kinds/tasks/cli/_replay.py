@@ -25,7 +25,6 @@ from scratchworld_dist.kinds.tasks.cli._evaluate import (
     render_result,
 )
 from scratchworld_dist.suites import load_suite, read_trajectory
-from scratchworld_dist.sweep import read_project
 from workers.contract import ActionEnvelope, CompositeAction, EvalResult, ProjectLimits, check_project
 
 
@@ -60,7 +59,7 @@ async def _replay(
     return envelopes, final, result
 
 
-@click.command("replay")
+@click.command("replay", epilog="Example: scratchworld replay tasks sum_two_numbers --save final.sb3 --observe")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
 @click.argument("task_id")
 @click.argument("trajectory", required=False, type=click.Path(exists=True, dir_okay=False, path_type=Path))
@@ -90,6 +89,8 @@ def replay_command(
         actions = task.trajectory() or []
         if task.golden_trajectory is None:
             raise click.UsageError(f"task {task_id} has no golden trajectory; give a TRAJECTORY file")
+    from scratchworld_dist.sweep import read_project
+
     console = make_console()
     initial = read_project(task.initial_project, ProjectLimits())
     envelopes, final, result = asyncio.run(
@@ -125,7 +126,7 @@ async def _observe_all(project: bytes) -> list[str]:
     return texts
 
 
-@click.command("observe")
+@click.command("observe", epilog="Example: scratchworld observe tasks/sum_two_numbers/initial.sb3")
 @click.argument("project", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 def observe_command(project: Path) -> None:
     """Print the composite observation of every target of PROJECT (.sb3)."""

@@ -14,7 +14,6 @@ from rich.text import Text
 from scratchworld_dist._console import make_console
 from scratchworld_dist._validation import ProjectCheck, TaskValidation, Which, validate_tasks
 from scratchworld_dist.cli._options import (
-    comma_list,
     evaluation_seed_option,
     page_option,
     render_option,
@@ -75,7 +74,7 @@ def stability_lines(rows: list[TaskValidation], stability: SuiteStability | None
     return lines
 
 
-@click.command("validate")
+@click.command("validate", epilog="Example: scratchworld validate tasks --tasks a,b --parallel 2 --json rows.json")
 @click.argument("suite_dir", type=click.Path(file_okay=False, path_type=Path))
 @suite_check_options
 @click.option(
@@ -90,7 +89,7 @@ def stability_lines(rows: list[TaskValidation], stability: SuiteStability | None
 @click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write the rows as JSON.")
 def validate_command(
     suite_dir: Path,
-    task_ids: str | None,
+    task_ids: list[str] | None,
     task_list: str | None,
     parallel: int,
     profile: EvaluationProfile | None,
@@ -106,7 +105,7 @@ def validate_command(
     Exits 1 when a golden fails or a debug initial passes.
     """
     suite = load_suite(suite_dir, task_list=task_list)
-    tasks = suite.select(ids=comma_list(task_ids))
+    tasks = suite.select(ids=task_ids)
     stability = known_stability(suite)
     console = make_console(stderr=True)
     conditions = ""
