@@ -6,6 +6,7 @@ translated at the edge with ``raise ... from exc`` so callers catch one family::
     ScratchWorldError
     ├── ConfigError                 a sweep config is unreadable or invalid (names the file and fields)
     ├── RunDirError                 a run directory holds another sweep or unreadable results
+    │   └── NotARunDirError         a folder named as a run that is none (missing, or without manifest.json)
     ├── SuiteError                  a task suite or task file cannot be used (names the file)
     │   └── TaskNotFoundError       a task id that the suite does not have
     ├── ProjectFormatError          bytes that are not a Scratch 3 project (.sb3)
@@ -57,6 +58,7 @@ __all__ = [
     "EditorCrashedError",
     "EditorError",
     "EditorNotReadyError",
+    "NotARunDirError",
     "OCRError",
     "ProjectFormatError",
     "ProjectTooLargeError",
@@ -90,6 +92,14 @@ class ConfigError(ScratchWorldError):
 
 class RunDirError(ScratchWorldError):
     """A run directory cannot be used as asked (another sweep, another suite, unreadable shards)."""
+
+
+class NotARunDirError(RunDirError):
+    """A folder named as a run directory that is not one: every command and the API say it in these words."""
+
+    def __init__(self, path: Path | str, why: str, hint: str = "") -> None:
+        super().__init__(f"{path}: not a scratchworld run directory ({why}){hint}")
+        self.path = Path(path)
 
 
 def validation_summary(exc: ValidationError, limit: int = 3) -> str:

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 from pydantic import BaseModel, Field, ValidationError
 
-from scratchworld_dist._errors import RunDirError, validation_summary
+from scratchworld_dist._errors import NotARunDirError, RunDirError, validation_summary
 from scratchworld_dist.results._schema import CONTINUABLE_SCHEMAS
 from scratchworld_dist.sweep import SuiteInfo
 from workers.contract import HarnessFingerprint, NodeSummary, Preflight, describe_differences
@@ -148,10 +148,10 @@ def git_commit(path: Path) -> str | None:
 def require_manifest(run_dir: Path) -> RunManifest:
     """The manifest of ``run_dir``; ``RunDirError`` when the folder is missing or not a run directory."""
     if not run_dir.is_dir():
-        raise RunDirError(f"{run_dir}: no such run directory")
+        raise NotARunDirError(run_dir, "no such folder")
     manifest = read_manifest(run_dir)
     if manifest is None:
-        raise RunDirError(f"{run_dir}: no {MANIFEST_NAME}; not a scratchworld run directory")
+        raise NotARunDirError(run_dir, f"no {MANIFEST_NAME} in it")
     return manifest
 
 

@@ -28,11 +28,13 @@ from pydantic import (
     model_serializer,
     model_validator,
 )
+from pydantic_core import ErrorDetails
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._files import read_text
 from scratchworld_dist.kinds import DEFAULT_KIND, KindTraits, job_kind, job_kinds
 from scratchworld_dist.sweep._former_keys import Notice, into_sections, stderr_notice
+from scratchworld_dist.sweep._key_hints import unknown_key_message
 from scratchworld_dist.sweep._overrides import SweepOverrides
 from workers.agent_api import agent_class, checked_agent
 from workers.contract import (
@@ -415,7 +417,7 @@ def sweep_config_from(
     try:
         config = SweepConfig.model_validate(data)
     except ValidationError as exc:
-        problems = "; ".join(f"{_field_path(e['loc'])}: {e['msg']}" for e in exc.errors())
+        problems = "; ".join(f"{_field_path(e['loc'])}: {_problem(e)}" for e in exc.errors())
         raise ConfigError(f"invalid config: {problems}", where) from None
     resolved: dict[str, Any] = {"suite": _resolve(base, config.suite)}
     if config.output is not None and "output" not in (overrides or {}):
@@ -458,6 +460,13 @@ def _yaml_problem(exc: yaml.YAMLError) -> str:
 
 def _resolve(base: Path, path: Path) -> Path:
     return path if path.is_absolute() else (base / path).resolve()
+
+
+def _problem(error: ErrorDetails) -> str:
+    """Pydantic's message, but an unknown key's says which known key it is closest to."""
+    if error["type"] == "extra_forbidden" and error["loc"]:
+        return unknown_key_message(SweepConfig, error["loc"])
+    return error["msg"]
 
 
 def _field_path(loc: tuple[int | str, ...]) -> str:

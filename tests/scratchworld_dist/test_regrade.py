@@ -176,8 +176,8 @@ def test_what_is_no_run_to_regrade_is_one_line(tmp_path: Path) -> None:
     escaping = make_run(tmp_path / "escaping", [job("j1", artifact_dir="../secret")], planned=1, tasks=1)
     assert_one_line_errors(
         [
-            ((str(tmp_path / "nowhere"), "--out", str(tmp_path / "a")), "no such run directory"),
-            ((str(empty), "--out", str(tmp_path / "a")), "not a scratchworld run directory"),
+            ((str(tmp_path / "nowhere"), "--out", str(tmp_path / "a")), "not a scratchworld run directory"),
+            ((str(empty), "--out", str(tmp_path / "a")), "not a scratchworld run directory (no manifest.json in it)"),
             ((str(drag), "--out", str(tmp_path / "a")), "a drag benchmark run stores drags"),
             ((str(drag), "--out", str(drag)), "--out is the source run itself"),
             ((str(bare), "--out", str(tmp_path / "a")), "none of its 2 job(s) stored a final project"),

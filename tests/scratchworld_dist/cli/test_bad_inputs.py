@@ -404,7 +404,12 @@ def test_a_report_that_cannot_be_written_keeps_the_run(
     shutil.copytree(finished_run[1], run)
     before = snapshot(run)
     refused(cli("report", str(run), "--out", "/proc/bad/report.md"), 2, "Could not open file", ["/proc/bad/report.md"])
-    refused(cli("report", str(run), str(tmp_path / "missing")), 2, "no such run directory", [str(tmp_path / "missing")])
+    refused(
+        cli("report", str(run), str(tmp_path / "missing")),
+        2,
+        "not a scratchworld run directory",
+        [str(tmp_path / "missing")],
+    )
     refused(cli("status", str(tmp_path)), 2, "no manifest.json", [str(tmp_path)])
     kept(before, run)
 

@@ -273,7 +273,7 @@ def test_errors_by_class_link_to_the_filtered_jobs_and_a_run_in_progress_shows_i
 
 def test_bad_run_directories_and_export_folders_get_one_line_errors(tmp_path: Path) -> None:
     done = invoke("view", str(tmp_path / "missing"))
-    assert done.returncode == 2 and done.stderr.count("\n") == 1 and "no such run directory" in done.stderr
+    assert done.returncode == 2 and done.stderr.count("\n") == 1 and "not a scratchworld run directory" in done.stderr
     run = hand_made(tmp_path)
     (tmp_path / "busy").mkdir()
     (tmp_path / "busy" / "notes.txt").write_text("mine")

@@ -17,7 +17,7 @@ from typing import Literal, get_args
 
 from pydantic import BaseModel
 
-from scratchworld_dist._errors import RunDirError
+from scratchworld_dist._errors import NotARunDirError, RunDirError
 from scratchworld_dist.kinds.tasks.report._stable_only import (
     StableOnly,
     left_out_tests,
@@ -69,7 +69,7 @@ def parse_selector(text: str) -> Selector:
         return Selector(Path(head), None, mode)
     cuts = [i for i, char in enumerate(head) if char == ":" and Path(head[:i]).is_dir()]
     if not cuts:
-        raise RunDirError(f"{text}: no such run directory (expected RUN_DIR[:SYSTEM][@MODE])")
+        raise NotARunDirError(text, "no such folder", "; expected RUN_DIR[:SYSTEM][@MODE]")
     cut = cuts[-1]
     system = head[cut + 1 :]
     if not system:

@@ -100,7 +100,7 @@ def test_selectors_name_a_run_a_system_and_a_mode(tmp_path: Path) -> None:
     assert parse_selector(f"{run}:openai/gpt:4o@composite") == Selector(run, "openai/gpt:4o", "composite")
     assert parse_selector(str(odd)) == Selector(odd)  # the directory wins over a reading of its name
     assert parse_selector(f"{odd}:gpt") == Selector(odd, "gpt")
-    with pytest.raises(RunDirError, match="no such run directory"):
+    with pytest.raises(RunDirError, match="not a scratchworld run directory"):
         parse_selector(str(tmp_path / "nope:gpt"))
     with pytest.raises(RunDirError, match="empty system name"):
         parse_selector(f"{run}:")

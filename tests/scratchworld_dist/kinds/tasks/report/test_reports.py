@@ -178,7 +178,7 @@ def test_incomparable_runs_are_refused_unless_forced(
 
 
 def test_unusable_run_directories(tmp_path: Path) -> None:
-    with pytest.raises(RunDirError, match="no such run directory"):
+    with pytest.raises(RunDirError, match="not a scratchworld run directory"):
         build_report([tmp_path / "nope"])
     (tmp_path / "bare").mkdir()
     with pytest.raises(RunDirError, match=r"no manifest\.json"):
@@ -268,7 +268,7 @@ def test_cli_refuses_incomparable_runs_unless_forced(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("make", "message"),
     [
-        (lambda root: root / "nope", "no such run directory"),
+        (lambda root: root / "nope", "not a scratchworld run directory"),
         (lambda root: make_run(root / "empty", [], planned=1, tasks=1), "no job results yet"),
     ],
 )
