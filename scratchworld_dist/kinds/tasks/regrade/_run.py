@@ -76,8 +76,11 @@ def run_regrade(
     force: bool = False,
     console: Console | None = None,
 ) -> RegradeSummary:
-    """Regrade ``source_dir`` into ``out``, or resume that regrade; on a cluster, its nodes are checked first."""
+    """Regrade ``source_dir`` into ``out``, or resume that regrade; on a cluster, its nodes are checked first.
+
+    ``address``: the cluster to join; default ``RAY_ADDRESS``, as for a sweep, else a private local Ray."""
     console = console or make_console(stderr=True)
+    address = address or os.environ.get("RAY_ADDRESS") or None
     if out.resolve() == source_dir.resolve():
         raise RunDirError(f"{out}: --out is the source run itself; a regrade writes a new run directory")
     source = read_source(source_dir)
