@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, overload
 
 import pyarrow as pa
 import pyarrow.compute as pc
@@ -24,10 +24,25 @@ from pydantic import BaseModel
 
 from scratchworld_dist._plan_preview import PlanPreview, preview_plan
 from scratchworld_dist._run_summary import RunSummary
-from scratchworld_dist.results import RunStore, effective_rows, read_manifest, row_tables
+from scratchworld_dist.results import RunStore, effective_rows, require_manifest, row_tables
 from scratchworld_dist.sweep import SweepConfig, SweepOverrides, load_sweep_config, stderr_notice
 
+if TYPE_CHECKING:
+    import pandas
+    import polars
+
 TableFormat = Literal["pyarrow", "pandas", "polars"]
+TABLE_FORMATS: tuple[TableFormat, ...] = ("pyarrow", "pandas", "polars")
+
+RunDirs = str | Path | Sequence[str | Path]
+"""One run directory, or several: a single path is never read as a sequence of characters."""
+
+
+def run_dir_list(run_dirs: RunDirs) -> list[Path]:
+    """``run_dirs`` as a list of paths, one path given alone included."""
+    if isinstance(run_dirs, str | Path):
+        return [Path(run_dirs)]
+    return [Path(run_dir) for run_dir in run_dirs]
 
 
 class RunResult(RunSummary):
@@ -59,38 +74,60 @@ def run(config: SweepConfig | str | Path, *, force: bool = False, **overrides: A
     return RunResult(**summary.model_dump(), report=report([summary.run_dir]))
 
 
-def report(run_dirs: Sequence[str | Path], *, force: bool = False) -> BaseModel:
-    """The report over ``run_dirs`` as data: one kind's own report, or the diagnosis over several kinds."""
+def report(run_dirs: RunDirs, *, force: bool = False) -> BaseModel:
+    """The report over ``run_dirs`` (one run directory or several) as data: one kind's own report, or the
+    diagnosis over several kinds. ``NotARunDirError`` for a folder that is not a run."""
     from scratchworld_dist.reports import report_data  # the statistics stack: only when a report is asked for
 
-    return report_data([Path(run_dir) for run_dir in run_dirs], force=force)
+    return report_data(run_dir_list(run_dirs), force=force)
+
+
+@overload
+def load_results(
+    run_dir: str | Path, table: str = ..., *, effective: bool = ..., as_: Literal["pyarrow"] = ...
+) -> pa.Table: ...
+
+
+@overload
+def load_results(
+    run_dir: str | Path, table: str = ..., *, effective: bool = ..., as_: Literal["pandas"]
+) -> pandas.DataFrame: ...
+
+
+@overload
+def load_results(
+    run_dir: str | Path, table: str = ..., *, effective: bool = ..., as_: Literal["polars"]
+) -> polars.DataFrame: ...
 
 
 def load_results(
     run_dir: str | Path, table: str = "jobs", *, effective: bool = True, as_: TableFormat = "pyarrow"
-) -> Any:
+) -> pa.Table | pandas.DataFrame | polars.DataFrame:
     """One table of a run (``jobs``, ``steps``, ``tests`` or its kind's own, e.g. ``drags``), journal included.
 
     ``effective``: only each job's counted attempt (its latest with a verdict, else its latest error) among
     the rows of the run as it stands (rows of an older suite or harness left out), as reports count them;
-    otherwise every attempt ever recorded.
+    otherwise every attempt ever recorded. ``NotARunDirError`` for a missing folder or one that is not a run
+    (never an empty table), ``ValueError`` for an unknown table or ``as_``.
     """
     if table not in row_tables():
         raise ValueError(f"no table {table!r}: tables are {', '.join(row_tables())}")
+    if as_ not in TABLE_FORMATS:
+        raise ValueError(f"as_={as_!r}: choose one of {', '.join(TABLE_FORMATS)}")
     path = Path(run_dir)
+    manifest = require_manifest(path)
     store = RunStore(path)
     data = store.read_table(table)
     if effective:
-        manifest = read_manifest(path)
         rows = store.job_rows()
-        counted = effective_rows(manifest.current_rows(rows) if manifest is not None else rows)
+        counted = effective_rows(manifest.current_rows(rows))
         keys = pa.array([f"{row.job_id}#{row.attempt}" for row in counted], pa.string())
         attempt = pc.binary_join_element_wise(data.column("job_id"), pc.cast(data.column("attempt"), pa.string()), "#")
         data = data.filter(pc.is_in(attempt, value_set=keys))
     return _as(data, as_)
 
 
-def _as(data: pa.Table, fmt: TableFormat) -> Any:
+def _as(data: pa.Table, fmt: TableFormat) -> pa.Table | pandas.DataFrame | polars.DataFrame:
     if fmt == "pyarrow":
         return data
     try:

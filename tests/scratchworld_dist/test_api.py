@@ -11,13 +11,13 @@ import jsonschema
 import pytest
 
 from scratchworld_dist import api
-from scratchworld_dist._errors import ConfigError
+from scratchworld_dist._errors import ConfigError, NotARunDirError
 from scratchworld_dist.kinds.tasks.report import RunReport
 from scratchworld_dist.reports import report_schemas
 from scratchworld_dist.results import JobRecord, RunStore
 from tests.conftest import REPO
 from tests.support.cli_runner import invoke
-from tests.support.run_dirs import job
+from tests.support.run_dirs import job, make_run
 
 DEMO = REPO / "configs" / "demo.yaml"
 TASKS = ["countdown_launch", "sum_two_numbers"]
@@ -62,3 +62,27 @@ def test_the_published_report_schemas_are_current() -> None:
     published = REPO / "docs" / "schemas"
     for name, schema in report_schemas().items():
         assert json.loads((published / name).read_text()) == schema, f"run: scratchworld schemas docs/schemas ({name})"
+
+
+def test_the_api_says_no_to_folders_that_are_no_run_and_to_unknown_formats(tmp_path: Path) -> None:
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    for folder, why in ((tmp_path / "missing", "no such folder"), (empty, "no manifest.json in it")):
+        with pytest.raises(NotARunDirError, match=why):
+            api.load_results(folder)  # never an empty table
+        with pytest.raises(NotARunDirError, match=why):
+            api.report(folder)
+    run = make_run(tmp_path / "run", [job("a"), job("b", "failed")], planned=2, tasks=2)
+    with pytest.raises(ValueError, match="as_='arrow': choose one of pyarrow, pandas, polars"):
+        api.load_results(run, as_="arrow")  # type: ignore[call-overload]
+    with pytest.raises(ValueError, match="no table 'job'"):
+        api.load_results(run, "job")
+
+
+def test_one_run_directory_is_taken_alone_or_in_a_list(tmp_path: Path) -> None:
+    run = make_run(tmp_path / "run", [job("a"), job("b", "failed")], planned=2, tasks=2)
+    alone, listed = api.report(str(run)), api.report([run])
+    assert isinstance(alone, RunReport) and alone.model_dump() == listed.model_dump()
+    assert api.run_dir_list(run) == api.run_dir_list(str(run)) == [run]
+    assert api.load_results(str(run)).num_rows == 2
+    assert type(api.load_results(run, as_="pandas")).__name__ == "DataFrame"
