@@ -86,10 +86,27 @@ def test_the_leaderboard_agrees_with_a_recomputation_from_the_parquet(run: Path,
         assert (entry["sr_low"], entry["sr_high"]) == (pytest.approx(low), pytest.approx(high))
         assert entry["sr_low"] <= entry["sr"] <= entry["sr_high"]
     assert [(e["rank"], e["model"], e["mode"]) for e in entries] == [
-        (1, "claude", "composite"), (2, "gpt", "composite"), (3, "gpt", "primitive"),
-    ]  # fmt: skip
+        (1, "claude", "composite"), (2, "gpt", "composite"), (1, "gpt", "primitive"),
+    ]  # fmt: skip: one ranking per mode
     csv_lines = (tmp_path / "out" / "leaderboard.csv").read_text().splitlines()
     assert csv_lines[0].startswith("rank,label,agent,model,mode") and len(csv_lines) == 4
+
+
+def test_tied_entries_share_a_rank_and_the_next_counts_them(tmp_path: Path) -> None:
+    rows = [  # model: the jobs' outcomes; "a" and "b" tie on SR, PSR and cost per success
+        ("a", ["passed", "failed"]), ("b", ["failed", "passed"]), ("c", ["failed", "failed"]), ("d", ["passed", "passed"])
+    ]  # fmt: skip
+    jobs = [
+        job(f"{model}{i}", outcome, model=model, litellm_model=f"openai/{model}", task_id=f"t{i}", cost_usd=0.01,
+            tests_passed=2 if outcome == "passed" else 0, tests_total=2, psr=1.0 if outcome == "passed" else 0.0)
+        for model, outcomes in rows for i, outcome in enumerate(outcomes)
+    ]  # fmt: skip
+    run = make_run(tmp_path / "run", jobs, planned=8, tasks=2)
+    done = invoke("export", str(run), "--format", "leaderboard", "--out", str(tmp_path / "out"))
+    assert done.returncode == 0, done.stderr
+    entries = json.loads((tmp_path / "out" / "leaderboard.json").read_text())["entries"]
+    ranks = sorted((e["rank"], e["model"]) for e in entries)
+    assert ranks == [(1, "d"), (2, "a"), (2, "b"), (4, "c")]
 
 
 def test_the_submission_has_one_line_per_task_with_the_executed_actions(run: Path, tmp_path: Path) -> None:

@@ -1,14 +1,18 @@
-"""A leaderboard of task-episode runs: one entry per agent, model and mode, ranked by success rate.
+"""A leaderboard of task-episode runs: one entry per agent, model and mode, ranked by success rate within its
+mode (composite and primitive are different tasks for an agent, so each mode is its own ranking).
 
 Each entry is the episode report's row (effective attempts, errors left out of SR and PSR) with a 95%
 Wilson score interval on SR, the interval for a proportion that stays inside [0, 1] and behaves at 0 and
-100% (SciPy's ``binomtest``); ties in SR rank by PSR, then by cost per success.
+100% (SciPy's ``binomtest``). Entries rank by SR, then PSR, then cost per success; entries equal in all three
+share a rank, and the next rank counts them (competition ranking: 1, 1, 3).
 """
 
 from __future__ import annotations
 
 import csv
 import io
+
+from itertools import groupby
 
 from pydantic import BaseModel
 from scipy.stats import binomtest
@@ -18,6 +22,8 @@ from scratchworld_dist.kinds.tasks.report import ReportRow, RunReport
 
 class LeaderboardEntry(BaseModel):
     rank: int
+    """Within its mode; entries tied in SR, PSR and cost per success share it (1, 1, 3)."""
+
     label: str
     agent: str
     model: str
@@ -47,14 +53,24 @@ def wilson_interval(passed: int, determinate: int) -> tuple[float | None, float 
 
 
 def leaderboard(report: RunReport) -> list[LeaderboardEntry]:
-    """The report's rows ranked: SR first (no verdict last), then PSR, then the cheaper success."""
+    """The report's rows ranked within each mode (modes in the report's order): SR first (no verdict last), then
+    PSR, then the cheaper success; rows equal in all three share a rank."""
 
     def order(row: ReportRow) -> tuple[float, float, float]:
         cost = row.cost_per_success if row.cost_per_success is not None else float("inf")
         return (-(row.sr if row.sr is not None else -1.0), -(row.psr or 0.0), cost)
 
+    modes = list(dict.fromkeys(row.mode for row in report.rows))
+    ranked: list[tuple[int, ReportRow]] = []
+    for mode in modes:
+        rows = sorted((row for row in report.rows if row.mode == mode), key=order)
+        position = 1
+        for _, tied in groupby(rows, key=order):
+            group = list(tied)
+            ranked += [(position, row) for row in group]
+            position += len(group)
     entries = []
-    for rank, row in enumerate(sorted(report.rows, key=order), start=1):
+    for rank, row in ranked:
         low, high = wilson_interval(row.passed, row.determinate)
         entries.append(
             LeaderboardEntry(
