@@ -133,6 +133,11 @@ class TasksKind(Kind):
 
         return RunReport
 
+    def schemas(self) -> dict[str, type[BaseModel]]:
+        from atif import Trajectory
+
+        return {**super().schemas(), "atif-v1.8": Trajectory}  # what export --format atif writes
+
     def report_data(self, run_dirs: Sequence[Path], *, force: bool) -> BaseModel:
         from scratchworld_dist.kinds.tasks.report import build_report
 

@@ -1,147 +1,219 @@
-"""Trajectories in ATIF, the Agent Trajectory Interchange Format (Harbor's RFC 0001, v1.4).
+"""Trajectories in ATIF, the Agent Trajectory Interchange Format (Harbor's RFC 0001), built on the ``atif``
+package's models (v1.8), which enforce the format's rules (step ids from 1, agent-only fields, observations that
+name their own step's tool calls, ISO timestamps).
 
-The models follow the specification's tables field by field (required, optional, ``extra`` objects) and its
-rules: step ids count from 1, only agent steps carry a model, reasoning, tool calls or metrics, and each
-observation result names a tool call of its own step. No ATIF package is published on PyPI, so these models
-are the schema ``docs/schemas/atif-v1.4.schema.json`` is generated from.
+An episode maps onto it as the model's conversation, so a trajectory can be trained on:
 
-An episode maps onto it as: a user step with the task's instruction, then one agent step per action (the
-model's raw reply as the message, the action as one tool call, what the environment answered as its
-observation, the step's tokens and cost as metrics), and the job's tokens, cost and verdict in
-``final_metrics``.
+- a ``system`` step with the system prompt (when the agent kept its prompts: the ``llm`` agents do);
+- for each action, a ``user`` step with what the model was shown (the prompt's text; screenshots as image parts
+  whose files are copied beside the trajectory, ``images/<sha256>.png``), or, for an agent without prompts, the
+  task's instruction and the observation the environment made (composite text inline, a screenshot as a file);
+- an ``agent`` step: the model's raw reply, its reasoning (a ``<think>`` trace, else its ``Analysis:`` text),
+  the action as one tool call, what the environment answered as its observation, the step's tokens and cost.
+
+Each step's ``timestamp`` is wall-clock ISO 8601: the attempt's start plus its setup and the latencies of the
+steps before it (a worker records no clock per step); ``extra.episode_clock_ms`` is the time on the agent's
+page when the step's observation was made (virtual clock: ``start_ms`` plus 50 ms and ``settle_ms + think_ms``
+per action before it, left out after a primitive drag, whose moves take time we do not record; real clock: the
+wall time since the first observation). ``extra`` of the trajectory names the task, the suite and the run.
 """
 
 from __future__ import annotations
 
 import json
-from typing import Any, Literal
+import re
+import shutil
+from datetime import datetime, timedelta
+from pathlib import Path
+from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field, JsonValue, model_validator
+from atif import (
+    Agent,
+    ContentPart,
+    FinalMetrics,
+    ImageSource,
+    Metrics,
+    Observation,
+    ObservationResult,
+    Step,
+    ToolCall,
+    Trajectory,
+)
+from pydantic import JsonValue
 
 from scratchworld_dist.results import JobRow
-from workers.contract import StepRecord
+from scratchworld_dist.sweep import SuiteInfo
+from workers.contract import EpisodeClock, StepObservation, StepRecord
 
-SCHEMA_VERSION = "ATIF-v1.4"
+SCHEMA_VERSION = "ATIF-v1.8"
 
+ACTION_LEAD_MS = 50
+"""Virtual page time before each action (``workers.kinds.tasks._runner.ACTION_LEAD_MS``; a test checks they agree)."""
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+DRAG_ACTIONS = frozenset({"drag_and_drop"})
+"""Primitive actions whose moves pass virtual page time of their own (not recorded per step)."""
 
-
-class AtifAgent(_Strict):
-    name: str
-    version: str
-    model_name: str | None = None
-    extra: dict[str, JsonValue] | None = None
+_THINK = re.compile(r"<think>(.*?)</think>", re.DOTALL)
 
 
-class AtifToolCall(_Strict):
-    tool_call_id: str
-    function_name: str
-    arguments: dict[str, JsonValue]
+def reasoning_of(reply: str | None) -> str | None:
+    """The reasoning a reply carries: its ``<think>`` trace, else the text after ``Analysis:`` up to the action."""
+    if not reply:
+        return None
+    traces = [trace.strip() for trace in _THINK.findall(reply) if trace.strip()]
+    if traces:
+        return "\n\n".join(traces)
+    _, found, rest = reply.partition("Analysis:")
+    return (rest.split("```", 1)[0].strip() or None) if found else None
 
 
-class AtifObservationResult(_Strict):
-    source_call_id: str | None = None
-    content: str | None = None
+class ImageFiles:
+    """Screenshots a trajectory references, copied once into ``images/`` beside the trajectories of a run."""
+
+    def __init__(self, run_dir: Path, artifact_dir: str | None, out_dir: Path) -> None:
+        self.sources = [run_dir / artifact_dir / "images"] if artifact_dir else []
+        self.sources.append(run_dir / "images")  # images a run keeps once for many jobs
+        self.out_dir = out_dir
+
+    def part(self, sha256: str) -> ContentPart:
+        """An image part naming the copied file, or a text part saying the screenshot was not kept."""
+        if re.fullmatch(r"[0-9a-f]{64}", sha256):
+            for folder in self.sources:
+                source = folder / f"{sha256}.png"
+                if source.is_file():
+                    target = self.out_dir / "images" / source.name
+                    if not target.exists():
+                        target.parent.mkdir(parents=True, exist_ok=True)
+                        shutil.copyfile(source, target)
+                    return ContentPart(
+                        type="image", source=ImageSource(media_type="image/png", path=f"images/{source.name}")
+                    )
+        return ContentPart(type="text", text=f"[screenshot {sha256[:12]} was not kept]")
 
 
-class AtifObservation(_Strict):
-    results: list[AtifObservationResult]
+def _message(parts: list[ContentPart]) -> str | list[ContentPart]:
+    """A plain string when the parts are all text, else the multimodal array."""
+    if all(part.type == "text" for part in parts):
+        return "\n\n".join(part.text or "" for part in parts)
+    return parts
 
 
-class AtifMetrics(_Strict):
-    prompt_tokens: int | None = Field(default=None, ge=0)
-    completion_tokens: int | None = Field(default=None, ge=0)
-    cached_tokens: int | None = Field(default=None, ge=0)
-    cost_usd: float | None = Field(default=None, ge=0)
-    extra: dict[str, JsonValue] | None = None
+def _prompt_parts(message: JsonValue, images: ImageFiles) -> tuple[str, list[ContentPart]]:
+    """A prompt message's role and its content as parts (``image_ref`` parts as image files)."""
+    if not isinstance(message, dict):
+        return "user", [ContentPart(type="text", text=json.dumps(message))]
+    role, content = str(message.get("role", "user")), message.get("content")
+    if isinstance(content, str):
+        return role, [ContentPart(type="text", text=content)]
+    parts = []
+    for part in content if isinstance(content, list) else []:
+        if isinstance(part, dict) and part.get("type") == "text":
+            parts.append(ContentPart(type="text", text=str(part.get("text", ""))))
+        elif isinstance(part, dict) and part.get("type") == "image_ref":
+            parts.append(images.part(str(part.get("sha256", ""))))
+    return role, parts
 
 
-class AtifStep(_Strict):
-    step_id: int = Field(ge=1)
-    timestamp: str | None = None
-    source: Literal["system", "user", "agent"]
-    model_name: str | None = None
-    message: str
-    reasoning_content: str | None = None
-    tool_calls: list[AtifToolCall] | None = None
-    observation: AtifObservation | None = None
-    metrics: AtifMetrics | None = None
-    extra: dict[str, JsonValue] | None = None
-
-    @model_validator(mode="after")
-    def _agent_only_fields(self) -> AtifStep:
-        if self.source != "agent":
-            given = [f for f in ("model_name", "reasoning_content", "tool_calls", "metrics") if getattr(self, f)]
-            if given:
-                raise ValueError(f"a {self.source} step has agent-only field(s): {', '.join(given)}")
-        calls = {call.tool_call_id for call in self.tool_calls or []}
-        for result in self.observation.results if self.observation else []:
-            if result.source_call_id is not None and result.source_call_id not in calls:
-                raise ValueError(f"observation names tool call {result.source_call_id!r}, not one of its step's")
-        return self
+def _observation_parts(seen: StepObservation, images: ImageFiles) -> list[ContentPart]:
+    """What the environment showed an agent that keeps no prompt: composite text, or a screenshot and its elements."""
+    parts = [ContentPart(type="text", text=seen.text)] if seen.text is not None else []
+    if seen.screenshot is not None:
+        parts.append(images.part(seen.screenshot))
+    if seen.elements:
+        listing = "\n".join(
+            f"{e.index} {e.type} {e.text!r} at ({e.x}, {e.y}) {e.width}x{e.height}" for e in seen.elements
+        )
+        parts.append(ContentPart(type="text", text=listing))
+    return parts
 
 
-class AtifFinalMetrics(_Strict):
-    total_prompt_tokens: int | None = None
-    total_completion_tokens: int | None = None
-    total_cached_tokens: int | None = None
-    total_cost_usd: float | None = None
-    total_steps: int | None = None
-    extra: dict[str, JsonValue] | None = None
+def _iso(moment: datetime) -> str:
+    return moment.isoformat(timespec="milliseconds").replace("+00:00", "Z")
 
 
-class AtifTrajectory(_Strict):
-    schema_version: str = SCHEMA_VERSION
-    session_id: str
-    agent: AtifAgent
-    steps: list[AtifStep]
-    notes: str | None = None
-    final_metrics: AtifFinalMetrics | None = None
-    extra: dict[str, JsonValue] | None = None
-
-    @model_validator(mode="after")
-    def _sequential_steps(self) -> AtifTrajectory:
-        ids = [step.step_id for step in self.steps]
-        if ids != list(range(1, len(ids) + 1)):
-            raise ValueError(f"step ids must count from 1 without gaps, not {ids[:5]}...")
-        return self
+def _episode_clock_ms(clock: EpisodeClock, index: int, waited_s: float, dragged: bool) -> float | None:
+    if clock.mode == "real":
+        return round(waited_s * 1000, 1)
+    if dragged:
+        return None
+    return float(clock.start_ms + index * (ACTION_LEAD_MS + clock.step_ms))
 
 
-def atif_trajectory(row: JobRow, steps: list[StepRecord], instruction: str | None, version: str) -> AtifTrajectory:
+def atif_trajectory(
+    row: JobRow,
+    steps: list[StepRecord],
+    instruction: str | None,
+    version: str,
+    *,
+    suite: SuiteInfo,
+    clock: EpisodeClock,
+    images: ImageFiles,
+) -> Trajectory:
     """One attempt of an episode as an ATIF trajectory (``version``: this package's, the agent system's)."""
-    atif_steps = [AtifStep(step_id=1, source="user", message=instruction or f"(task {row.task_id})")]
+    start = row.started_at + timedelta(seconds=row.setup_s)
+    atif_steps: list[Step] = []
+
+    def add(**fields: Any) -> None:
+        atif_steps.append(Step(step_id=len(atif_steps) + 1, **fields))
+
+    prompted = any(step.prompt for step in steps)
+    system = [text for step in steps[:1] for m in step.prompt for role, text in [_prompt_text(m)] if role == "system"]
+    if system:
+        add(source="system", message="\n\n".join(system), timestamp=_iso(start))
+    if not prompted:
+        add(source="user", message=instruction or f"(task {row.task_id})", timestamp=_iso(start))
+    waited, dragged = 0.0, False
     for step in steps:
-        call = AtifToolCall(tool_call_id=f"step-{step.index}", function_name=step.action, arguments=step.args)
+        when = _iso(start + timedelta(seconds=waited))
+        shown: list[ContentPart] = []
+        for message in step.prompt:
+            role, parts = _prompt_parts(message, images)
+            if role != "system":
+                shown += parts
+        if not prompted and step.observation is not None:
+            shown = _observation_parts(step.observation, images)
+        if shown:
+            add(source="user", message=_message(shown), timestamp=when)
+        call = ToolCall(tool_call_id=f"step-{step.index}", function_name=step.action, arguments=step.args)
         answer: dict[str, JsonValue] = {"ok": True, "data": step.data}
         if not step.ok:
             answer = {"ok": False, "error": step.error_code, "message": step.error_message}
-        atif_steps.append(
-            AtifStep(
-                step_id=len(atif_steps) + 1,
-                source="agent",
-                model_name=row.litellm_model,
-                message=step.reply or "",
-                tool_calls=[call],
-                observation=AtifObservation(
-                    results=[AtifObservationResult(source_call_id=call.tool_call_id, content=json.dumps(answer))]
-                ),
-                metrics=AtifMetrics(
-                    prompt_tokens=step.input_tokens, completion_tokens=step.output_tokens, cost_usd=step.cost_usd
-                ),
-                extra={"latency_s": step.latency_s, "llm_calls": step.llm_calls, "warnings": list(step.warnings)},
+        called = step.llm_calls > 0
+        extra: dict[str, Any] = {"latency_s": step.latency_s, "observation_s": step.observation_s}
+        extra |= {"warnings": list(step.warnings), "llm_cache_hits": step.llm_cache_hits}
+        episode_ms = _episode_clock_ms(clock, step.index, waited, dragged)
+        if episode_ms is not None:
+            extra |= {"episode_clock_ms": episode_ms, "episode_clock": clock.mode}
+        add(
+            source="agent",
+            timestamp=when,
+            model_name=row.litellm_model,
+            message=step.reply or "",
+            reasoning_content=reasoning_of(step.reply) if called else None,
+            tool_calls=[call],
+            observation=Observation(
+                results=[ObservationResult(source_call_id=call.tool_call_id, content=json.dumps(answer))]
+            ),
+            metrics=Metrics(
+                prompt_tokens=step.input_tokens, completion_tokens=step.output_tokens, cost_usd=step.cost_usd
             )
+            if called
+            else None,
+            llm_call_count=step.llm_calls,
+            extra=extra,
         )
+        waited += step.latency_s
+        dragged = dragged or step.action in DRAG_ACTIONS
     verdict: dict[str, Any] = {
         "outcome": row.outcome, "tests_passed": row.tests_passed, "tests_total": row.tests_total, "psr": row.psr,
         "stop_reason": row.stop_reason, "error_class": row.error_class,
     }  # fmt: skip
-    return AtifTrajectory(
+    return Trajectory(
+        schema_version=SCHEMA_VERSION,
         session_id=f"{row.job_id}-{row.attempt}",
-        agent=AtifAgent(name=f"scratchworld-{row.agent}", version=version, model_name=row.litellm_model),
+        agent=Agent(name=f"scratchworld-{row.agent}", version=version, model_name=row.litellm_model),
         steps=atif_steps,
-        final_metrics=AtifFinalMetrics(
+        final_metrics=FinalMetrics(
             total_prompt_tokens=row.input_tokens,
             total_completion_tokens=row.output_tokens,
             total_cost_usd=row.cost_usd,
@@ -153,7 +225,25 @@ def atif_trajectory(row: JobRow, steps: list[StepRecord], instruction: str | Non
             "category": row.category,
             "mode": row.mode,
             "seed": row.seed,
+            "suite": {"name": suite.name, "kind": suite.kind, "hash": suite.hash},
             "run_name": row.run_name,
             "benchmark": row.benchmark,
+            "started_at": _iso(row.started_at),
+            "timestamps": "wall clock: the attempt's start, its setup and the latencies of the steps before",
         },
     )
+
+
+def _prompt_text(message: JsonValue) -> tuple[str, str]:
+    """A prompt message's role and its text parts joined (for the system prompt, which holds no image)."""
+    if not isinstance(message, dict):
+        return "user", json.dumps(message)
+    content = message.get("content")
+    if isinstance(content, list):
+        content = "\n".join(str(p.get("text", "")) for p in content if isinstance(p, dict) and p.get("type") == "text")
+    return str(message.get("role", "user")), str(content or "")
+
+
+def trajectory_file_name(row: JobRow) -> str:
+    """``<task>-<mode>-seed<k>-<job>-<attempt>.json``: the task first, so a folder lists a task's attempts together."""
+    return f"{row.task_id}-{row.mode}-seed{row.seed}-{row.job_id}-{row.attempt}.json"

@@ -14,7 +14,7 @@ from pydantic import BaseModel
 
 from scratchworld_dist._errors import RunDirError, ScratchWorldError
 from scratchworld_dist._files import write_atomic
-from scratchworld_dist.kinds.tasks.exports._atif import atif_trajectory
+from scratchworld_dist.kinds.tasks.exports._atif import ImageFiles, atif_trajectory, trajectory_file_name
 from scratchworld_dist.kinds.tasks.exports._leaderboard import leaderboard, leaderboard_csv
 from scratchworld_dist.kinds.tasks.exports._submission import SubmissionLine, submission_file_name, submission_line
 from scratchworld_dist.results import (
@@ -27,7 +27,7 @@ from scratchworld_dist.results import (
     require_manifest,
 )
 from scratchworld_dist.suites import suite_instructions
-from workers.contract import StepRecord
+from workers.contract import EpisodeClock, StepRecord
 
 ExportFormat = Literal["leaderboard", "upstream-submission", "atif"]
 EXPORT_FORMATS: tuple[ExportFormat, ...] = ("leaderboard", "upstream-submission", "atif")
@@ -99,15 +99,23 @@ def _submission(attempts: list[tuple[Path, JobRow, list[StepRecord]]], out: Path
 
 
 def _atif(attempts: list[tuple[Path, JobRow, list[StepRecord]]], out: Path) -> ExportSummary:
+    """One trajectory per attempt under ``OUT/<run name>/``, the screenshots they show in its ``images/``."""
+    from scratchworld_dist.kinds.tasks import default_episode_clock
+
     ours = version("scratchworld-dist")
-    suites = {run_dir: require_manifest(run_dir).suite for run_dir in {run for run, _, _ in attempts}}
+    manifests = {run_dir: require_manifest(run_dir) for run_dir in {run for run, _, _ in attempts}}
     written = []
     for run_dir, row, steps in attempts:
-        suite = suites[run_dir]
+        manifest = manifests[run_dir]
+        suite = manifest.suite
         instruction = suite_instructions(suite.root, suite.hash).get(row.task_id)
-        trajectory = atif_trajectory(row, steps, instruction, ours)
-        path = out / row.run_name / f"{row.job_id}-{row.attempt}.json"
+        stated = (manifest.config.get("episodes") or {}).get("episode_clock")
+        clock = EpisodeClock.model_validate(stated) if stated is not None else default_episode_clock()
+        folder = out / row.run_name
+        images = ImageFiles(run_dir, row.artifact_dir, folder)
+        trajectory = atif_trajectory(row, steps, instruction, ours, suite=suite, clock=clock, images=images)
+        path = folder / trajectory_file_name(row)
         path.parent.mkdir(parents=True, exist_ok=True)
-        write_atomic(path, (trajectory.model_dump_json(indent=2, exclude_none=True) + "\n").encode())
+        write_atomic(path, (json.dumps(trajectory.to_json_dict(), indent=2) + "\n").encode())
         written.append(path)
     return ExportSummary(files=written, warnings=[])

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import csv
 import io
-
 from itertools import groupby
 
 from pydantic import BaseModel
