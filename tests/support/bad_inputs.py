@@ -182,7 +182,7 @@ CONFIG_CASES = [
         2,
         "limits.pages_per_worker: Input should be a valid integer",
     ),
-    CliCase("unknown-field", _config(agnet="oracle"), 2, "agnet: Extra inputs are not permitted"),
+    CliCase("unknown-field", _config(agnet="oracle"), 2, "agnet: unknown key; did you mean 'agent'?"),
     CliCase(
         "secret-in-params",
         _config(agent="llm", models=[{"model": "openai/x", "params": {"extra_headers": {"Authorization": PASTED}}}]),

@@ -133,8 +133,8 @@ def test_duplicate_or_empty_seeds_and_modes_are_refused(tmp_path: Path, fields: 
 @pytest.mark.parametrize(
     ("fields", "expected"),
     [
-        ({"nmae": "x"}, ["nmae: Extra inputs are not permitted"]),
-        ({"limits": {"retry": 3}}, ["limits.retry: Extra inputs are not permitted"]),
+        ({"nmae": "x"}, ["nmae: unknown key; did you mean 'name'?"]),
+        ({"limits": {"retry": 3}}, ["limits.retry: unknown key; did you mean 'retries'?"]),
         ({"episodes": {"max_steps": "many"}}, ["episodes.max_steps: ", "integer"]),
         (
             {"episodes": {"max_steps": {"composite": 0}}},
@@ -145,7 +145,7 @@ def test_duplicate_or_empty_seeds_and_modes_are_refused(tmp_path: Path, fields: 
             {"episodes": {"modes": ["composite", "primitive"], "max_steps": {"composite": 5}}},
             ["episodes: ", "no limit for mode primitive"],
         ),
-        ({"episodes": {"maxsteps": 5}}, ["episodes.maxsteps: Extra inputs are not permitted"]),
+        ({"episodes": {"maxsteps": 5}}, ["episodes.maxsteps: unknown key; did you mean 'max_steps'?"]),
         ({"episodes": [50]}, ["episodes: ", "dictionary"]),
         ({"primitive": {"ocr": "tesseract"}}, ["primitive.ocr: "]),
         ({"limits": {"episode_timeout_s": "soon"}}, ["limits.episode_timeout_s: ", "number"]),
@@ -274,7 +274,7 @@ def test_ray_address_override(tmp_path: Path) -> None:
 
 def test_overrides_are_validated_too(tmp_path: Path) -> None:
     path = write(tmp_path, minimal())
-    with pytest.raises(ConfigError, match=r"ray\.port: Extra inputs are not permitted"):
+    with pytest.raises(ConfigError, match=r"ray\.port: unknown key"):
         load_sweep_config(path, {"ray": {"port": 1}})
 
 
