@@ -59,11 +59,15 @@ def tasks_command(suite_dir: Path, task_list: str | None, as_json: bool) -> None
 @json_option
 def agents_command(benchmark: str | None, as_json: bool) -> None:
     """The agents registered for each benchmark (a plugin's too), by the names a sweep config uses."""
-    from scratchworld_dist.kinds import job_kind, kind_names
+    from scratchworld_dist.kinds import UnknownKindError, job_kind, kind_names
     from workers.agent_api import AgentUnavailableError, registered_agents
 
+    try:
+        kinds = [job_kind(benchmark).name] if benchmark is not None else kind_names()
+    except UnknownKindError as exc:
+        raise click.BadParameter(str(exc), param_hint="--benchmark") from None
     rows = []
-    for kind in [job_kind(benchmark).name] if benchmark is not None else kind_names():
+    for kind in kinds:
         try:
             rows += [{"benchmark": kind, "agent": agent} for agent in registered_agents(kind)]
         except AgentUnavailableError:  # a benchmark without agents (the grader audit): nothing to list
