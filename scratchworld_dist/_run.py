@@ -7,32 +7,26 @@ say which jobs are decided. Running the same config again skips decided jobs, re
 
 from __future__ import annotations
 
-import hashlib
-import json
 import os
 from pathlib import Path
 from typing import Any
 
 import ray
-from pydantic import ValidationError
 from ray.exceptions import RayError
 from rich.console import Console
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._run_summary import RunSummary
+from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
 from scratchworld_dist.results import (
-    SCHEMA_VERSION,
     KindRows,
     RunManifest,
     RunStore,
     Session,
-    continued,
-    git_commit,
     now,
-    package_versions,
     record_of,
     write_manifest,
 )
@@ -95,57 +89,6 @@ class AttemptRecorder:
         self.store.commit(record)
 
 
-def config_hash(config: SweepConfig) -> str:
-    """Hash of the fields that shape the job matrix; paths, execution limits, the model cache (a replay is
-    the reply the same request got, so a run may turn it on or off), other kinds' sections and what its own
-    section lets change (``resume_free``: offline memory's source folder) may change freely. A config hashes
-    the same whichever layout its file used (old configs' top-level keys are validated into their sections)."""
-    sections: dict[str, object] = {kind: True for kind in config.sections if kind != config.benchmark}
-    own = config.sections.get(config.benchmark)
-    free = getattr(own, "resume_free", None)
-    if free:
-        sections[config.benchmark] = free
-    pacing: dict[str, object] = {
-        "sections": sections,
-        "suite": True,
-        "output": True,
-        "limits": True,
-        "ray": True,
-        "model_cache": True,
-        "probe": True,
-        "llm": {"retry"},
-        "models": {"__all__": {"rate_limits"}},
-    }
-    shaping = config.model_dump(mode="json", exclude=pacing)  # type: ignore[arg-type]
-    return hashlib.sha256(json.dumps(shaping, sort_keys=True).encode()).hexdigest()[:16]
-
-
-def _checked_manifest(plan: RunPlan, run_dir: Path, force: bool) -> RunManifest:
-    fresh = RunManifest(
-        run_name=plan.config.name,
-        schema_version=SCHEMA_VERSION,
-        harness=plan.harness,
-        config=plan.config.model_dump(mode="json"),
-        config_hash=config_hash(plan.config),
-        suite=plan.suite,
-        planned_jobs=len(plan.jobs),
-        packages=package_versions(),
-        git_commit=git_commit(Path(__file__).parent),
-    )
-    return continued(
-        run_dir, fresh, force=force, kind="sweep", config_label="sweep config", config_hash_of=_hash_as_now
-    )
-
-
-def _hash_as_now(old: RunManifest) -> str:
-    """An earlier run's config hashed as this code hashes (what counts may have changed since, e.g. other kinds'
-    sections); its recorded hash when its config no longer reads."""
-    try:
-        return config_hash(SweepConfig.model_validate(old.config))
-    except ValidationError:
-        return old.config_hash
-
-
 def run_sweep(
     config: SweepConfig, *, force: bool = False, console: Console | None = None, skip_broken_models: bool = False
 ) -> RunSummary:
@@ -171,7 +114,7 @@ def _run_plan(
     config = plan.config
     run_dir = config.run_dir()
     store = RunStore(run_dir)
-    manifest = _checked_manifest(plan, run_dir, force)
+    manifest = checked_manifest(plan, run_dir, force)
     if config.model_cache is not None:
         _open_model_cache(config.model_cache.dir)
     # Before the run directory is touched: a broken model stops the run leaving nothing behind.

@@ -106,13 +106,25 @@ def run_command(
 @click.command("plan")
 @click.argument("config_file", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (overrides output).")
+@click.option(
+    "--tokens-from",
+    multiple=True,
+    type=click.Path(file_okay=False, path_type=Path),
+    help="Measure tokens per step in this earlier run of the suite (repeatable; default: the run directory's own).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the plan as JSON (PlanPreview; docs/sweeps.md).")
 @sweep_overrides
-def plan_command(config_file: Path, out: Path | None, overrides: SweepOverrides) -> None:
-    """Show the jobs CONFIG_FILE would run (with the same overrides as ``run``), per model, agent and mode.
+def plan_command(
+    config_file: Path, out: Path | None, tokens_from: tuple[Path, ...], as_json: bool, overrides: SweepOverrides
+) -> None:
+    """Show the jobs CONFIG_FILE would run (with the same overrides as ``run``), per model, agent and mode,
+    each model's effective settings, and the estimated cost with its upper bound.
 
     Reads the suite and the run directory; starts nothing and writes nothing.
     """
-    from scratchworld_dist._plan_preview import preview_plan, render_preview
+    from scratchworld_dist._plan_preview import preview_plan
+    from scratchworld_dist._plan_render import render_preview
 
     config = load_sweep_config(config_file, {"output": out} if out is not None else None, overrides)
-    click.echo(render_preview(preview_plan(config)))
+    preview = preview_plan(config, list(tokens_from))
+    click.echo(preview.model_dump_json(indent=2) if as_json else render_preview(preview))

@@ -142,7 +142,21 @@ class TaskSelection(BaseModel):
     """Upstream task list name (e.g. ``all_tasks``, ``15_tasks``)."""
 
     limit: int | None = Field(default=None, gt=0)
-    """Only the first N of the selected tasks (or items), in the suite's order (``--limit``: a quick try)."""
+    """Only N of the selected tasks (or items): the first N in the suite's order (``--limit``: a quick try), or a
+    random N (``sample: random``)."""
+
+    sample: Literal["first", "random"] = "first"
+    """How ``limit`` picks: the first N in suite order, or N drawn at random with ``sample_seed`` (the same N for
+    the same seed and selection, kept in suite order)."""
+
+    sample_seed: int = Field(default=0, ge=0)
+    """The seed of a random sample (``--sample-seed``)."""
+
+    @model_validator(mode="after")
+    def _sample_needs_limit(self) -> TaskSelection:
+        if self.sample == "random" and self.limit is None:
+            raise ValueError("sample random draws tasks.limit items: give a limit (--limit N)")
+        return self
 
 
 class Limits(BaseModel):
@@ -247,6 +261,17 @@ class SweepConfig(BaseModel):
     ray: RayConfig = Field(default_factory=RayConfig)
     model_cache: ModelCacheSettings | None = None
     """Opt-in: answer a model request made before from ``model_cache.dir`` (no request, no cost)."""
+
+    tags: dict[str, str] = Field(default_factory=dict)
+    """Labels of the run (``--tag key=value``: a team, a ticket, a model revision): recorded in the manifest and
+    carried to reports and exports; they change no job, so a run may gain tags when it resumes."""
+
+    @field_validator("tags", mode="before")
+    @classmethod
+    def _tags_as_text(cls, value: Any) -> Any:
+        if isinstance(value, dict):
+            return {str(k): "" if v is None else str(v) for k, v in value.items()}
+        return value
 
     probe: bool | None = None
     """Before any editor opens, call each model the jobs call once (one short message, ``max_tokens`` 1); default:
