@@ -40,6 +40,21 @@ EXIT_ERRORS = 1
     help="Run the other models' jobs when the preflight finds a model broken (default: stop before any job).",
 )
 @click.option("--force", is_flag=True, help="Continue in a run directory that holds another sweep.")
+@click.option(
+    "--progress",
+    type=click.Choice(["auto", "rich", "plain", "none"]),
+    default="auto",
+    show_default=True,
+    help="A live line (rich), a line per interval and each error as it happens (plain: logs), or nothing; "
+    "auto: live on a terminal, plain elsewhere.",
+)
+@click.option(
+    "--progress-interval",
+    type=click.FloatRange(min=0, min_open=True),
+    default=30.0,
+    show_default=True,
+    help="Seconds between plain progress lines.",
+)
 @sweep_overrides
 def run_command(
     config_file: Path,
@@ -54,6 +69,8 @@ def run_command(
     probe: bool | None,
     skip_broken_models: bool,
     force: bool,
+    progress: str,
+    progress_interval: float,
     overrides: SweepOverrides,
 ) -> None:
     """Run the sweep in CONFIG_FILE; run it again to resume.
@@ -62,6 +79,7 @@ def run_command(
     one smallest call): a broken one stops the run, one line per model, with exit status 2. Prints the
     report (also saved as RUN_DIR/report.md) after the most frequent error message per class and model.
     Exits 1 when jobs are left without a verdict (errors after all retries; running again retries them).
+    Every attempt is also an event in RUN_DIR/events.jsonl (docs/sweeps.md).
     """
     fields: dict[str, object] = {}
     if out is not None:
@@ -83,10 +101,12 @@ def run_command(
     if probe is not None:
         fields["probe"] = probe
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
+    from scratchworld_dist.scheduling import ProgressOptions
 
     config = load_sweep_config(config_file, fields, overrides)
     console = make_console(stderr=True)
-    summary = run_sweep(config, force=force, console=console, skip_broken_models=skip_broken_models)
+    shown = ProgressOptions.model_validate({"mode": progress, "interval_s": progress_interval})
+    summary = run_sweep(config, force=force, console=console, skip_broken_models=skip_broken_models, progress=shown)
     outcomes = summary.outcomes
     left_out = f"; {summary.left_out} left out (broken models)" if summary.left_out else ""
     console.print(
