@@ -64,7 +64,12 @@ def model_price(spec: ModelSpec) -> ModelPrice:
 
     def number(key: str) -> float | None:
         value = params.get(key, info.get(key))
-        return float(value) if isinstance(value, int | float) and not isinstance(value, bool) else None
+        if isinstance(value, bool) or not isinstance(value, int | float | str):
+            return None
+        try:
+            return float(value)  # YAML reads 1e-6 as text
+        except ValueError:
+            return None
 
     def limit(key: str) -> int | None:
         value = info.get(key)

@@ -122,7 +122,9 @@ def _secret_keys(value: Any, path: str = "") -> list[str]:
     if isinstance(value, dict):
         for key, item in value.items():
             where = f"{path}{key}"
-            if str(key).lower() in _SECRET_KEYS or str(key).lower().endswith(("api_key", "_token", "-key")):
+            lowered = str(key).lower()
+            price = lowered.endswith("_cost_per_token")  # LiteLLM's price of a model it has no price for
+            if lowered in _SECRET_KEYS or (lowered.endswith(("api_key", "_token", "-key")) and not price):
                 found.append(where)
             found.extend(_secret_keys(item, f"{where}."))
     elif isinstance(value, list):
