@@ -165,3 +165,10 @@ def test_plan_and_status_as_json(tmp_path: Path) -> None:
     assert parsed.errors == {"EditorCrashedError": 1} and parsed.tags == {"team": "evals", "ticket": "52"}
     text = invoke("status", str(run_dir))
     assert "tags: team=evals ticket=52" in text.stdout
+    report = invoke("report", str(run_dir), "--format", "json")
+    assert json.loads(report.stdout)["runs"][0]["tags"] == {"team": "evals", "ticket": "52"}  # carried to reports
+    assert "Tags (sweep): team=evals, ticket=52" in invoke("report", str(run_dir)).stdout
+    exported = invoke("export", str(run_dir), "--format", "leaderboard", "--out", str(tmp_path / "board"))
+    assert exported.returncode == 0, exported.stderr
+    board = json.loads((tmp_path / "board" / "leaderboard.json").read_text())
+    assert board["runs"][0]["tags"] == {"team": "evals", "ticket": "52"}  # and to the leaderboard export
