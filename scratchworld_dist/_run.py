@@ -7,36 +7,34 @@ say which jobs are decided. Running the same config again skips decided jobs, re
 
 from __future__ import annotations
 
-import hashlib
-import json
 import os
 from pathlib import Path
 from typing import Any
 
 import ray
-from pydantic import ValidationError
 from ray.exceptions import RayError
 from rich.console import Console
 
 from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ConfigError
+from scratchworld_dist._run_events import SweepWatcher
 from scratchworld_dist._run_summary import RunSummary
+from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
 from scratchworld_dist.results import (
-    SCHEMA_VERSION,
+    EventLog,
     KindRows,
     RunManifest,
     RunStore,
     Session,
-    continued,
-    git_commit,
+    SweepStart,
     now,
-    package_versions,
     record_of,
     write_manifest,
 )
 from scratchworld_dist.scheduling import (
+    ProgressOptions,
     Scheduler,
     WorkerPool,
     admitted_slots,
@@ -48,6 +46,7 @@ from scratchworld_dist.scheduling import (
     refuse_broken,
     run_preflight,
     settle,
+    shown_mode,
     worker_logs_dir,
 )
 from scratchworld_dist.sweep import JobSpec, RunPlan, SuiteInfo, SweepConfig, plan_run, worker_job
@@ -95,83 +94,44 @@ class AttemptRecorder:
         self.store.commit(record)
 
 
-def config_hash(config: SweepConfig) -> str:
-    """Hash of the fields that shape the job matrix; paths, execution limits, the model cache (a replay is
-    the reply the same request got, so a run may turn it on or off), other kinds' sections and what its own
-    section lets change (``resume_free``: offline memory's source folder) may change freely. A config hashes
-    the same whichever layout its file used (old configs' top-level keys are validated into their sections)."""
-    sections: dict[str, object] = {kind: True for kind in config.sections if kind != config.benchmark}
-    own = config.sections.get(config.benchmark)
-    free = getattr(own, "resume_free", None)
-    if free:
-        sections[config.benchmark] = free
-    pacing: dict[str, object] = {
-        "sections": sections,
-        "suite": True,
-        "output": True,
-        "limits": True,
-        "ray": True,
-        "model_cache": True,
-        "probe": True,
-        "llm": {"retry"},
-        "models": {"__all__": {"rate_limits"}},
-    }
-    shaping = config.model_dump(mode="json", exclude=pacing)  # type: ignore[arg-type]
-    return hashlib.sha256(json.dumps(shaping, sort_keys=True).encode()).hexdigest()[:16]
-
-
-def _checked_manifest(plan: RunPlan, run_dir: Path, force: bool) -> RunManifest:
-    fresh = RunManifest(
-        run_name=plan.config.name,
-        schema_version=SCHEMA_VERSION,
-        harness=plan.harness,
-        config=plan.config.model_dump(mode="json"),
-        config_hash=config_hash(plan.config),
-        suite=plan.suite,
-        planned_jobs=len(plan.jobs),
-        packages=package_versions(),
-        git_commit=git_commit(Path(__file__).parent),
-    )
-    return continued(
-        run_dir, fresh, force=force, kind="sweep", config_label="sweep config", config_hash_of=_hash_as_now
-    )
-
-
-def _hash_as_now(old: RunManifest) -> str:
-    """An earlier run's config hashed as this code hashes (what counts may have changed since, e.g. other kinds'
-    sections); its recorded hash when its config no longer reads."""
-    try:
-        return config_hash(SweepConfig.model_validate(old.config))
-    except ValidationError:
-        return old.config_hash
-
-
 def run_sweep(
-    config: SweepConfig, *, force: bool = False, console: Console | None = None, skip_broken_models: bool = False
+    config: SweepConfig,
+    *,
+    force: bool = False,
+    console: Console | None = None,
+    skip_broken_models: bool = False,
+    progress: ProgressOptions | None = None,
 ) -> RunSummary:
     """Run or resume the sweep. On a cluster, its nodes are checked first (the driver's code, one editor
     and one browser among them) and the jobs are planned under their environment. Before any editor
     opens, the models the jobs to run call are checked (``PreflightError`` names the broken ones, unless
-    ``skip_broken_models`` leaves their jobs out)."""
+    ``skip_broken_models`` leaves their jobs out). ``progress``: how progress is shown (default: live on a
+    terminal, plain lines elsewhere); every attempt is also an event in the run directory's ``events.jsonl``."""
     console = console or make_console(stderr=True)
+    shown = progress or ProgressOptions()
     if config.ray.address is None:  # a private local Ray: this machine is the only node
         local = describe_node()
-        return _run_plan(plan_run(config, local.harness), [local], force, console, skip_broken_models)
+        return _run_plan(plan_run(config, local.harness), [local], force, console, skip_broken_models, shown)
     with ray_runtime(config.ray.address, config.limits.browser_slots, config.ray.connect_timeout_s):
         nodes = inspect_nodes()
         harness = agreed_harness(nodes, harness_fingerprint())
         slots = sum(node.browser_slots for node in nodes)
         console.print(f"{len(nodes)} node(s) with {slots} browser slot(s) run harness {harness.digest}")
-        return _run_plan(plan_run(config, harness), nodes, force, console, skip_broken_models)
+        return _run_plan(plan_run(config, harness), nodes, force, console, skip_broken_models, shown)
 
 
 def _run_plan(
-    plan: RunPlan, nodes: list[NodeReport], force: bool, console: Console, skip_broken_models: bool
+    plan: RunPlan,
+    nodes: list[NodeReport],
+    force: bool,
+    console: Console,
+    skip_broken_models: bool,
+    progress: ProgressOptions,
 ) -> RunSummary:
     config = plan.config
     run_dir = config.run_dir()
     store = RunStore(run_dir)
-    manifest = _checked_manifest(plan, run_dir, force)
+    manifest = checked_manifest(plan, run_dir, force)
     if config.model_cache is not None:
         _open_model_cache(config.model_cache.dir)
     # Before the run directory is touched: a broken model stops the run leaving nothing behind.
@@ -179,7 +139,10 @@ def _run_plan(
     preflight = run_preflight(plan, [job for job, _ in store.undecided(plan.jobs)], on_node)
     refuse_broken(preflight, skip_broken_models)
     store.open_for_writing()
+    events: EventLog | None = None
+    watcher: SweepWatcher | None = None
     try:
+        events = EventLog(run_dir)
         undecided = store.undecided(plan.jobs)
         todo = settle(preflight, plan, undecided, console)
         local_slots = None
@@ -199,10 +162,19 @@ def _run_plan(
             + f" -> {run_dir}",
             markup=False,  # the suite's name and the path are the user's text
         )
+        decided = len(plan.jobs) - len(undecided)
+        events.write(
+            SweepStart(
+                session=len(manifest.sessions), run_name=config.name, planned=len(plan.jobs), already_decided=decided,
+                to_run=len(todo), host=session.host, pid=session.pid, tags=manifest.tags,
+            )
+        )  # fmt: skip
+        say_errors = shown_mode(progress.mode, console) != "none"
+        watcher = SweepWatcher(events, len(manifest.sessions), console, say_errors)
         summary = RunSummary(
             run_dir=run_dir,
             planned=len(plan.jobs),
-            already_decided=len(plan.jobs) - len(undecided),
+            already_decided=decided,
             left_out=len(undecided) - len(todo),
             sent=0,
             outcomes={"passed": 0, "failed": 0, "error": 0},
@@ -210,12 +182,23 @@ def _run_plan(
             retried=0,
         )
         if todo:
-            summary = _execute(plan, manifest, store, todo, local_slots, console, summary)
+            summary = _execute(plan, manifest, store, todo, local_slots, console, summary, watcher, progress)
         session.finished_at = now()
         session.submitted = summary.sent
         session.budget_stop = summary.budget_stop
         write_manifest(run_dir, manifest)
+        watcher.end("finished", budget_stop=summary.budget_stop)
+    except KeyboardInterrupt:
+        if watcher is not None:
+            watcher.end("interrupted")
+        raise
+    except Exception as exc:
+        if watcher is not None:
+            watcher.end("failed", reason=(str(exc).strip().splitlines() or [type(exc).__name__])[0][:300])
+        raise
     finally:
+        if events is not None:
+            events.close()
         store.close()
     return summary
 
@@ -228,6 +211,8 @@ def _execute(
     local_slots: int | None,
     console: Console,
     summary: RunSummary,
+    watcher: SweepWatcher,
+    progress: ProgressOptions,
 ) -> RunSummary:
     """Run ``todo`` on Ray (a private one with ``local_slots`` browser slots, or the configured cluster)."""
     config = plan.config
@@ -259,6 +244,7 @@ def _execute(
             budget_usd=config.limits.budget_usd,
             spent_usd=store.cost_usd() if config.limits.budget_usd is not None else 0.0,
             open_editors=any(job.needs_browser for job, _ in todo),
+            watcher=watcher,
         )
         console.print(pool.describe(slots))
         logs = worker_logs_dir()
@@ -266,7 +252,7 @@ def _execute(
             where = "" if config.ray.address is None else " (that folder on each node)"
             console.print(f"worker logs: {logs}{where}", markup=False)
         try:
-            with live_progress(scheduler.stats, len(todo), console):
+            with live_progress(scheduler.stats, len(todo), console, progress.mode, progress.interval_s):
                 _run_waves(scheduler, todo, memory, console)
         finally:
             pool.close(keep=scheduler.settled)

@@ -126,7 +126,24 @@ _SWEEP_OPTIONS = (
     click.option(
         "--tasks", multiple=True, metavar="ID[,ID...]", help="Run these task or item ids (comma-separated or repeated)."
     ),
-    click.option("--limit", type=click.IntRange(min=1), help="Run only the first N selected tasks or items."),
+    click.option(
+        "-M",
+        "--model-arg",
+        "model_args",
+        multiple=True,
+        metavar="[NAME:]KEY=VALUE",
+        help="Set a model setting (temperature=0) or param (top_p=0.9) on every model, or on model NAME only.",
+    ),
+    click.option("--limit", type=click.IntRange(min=1), help="Run only N of the selected tasks or items."),
+    click.option(
+        "--sample",
+        type=click.Choice(["first", "random"]),
+        help="Which N --limit takes: the first in suite order (default) or a random sample.",
+    ),
+    click.option("--sample-seed", type=click.IntRange(min=0), help="Seed of --sample random (default 0)."),
+    click.option(
+        "--tag", "tags", multiple=True, metavar="KEY=VALUE", help="Label the run (repeatable; kept in its manifest)."
+    ),
     click.option("--seeds", help="A seed count (3) or the seeds themselves (0,4,7)."),
     click.option("--modes", multiple=True, help="Run these modes (composite, primitive)."),
     click.option(
@@ -142,7 +159,7 @@ def sweep_overrides(command: Callable[..., Any]) -> Callable[..., Any]:
     def wrapped(**kwargs: Any) -> Any:
         from scratchworld_dist.sweep import SweepOverrides  # the config models: for the command that runs only
 
-        fields = {name: kwargs.pop(name) for name in ("models", "tasks", "limit", "seeds", "modes", "settings")}
+        fields = {name: kwargs.pop(name) for name in SweepOverrides.command_line_fields()}
         return command(
             overrides=SweepOverrides(**{k: list(v) if isinstance(v, tuple) else v for k, v in fields.items()}), **kwargs
         )

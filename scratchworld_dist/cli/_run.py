@@ -41,6 +41,21 @@ EXIT_ERRORS = 1
     help="Run the other models' jobs when the preflight finds a model broken (default: stop before any job).",
 )
 @click.option("--force", is_flag=True, help="Continue in a run directory that holds another sweep.")
+@click.option(
+    "--progress",
+    type=click.Choice(["auto", "rich", "plain", "none"]),
+    default="auto",
+    show_default=True,
+    help="A live line (rich), a line per interval and each error as it happens (plain: logs), or nothing; "
+    "auto: live on a terminal, plain elsewhere.",
+)
+@click.option(
+    "--progress-interval",
+    type=click.FloatRange(min=0, min_open=True),
+    default=30.0,
+    show_default=True,
+    help="Seconds between plain progress lines.",
+)
 @sweep_overrides
 def run_command(
     config_file: Path,
@@ -55,6 +70,8 @@ def run_command(
     probe: bool | None,
     skip_broken_models: bool,
     force: bool,
+    progress: str,
+    progress_interval: float,
     overrides: SweepOverrides,
 ) -> None:
     """Run the sweep in CONFIG_FILE; run it again to resume.
@@ -63,6 +80,7 @@ def run_command(
     one smallest call): a broken one stops the run, one line per model, with exit status 2. Prints the
     report (also saved as RUN_DIR/report.md) after the most frequent error message per class and model.
     Exits 1 when jobs are left without a verdict (errors after all retries; running again retries them).
+    Every attempt is also an event in RUN_DIR/events.jsonl (docs/sweeps.md).
     """
     fields: dict[str, object] = {}
     if out is not None:
@@ -86,11 +104,13 @@ def run_command(
     from scratchworld_dist._console import make_console
     from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
     from scratchworld_dist.reports import digest_lines, report_runs, run_error_digest
+    from scratchworld_dist.scheduling import ProgressOptions
     from scratchworld_dist.sweep import load_sweep_config
 
     config = load_sweep_config(config_file, fields, overrides)
     console = make_console(stderr=True)
-    summary = run_sweep(config, force=force, console=console, skip_broken_models=skip_broken_models)
+    shown = ProgressOptions.model_validate({"mode": progress, "interval_s": progress_interval})
+    summary = run_sweep(config, force=force, console=console, skip_broken_models=skip_broken_models, progress=shown)
     outcomes = summary.outcomes
     left_out = f"; {summary.left_out} left out (broken models)" if summary.left_out else ""
     console.print(
@@ -110,14 +130,26 @@ def run_command(
 @click.command("plan", epilog="Example: scratchworld plan configs/demo.yaml --model openai/gpt-4o-mini --limit 5")
 @click.argument("config_file", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (overrides output).")
+@click.option(
+    "--tokens-from",
+    multiple=True,
+    type=click.Path(file_okay=False, path_type=Path),
+    help="Measure tokens per step in this earlier run of the suite (repeatable; default: the run directory's own).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the plan as JSON (PlanPreview; docs/sweeps.md).")
 @sweep_overrides
-def plan_command(config_file: Path, out: Path | None, overrides: SweepOverrides) -> None:
-    """Show the jobs CONFIG_FILE would run (with the same overrides as ``run``), per model, agent and mode.
+def plan_command(
+    config_file: Path, out: Path | None, tokens_from: tuple[Path, ...], as_json: bool, overrides: SweepOverrides
+) -> None:
+    """Show the jobs CONFIG_FILE would run (with the same overrides as ``run``), per model, agent and mode,
+    each model's effective settings, and the estimated cost with its upper bound.
 
     Reads the suite and the run directory; starts nothing and writes nothing.
     """
-    from scratchworld_dist._plan_preview import preview_plan, render_preview
+    from scratchworld_dist._plan_preview import preview_plan
+    from scratchworld_dist._plan_render import render_preview
     from scratchworld_dist.sweep import load_sweep_config
 
     config = load_sweep_config(config_file, {"output": out} if out is not None else None, overrides)
-    click.echo(render_preview(preview_plan(config)))
+    preview = preview_plan(config, list(tokens_from))
+    click.echo(preview.model_dump_json(indent=2) if as_json else render_preview(preview))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections import Counter
 from pathlib import Path
 
 import click
@@ -13,30 +12,32 @@ from scratchworld_dist._console import make_console
 
 @click.command("status", epilog="Example: scratchworld status results/demo")
 @click.argument("run_dir", type=click.Path(file_okay=False, path_type=Path))
-def status_command(run_dir: Path) -> None:
+@click.option("--json", "as_json", is_flag=True, help="Print the progress as JSON (RunStatus; docs/sweeps.md).")
+def status_command(run_dir: Path, as_json: bool) -> None:
     """Print the progress of the run in RUN_DIR without running anything."""
-    from scratchworld_dist.results import RunStore, effective_rows, require_manifest  # pyarrow: when it runs
+    from scratchworld_dist._run_status import run_status  # pyarrow: when it runs
+    from scratchworld_dist.results import require_manifest
 
     manifest = require_manifest(run_dir)
-    rows = manifest.current_rows(RunStore(run_dir).job_rows())
-    effective = list(effective_rows(rows))
-    outcomes = Counter(r.outcome for r in effective)
-    errors = Counter(r.error_class or "?" for r in effective if r.outcome == "error")
-    decided = outcomes["passed"] + outcomes["failed"]
-    missing = max(manifest.planned_jobs - len(effective), 0)
+    status = run_status(run_dir, manifest)
+    if as_json:
+        click.echo(status.model_dump_json(indent=2))
+        return
     console = make_console()
     console.print(f"[bold]{escape(manifest.run_name)}[/bold]  {escape(str(run_dir))}")
-    harness = manifest.harness.digest if manifest.harness else "-"
+    harness = status.harness or "-"
     console.print(
         f"suite {manifest.suite.name} ({manifest.suite.tasks} tasks, hash {manifest.suite.hash}); harness {harness}",
         markup=False,
     )
+    if status.tags:
+        console.print("tags: " + " ".join(f"{key}={value}" for key, value in status.tags.items()), markup=False)
     console.print(
-        f"{decided}/{manifest.planned_jobs} decided: passed {outcomes['passed']}, failed {outcomes['failed']}; "
-        f"error {outcomes['error']}; not yet run {missing}; attempts recorded {len(rows)}"
+        f"{status.decided}/{status.planned_jobs} decided: passed {status.passed}, failed {status.failed}; "
+        f"error {status.error}; not yet run {status.not_yet_run}; attempts recorded {status.attempts}"
     )
-    if errors:
-        console.print("errors: " + ", ".join(f"{kind} {count}" for kind, count in errors.most_common()), markup=False)
+    if status.errors:
+        console.print("errors: " + ", ".join(f"{kind} {count}" for kind, count in status.errors.items()), markup=False)
     for number, session in enumerate(manifest.sessions, start=1):
         end = session.finished_at.isoformat(timespec="seconds") if session.finished_at else "did not finish"
         console.print(

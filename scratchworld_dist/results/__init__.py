@@ -1,5 +1,17 @@
 """Results of a run directory: rows, Parquet schemas, the journaled store and the manifest."""
 
+from scratchworld_dist.results._events import (
+    EVENTS_NAME,
+    EventLog,
+    JobError,
+    JobFinish,
+    JobRetry,
+    JobStart,
+    RunEvent,
+    SweepEnd,
+    SweepStart,
+    read_events,
+)
 from scratchworld_dist.results._kind import KindRows, SharedFiles
 from scratchworld_dist.results._manifest import (
     MANIFEST_NAME,
@@ -29,17 +41,26 @@ from scratchworld_dist.results._trajectories import attempt_steps
 
 __all__ = [
     "CORE_TABLES",
+    "EVENTS_NAME",
     "MANIFEST_NAME",
     "SCHEMA_VERSION",
+    "EventLog",
+    "JobError",
+    "JobFinish",
     "JobRecord",
+    "JobRetry",
     "JobRow",
+    "JobStart",
     "KindRows",
     "RegradeInfo",
+    "RunEvent",
     "RunManifest",
     "RunStore",
     "Session",
     "SharedFiles",
     "StepRow",
+    "SweepEnd",
+    "SweepStart",
     "TestRow",
     "UnknownTableError",
     "attempt_steps",
@@ -49,6 +70,7 @@ __all__ = [
     "kind_of_run",
     "now",
     "package_versions",
+    "read_events",
     "read_manifest",
     "record_of",
     "require_manifest",

@@ -98,6 +98,10 @@ class RunManifest(BaseModel):
     regrade: RegradeInfo | None = None
     """Set for a run made by ``scratchworld regrade``: its source and the new conditions (None otherwise)."""
 
+    tags: dict[str, str] = Field(default_factory=dict)
+    """The run's labels (``--tag key=value``, the config's ``tags``), those of every session; reports and exports
+    carry them."""
+
     def is_current(self, suite_hash: str, harness: str | None) -> bool:
         """Whether a row of this suite and harness belongs to the run as it stands (others are stale)."""
         return suite_hash == self.suite.hash and harness == (self.harness.digest if self.harness else None)

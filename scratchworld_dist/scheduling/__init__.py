@@ -12,22 +12,32 @@ from scratchworld_dist.scheduling._preflight import (
     run_preflight,
     settle,
 )
-from scratchworld_dist.scheduling._progress import live_progress
+from scratchworld_dist.scheduling._progress import (
+    PROGRESS_MODES,
+    ProgressMode,
+    ProgressOptions,
+    live_progress,
+    shown_mode,
+)
 from scratchworld_dist.scheduling._ray_runtime import (
     BROWSER_RESOURCE,
     RayUnavailableError,
     ray_runtime,
     worker_logs_dir,
 )
-from scratchworld_dist.scheduling._scheduler import Scheduler, SchedulerStats
+from scratchworld_dist.scheduling._scheduler import Scheduler, SchedulerStats, SchedulerWatcher
 
 __all__ = [
     "BROWSER_RESOURCE",
+    "PROGRESS_MODES",
     "ModelCalls",
     "PreflightError",
+    "ProgressMode",
+    "ProgressOptions",
     "RayUnavailableError",
     "Scheduler",
     "SchedulerStats",
+    "SchedulerWatcher",
     "WorkerPool",
     "admitted_slots",
     "agreed_harness",
@@ -40,5 +50,6 @@ __all__ = [
     "refuse_broken",
     "run_preflight",
     "settle",
+    "shown_mode",
     "worker_logs_dir",
 ]

@@ -64,6 +64,17 @@ class Job(Protocol):
 
 
 J = TypeVar("J", bound=Job)
+J_contra = TypeVar("J_contra", bound=Job, contravariant=True)
+
+
+class SchedulerWatcher(Protocol[J_contra]):
+    """Hears each attempt as it is sent and as it ends (the run's events and its log lines)."""
+
+    def started(self, job: J_contra, attempt: int, worker: int) -> None:
+        """``attempt`` of ``job`` was sent to ``worker`` (again, when a worker declined it or was restarted)."""
+
+    def finished(self, job: J_contra, result: JobResult, *, retried: bool) -> None:
+        """The attempt ended and its result is committed; ``retried``: an error the scheduler sends again."""
 
 
 @dataclass
@@ -136,9 +147,11 @@ class Scheduler(Generic[J]):
         budget_usd: float | None = None,
         spent_usd: float = 0.0,
         open_editors: bool = True,
+        watcher: SchedulerWatcher[J] | None = None,
     ) -> None:
         """``spent_usd`` is what earlier runs of the sweep spent; it counts against ``budget_usd``;
-        ``open_editors``: workers open their editors ahead of their first job (False when no job needs one)."""
+        ``open_editors``: workers open their editors ahead of their first job (False when no job needs one);
+        ``watcher`` hears each attempt start and end."""
         self.pool = pool
         self.payloads = payloads
         self.timeout_s = timeout_s
@@ -151,6 +164,7 @@ class Scheduler(Generic[J]):
         self.budget_usd = budget_usd
         self.spent_usd = spent_usd
         self.open_editors = open_editors
+        self.watcher = watcher
         self._flights: dict[ray.ObjectRef, _Flight[J]] = {}
         self._load = [0] * len(pool)
         self._down: dict[int, _Down] = {}
@@ -277,6 +291,8 @@ class Scheduler(Generic[J]):
         self._load[worker] += 1
         self.stats.submitted += 1
         self.stats.in_flight = len(self._flights)
+        if self.watcher is not None:
+            self.watcher.started(job, attempt, worker)
 
     def _collect(self) -> list[tuple[_Flight[J], JobResult | Refusal | None]]:
         """Finished attempts (``None`` for a job to re-send as the same attempt), and declined jobs."""
@@ -336,6 +352,8 @@ class Scheduler(Generic[J]):
             self.stats.retried += 1
         self.stats.cost_usd += result.cost_usd
         self.on_result(job, result)
+        if self.watcher is not None:
+            self.watcher.finished(job, result, retried=not final)
 
 
 def _first_line(exc: BaseException) -> str:

@@ -36,11 +36,14 @@ from scratchworld_dist.sweep._run_plan import (
     SuiteInfo,
     first_items,
     plan_run,
+    sampled_items,
     worker_job,
 )
 from scratchworld_dist.sweep._selection import present_suites, wanted_ids
+from scratchworld_dist.sweep._step_tokens import DEFAULT_RATES, TokenRates
 
 __all__ = [
+    "DEFAULT_RATES",
     "NO_MODEL",
     "ItemContent",
     "JobBody",
@@ -56,6 +59,7 @@ __all__ = [
     "SweepConfig",
     "SweepOverrides",
     "TaskSelection",
+    "TokenRates",
     "agent_identity",
     "first_items",
     "identity_id",
@@ -65,6 +69,7 @@ __all__ = [
     "plan_run",
     "present_suites",
     "read_project",
+    "sampled_items",
     "stderr_notice",
     "stored_layout",
     "stored_section",

@@ -10,7 +10,6 @@ in that kind's section (``episodes:``, ``drag:``...); keys that moved there stil
 from __future__ import annotations
 
 import os
-import re
 from pathlib import Path
 from typing import Any, Literal, TypeVar
 
@@ -35,12 +34,12 @@ from scratchworld_dist._files import read_text
 from scratchworld_dist.kinds import DEFAULT_KIND, KindTraits, job_kind, job_kinds
 from scratchworld_dist.sweep._former_keys import Notice, into_sections, stderr_notice
 from scratchworld_dist.sweep._key_hints import unknown_key_message
+from scratchworld_dist.sweep._model_config import ModelConfig
 from scratchworld_dist.sweep._overrides import SweepOverrides
 from workers.agent_api import agent_class, checked_agent
 from workers.contract import (
     AgentRef,
     AgentUnavailableError,
-    CoordinateSystem,
     EvaluationClock,
     EvaluationPage,
     EvaluationProfile,
@@ -51,86 +50,10 @@ from workers.contract import (
     ModelSpec,
     ObservationSettings,
     ProjectLimits,
-    RateLimits,
 )
 from workers.llm import uncacheable
 
-_ENV_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-_SECRET_KEYS = {"api_key", "key", "token", "secret", "password", "authorization"}
-
 SectionT = TypeVar("SectionT", bound=BaseModel)
-
-
-class ModelConfig(BaseModel):
-    """One model of the sweep; the key itself stays in the environment, named by ``api_key_env``."""
-
-    model_config = ConfigDict(extra="forbid")
-
-    model: str = Field(min_length=1)
-    name: str | None = None
-    temperature: float | None = Field(default=None, ge=0)
-    max_tokens: int | None = Field(default=None, gt=0)
-    api_base: str | None = None
-    api_base_env: str | None = None
-    """Name of the environment variable holding the base URL (e.g. SCRATCHWORLD_LLM_BASE_URL), read by workers."""
-
-    api_key_env: str | None = None
-    params: dict[str, Any] = Field(default_factory=dict)
-    coordinates: CoordinateSystem | None = None
-    """Primitive-mode coordinate convention (default: by model name; Qwen-VL 0-1000, UI-TARS smart-resize)."""
-
-    rate_limits: RateLimits | None = None
-    """Cluster-wide requests/min, tokens/min and concurrency cap for this model."""
-
-    @field_validator("api_key_env", "api_base_env")
-    @classmethod
-    def _env_name(cls, value: str | None) -> str | None:
-        if value is not None and not _ENV_NAME.match(value):
-            raise ValueError("must be the NAME of an environment variable (e.g. OPENAI_API_KEY), not its value")
-        return value
-
-    @model_validator(mode="after")
-    def _one_base(self) -> ModelConfig:
-        if self.api_base is not None and self.api_base_env is not None:
-            raise ValueError("give api_base or api_base_env, not both")
-        return self
-
-    @field_validator("params")
-    @classmethod
-    def _no_secrets(cls, value: dict[str, Any]) -> dict[str, Any]:
-        secrets = sorted(_secret_keys(value))
-        if secrets:
-            raise ValueError(f"{', '.join(secrets)} may not appear in a config; use api_key_env")
-        return value
-
-    def spec(self) -> ModelSpec:
-        return ModelSpec(
-            name=self.name or self.model,
-            model=self.model,
-            temperature=self.temperature,
-            max_tokens=self.max_tokens,
-            api_base=self.api_base,
-            api_base_env=self.api_base_env,
-            api_key_env=self.api_key_env,
-            params=self.params,
-            coordinates=self.coordinates,
-            rate_limits=self.rate_limits,
-        )
-
-
-def _secret_keys(value: Any, path: str = "") -> list[str]:
-    """Keys that would carry a credential, at any depth (e.g. extra_headers.Authorization)."""
-    found: list[str] = []
-    if isinstance(value, dict):
-        for key, item in value.items():
-            where = f"{path}{key}"
-            if str(key).lower() in _SECRET_KEYS or str(key).lower().endswith(("api_key", "_token", "-key")):
-                found.append(where)
-            found.extend(_secret_keys(item, f"{where}."))
-    elif isinstance(value, list):
-        for item in value:
-            found.extend(_secret_keys(item, path))
-    return found
 
 
 class TaskSelection(BaseModel):
@@ -144,7 +67,21 @@ class TaskSelection(BaseModel):
     """Upstream task list name (e.g. ``all_tasks``, ``15_tasks``)."""
 
     limit: int | None = Field(default=None, gt=0)
-    """Only the first N of the selected tasks (or items), in the suite's order (``--limit``: a quick try)."""
+    """Only N of the selected tasks (or items): the first N in the suite's order (``--limit``: a quick try), or a
+    random N (``sample: random``)."""
+
+    sample: Literal["first", "random"] = "first"
+    """How ``limit`` picks: the first N in suite order, or N drawn at random with ``sample_seed`` (the same N for
+    the same seed and selection, kept in suite order)."""
+
+    sample_seed: int = Field(default=0, ge=0)
+    """The seed of a random sample (``--sample-seed``)."""
+
+    @model_validator(mode="after")
+    def _sample_needs_limit(self) -> TaskSelection:
+        if self.sample == "random" and self.limit is None:
+            raise ValueError("sample random draws tasks.limit items: give a limit (--limit N)")
+        return self
 
 
 class Limits(BaseModel):
@@ -249,6 +186,17 @@ class SweepConfig(BaseModel):
     ray: RayConfig = Field(default_factory=RayConfig)
     model_cache: ModelCacheSettings | None = None
     """Opt-in: answer a model request made before from ``model_cache.dir`` (no request, no cost)."""
+
+    tags: dict[str, str] = Field(default_factory=dict)
+    """Labels of the run (``--tag key=value``: a team, a ticket, a model revision): recorded in the manifest and
+    carried to reports and exports; they change no job, so a run may gain tags when it resumes."""
+
+    @field_validator("tags", mode="before")
+    @classmethod
+    def _tags_as_text(cls, value: Any) -> Any:
+        if isinstance(value, dict):
+            return {str(k): "" if v is None else str(v) for k, v in value.items()}
+        return value
 
     probe: bool | None = None
     """Before any editor opens, call each model the jobs call once (one short message, ``max_tokens`` 1); default:

@@ -7,6 +7,7 @@ is sent for one attempt of one of its jobs (``worker_job``).
 
 from __future__ import annotations
 
+import random
 from collections.abc import Sequence
 from typing import Protocol, runtime_checkable
 
@@ -18,6 +19,7 @@ from scratchworld_dist.suites import StabilityMarks
 from scratchworld_dist.sweep._config import KindConfig, SweepConfig
 from scratchworld_dist.sweep._former_keys import Notice, stderr_notice
 from scratchworld_dist.sweep._plan import JobSpec
+from scratchworld_dist.sweep._step_tokens import DEFAULT_RATES, TokenRates
 from workers.contract import HarnessFingerprint, MemorySettings, Mode, SyntheticEpisodes, WorkerJob
 from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
@@ -91,6 +93,11 @@ class KindPlanning(KindConfig):
         """What a worker is sent for one attempt of ``job``."""
         raise NotImplementedError(f"benchmark {self.name} sends workers no jobs")
 
+    def token_rates(self, mode: str) -> TokenRates:
+        """The tokens a job of ``mode`` is taken to use when no earlier run measured them (``plan``'s estimate);
+        default: one step of a screenshot and a question (``DEFAULT_RATES``)."""
+        return DEFAULT_RATES
+
 
 def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None, notice: Notice | None = None) -> RunPlan:
     """The sweep's jobs under ``harness`` (default: this machine's code, editor and browser); ``notice``
@@ -98,12 +105,28 @@ def plan_run(config: SweepConfig, harness: HarnessFingerprint | None = None, not
     notice = notice or stderr_notice
     harness = kind_fingerprint(harness or harness_fingerprint(), config.benchmark)  # the core + this kind's code
     plan = job_kind(config.benchmark, KindPlanning).plan(config, harness, notice)
-    return plan if config.tasks.limit is None else first_items(plan, config.tasks.limit)
+    selection = config.tasks
+    if selection.limit is None:
+        return plan
+    if selection.sample == "random":
+        return sampled_items(plan, selection.limit, selection.sample_seed)
+    return first_items(plan, selection.limit)
 
 
 def first_items(plan: RunPlan, limit: int) -> RunPlan:
     """The plan cut to its first ``limit`` items (``tasks.limit``), whatever its kind: their contents and jobs."""
-    kept = list(plan.contents[:limit])
+    return _kept_items(plan, list(plan.contents[:limit]))
+
+
+def sampled_items(plan: RunPlan, limit: int, seed: int) -> RunPlan:
+    """The plan cut to ``limit`` items drawn at random with ``seed`` (``tasks.sample: random``), kept in suite
+    order: the same seed over the same selection draws the same items, on any machine and Python."""
+    order = sorted(range(len(plan.contents)), key=lambda i: plan.contents[i].task.id)  # independent of list order
+    drawn = set(random.Random(seed).sample(order, min(limit, len(order))))
+    return _kept_items(plan, [content for i, content in enumerate(plan.contents) if i in drawn])
+
+
+def _kept_items(plan: RunPlan, kept: list[ItemContent]) -> RunPlan:
     ids = {content.task.id for content in kept}
     jobs = [job for job in plan.jobs if job.task_id in ids]
     suite = plan.suite.model_copy(update={"tasks": len(kept)})

@@ -16,7 +16,8 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist._run import _checked_manifest, plan_run
+from scratchworld_dist._run import plan_run
+from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import REPO
 from workers.actor import JobWorker
@@ -131,8 +132,8 @@ def test_editing_drag_code_leaves_an_episode_run_resumable_and_a_drag_run_refuse
     run_dir.mkdir(parents=True)
     from scratchworld_dist.results._manifest import write_manifest
 
-    write_manifest(run_dir, _checked_manifest(before, run_dir, force=False))
-    resumed = _checked_manifest(after, run_dir, force=False)  # would raise RunDirError on another harness
+    write_manifest(run_dir, checked_manifest(before, run_dir, force=False))
+    resumed = checked_manifest(after, run_dir, force=False)  # would raise RunDirError on another harness
     assert resumed.harness == before.harness
 
     drag = load_sweep_config(REPO / "configs" / "drag-demo.yaml")
@@ -141,9 +142,9 @@ def test_editing_drag_code_leaves_an_episode_run_resumable_and_a_drag_run_refuse
     drag_before, drag_after = plan_run(drag, ours), plan_run(drag, theirs)
     assert not {job.job_id for job in drag_before.jobs} & {job.job_id for job in drag_after.jobs}
     drag.run_dir().mkdir(parents=True)
-    write_manifest(drag.run_dir(), _checked_manifest(drag_before, drag.run_dir(), force=False))
+    write_manifest(drag.run_dir(), checked_manifest(drag_before, drag.run_dir(), force=False))
     with pytest.raises(RunDirError, match=re.escape("workers/kinds/drag/_runner.py")):
-        _checked_manifest(drag_after, drag.run_dir(), force=False)
+        checked_manifest(drag_after, drag.run_dir(), force=False)
 
 
 # --- the claims, against the imports ------------------------------------------------------------

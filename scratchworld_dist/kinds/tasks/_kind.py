@@ -12,11 +12,21 @@ from scratchworld_dist._errors import ConfigError
 from scratchworld_dist.kinds.base import Kind
 from scratchworld_dist.kinds.tasks._plan import EpisodeBody, EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.kinds.tasks._settings import EPISODES_KEY, EpisodeSweep
+from scratchworld_dist.kinds.tasks._token_rates import EPISODE_RATES
 from scratchworld_dist.memory import JobItems, offline_source, source_digest
 from scratchworld_dist.reports import DiagnosisPart, ReportFormat, plots_html
 from scratchworld_dist.results import JobRow
 from scratchworld_dist.suites import Suite, load_suite, stability_marks
-from scratchworld_dist.sweep import NO_MODEL, JobSpec, Notice, RunPlan, SuiteInfo, SweepConfig, suite_hash
+from scratchworld_dist.sweep import (
+    NO_MODEL,
+    JobSpec,
+    Notice,
+    RunPlan,
+    SuiteInfo,
+    SweepConfig,
+    TokenRates,
+    suite_hash,
+)
 from scratchworld_dist.viewer import RunComparison
 from workers.agent_api import agent_class, agent_code, agent_params, extra_models
 from workers.contract import AgentRef, EpisodeClock, HarnessFingerprint, Mode, ModelSpec, WorkerJob
@@ -49,6 +59,9 @@ class TasksKind(Kind):
             raise ValueError(
                 f"agent {config.agent.name!r} learns across jobs: give episodes.memory (kind: online or offline)"
             )
+
+    def token_rates(self, mode: str) -> TokenRates:
+        return EPISODE_RATES.get(mode) or super().token_rates(mode)
 
     def helper_models(self, agent: AgentRef) -> list[ModelSpec]:
         return extra_models(agent_params(agent_class(agent.name), agent))

@@ -17,7 +17,7 @@ import yaml
 
 from scratchworld_dist import api
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist._run import config_hash
+from scratchworld_dist._sweep_manifest import config_hash
 from scratchworld_dist.kinds import job_kind, kind_names
 from scratchworld_dist.kinds._registry import _registered
 from scratchworld_dist.reports import diagnosis_models, report_runs, report_schemas

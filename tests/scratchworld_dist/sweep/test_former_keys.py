@@ -16,7 +16,7 @@ from pydantic import ValidationError
 
 from scratchworld_dist import api
 from scratchworld_dist._errors import ConfigError
-from scratchworld_dist._run import _hash_as_now, config_hash
+from scratchworld_dist._sweep_manifest import _hash_as_now, config_hash
 from scratchworld_dist.kinds.tasks import EPISODES_KEY, EpisodeSweep, episode_settings
 from scratchworld_dist.kinds.tasks.report._build import jobs_per_group
 from scratchworld_dist.results import read_manifest

@@ -145,7 +145,7 @@ def test_the_cache_changes_no_job_id_and_reaches_every_episode() -> None:
 
 
 def test_turning_the_cache_on_keeps_the_run_directorys_config_hash(tmp_path: Path) -> None:
-    from scratchworld_dist._run import config_hash
+    from scratchworld_dist._sweep_manifest import config_hash
 
     on = load_sweep_config(config_file(tmp_path))
     off = load_sweep_config(config_file(tmp_path, model_cache=None))

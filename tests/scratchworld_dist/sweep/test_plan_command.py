@@ -12,8 +12,9 @@ import yaml
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._plan_preview import preview_plan
+from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds.tasks import episode_settings
-from scratchworld_dist.results import JobRecord, RunStore
+from scratchworld_dist.results import JobRecord, RunStore, write_manifest
 from scratchworld_dist.sweep import SweepOverrides, load_sweep_config, plan_run
 from tests.conftest import SUITE_DIR
 from tests.support.cli_runner import invoke
@@ -87,15 +88,18 @@ def test_limit_keeps_the_first_items_and_only_their_jobs(tmp_path: Path) -> None
     assert [j.job_id for j in cut.jobs] == [j.job_id for j in full.jobs if j.task_id in first]
 
 
-def test_plan_counts_decided_jobs_calls_and_estimates_cost_from_earlier_attempts(tmp_path: Path) -> None:
+def test_plan_counts_decided_jobs_calls_and_measures_tokens_in_its_run_directory(tmp_path: Path) -> None:
     config_file = write(tmp_path, episodes={"modes": ["composite", "primitive"]}, seeds=2)
     config = load_sweep_config(config_file)
-    jobs = plan_run(config).jobs
+    plan = plan_run(config)
+    jobs = plan.jobs
     composite = [j for j in jobs if j.mode == "composite"]
+    config.run_dir().mkdir(parents=True)
+    write_manifest(config.run_dir(), checked_manifest(plan, config.run_dir(), force=False))
     store = RunStore(config.run_dir())
     store.open_for_writing()
     for spec, outcome in zip(composite[:3], ["passed", "failed", "error"], strict=True):
-        row = job(spec.job_id, outcome, model="scripted", agent="llm", mode="composite", cost_usd=0.25)
+        row = job(spec.job_id, outcome, model="scripted", agent="llm", mode="composite", steps=4, input_tokens=400)
         store.commit(JobRecord(job=row))
     store.close()
     written = tree(tmp_path / "run")
@@ -103,13 +107,17 @@ def test_plan_counts_decided_jobs_calls_and_estimates_cost_from_earlier_attempts
     lines = {line.mode: line for line in preview.lines}
     per_mode = len(jobs) // 2
     assert (lines["composite"].decided, lines["composite"].to_run) == (2, per_mode - 2)  # an error is not decided
-    assert lines["composite"].model_calls == 7 * (per_mode - 2)  # the step budget bounds the calls
-    assert lines["composite"].cost_usd == pytest.approx(0.25 * (per_mode - 2))
-    assert lines["primitive"].cost_usd is None and lines["primitive"].to_run == per_mode  # nothing to go by
+    retries = config.limits.retries
+    assert lines["composite"].model_calls == 7 * (per_mode - 2) * (1 + retries)  # step budgets, every retry
+    measured = lines["composite"].cost.rates
+    assert measured is not None and measured.source.startswith("measured: 3 composite attempt(s), scripted's")
+    assert (measured.input_per_step, measured.steps_per_attempt) == (100, 4)  # 400 tokens over 4 steps
+    assert lines["composite"].cost.input_tokens == 100 * 4 * (per_mode - 2)  # one attempt per job measured
+    assert lines["primitive"].cost.rates is not None and lines["primitive"].cost.rates.source.startswith("default")
+    assert lines["composite"].cost.cost_usd is None  # LiteLLM prices no openai/scripted: unknown, and said so
     done = invoke("plan", str(config_file))
     assert done.returncode == 0, done.stderr
-    assert (
-        f"{len(jobs) - 2} job(s) to run, 2 already decided; at most {7 * (len(jobs) - 2)} model call(s)" in done.stdout
-    )
-    assert "(some lines unknown)" in done.stdout
+    total_calls = 7 * (len(jobs) - 2) * (1 + retries)
+    assert f"{len(jobs) - 2} job(s) to run, 2 already decided; at most {total_calls} model call(s)" in done.stdout
+    assert "estimated cost unknown for" in done.stdout and "LiteLLM has no price for openai/scripted" in done.stdout
     assert tree(tmp_path / "run") == written  # planning wrote nothing: no file added, changed or removed

@@ -88,6 +88,7 @@ def _run_info(run: LoadedRun) -> RunInfo:
         attempts=len(distinct),
         attempts_cost_usd=sum(r.cost_usd for r in distinct),
         budget_stop=run.manifest.sessions[-1].budget_stop if run.manifest.sessions else None,
+        tags=run.manifest.tags or None,
     )
 
 

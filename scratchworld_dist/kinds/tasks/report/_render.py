@@ -100,6 +100,8 @@ def _runs(report: RunReport) -> list[Block]:
     ]
     blocks: list[Block] = [Heading(2, "Runs"), Table(header, rows)]
     for run in report.runs:
+        if run.tags:
+            blocks.append(Paragraph(f"Tags ({run.run_name}): " + ", ".join(f"{k}={v}" for k, v in run.tags.items())))
         if run.budget_stop:
             blocks.append(Paragraph(f"Stopped by budget ({run.run_name}): {run.budget_stop}."))
     missing = sum(r.missing for r in report.runs)

@@ -135,8 +135,10 @@ class ErrorCount(BaseModel):
     """Error attempts of this class, including those of jobs a retry later decided."""
 
 
-class RunInfo(BaseModel):
+class RunInfo(LaterFields):
     """One run directory of the report and how complete it is."""
+
+    later_fields = ("tags",)
 
     path: str
     run_name: str
@@ -163,6 +165,9 @@ class RunInfo(BaseModel):
 
     budget_stop: str | None = None
     """Set when the latest session stopped starting jobs because the sweep's budget was spent."""
+
+    tags: dict[str, str] | None = None
+    """The run's labels (``run --tag key=value``); None (and left out of the JSON) when it has none."""
 
 
 class RunReport(LaterFields):
