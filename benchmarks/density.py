@@ -1,13 +1,16 @@
 """Prints how many LLM episodes one node holds at once, and what each costs it while it waits on its model.
 
     .venv/bin/python benchmarks/density.py [--n 1,8,16,32,48] [--delay 5] [--steps 6] [--clock virtual,real]
+        [--mode composite,primitive] [--repeat 3]
 
 For each episode clock and each N, one real sweep of N jobs (tasks x seeds of our suite) of the
-``llm`` agent in composite mode runs on a private local Ray with two workers (one Chromium each)
+``llm`` agent in each ``--mode`` runs on a private local Ray with two workers (one Chromium each)
 holding N/2 pages (N = 1: one worker, one page, and 4 jobs one after the other, so that its
 baseline has more than one episode's steps), so that all N episodes are in flight at once. The
 model is ``tests/support/openai_server.py`` answering every request exactly ``--delay`` seconds after it
-arrived with a valid ``add_block`` (a "when green flag clicked" hat), so every episode runs
+arrived with a valid action (composite: ``add_block``, a "when green flag clicked" hat; primitive: a
+``drag_and_drop`` from the palette into the code area, so every step observes with a screenshot, the element
+list and OCR where the DOM has no text, and moves the mouse through half a second of frames), so every episode runs
 ``--steps`` steps and stops at the step limit (outcome ``failed``, never ``error``). While a sweep
 runs, a thread reads every 0.5 s the CPU seconds of each Chromium process descending from this
 process: a private Ray's raylet is a child of the driver that started it and its workers are the
@@ -33,16 +36,21 @@ step's latency.
   editors, summed over workers: PSS / editors. Each browser's fixed processes (~250 MB) are shared
   by its editors, so this falls as N grows;
 - overhead p50/p95: per step, ``latency_s`` (observation + model call + action) minus
-  ``delay x llm_calls``: what the harness adds to the model's own time. The first model call of a
-  worker also imports LiteLLM (4-9 s here, more under load), which shows in p95;
+  ``delay x llm_calls``: what the harness adds to the model's own time; ``steady``: the same over the
+  steps that are neither an episode's first nor its last (those share the CPU with episodes starting
+  and ending, and with evaluations; ``start``/``end`` p95 are printed apart); ``obs p50/p95``: the
+  observation's own seconds (``observation_s``), which in primitive mode are the screenshot, the
+  element list and OCR;
 - ep/h: the jobs over the run phase, the first episode's start to the last one's end (Ray, worker and
   browser start-up excluded); start s: from the sweep's start to its first episode's (Ray and the
   workers start, and each worker opens the editors its episodes will use); errors: jobs whose
   outcome is ``error`` (must be 0).
 
-Targets (issue 16): at N = 32 the step overhead p50 within 2x of N = 1 and no error, on each
-clock; a waiting page costs at most 0.05 of a core on the virtual clock (checked at the largest N
-with at least 3 qualifying intervals, where the browsers' fixed costs are shared the most).
+Targets (issues 16 and 56): at every N above 1 the step overhead p50 within 2x of N = 1, the steady
+steps' p95 under 1 s, and no error, on each clock and mode (``--repeat`` runs each N that many times
+in a row: each run is checked); a waiting page costs at most 0.05 of a core on the virtual clock
+(checked at the largest N with at least 3 qualifying intervals, where the browsers' fixed costs are
+shared the most).
 """
 
 from __future__ import annotations
@@ -77,7 +85,13 @@ REPO = Path(__file__).resolve().parents[1]
 TASKS = [task.id for task in load_suite(REPO / "tasks").tasks]
 INTERVAL_S = 0.5
 KEY_ENV = "SCRATCHWORLD_DENSITY_API_KEY"
-REPLY = 'Analysis: a harmless edit.\n```json\n{"api": "add_block", "args": {"blockType": "event_whenflagclicked"}}\n```'
+REPLIES = {
+    "composite": "Analysis: a harmless edit.\n```json\n"
+    '{"api": "add_block", "args": {"blockType": "event_whenflagclicked"}}\n```',
+    "primitive": 'Analysis: a block into the code area.\n```json\n{"api": "drag_and_drop", "args": '
+    '{"start_x": 80, "start_y": 170, "end_x": 520, "end_y": 330, "duration": 0.5}}\n```',
+}
+"""What the model answers, per mode: a valid action that changes the project a little."""
 
 
 class DelayedModel:
@@ -86,12 +100,14 @@ class DelayedModel:
     def __init__(self, delay: float) -> None:
         self.delay = delay
         self.arrivals: list[float] = []
+        self.reply = REPLIES["composite"]
+        """Set per sweep (its mode): every request of a sweep gets the same reply."""
         self._lock = threading.Lock()
 
     def __call__(self, body: dict[str, Any]) -> Behaviour:
         with self._lock:
             self.arrivals.append(time.time())
-        return Behaviour("hang", text=REPLY, seconds=self.delay, prompt_tokens=2000, completion_tokens=40)
+        return Behaviour("hang", text=self.reply, seconds=self.delay, prompt_tokens=2000, completion_tokens=40)
 
     def waiting(self) -> list[tuple[float, float]]:
         """(arrival, answer) of every request so far: it waits on the model in between."""
@@ -146,6 +162,7 @@ class Sampler:
 @dataclass(frozen=True)
 class Row:
     clock: str
+    mode: str
     n: int
     in_flight: tuple[int, float]
     cpu_per_wait: float | None
@@ -153,6 +170,11 @@ class Row:
     cpu_per_wait_fit: float | None
     pss_per_editor: float | None
     overhead: tuple[float, float]
+    steady: tuple[float, float]
+    """Overhead p50/p95 of the steps that are neither an episode's first nor its last."""
+    start_end_p95: tuple[float, float]
+    """Overhead p95 of episodes' first steps and of their last steps."""
+    observation: tuple[float, float]
     per_hour: float
     start_s: float
     errors: int
@@ -167,7 +189,7 @@ def job_count(n: int) -> int:
     return max(n, MIN_JOBS)
 
 
-def config(n: int, clock: str, steps: int, url: str, out: Path) -> SweepConfig:
+def config(n: int, clock: str, mode: str, steps: int, url: str, out: Path) -> SweepConfig:
     workers = 1 if n == 1 else 2
     pages = math.ceil(n / workers)
     jobs = job_count(n)
@@ -176,13 +198,13 @@ def config(n: int, clock: str, steps: int, url: str, out: Path) -> SweepConfig:
     limits = {"browser_slots": workers * pages, "pages_per_worker": pages, "episode_timeout_s": 3600, "retries": 0}
     return SweepConfig.model_validate(
         {
-            "name": f"density-{clock}-{n}",
+            "name": f"density-{mode}-{clock}-{n}",
             "suite": REPO / "tasks",
             "tasks": {"ids": TASKS[:tasks]},
             "agent": "llm",
             "models": [{**model, "api_key_env": KEY_ENV}],
             "seeds": jobs // tasks,
-            "episodes": {"modes": ["composite"], "max_steps": steps, "episode_clock": clock},
+            "episodes": {"modes": [mode], "max_steps": steps, "episode_clock": clock},
             "limits": limits,
             "output": out,
         }
@@ -208,10 +230,20 @@ def marginal_waiting_cpu(rates: list[tuple[float, float, float]]) -> float | Non
     return float(coefficients[1])
 
 
-def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, model: DelayedModel) -> Row:
+def percentiles(values: list[float]) -> tuple[float, float]:
+    """p50 and p95 (NaN for no values)."""
+    if not values:
+        return math.nan, math.nan
+    return float(np.percentile(values, 50)), float(np.percentile(values, 95))
+
+
+def measure(
+    n: int, clock: str, mode: str, run: int, args: argparse.Namespace, server: OpenAIServer, model: DelayedModel
+) -> Row:
     with tempfile.TemporaryDirectory(prefix="density-") as tmp:
-        out = args.keep / f"{clock}-{n}" if args.keep else Path(tmp) / "run"
-        sweep = config(n, clock, args.steps, server.url, out)
+        out = args.keep / f"{mode}-{clock}-{n}-{run}" if args.keep else Path(tmp) / "run"
+        sweep = config(n, clock, mode, args.steps, server.url, out)
+        model.reply = REPLIES[mode]
         already = len(model.waiting())
         began = time.time()
         with Sampler() as sampler:
@@ -243,7 +275,15 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
         if j["editors_held"] and j["editors_held"] >= fullest.get(key, {}).get("editors_held", 0):
             fullest[key] = j
     held = sum(j["editors_held"] for j in fullest.values())
-    overheads = [s["latency_s"] - args.delay * s["llm_calls"] for s in steps] or [math.nan]
+
+    def overhead(step: dict[str, Any]) -> float:
+        return float(step["latency_s"] - args.delay * step["llm_calls"])
+
+    last_step = {j["job_id"]: j["steps"] - 1 for j in jobs}
+    overheads = [overhead(s) for s in steps] or [math.nan]
+    firsts = [overhead(s) for s in steps if s["step"] == 0]
+    lasts = [overhead(s) for s in steps if s["step"] == last_step.get(s["job_id"]) and s["step"] > 0]
+    steady = [overhead(s) for s in steps if 0 < s["step"] < last_step.get(s["job_id"], 0)]
 
     problems = []
     if len(jobs) != job_count(n):
@@ -256,13 +296,17 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
         problems.append(f"{refused} step(s) failed, e.g. {next(s['error_message'] for s in steps if not s['ok'])}")
     return Row(
         clock=clock,
+        mode=mode,
         n=n,
         in_flight=(max(counts), statistics.median(counts)),
         cpu_per_wait=cpu / waited if waited else None,
         cpu_intervals=intervals,
         cpu_per_wait_fit=marginal_waiting_cpu(rates),
         pss_per_editor=sum(j["browser_pss_mb"] for j in fullest.values()) / held if held else None,
-        overhead=(float(np.percentile(overheads, 50)), float(np.percentile(overheads, 95))),
+        overhead=percentiles(overheads),
+        steady=percentiles(steady),
+        start_end_p95=(percentiles(firsts)[1], percentiles(lasts)[1]),
+        observation=percentiles([s["observation_s"] for s in steps if s["observation_s"] is not None]),
         per_hour=len(jobs) / (last - first) * 3600,
         start_s=first - began,
         errors=sum(1 for j in jobs if j["outcome"] == "error"),
@@ -271,9 +315,15 @@ def measure(n: int, clock: str, args: argparse.Namespace, server: OpenAIServer, 
 
 
 HEADER = (
-    f"{'clock':<8} {'N':>3}  {'in flight max/med':>17}  {'CPU/wait (cores)':>16}  {'fit':>6}  {'PSS/editor MB':>13}  "
-    f"{'overhead p50/p95 s':>18}  {'ep/h':>6}  {'start s':>7}  {'errors':>6}"
+    f"{'mode':<9} {'clock':<7} {'N':>3}  {'in flight':>9}  {'CPU/wait':>11}  {'fit':>6}  {'PSS/ed':>6}  "
+    f"{'overhead':>9}  {'steady':>9}  {'1st/last p95':>12}  {'obs p50/p95':>11}  {'ep/h':>5}  {'start':>5}  {'err':>3}"
 )
+"""Columns: in flight max/median; CPU/wait in cores (qualifying intervals); PSS per editor in MB; overhead and
+steady in s, p50/p95; the first and last steps' overhead p95 in s; the observation's s; start in s."""
+
+
+def pair(values: tuple[float, float], digits: int = 2) -> str:
+    return f"{values[0]:.{digits}f}/{values[1]:.{digits}f}"
 
 
 def line(row: Row) -> str:
@@ -281,10 +331,10 @@ def line(row: Row) -> str:
     cpu = f"{row.cpu_per_wait:.3f} ({row.cpu_intervals})" if row.cpu_per_wait is not None else "-"
     pss = f"{row.pss_per_editor:.0f}" if row.pss_per_editor is not None else "-"
     fit = f"{row.cpu_per_wait_fit:.3f}" if row.cpu_per_wait_fit is not None else "-"
-    overhead = f"{row.overhead[0]:.2f}/{row.overhead[1]:.2f}"
     return (
-        f"{row.clock:<8} {row.n:>3}  {flight:>17}  {cpu:>16}  {fit:>6}  {pss:>13}  {overhead:>18}  "
-        f"{row.per_hour:>6.0f}  {row.start_s:>7.0f}  {row.errors:>6}"
+        f"{row.mode:<9} {row.clock:<7} {row.n:>3}  {flight:>9}  {cpu:>11}  {fit:>6}  {pss:>6}  "
+        f"{pair(row.overhead):>9}  {pair(row.steady):>9}  {pair(row.start_end_p95, 1):>12}  "
+        f"{pair(row.observation):>11}  {row.per_hour:>5.0f}  {row.start_s:>5.0f}  {row.errors:>3}"
     )
 
 
@@ -297,30 +347,37 @@ def cpu_verdict(label: str, rows: list[Row], cores_of: Callable[[Row], float | N
     return f"virtual: {label} {cores:.3f} core(s) at N={n} <= 0.05: {'met' if cores <= 0.05 else 'NOT met'}"
 
 
-def targets(rows: list[Row]) -> list[str]:
+def density_verdicts(rows: list[Row]) -> list[str]:
+    """Per clock and mode, every run at N > 1 against N = 1's overhead p50 (the median of its runs)."""
     verdicts = []
-    for clock in dict.fromkeys(row.clock for row in rows):
-        by_n = {row.n: row for row in rows if row.clock == clock}
-        if 1 in by_n and 32 in by_n:
-            base, dense = by_n[1].overhead[0], by_n[32].overhead[0]
-            met = dense <= 2 * base and by_n[32].errors == 0
+    for clock, mode in dict.fromkeys((row.clock, row.mode) for row in rows):
+        here = [row for row in rows if (row.clock, row.mode) == (clock, mode)]
+        bases = [row.overhead[0] for row in here if row.n == 1]
+        if not bases:
+            verdicts.append(f"{mode} {clock}: not measured against N=1 (needs --n with 1)")
+            continue
+        base = statistics.median(bases)
+        for row in (row for row in here if row.n > 1):
+            met = row.overhead[0] <= 2 * base and row.steady[1] < 1.0 and row.errors == 0 and not row.problems
             verdicts.append(
-                f"{clock}: N=32 step overhead p50 {dense:.2f} s vs 2 x {base:.2f} s at N=1, "
-                f"{by_n[32].errors} error(s): {'met' if met else 'NOT met'}"
+                f"{mode} {clock} N={row.n}: overhead p50 {row.overhead[0]:.2f} s vs 2 x {base:.2f} s at N=1, "
+                f"steady p95 {row.steady[1]:.2f} s < 1 s, {row.errors} error(s): {'met' if met else 'NOT met'}"
             )
-        else:
-            verdicts.append(f"{clock}: N=32 vs N=1 overhead: not measured (needs --n with 1 and 32)")
-        if clock == "virtual":
-            rows_here = list(by_n.values())
-            verdicts.append(
-                cpu_verdict(
-                    "CPU per waiting page (all-waiting intervals)",
-                    rows_here,
-                    lambda r: r.cpu_per_wait if r.cpu_intervals >= 3 else None,
-                )
+    return verdicts
+
+
+def targets(rows: list[Row]) -> list[str]:
+    verdicts = density_verdicts(rows)
+    waiting = [row for row in rows if row.clock == "virtual" and row.mode == "composite"]
+    if waiting:
+        verdicts.append(
+            cpu_verdict(
+                "CPU per waiting page (all-waiting intervals)",
+                waiting,
+                lambda r: r.cpu_per_wait if r.cpu_intervals >= 3 else None,
             )
-            fit = cpu_verdict("CPU one more waiting page adds (fit)", rows_here, lambda r: r.cpu_per_wait_fit)
-            verdicts.append(fit)
+        )
+        verdicts.append(cpu_verdict("CPU one more waiting page adds (fit)", waiting, lambda r: r.cpu_per_wait_fit))
     return verdicts
 
 
@@ -330,25 +387,35 @@ def main() -> None:
     parser.add_argument("--delay", type=float, default=5.0, help="seconds the model takes to answer")
     parser.add_argument("--steps", type=int, default=6, help="steps per episode (max_steps)")
     parser.add_argument("--clock", default="virtual,real", help="episode clocks, comma-separated")
+    parser.add_argument("--mode", default="composite", help="episode modes, comma-separated (composite, primitive)")
+    parser.add_argument("--repeat", type=int, default=1, help="runs of each N, one after the other")
     parser.add_argument("--keep", type=Path, help="keep each sweep's run directory under this one")
     args = parser.parse_args()
     counts = [int(n) for n in args.n.split(",")]
-    clocks = args.clock.split(",")
+    clocks, modes = args.clock.split(","), args.mode.split(",")
+    unknown = sorted(set(modes) - set(REPLIES))
+    if unknown:
+        parser.error(f"unknown mode(s) {', '.join(unknown)}: use {', '.join(REPLIES)}")
+    if args.steps < 3:
+        parser.error("--steps must be at least 3 (a first, a steady and a last step)")
     os.environ[KEY_ENV] = "sk-density-benchmark"  # the workers of the private Ray inherit it
     rows: list[Row] = []
     model = DelayedModel(args.delay)
     with OpenAIServer(responder=model) as server:
-        for clock in clocks:
-            for n in counts:
+        for mode, clock, n in itertools.product(modes, clocks, counts):
+            for run in range(args.repeat):
                 started = time.perf_counter()
-                rows.append(measure(n, clock, args, server, model))
-                print(f"{clock} N={n}: sweep took {time.perf_counter() - started:.0f} s", file=sys.stderr)
+                rows.append(measure(n, clock, mode, run, args, server, model))
+                print(
+                    f"{mode} {clock} N={n} run {run + 1}: sweep took {time.perf_counter() - started:.0f} s",
+                    file=sys.stderr,
+                )
     print(f"{args.steps} steps per episode, model answering after {args.delay:g} s, {os.cpu_count()} core(s)")
     print(HEADER)
     for row in rows:
         print(line(row))
         for problem in row.problems:
-            print(f"  {row.clock} N={row.n}: {problem}")
+            print(f"  {row.mode} {row.clock} N={row.n}: {problem}")
     print("targets:")
     for verdict in targets(rows):
         print(f"  {verdict}")

@@ -9,14 +9,20 @@ the suite has the task's evaluation script, evaluated under both profiles where 
 Prints per task: calls, modified blocks, composite and primitive outcome, and what the API lacks; then
 totals, and the mean modified blocks against the paper's (9.14 over its tasks; 16.96 for Compute).
 
-Run: ``.venv/bin/python benchmarks/upstream_oracle.py [SUITE_DIR] [--out DIR] [--tasks a,b] [--no-primitive]``
-(default ``../shared/scratchworld-upstream``; a clone without ``scratch-bench-api`` gets structure only).
+Tasks run ``--lanes`` at a time (default: one per core), each lane in an editor of its own in one browser; the
+evaluations borrow recycled pages from one pool, as a sweep's worker does (a page is verified as good as fresh
+before it is reused), instead of opening a page for each of a task's six.
+
+Run: ``.venv/bin/python benchmarks/upstream_oracle.py [SUITE_DIR] [--out DIR] [--tasks a,b] [--no-primitive]
+[--lanes K]`` (default ``../shared/scratchworld-upstream``; a clone without ``scratch-bench-api`` gets structure
+only).
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import os
 import time
 from pathlib import Path
 from statistics import mean
@@ -37,7 +43,7 @@ from scratchworld_dist.suites._task import read_trajectory
 from workers import composite
 from workers.agents._primitive_oracle import OracleDivergenceError, OracleWaitError, PrimitiveOracle
 from workers.contract import CompositeAction, Done, EvaluationProfile, PrimitiveAction
-from workers.editor import BrowserSession, Editor
+from workers.editor import BrowserSession, Editor, EditorPool
 from workers.evaluation import Evaluator
 from workers.primitive import Gestures
 
@@ -114,29 +120,44 @@ async def outcome(
     )
 
 
-async def check(rows: list[OracleRow], tasks: dict[str, Task], plans: Path, primitive: bool) -> None:
-    async with BrowserSession() as session, session.editor() as editor:
-        evaluator = Evaluator(session)
-        for row in rows:
-            task = tasks[row.plan.task_id]
-            if row.plan.trajectory is None or task.golden_project is None:
-                continue
-            actions = read_trajectory(plans / row.plan.trajectory)
-            initial, golden_bytes = task.initial_project.read_bytes(), task.golden_project.read_bytes()
-            await editor.load_project(golden_bytes)
-            golden = await read_state(editor)
-            if task.evaluation_script.is_file():
-                row.golden = {
-                    p: (await evaluator.evaluate(golden_bytes, task.evaluation_spec(p))).success for p in PROFILES
-                }
-            started = time.monotonic()
-            project, problem = await replay(editor, initial, actions)
-            row.composite = await outcome(editor, evaluator, task, project, problem, golden, started)
-            if primitive:
-                started = time.monotonic()
-                project, problem = await perform(editor, initial, actions)
-                row.primitive = await outcome(editor, evaluator, task, project, problem, golden, started)
-            print(line(row), flush=True)
+async def check_task(
+    row: OracleRow, task: Task, plans: Path, primitive: bool, editor: Editor, evaluator: Evaluator
+) -> None:
+    """The golden's verdicts, then the composite replay's and the primitive oracle's outcomes, into ``row``."""
+    if row.plan.trajectory is None or task.golden_project is None:
+        return
+    actions = read_trajectory(plans / row.plan.trajectory)
+    initial, golden_bytes = task.initial_project.read_bytes(), task.golden_project.read_bytes()
+    await editor.load_project(golden_bytes)
+    golden = await read_state(editor)
+    if task.evaluation_script.is_file():
+        row.golden = {p: (await evaluator.evaluate(golden_bytes, task.evaluation_spec(p))).success for p in PROFILES}
+    started = time.monotonic()
+    project, problem = await replay(editor, initial, actions)
+    row.composite = await outcome(editor, evaluator, task, project, problem, golden, started)
+    if primitive:
+        started = time.monotonic()
+        project, problem = await perform(editor, initial, actions)
+        row.primitive = await outcome(editor, evaluator, task, project, problem, golden, started)
+    print(line(row), flush=True)
+
+
+async def check(rows: list[OracleRow], tasks: dict[str, Task], plans: Path, primitive: bool, lanes: int) -> None:
+    """Every row's task checked, ``lanes`` at a time: a lane takes the next task when it is done with one, the
+    longest plans first."""
+    waiting: asyncio.Queue[OracleRow] = asyncio.Queue()
+    for row in sorted(rows, key=lambda row: -row.plan.actions):  # the longest first: no long task is left for last
+        waiting.put_nowait(row)
+
+    async def lane(session: BrowserSession, evaluator: Evaluator) -> None:
+        async with session.editor() as editor:
+            while not waiting.empty():
+                row = waiting.get_nowait()
+                await check_task(row, tasks[row.plan.task_id], plans, primitive, editor, evaluator)
+
+    async with BrowserSession() as session, EditorPool(session, spare=0) as pool:
+        evaluator = Evaluator(session, pool)
+        await asyncio.gather(*(lane(session, evaluator) for _ in range(lanes)))
 
 
 def judged(result: Outcome, golden: dict[str, bool | None]) -> dict[str, bool]:
@@ -199,7 +220,10 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("results/upstream-oracle-plans"))
     parser.add_argument("--tasks", default=None, help="comma-separated task ids (default: all)")
     parser.add_argument("--no-primitive", action="store_true", help="skip the primitive oracle's gestures")
+    parser.add_argument("--lanes", type=int, default=os.cpu_count() or 1, help="tasks checked at once (default: cores)")
     args = parser.parse_args()
+    if args.lanes < 1:
+        parser.error("--lanes must be at least 1")
     suite = planning_suite(args.suite)
     tasks = suite.select(ids=args.tasks.split(",") if args.tasks else None)
     folder = plan_folder(args.out, suite)
@@ -208,7 +232,7 @@ def main() -> None:
     print(f"planned {len(plans.tasks)} task(s) into {folder} in {time.monotonic() - started:.0f} s")
     print(f"{'task':<58} {'category':<8} {'calls':>5} {'mod':>5}  {'composite':<28} {'primitive':<28}")
     rows = [OracleRow(plan=record) for record in plans.tasks]
-    asyncio.run(check(rows, {t.id: t for t in tasks}, folder, primitive=not args.no_primitive))
+    asyncio.run(check(rows, {t.id: t for t in tasks}, folder, primitive=not args.no_primitive, lanes=args.lanes))
     totals(rows)
     (folder / "oracle.json").write_text("[\n" + ",\n".join(r.model_dump_json() for r in rows) + "\n]\n")
     print(f"wall time {time.monotonic() - started:.0f} s; rows in {folder / 'oracle.json'}")

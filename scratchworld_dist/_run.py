@@ -244,6 +244,7 @@ def _execute(
             budget_usd=config.limits.budget_usd,
             spent_usd=store.cost_usd() if config.limits.budget_usd is not None else 0.0,
             open_editors=any(job.needs_browser for job, _ in todo),
+            calls_models=any(job.model is not None for job, _ in todo),
             watcher=watcher,
         )
         console.print(pool.describe(slots))

@@ -147,10 +147,12 @@ class Scheduler(Generic[J]):
         budget_usd: float | None = None,
         spent_usd: float = 0.0,
         open_editors: bool = True,
+        calls_models: bool = False,
         watcher: SchedulerWatcher[J] | None = None,
     ) -> None:
         """``spent_usd`` is what earlier runs of the sweep spent; it counts against ``budget_usd``;
         ``open_editors``: workers open their editors ahead of their first job (False when no job needs one);
+        ``calls_models``: workers import LiteLLM meanwhile (some job calls a model);
         ``watcher`` hears each attempt start and end."""
         self.pool = pool
         self.payloads = payloads
@@ -164,6 +166,7 @@ class Scheduler(Generic[J]):
         self.budget_usd = budget_usd
         self.spent_usd = spent_usd
         self.open_editors = open_editors
+        self.calls_models = calls_models
         self.watcher = watcher
         self._flights: dict[ray.ObjectRef, _Flight[J]] = {}
         self._load = [0] * len(pool)
@@ -175,7 +178,7 @@ class Scheduler(Generic[J]):
         """Run each (job, first attempt) to a final outcome or until its retries are spent."""
         queue: deque[tuple[J, int]] = deque(jobs)
         first = {job.job_id: attempt for job, attempt in queue}
-        if self.open_editors:
+        if self.open_editors or self.calls_models:
             self._warm(len(queue))
         while queue or self._flights:
             self._probe_down()
@@ -216,11 +219,14 @@ class Scheduler(Generic[J]):
         return not self._flights
 
     def _warm(self, jobs: int) -> None:
-        """Have every idle worker open the editors for its share of ``jobs`` before it gets one."""
+        """Have every idle worker open the editors for its share of ``jobs`` (and import LiteLLM, when jobs call
+        models) before it gets one."""
         editors = min(self.pool.pages, math.ceil(min(jobs, self.capacity) / len(self.pool)))
+        editors = editors if self.open_editors else 0
         for worker in range(len(self.pool)):
             if worker not in self._down and self._load[worker] == 0:
-                self._down[worker] = _Down(self.pool.handles[worker].warm.remote(editors), time.monotonic(), True)
+                warming = self.pool.handles[worker].warm.remote(editors, self.calls_models)
+                self._down[worker] = _Down(warming, time.monotonic(), True)
         self.stats.warming = sum(down.warming for down in self._down.values())
 
     @property

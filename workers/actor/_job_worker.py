@@ -113,20 +113,28 @@ class JobWorker:
             load = await self.load()
         return load
 
-    async def warm(self, editors: int) -> None:
-        """Start the browser and open ``editors`` editors ahead of the first jobs (they wait parked).
+    async def warm(self, editors: int, calls_models: bool = False) -> None:
+        """Start the browser and open ``editors`` editors ahead of the first jobs (they wait parked); with
+        ``calls_models``, import LiteLLM meanwhile.
 
-        Opened while this worker's episodes run, each would slow their steps for seconds; a worker
-        with synthetic episodes configured opens none ahead. Never raises for a browser or editor
+        Opened while this worker's episodes run, each editor would slow their steps for seconds; and the
+        LiteLLM import (3-9 s of one core, holding the interpreter) at the first job held up every episode
+        of the worker as it started: measured with 16 episodes on 2 cores, the first steps waited 2-3 s.
+        A worker with synthetic episodes configured opens none ahead. Never raises for a browser or editor
         that fails: the first job then meets the failure and reports it.
         """
-        if self.synthetic is None and editors > 0:
+        if self.synthetic is not None:
+            return
+        importing = asyncio.ensure_future(self.load_litellm()) if calls_models else None
+        if editors > 0:
             try:
                 browser = await self.browser()
                 if browser.pool is not None:
                     await browser.pool.fill(editors)
             except (EditorError, PlaywrightError):
                 pass  # the first episode opens its own editor, or reports why it cannot
+        if importing is not None:
+            await importing
 
     async def run(
         self,

@@ -1,7 +1,7 @@
 """This node: where its editor and browser are installed, its harness fingerprint, how it describes itself,
 what its browsers cost and how many episodes it can hold."""
 
-from workers.node._capacity import EditorCost, SlotDerivation, derive_slots
+from workers.node._capacity import DELIVERED_PER_CORE, EditorCost, SlotDerivation, derive_slots
 from workers.node._describe import describe_node
 from workers.node._fingerprint import code_parts, environment_parts, harness_fingerprint
 from workers.node._installation import (
@@ -29,6 +29,7 @@ __all__ = [
     "BARE_VENDOR_URL",
     "BUNDLE_FILE",
     "BUNDLE_PACKAGE",
+    "DELIVERED_PER_CORE",
     "EDITOR_PAGE",
     "OWN_FILES",
     "REPO_DIR",

@@ -4,8 +4,11 @@ An episode of a model-driven agent spends most of its life waiting for the provi
 an episode costs the node is its editor's memory and the CPU its page burns while waiting: a
 page on the real clock keeps its VM stepping, one on the virtual clock stands still. Both are
 measured on the node with real editors (``workers.editor.measure_editor_cost``), and the browser slots
-follow with a safety margin (``derive_slots``). Agents that never wait (the oracle) keep one
-episode per core: their pages are busy all the time.
+follow with a safety margin (``derive_slots``), but never past what the node delivers: the episodes per
+core at which ``benchmarks/density.py`` measured steps still undelayed (``DELIVERED_PER_CORE``). Waiting
+pages alone would allow far more, and the episodes' own work (starting, stepping, ending, being judged)
+then delays every step: 64 on 2 cores delivered fewer episodes an hour than 32, with steps seconds late.
+Agents that never wait (the oracle) keep one episode per core: their pages are busy all the time.
 """
 
 from __future__ import annotations
@@ -20,8 +23,12 @@ from workers.node._usage import NodeMemory
 CPU_FLOOR_CORES = 0.01
 """The least CPU a waiting episode is assumed to cost: its worker's own bookkeeping, timers, I/O."""
 
-MAX_AUTO_SLOTS = 64
-"""An upper bound on derived slots: past it the agents' own steps, not waiting pages, bound the node."""
+DELIVERED_PER_CORE = 8
+"""Episodes per core a node holds with their steps undelayed, as ``benchmarks/density.py`` measured them on
+2 cores (virtual clock, a model answering after 5 s, 6 steps): at N = 16 the step overhead p50 stayed within
+twice N = 1's and the steady steps' p95 under a second; at 32 the steps of episodes starting and ending were
+seconds late, at 64 every step was (docs/admission.md has the figures). Past it the agents' own work, not
+their waiting pages, binds the node; ``limits.browser_slots`` sets more where a node was measured to hold them."""
 
 
 class EditorCost(BaseModel):
@@ -54,6 +61,8 @@ class SlotDerivation(BaseModel):
     reserve_bytes: int
     by_cpu: int
     by_memory: int
+    by_throughput: int
+    """What the node delivers: ``DELIVERED_PER_CORE`` per core (measured, so no margin)."""
     slots: int
 
     def describe(self) -> str:
@@ -62,19 +71,22 @@ class SlotDerivation(BaseModel):
             f"{self.memory.available_bytes / MIB:.0f} MB available, a waiting editor measured at "
             f"{self.cost.cpu_cores:.3f} core(s) and {self.cost.pss_bytes / MIB:.0f} MB PSS on the {self.cost.clock} "
             f"clock; with a {self.margin:.0%} margin the CPU allows {self.by_cpu}, memory {self.by_memory} "
-            f"(after a {self.reserve_bytes / MIB:.0f} MB reserve), at most {MAX_AUTO_SLOTS}"
+            f"(after a {self.reserve_bytes / MIB:.0f} MB reserve), throughput {self.by_throughput} "
+            f"({DELIVERED_PER_CORE} per core, measured by benchmarks/density.py)"
         )
 
 
 def derive_slots(
     cost: EditorCost, *, cores: int, memory: NodeMemory, margin: float, reserve_bytes: int
 ) -> SlotDerivation:
-    """The episodes a node may hold at once: the fewer of what its CPU and its memory allow, less a margin."""
+    """The episodes a node may hold at once: the fewest of what its CPU and its memory allow, less a margin, and
+    of what it delivers."""
     usable = 1.0 - margin
     by_cpu = math.floor(cores * usable / max(cost.cpu_cores, CPU_FLOOR_CORES))
     spare = max(memory.available_bytes - reserve_bytes, 0)
-    by_memory = math.floor(spare * usable / cost.pss_bytes) if cost.pss_bytes else MAX_AUTO_SLOTS
-    slots = max(1, min(by_cpu, by_memory, MAX_AUTO_SLOTS))
+    by_throughput = cores * DELIVERED_PER_CORE
+    by_memory = math.floor(spare * usable / cost.pss_bytes) if cost.pss_bytes else by_throughput
+    slots = max(1, min(by_cpu, by_memory, by_throughput))
     return SlotDerivation(
         cores=cores,
         memory=memory,
@@ -83,5 +95,6 @@ def derive_slots(
         reserve_bytes=reserve_bytes,
         by_cpu=by_cpu,
         by_memory=by_memory,
+        by_throughput=by_throughput,
         slots=slots,
     )

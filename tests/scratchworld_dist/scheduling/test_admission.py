@@ -25,7 +25,14 @@ from workers.contract import MIB, AgentRef, EpisodeClock, JobResult, ModelSpec, 
 from workers.editor import EditorPool, cached_editor_cost, measure_editor_cost
 from workers.editor._cost import cost_cache_path
 from workers.kinds import kind_fingerprint
-from workers.node import EditorCost, NodeMemory, derive_slots, harness_fingerprint, node_memory
+from workers.node import (
+    DELIVERED_PER_CORE,
+    EditorCost,
+    NodeMemory,
+    derive_slots,
+    harness_fingerprint,
+    node_memory,
+)
 
 GIB = 1024 * MIB
 NODE = NodeMemory(total_bytes=24 * GIB, available_bytes=20 * GIB)
@@ -39,14 +46,21 @@ def test_slots_are_the_fewer_of_what_cpu_and_memory_allow_less_the_margin() -> N
     # Real clock: a waiting page steps its VM, the CPU binds: 2 cores x 0.75 / 0.25 = 6.
     real = derive_slots(cost(0.25, 300, "real"), cores=2, memory=NODE, margin=0.25, reserve_bytes=GIB)
     assert (real.by_cpu, real.slots) == (6, 6)
-    # Virtual clock: the page stands still, memory binds: (20 - 1) GiB x 0.75 / 300 MiB = 48.
+    # Virtual clock: the page stands still; memory allows (20 - 1) GiB x 0.75 / 300 MiB = 48, the CPU 150, and
+    # what the node delivers binds: DELIVERED_PER_CORE per core.
     virtual = derive_slots(cost(0.01, 300), cores=2, memory=NODE, margin=0.25, reserve_bytes=GIB)
-    assert (virtual.by_memory, virtual.slots) == (48, 48) and virtual.by_cpu == 150
-    assert "48 browser slot(s)" in virtual.describe() and "memory 48" in virtual.describe()
-    # A larger margin takes slots away; so does a bigger editor; the derived count is capped.
-    assert derive_slots(cost(0.01, 300), cores=2, memory=NODE, margin=0.5, reserve_bytes=GIB).slots == 32
-    assert derive_slots(cost(0.01, 600), cores=2, memory=NODE, margin=0.25, reserve_bytes=GIB).slots == 24
-    assert derive_slots(cost(0.0, 10), cores=64, memory=NODE, margin=0, reserve_bytes=0).slots == 64
+    delivered = 2 * DELIVERED_PER_CORE
+    assert (virtual.by_memory, virtual.by_cpu, virtual.by_throughput) == (48, 150, delivered)
+    assert virtual.slots == min(48, delivered)
+    assert f"{virtual.slots} browser slot(s)" in virtual.describe() and f"throughput {delivered}" in virtual.describe()
+    # On a bigger node memory binds again: (20 - 1) GiB x 0.75 / 300 MiB = 48 on 16 cores; a larger margin and a
+    # bigger editor take slots away.
+    assert derive_slots(cost(0.01, 300), cores=16, memory=NODE, margin=0.25, reserve_bytes=GIB).slots == 48
+    assert derive_slots(cost(0.01, 300), cores=16, memory=NODE, margin=0.5, reserve_bytes=GIB).slots == 32
+    assert derive_slots(cost(0.01, 600), cores=16, memory=NODE, margin=0.25, reserve_bytes=GIB).slots == 24
+    assert (
+        derive_slots(cost(0.0, 10), cores=64, memory=NODE, margin=0, reserve_bytes=0).slots == 64 * DELIVERED_PER_CORE
+    )
     # A node whose memory is all reserved still runs one episode at a time.
     starved = NodeMemory(total_bytes=4 * GIB, available_bytes=GIB // 2)
     assert derive_slots(cost(0.01, 300), cores=2, memory=starved, margin=0.25, reserve_bytes=GIB).slots == 1
