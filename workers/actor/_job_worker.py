@@ -50,10 +50,13 @@ from workers.node import BrowserUsage, browser_usage, harness_fingerprint, node_
 MEMORY_POLL_S = 0.5
 """How often a worker short of memory looks again."""
 
-USAGE_MAX_AGE_S = 5.0
-"""How old the browsers' memory a load may report: reading every browser process's PSS takes 35-100 ms on 2
-busy cores, which after every job of a sweep of short jobs (grader audit variants: about 0.7 s each) was a
-twentieth of its workers' time. The node's available memory, which admission decides on, is always read anew."""
+USAGE_MAX_AGE_S = 30.0
+"""How old the browsers' memory (and the editors counted with it) a load may report. Reading every browser
+process's PSS walks their page tables in the kernel: 0.16 s of CPU with 12 editors open, about 0.5 s with 32,
+and each reading holds up the renderer it walks. Read every 5 s, that was a tenth of a core at 32 episodes on
+2 cores, on top of their steps; after every job of a sweep of short jobs (grader audit variants: about 0.7 s
+each) it was a twentieth of its workers' time. The node's available memory, which admission decides on, is
+always read anew."""
 
 
 class JobWorker:
@@ -81,28 +84,30 @@ class JobWorker:
         self._session: BrowserSession | None = None
         self._browser: WorkerBrowser | None = None
         self._starting = asyncio.Lock()
-        self._usage: tuple[float, BrowserUsage] | None = None
-        """The browsers' usage last read, and when (``time.monotonic``)."""
+        self._usage: tuple[float, BrowserUsage, int] | None = None
+        """The browsers' usage last read, when (``time.monotonic``), and the editors they held then."""
 
     async def info(self) -> WorkerInfo:
         return self.info_
 
     async def load(self) -> WorkerLoad:
         """This worker's editors and their memory, the node's available memory, and whether it takes jobs."""
-        usage, memory = await asyncio.to_thread(lambda: (self._browser_usage(), node_memory()))
+        (usage, editors), memory = await asyncio.to_thread(lambda: (self._browser_usage(), node_memory()))
         return WorkerLoad(
-            editors=self._browser.editors_held if self._browser is not None else 0,
+            editors=editors,
             browser_pss_bytes=usage.pss_bytes,
             node_available_bytes=memory.available_bytes,
             admits=memory.available_bytes >= self.memory_reserve_bytes,
         )
 
-    def _browser_usage(self) -> BrowserUsage:
-        """The browsers' usage, read again once the last reading is ``USAGE_MAX_AGE_S`` old."""
+    def _browser_usage(self) -> tuple[BrowserUsage, int]:
+        """The browsers' usage and the editors they held, read together again once ``USAGE_MAX_AGE_S`` old (so
+        that memory per editor is one moment's)."""
         now = time.monotonic()
         if self._usage is None or now - self._usage[0] >= USAGE_MAX_AGE_S:
-            self._usage = (now, browser_usage())
-        return self._usage[1]
+            editors = self._browser.editors_held if self._browser is not None else 0
+            self._usage = (now, browser_usage(), editors)
+        return self._usage[1], self._usage[2]
 
     async def wait_admitting(self, within_s: float) -> WorkerLoad:
         """The load as soon as the node has its memory reserve available again, or after ``within_s``."""
@@ -131,6 +136,8 @@ class JobWorker:
                 browser = await self.browser()
                 if browser.pool is not None:
                     await browser.pool.fill(editors)
+                if calls_models:  # agents that wait on models: their evaluations run in the low-priority browser
+                    await browser.start_background()
             except (EditorError, PlaywrightError):
                 pass  # the first episode opens its own editor, or reports why it cannot
         if importing is not None:

@@ -253,10 +253,11 @@ class WorkerLoad(BaseModel):
     model_config = ConfigDict(frozen=True)
 
     editors: int
-    """Editor pages the worker's browser holds (in use and idle)."""
+    """Editor pages the worker's browser held (in use and idle) when ``browser_pss_bytes`` was read."""
 
     browser_pss_bytes: int
-    """Proportional set size of the worker's browser processes (see ``workers.node.browser_usage``)."""
+    """Proportional set size of the worker's browser processes (see ``workers.node.browser_usage``), read at
+    most ``USAGE_MAX_AGE_S`` (30 s) before."""
 
     node_available_bytes: int
     """The node's available memory (the kernel's MemAvailable)."""

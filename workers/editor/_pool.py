@@ -75,25 +75,26 @@ class EditorPool:
         waiting = sum(len(ready) for ready in self._ready.values())
         return waiting + len(self._lent) + len(self._opening) + self._filling
 
-    async def fill(self, count: int) -> int:
-        """Open editors until the pool holds ``count``; each waits parked (VM stopped) until it is lent.
+    async def fill(self, count: int, kind: EvaluationPage = "editor") -> int:
+        """Open editors (or bare evaluation pages) until the pool holds ``count``; each waits parked (VM stopped)
+        until it is lent.
 
-        The session opens a few at a time (``BrowserConfig.concurrent_opens``). Returns how many
-        editors wait ready; one that fails to open is left out (the episode that needs it opens its own).
+        The session opens a few at a time (``BrowserConfig.concurrent_opens``). Returns how many pages of
+        ``kind`` wait ready; one that fails to open is left out (the job that needs it opens its own).
         """
         missing = count - self.held
         if missing > 0 and not self._closed:
             self._filling += missing
             try:
-                await asyncio.gather(*(self._open_parked() for _ in range(missing)))
+                await asyncio.gather(*(self._open_parked(kind) for _ in range(missing)))
             finally:
                 self._filling -= missing
-        return len(self._ready["editor"])
+        return len(self._ready[kind])
 
-    async def _open_parked(self) -> None:
+    async def _open_parked(self, kind: EvaluationPage) -> None:
         self.opened += 1
         try:
-            editor = await self.session.open_editor()
+            editor = await self.session.open_editor(kind)
         except EditorError as exc:
             log.warning("an editor opened ahead failed: %s", exc)
             return
@@ -106,7 +107,7 @@ class EditorPool:
         if self._closed:
             await editor.close()
         else:
-            self._ready["editor"].append(editor)
+            self._ready[kind].append(editor)
 
     async def open_editor(self, kind: EvaluationPage = "editor") -> Editor:
         """A ready editor (or bare evaluation page), clean as if fresh; hand it back with ``release`` (or close it)."""

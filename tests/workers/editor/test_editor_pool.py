@@ -237,3 +237,17 @@ MOUSE_AND_STAGE = """module.exports = async (vm) => {
   const canvasWidth = vm.renderer.gl.canvas.width;
   return {details: [{name: 'conditions', passed: true, meta: {mouseKnown, canvasWidth}}]};
 };"""
+
+
+async def test_bare_pages_opened_ahead_wait_parked_and_judge_when_lent(session: BrowserSession) -> None:
+    """``fill`` opens bare evaluation pages too (a worker's low-priority browser opens its own before its agents
+    act): they wait with the VM stopped, and the next evaluation on a bare page takes one instead of opening."""
+    async with EditorPool(session, spare=0) as pool:
+        assert await pool.fill(1, "bare") == 1
+        assert (len(pool._ready["bare"]), len(pool._ready["editor"]), pool.opened) == (1, 0, 1)
+        waiting = pool._ready["bare"][0]
+        assert waiting.kind == "bare" and not (await waiting.status()).stepping
+
+        result = await evaluate(Evaluator(session, pool), CHECK_CLEAN, counter_project("Counter"), page="bare")
+        assert result.success and result.timings.editor_ready_s is not None, result  # the page opened ahead
+        assert (pool.opened, pool.reused, len(pool._ready["bare"])) == (1, 1, 1)

@@ -19,6 +19,7 @@ from tests.conftest import REPO, SUITE_DIR
 from tests.support.browser_pages import crash_renderer, editor_pages
 from tests.support.openai_server import OpenAIServer, reply
 from workers.actor import JobWorker, WorkerBrowser
+from workers.actor._browser import EVALUATIONS_AT_ONCE
 from workers.agent_api import AgentBase, StepResult, build_agent
 from workers.contract import (
     Action,
@@ -389,6 +390,22 @@ def thread_name(tid: int) -> str:
         return Path(f"/proc/{tid}/comm").read_text().strip()
     except OSError:
         return str(tid)
+
+
+async def test_a_worker_whose_agents_call_models_starts_its_low_priority_browser_before_its_jobs(
+    worker: JobWorker,
+) -> None:
+    """Warming for jobs that call models opens the agents' editors, and the idle-class browser with its bare
+    evaluation pages: started once agents act, it held up their steps by seconds."""
+    await worker.warm(1, calls_models=True)
+    browser = worker._browser
+    assert browser is not None and browser.pool is not None and len(browser.pool._ready["editor"]) == 1
+    background = browser.background
+    assert background is not None and background.pool is not None
+    assert len(background.pool._ready["bare"]) == EVALUATIONS_AT_ONCE
+    threads = threads_by_class(await background.session.browser_pid())
+    assert threads.get(False, set()) == set() and threads[True]  # every thread in the idle class
+    assert browser.editors_held == 1 + EVALUATIONS_AT_ONCE
 
 
 async def test_an_evaluation_gives_way_to_episodes_still_acting(
