@@ -350,6 +350,20 @@ class Editor:
         depend on how fast the load went; redrawn after the virtual start, it shows the same thing."""
         await self.call("redrawPanels")
 
+    async def collect_garbage(self) -> None:
+        """A full collection of the page's JavaScript heap. A page that has just opened, or loaded a project and
+        run its first second, holds the garbage of doing so until V8 gets round to it (seconds later, or never
+        while it waits): collected then, a waiting editor holds about 35 MB less (235 -> 200 MB PSS, 4 editors
+        on 2 cores). Nothing the page runs can tell."""
+        try:
+            devtools = await self.page.context.new_cdp_session(self.page)
+            try:
+                await devtools.send("HeapProfiler.collectGarbage")
+            finally:
+                await devtools.detach()
+        except PlaywrightError as exc:
+            raise EditorCrashedError(f"could not collect the page's garbage: {exc.message}") from exc
+
     async def park(self) -> None:
         """Stop the VM and suspend the audio of a fresh page that waits to be used (``resume`` starts
         both again), as a recycled page waits: a stepping VM costs about a third of a core, the

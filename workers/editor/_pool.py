@@ -100,6 +100,7 @@ class EditorPool:
             return
         try:
             await editor.park()
+            await editor.collect_garbage()  # the opening's garbage: it may wait long
         except (EditorError, BridgeError) as exc:
             log.warning("an editor opened ahead could not be parked: %s", exc)
             await editor.close()

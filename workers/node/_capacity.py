@@ -7,7 +7,7 @@ measured on the node with real editors (``workers.editor.measure_editor_cost``),
 follow with a safety margin (``derive_slots``), but never past what the node delivers: the episodes per
 core at which ``benchmarks/density.py`` measured steps still undelayed (``DELIVERED_PER_CORE``). Waiting
 pages alone would allow far more, and the episodes' own work (starting, stepping, ending, being judged)
-then delays every step: 64 on 2 cores delivered fewer episodes an hour than 32, with steps seconds late.
+then delays every step: 64 on 2 cores ran their steps up to seconds late.
 Agents that never wait (the oracle) keep one episode per core: their pages are busy all the time.
 """
 
@@ -23,11 +23,11 @@ from workers.node._usage import NodeMemory
 CPU_FLOOR_CORES = 0.01
 """The least CPU a waiting episode is assumed to cost: its worker's own bookkeeping, timers, I/O."""
 
-DELIVERED_PER_CORE = 8
+DELIVERED_PER_CORE = 16
 """Episodes per core a node holds with their steps undelayed, as ``benchmarks/density.py`` measured them on
-2 cores (virtual clock, a model answering after 5 s, 6 steps): at N = 16 the step overhead p50 stayed within
-twice N = 1's and the steady steps' p95 under a second; at 32 the steps of episodes starting and ending were
-seconds late, at 64 every step was (docs/admission.md has the figures). Past it the agents' own work, not
+2 cores (2026-12-02; virtual clock, a model answering after 5 s, 6 steps): at N = 32 the step overhead p50 was
+0.08 s against 0.07 s alone, the steady steps' p95 0.19 s; at N = 64 the p50 was 0.28 s and the steady p95
+2.0 s (its episodes' ends, 64 within half a minute, crowd the steps of the others). Past it the agents' own work, not
 their waiting pages, binds the node; ``limits.browser_slots`` sets more where a node was measured to hold them."""
 
 

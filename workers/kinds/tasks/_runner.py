@@ -160,6 +160,7 @@ class EpisodeRunner:
                 pace = _Pace(editor, spec.episode_clock)
                 environment = await self._environment(spec, editor, pace)
                 await pace.start()
+                await editor.collect_garbage()  # the start's garbage: the page waits with ~35 MB less
                 starting.release()
                 context = _context(spec, task, agent, editor, environment, models, memory)
                 stop_reason = "internal_error"
