@@ -228,7 +228,7 @@ def main() -> None:
     tasks = suite.select(ids=args.tasks.split(",") if args.tasks else None)
     folder = plan_folder(args.out, suite)
     started = time.monotonic()
-    plans = asyncio.run(plan_suite(suite, tasks, folder))
+    plans = asyncio.run(plan_suite(suite, tasks, folder, lanes=args.lanes))
     print(f"planned {len(plans.tasks)} task(s) into {folder} in {time.monotonic() - started:.0f} s")
     print(f"{'task':<58} {'category':<8} {'calls':>5} {'mod':>5}  {'composite':<28} {'primitive':<28}")
     rows = [OracleRow(plan=record) for record in plans.tasks]
