@@ -9,7 +9,8 @@ the suite has the task's evaluation script, evaluated under both profiles where 
 Prints per task: calls, modified blocks, composite and primitive outcome, and what the API lacks; then
 totals, and the mean modified blocks against the paper's (9.14 over its tasks; 16.96 for Compute).
 
-Tasks run ``--lanes`` at a time (default: one per core), each lane in an editor of its own in one browser; the
+Tasks run ``--lanes`` at a time (default: one per core, and one more to use the real-time waits of the
+primitive oracle's gestures), longest plan first, each lane in an editor of its own in one browser; the
 evaluations borrow recycled pages from one pool, as a sweep's worker does (a page is verified as good as fresh
 before it is reused), instead of opening a page for each of a task's six.
 
@@ -220,7 +221,12 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("results/upstream-oracle-plans"))
     parser.add_argument("--tasks", default=None, help="comma-separated task ids (default: all)")
     parser.add_argument("--no-primitive", action="store_true", help="skip the primitive oracle's gestures")
-    parser.add_argument("--lanes", type=int, default=os.cpu_count() or 1, help="tasks checked at once (default: cores)")
+    parser.add_argument(
+        "--lanes",
+        type=int,
+        default=(os.cpu_count() or 1) + 1,
+        help="tasks checked at once (default: cores + 1: the primitive oracle's gestures wait in real time)",
+    )
     args = parser.parse_args()
     if args.lanes < 1:
         parser.error("--lanes must be at least 1")
@@ -228,7 +234,7 @@ def main() -> None:
     tasks = suite.select(ids=args.tasks.split(",") if args.tasks else None)
     folder = plan_folder(args.out, suite)
     started = time.monotonic()
-    plans = asyncio.run(plan_suite(suite, tasks, folder, lanes=args.lanes))
+    plans = asyncio.run(plan_suite(suite, tasks, folder))  # Python-bound: lanes would not help it
     print(f"planned {len(plans.tasks)} task(s) into {folder} in {time.monotonic() - started:.0f} s")
     print(f"{'task':<58} {'category':<8} {'calls':>5} {'mod':>5}  {'composite':<28} {'primitive':<28}")
     rows = [OracleRow(plan=record) for record in plans.tasks]

@@ -251,6 +251,40 @@ def test_the_virtual_clock_s_lead_before_an_action_is_the_worker_s() -> None:
     assert ACTION_LEAD_MS == WORKER_LEAD_MS
 
 
+def test_an_atif_trajectory_takes_the_clock_and_reasoning_the_worker_recorded(tmp_path: Path) -> None:
+    """Steps recorded with their start, the page's time and the provider's reasoning are exported as recorded."""
+    began = datetime(2026, 1, 2, 3, 4, 7, 250_000, tzinfo=UTC).timestamp()
+    steps = [
+        StepRecord(
+            index=k, action="add_block", ok=True, latency_s=1.0, llm_calls=1, started_at=began + 3 * k,
+            episode_clock_ms=1000 + 800 * k, reasoning="the provider's reasoning" if k == 0 else None,
+            prompt=[{"role": "user", "content": BLOCKS}], reply="Analysis: add.\n```json\n{}\n```",
+        )
+        for k in range(2)
+    ]  # fmt: skip
+    store = RunStore(tmp_path / "run")
+    store.open_for_writing()
+    folder = store.write_artifact(
+        "j1", 1, "trajectory.jsonl", b"".join(s.model_dump_json().encode() + b"\n" for s in steps)
+    )
+    store.close()
+    started = datetime(2026, 1, 2, 3, 4, 5, tzinfo=UTC)
+    row = job("j1", task_id="say_hello", artifact_dir=folder, started_at=started, setup_s=1.0, steps=2)
+    config = {"agent": "llm", "models": [{"model": "gpt"}], "episodes": {"episode_clock": {"mode": "virtual"}}}
+    tags = {"team": "vision", "budget": "small"}
+    run = make_run(tmp_path / "run", [JobRecord(job=row)], planned=1, tasks=1, config=config, tags=tags)
+    done = invoke("export", str(run), "--format", "atif", "--out", str(tmp_path / "out"))
+    assert done.returncode == 0, done.stderr
+    data = json.loads((tmp_path / "out" / "sweep" / "say_hello-composite-seed0-j1-1.json").read_text())
+    agent = [s for s in data["steps"] if s["source"] == "agent"]
+    assert [s["timestamp"] for s in agent] == ["2026-01-02T03:04:07.250Z", "2026-01-02T03:04:10.250Z"]
+    assert [s["extra"]["episode_clock_ms"] for s in agent] == [1000, 1800]  # as recorded, not computed
+    assert agent[0]["reasoning_content"] == "the provider's reasoning"  # before the reply's own Analysis
+    assert agent[1]["reasoning_content"] == "add."
+    assert data["extra"]["timestamps"] == "wall clock: when the worker began each step"
+    assert data["extra"]["tags"] == tags  # the run's --tag labels
+
+
 def test_reasoning_is_read_from_a_think_trace_or_the_analysis() -> None:
     assert reasoning_of("<think> a </think><think>b</think>Analysis: c") == "a\n\nb"
     assert reasoning_of("Analysis: c\n```json\n{}\n```") == "c"

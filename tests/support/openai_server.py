@@ -40,6 +40,8 @@ class Behaviour:
     retry_after: str | None = None
     body: Any = None
     seconds: float = 0.0
+    reasoning: str | None = None
+    """Sent as the message's ``reasoning_content``, as reasoning models' providers do."""
 
 
 def reply(text: str = "ok", prompt_tokens: int = 10, completion_tokens: int = 5, model: str | None = None) -> Behaviour:
@@ -289,7 +291,8 @@ def _completion(behaviour: Behaviour, body: dict[str, Any]) -> dict[str, Any]:
         "choices": [
             {
                 "index": 0,
-                "message": {"role": "assistant", "content": behaviour.text},
+                "message": {"role": "assistant", "content": behaviour.text}
+                | ({"reasoning_content": behaviour.reasoning} if behaviour.reasoning else {}),
                 "finish_reason": "stop",
             }
         ],

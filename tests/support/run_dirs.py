@@ -232,6 +232,7 @@ def make_run(
     harness: HarnessFingerprint = HARNESS,
     name: str = "sweep",
     stability: StabilityMarks | None = None,
+    tags: dict[str, str] | None = None,
 ) -> Path:
     store = RunStore(run_dir)
     store.open_for_writing()
@@ -248,6 +249,7 @@ def make_run(
         config_hash="c",
         suite=SuiteInfo(name="ours", kind="native", root="/suite", hash=suite_hash, tasks=tasks, stability=stability),
         planned_jobs=planned,
+        tags=tags or {},
     )
     write_manifest(run_dir, manifest)
     return run_dir

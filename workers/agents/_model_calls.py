@@ -62,6 +62,7 @@ class StepCalls:
     cost_usd: float = 0.0
     prompt: list[JsonValue] = field(default_factory=list)
     reply: str | None = None
+    reasoning: str | None = None
 
     def booked_on(self, step: StepRecord) -> StepRecord:
         """``step`` with these calls added: counts summed, and the messages continuing its record (its
@@ -78,6 +79,7 @@ class StepCalls:
                 "cost_usd": step.cost_usd + self.cost_usd,
                 "prompt": [*step.prompt, *earlier_reply, *self.prompt],
                 "reply": self.reply,
+                "reasoning": self.reasoning,
             }
         )
 
@@ -110,6 +112,7 @@ class EpisodeModels:
             self._step.prompt.append({"role": "assistant", "content": self._step.reply})
         self._step.prompt.extend(added)
         self._step.reply = completion.text
+        self._step.reasoning = completion.reasoning
         self._step.llm_calls += 1
         self._step.cache_hits += int(completion.cached)
         self._step.input_tokens += completion.input_tokens

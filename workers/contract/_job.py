@@ -232,6 +232,15 @@ class StepRecord(BaseModel):
     reply: str | None = None
     """The model's raw reply."""
 
+    reasoning: str | None = None
+    """The reasoning the provider returned apart from the reply (e.g. a reasoning model's), for the newest call."""
+
+    started_at: float | None = None
+    """When the step began (its observation), as seconds since the epoch on the worker's clock."""
+
+    episode_clock_ms: int | None = None
+    """The agent page's time when the step began, on the virtual episode clock (None on the real clock)."""
+
     observation: StepObservation | None = None
     """What the environment showed before the step (None for agents that do not observe)."""
 

@@ -65,6 +65,9 @@ class CacheEntry(BaseModel):
     """The model the provider said answered."""
 
     finish_reason: str | None = None
+    reasoning: str | None = None
+    """The reasoning the provider returned besides the reply (None: none, or an entry stored before it was kept)."""
+
     stored_at: float
 
 

@@ -58,6 +58,9 @@ class Completion(BaseModel):
     """The model the provider says answered."""
 
     finish_reason: str | None = None
+    reasoning: str | None = None
+    """The reasoning the provider returned apart from the reply (LiteLLM's ``reasoning_content``), if any."""
+
     cached: bool = False
     """Answered from the model cache: no request was made and it cost nothing."""
 
@@ -74,6 +77,7 @@ class Completion(BaseModel):
             attempts=0,
             model=entry.answered_by,
             finish_reason=entry.finish_reason,
+            reasoning=entry.reasoning,
             cached=True,
         )
 
@@ -90,6 +94,7 @@ class Completion(BaseModel):
             cost_usd=self.cost_usd,
             answered_by=self.model,
             finish_reason=self.finish_reason,
+            reasoning=self.reasoning,
             stored_at=time.time(),
         )
 
@@ -257,6 +262,7 @@ class ModelClient:
             attempts=attempts,
             model=str(getattr(response, "model", None) or self.spec.model),
             finish_reason=getattr(choice, "finish_reason", None),
+            reasoning=_reasoning(choice.message),
         )
 
     async def _attempt(
@@ -459,3 +465,9 @@ def _scrub(text: str, secret: str | None) -> str:
     if secret and len(secret) >= 4:
         text = text.replace(secret, "[redacted]")
     return text
+
+
+def _reasoning(message: Any) -> str | None:
+    """The reasoning LiteLLM found in the provider's reply (its ``reasoning_content``), when it is text."""
+    reasoning = getattr(message, "reasoning_content", None)
+    return reasoning if isinstance(reasoning, str) and reasoning else None

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from collections.abc import Iterator
 from typing import Any
@@ -18,6 +19,7 @@ from workers.agents import EpisodeModels, LLMAgent
 from workers.agents._coordinates import smart_resize, to_page
 from workers.contract import LLMSettings, Mode, ModelSpec, ObservationSettings, PrimitiveObservation, RetryPolicy
 from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
+from workers.kinds.tasks._runner import ACTION_LEAD_MS
 from workers.llm import load_litellm
 
 FAST = RetryPolicy(max_attempts=2, initial_backoff_s=0.01, max_backoff_s=0.02, request_timeout_s=10, max_total_s=30)
@@ -119,7 +121,9 @@ async def test_canned_replies_solve_a_task_in_composite_mode(
     episode_runner: EpisodeRunner, content: TaskContent, server: OpenAIServer
 ) -> None:
     trajectory = [a.model_dump(mode="json", include={"api", "args"}) for a in content.payload.golden_trajectory or []]
-    server.push(*(reply(answer(a), prompt_tokens=1000, completion_tokens=100) for a in trajectory))
+    replies = [reply(answer(a), prompt_tokens=1000, completion_tokens=100) for a in trajectory]
+    replies[0] = dataclasses.replace(replies[0], reasoning="First the hat block.")  # as reasoning models send it
+    server.push(*replies)
     server.push(reply(answer({"api": "done", "args": {}}), prompt_tokens=1000, completion_tokens=100))
     spec = episode(content, server)
     result = await episode_runner.run(spec, content.payload, LLMAgent())
@@ -153,6 +157,14 @@ async def test_canned_replies_solve_a_task_in_composite_mode(
     assert [m["role"] for m in result.steps[0].prompt] == ["system", "user"]  # type: ignore[index]
     assert [m["role"] for m in result.steps[1].prompt] == ["user"]  # type: ignore[index]
     assert result.steps[0].reply == answer(trajectory[0])
+    # The provider's reasoning is kept beside the reply; each step records when it began and the page's time then.
+    assert result.steps[0].reasoning == "First the hat block." and result.steps[1].reasoning is None
+    began = [step.started_at for step in result.steps]
+    assert None not in began and began == sorted(began) and began[0] >= result.started_at  # type: ignore[type-var]
+    clock = spec.episode_clock
+    assert clock.mode == "virtual"
+    expected = [clock.start_ms + k * (ACTION_LEAD_MS + clock.step_ms) for k in range(len(result.steps))]
+    assert [step.episode_clock_ms for step in result.steps] == expected
     # The previous action's result is shown: add_block's data names the new block's index.
     assert user_texts(server.requests[3].body)[-1].startswith("Result of your previous action: success.")
     # History is bounded: system prompt plus at most 21 messages, starting with a user message.

@@ -277,24 +277,30 @@ class _Pace:
         self.editor = editor
         self.clock = clock
         self.virtual = clock.mode == "virtual"
+        self.elapsed_ms = 0
+        """Page time moved so far on the virtual clock (the episode's time, recorded with each step)."""
+
+    async def _advance(self, ms: int) -> None:
+        await self.editor.advance_clock(ms)
+        self.elapsed_ms += ms
 
     async def pass_time(self, ms: float) -> None:
         """Page time during an action (a drag's moves); only on the virtual clock."""
-        await self.editor.advance_clock(round(ms))
+        await self._advance(round(ms))
 
     async def start(self) -> None:
         if self.virtual:
             await self.editor.start_episode_clock(self.clock)
-            await self.editor.advance_clock(self.clock.start_ms)
+            await self._advance(self.clock.start_ms)
             await self.editor.redraw_panels()
 
     async def before_action(self) -> None:
         if self.virtual:
-            await self.editor.advance_clock(ACTION_LEAD_MS)
+            await self._advance(ACTION_LEAD_MS)
 
     async def after_action(self) -> None:
         if self.virtual:
-            await self.editor.advance_clock(self.clock.step_ms)
+            await self._advance(self.clock.step_ms)
 
 
 async def _act(
@@ -308,7 +314,8 @@ async def _act(
     """The agent loop; returns why it stopped."""
     last: StepResult | None = None
     for index in range(spec.max_steps):
-        step_start = time.perf_counter()
+        step_start, started_at = time.perf_counter(), time.time()
+        episode_clock_ms = pace.elapsed_ms if pace.virtual else None
         observation = await environment.observe() if getattr(agent, "observes", True) else None
         observation_s = time.perf_counter() - step_start
         action = await _guarded(agent.act(observation, last), f"raised at step {index}")
@@ -333,6 +340,8 @@ async def _act(
             observation_s=observation_s,
             warnings=list(getattr(observation, "warnings", [])),
             observation=_recorded(observation, models),
+            started_at=started_at,
+            episode_clock_ms=episode_clock_ms,
         )
         steps.append(models.drain().booked_on(step))
         last = StepResult(ok=ok, error_code=error_code, error_message=error_message, data=data)

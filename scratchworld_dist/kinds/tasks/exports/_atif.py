@@ -8,14 +8,16 @@ An episode maps onto it as the model's conversation, so a trajectory can be trai
 - for each action, a ``user`` step with what the model was shown (the prompt's text; screenshots as image parts
   whose files are copied beside the trajectory, ``images/<sha256>.png``), or, for an agent without prompts, the
   task's instruction and the observation the environment made (composite text inline, a screenshot as a file);
-- an ``agent`` step: the model's raw reply, its reasoning (a ``<think>`` trace, else its ``Analysis:`` text),
-  the action as one tool call, what the environment answered as its observation, the step's tokens and cost.
+- an ``agent`` step: the model's raw reply, its reasoning (what the provider returned as reasoning, else a
+  ``<think>`` trace, else its ``Analysis:`` text), the action as one tool call, what the environment answered as
+  its observation, the step's tokens and cost.
 
-Each step's ``timestamp`` is wall-clock ISO 8601: the attempt's start plus its setup and the latencies of the
-steps before it (a worker records no clock per step); ``extra.episode_clock_ms`` is the time on the agent's
-page when the step's observation was made (virtual clock: ``start_ms`` plus 50 ms and ``settle_ms + think_ms``
-per action before it, left out after a primitive drag, whose moves take time we do not record; real clock: the
-wall time since the first observation). ``extra`` of the trajectory names the task, the suite and the run.
+Each step's ``timestamp`` is wall-clock ISO 8601, when the worker began the step; ``extra.episode_clock_ms`` is
+the time on the agent's page then (virtual clock, as the worker recorded it; real clock: the wall time since the
+first observation). Runs recorded before workers kept a clock per step get both computed: the attempt's start
+plus its setup and the latencies of the steps before; virtual: ``start_ms`` plus 50 ms and
+``settle_ms + think_ms`` per action before, left out after a primitive drag, whose moves took time unrecorded.
+``extra`` of the trajectory names the task, the suite and the run.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from __future__ import annotations
 import json
 import re
 import shutil
-from datetime import datetime, timedelta
+from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any
 
@@ -148,8 +150,10 @@ def atif_trajectory(
     suite: SuiteInfo,
     clock: EpisodeClock,
     images: ImageFiles,
+    tags: dict[str, str] | None = None,
 ) -> Trajectory:
-    """One attempt of an episode as an ATIF trajectory (``version``: this package's, the agent system's)."""
+    """One attempt of an episode as an ATIF trajectory (``version``: this package's, the agent system's; ``tags``:
+    the run's, from ``--tag``)."""
     start = row.started_at + timedelta(seconds=row.setup_s)
     atif_steps: list[Step] = []
 
@@ -163,8 +167,10 @@ def atif_trajectory(
     if not prompted:
         add(source="user", message=instruction or f"(task {row.task_id})", timestamp=_iso(start))
     waited, dragged = 0.0, False
+    recorded = all(step.started_at is not None for step in steps)
     for step in steps:
-        when = _iso(start + timedelta(seconds=waited))
+        began = datetime.fromtimestamp(step.started_at, UTC) if step.started_at is not None else None
+        when = _iso(began if recorded and began is not None else start + timedelta(seconds=waited))
         shown: list[ContentPart] = []
         for message in step.prompt:
             role, parts = _prompt_parts(message, images)
@@ -182,6 +188,8 @@ def atif_trajectory(
         extra: dict[str, Any] = {"latency_s": step.latency_s, "observation_s": step.observation_s}
         extra |= {"warnings": list(step.warnings), "llm_cache_hits": step.llm_cache_hits}
         episode_ms = _episode_clock_ms(clock, step.index, waited, dragged)
+        if step.episode_clock_ms is not None:
+            episode_ms = float(step.episode_clock_ms)
         if episode_ms is not None:
             extra |= {"episode_clock_ms": episode_ms, "episode_clock": clock.mode}
         add(
@@ -189,7 +197,7 @@ def atif_trajectory(
             timestamp=when,
             model_name=row.litellm_model,
             message=step.reply or "",
-            reasoning_content=reasoning_of(step.reply) if called else None,
+            reasoning_content=(step.reasoning or reasoning_of(step.reply)) if called else None,
             tool_calls=[call],
             observation=Observation(
                 results=[ObservationResult(source_call_id=call.tool_call_id, content=json.dumps(answer))]
@@ -229,7 +237,10 @@ def atif_trajectory(
             "run_name": row.run_name,
             "benchmark": row.benchmark,
             "started_at": _iso(row.started_at),
-            "timestamps": "wall clock: the attempt's start, its setup and the latencies of the steps before",
+            "tags": dict(tags or {}),
+            "timestamps": "wall clock: when the worker began each step"
+            if recorded
+            else "wall clock: the attempt's start, its setup and the latencies of the steps before",
         },
     )
 

@@ -113,7 +113,9 @@ def _atif(attempts: list[tuple[Path, JobRow, list[StepRecord]]], out: Path) -> E
         clock = EpisodeClock.model_validate(stated) if stated is not None else default_episode_clock()
         folder = out / row.run_name
         images = ImageFiles(run_dir, row.artifact_dir, folder)
-        trajectory = atif_trajectory(row, steps, instruction, ours, suite=suite, clock=clock, images=images)
+        trajectory = atif_trajectory(
+            row, steps, instruction, ours, suite=suite, clock=clock, images=images, tags=manifest.tags
+        )
         path = folder / trajectory_file_name(row)
         path.parent.mkdir(parents=True, exist_ok=True)
         write_atomic(path, (json.dumps(trajectory.to_json_dict(), indent=2) + "\n").encode())

@@ -7,7 +7,6 @@ A plan is derived data: it is never written inside the suite (an upstream clone 
 
 from __future__ import annotations
 
-import asyncio
 import json
 import time
 from collections.abc import Callable
@@ -82,49 +81,21 @@ async def plan_suite(
     out: Path,
     on_task: Callable[[TaskPlanRecord], None] | None = None,
     editor: Editor | None = None,
-    lanes: int = 1,
 ) -> SuitePlans:
     """Plan, replay and write every task of ``tasks`` into ``out`` (a ``plan_folder``); ``out/plans.json``
-    is rewritten after each task, its records in the order of ``tasks``. Plans in ``editor`` when given (every
-    task loads its own projects), else in a browser of its own, ``lanes`` tasks at once (an editor each: a task
-    is planned alone in its editor, so the plans are the same in any order)."""
-    if editor is not None:
-        return await _plan_in(suite, tasks, out, on_task, [editor])
-    if lanes < 1:
-        raise ValueError(f"lanes must be at least 1, got {lanes}")
-    async with BrowserSession() as session:
-        editors = [await session.open_editor() for _ in range(min(lanes, max(len(tasks), 1)))]
-        try:
-            return await _plan_in(suite, tasks, out, on_task, editors)
-        finally:
-            for opened in editors:
-                await opened.close()
-
-
-async def _plan_in(
-    suite: Suite,
-    tasks: list[Task],
-    out: Path,
-    on_task: Callable[[TaskPlanRecord], None] | None,
-    editors: list[Editor],
-) -> SuitePlans:
-    waiting = list(reversed(tasks))
-    done: dict[str, TaskPlanRecord] = {}
-
-    def plans() -> SuitePlans:
-        records = [done[task.id] for task in tasks if task.id in done]
-        return SuitePlans(suite=suite.name, root=str(suite.root), tasks=records)
-
-    async def lane(editor: Editor) -> None:
-        while waiting:
-            task = waiting.pop()
-            done[task.id] = record = await _plan_task(editor, task, out)
-            write_atomic(out / PLANS_FILE, plans().model_dump_json(indent=2).encode())
-            if on_task is not None:
-                on_task(record)
-
-    await asyncio.gather(*(lane(editor) for editor in editors))
-    return plans()
+    is rewritten after each task. Plans in ``editor`` when given (every task loads its own projects),
+    else in a browser of its own."""
+    if editor is None:
+        async with BrowserSession() as session, session.editor() as own:
+            return await plan_suite(suite, tasks, out, on_task, own)
+    plans = SuitePlans(suite=suite.name, root=str(suite.root), tasks=[])
+    for task in tasks:
+        record = await _plan_task(editor, task, out)
+        plans = plans.model_copy(update={"tasks": [*plans.tasks, record]})
+        write_atomic(out / PLANS_FILE, plans.model_dump_json(indent=2).encode())
+        if on_task is not None:
+            on_task(record)
+    return plans
 
 
 async def _plan_task(editor: Editor, task: Task, out: Path) -> TaskPlanRecord:

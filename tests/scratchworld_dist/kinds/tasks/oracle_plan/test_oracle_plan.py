@@ -83,30 +83,6 @@ async def test_planned_trajectories_solve_our_suite_and_are_not_longer_than_the_
         assert result.success, (task.id, result.model_dump(include={"passed", "total", "error"}))
 
 
-@pytest.mark.browser
-async def test_planning_in_lanes_gives_the_same_plans_in_the_order_of_the_tasks(tmp_path: Path, editor: Editor) -> None:
-    """Tasks planned two at a time, each in an editor of its own, give the plans one editor gives, and plans.json
-    lists them in the order of the tasks whatever order they finished in."""
-    suite = load_suite(SUITE_DIR)
-    tasks = list(suite.tasks)[:3]
-    (tmp_path / "alone").mkdir()
-    (tmp_path / "lanes").mkdir()
-    alone = await plan_suite(suite, tasks, tmp_path / "alone", editor=editor)
-    finished: list[str] = []
-    in_lanes = await plan_suite(suite, tasks, tmp_path / "lanes", lambda r: finished.append(r.task_id), lanes=2)
-    assert sorted(finished) == sorted(t.id for t in tasks)
-    assert [r.task_id for r in in_lanes.tasks] == [t.id for t in tasks]
-    on_disk = json.loads((tmp_path / "lanes" / "plans.json").read_text())
-    assert [r["task_id"] for r in on_disk["tasks"]] == [t.id for t in tasks]
-    for one, other in zip(alone.tasks, in_lanes.tasks, strict=True):
-        assert one.model_dump(exclude={"seconds"}) == other.model_dump(exclude={"seconds"})
-        assert (tmp_path / "alone" / f"{one.task_id}.json").read_bytes() == (
-            tmp_path / "lanes" / f"{other.task_id}.json"
-        ).read_bytes()
-    with pytest.raises(ValueError, match="lanes"):
-        await plan_suite(suite, tasks, tmp_path / "lanes", lanes=0)
-
-
 def fixed_project() -> bytes:
     """The golden of the hard case: a variable, a reordered loop holding a reporter, a moved and edited block."""
     project = Project()
