@@ -136,7 +136,7 @@ class JobWorker:
                 browser = await self.browser()
                 if browser.pool is not None:
                     await browser.pool.fill(editors)
-                if calls_models:  # agents that wait on models: their evaluations run in the low-priority browser
+                if calls_models and editors > 1:  # evaluations give way only to other agents of this worker
                     await browser.start_background()
             except (EditorError, PlaywrightError):
                 pass  # the first episode opens its own editor, or reports why it cannot

@@ -17,7 +17,15 @@ from tests.support.openai_server import OpenAIServer, reply, status
 from workers.agent_api import TaskContext
 from workers.agents import EpisodeModels, LLMAgent
 from workers.agents._coordinates import smart_resize, to_page
-from workers.contract import LLMSettings, Mode, ModelSpec, ObservationSettings, PrimitiveObservation, RetryPolicy
+from workers.contract import (
+    EpisodeClock,
+    LLMSettings,
+    Mode,
+    ModelSpec,
+    ObservationSettings,
+    PrimitiveObservation,
+    RetryPolicy,
+)
 from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 from workers.kinds.tasks._runner import ACTION_LEAD_MS
 from workers.llm import load_litellm
@@ -56,6 +64,7 @@ def episode(
     model: str = "openai/gpt-4o-mini",
     llm: LLMSettings | None = None,
     max_steps: int = 40,
+    clock: EpisodeClock | None = None,
 ) -> EpisodeSpec:
     spec = ModelSpec(name="m", model=model, api_base=server.url, api_key_env=KEY_ENV)
     settings = (llm or LLMSettings()).model_copy(update={"retry": FAST})
@@ -70,6 +79,7 @@ def episode(
             max_steps=max_steps,
             observation=observation,
             llm=settings,
+            episode_clock=clock,
         )
     )
     return worker_job(job, 1, 300)
@@ -125,7 +135,7 @@ async def test_canned_replies_solve_a_task_in_composite_mode(
     replies[0] = dataclasses.replace(replies[0], reasoning="First the hat block.")  # as reasoning models send it
     server.push(*replies)
     server.push(reply(answer({"api": "done", "args": {}}), prompt_tokens=1000, completion_tokens=100))
-    spec = episode(content, server)
+    spec = episode(content, server, clock=EpisodeClock(mode="virtual"))
     result = await episode_runner.run(spec, content.payload, LLMAgent())
 
     assert result.outcome == "passed", result.evaluation

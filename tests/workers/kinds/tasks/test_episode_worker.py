@@ -399,13 +399,15 @@ async def test_a_worker_whose_agents_call_models_starts_its_low_priority_browser
     evaluation pages: started once agents act, it held up their steps by seconds."""
     await worker.warm(1, calls_models=True)
     browser = worker._browser
-    assert browser is not None and browser.pool is not None and len(browser.pool._ready["editor"]) == 1
+    assert browser is not None and browser.background is None  # one page: no other agent to give way to
+    await worker.warm(2, calls_models=True)
+    assert browser.pool is not None and len(browser.pool._ready["editor"]) == 2
     background = browser.background
     assert background is not None and background.pool is not None
     assert len(background.pool._ready["bare"]) == EVALUATIONS_AT_ONCE
     threads = threads_by_class(await background.session.browser_pid())
     assert threads.get(False, set()) == set() and threads[True]  # every thread in the idle class
-    assert browser.editors_held == 1 + EVALUATIONS_AT_ONCE
+    assert browser.editors_held == 2 + EVALUATIONS_AT_ONCE
 
 
 async def test_an_evaluation_gives_way_to_episodes_still_acting(
