@@ -163,7 +163,8 @@ def _hostile_suite_name(run: Path) -> str:
     return "evil [/x] [bold]suite"
 
 
-REWRITTEN_BY_RUN = frozenset({"manifest.json", "report.md"})
+REWRITTEN_BY_RUN = frozenset({"manifest.json", "report.md", "events.jsonl"})
+"""What ``run`` on a finished run writes: its session in the manifest, the report, the session's events."""
 
 DAMAGES = [
     Damage("truncated-shard", _truncate_shard, refused_by_all("unreadable shard")),
