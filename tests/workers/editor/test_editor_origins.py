@@ -13,7 +13,12 @@ from tests.support.browser_pages import crash_renderer
 from tests.support.loopback import LoopbackListener
 from workers.contract import EditorCrashedError
 from workers.editor import BrowserConfig, BrowserSession, Editor
-from workers.editor._browser import FEATURES_ENABLED, PLAYWRIGHT_FEATURES_DISABLED, PLAYWRIGHT_FEATURES_ENABLED
+from workers.editor._browser import (
+    FEATURES_DISABLED,
+    FEATURES_ENABLED,
+    PLAYWRIGHT_FEATURES_DISABLED,
+    PLAYWRIGHT_FEATURES_ENABLED,
+)
 from workers.node import BARE_PAGE, EDITOR_PAGE
 
 pytestmark = pytest.mark.browser
@@ -142,7 +147,7 @@ async def test_chromium_keeps_playwrights_feature_switches_and_ours(session: Bro
     argv = psutil.Process(await session.browser_pid()).cmdline()
     for switch, playwrights, ours in (
         ("--enable-features=", PLAYWRIGHT_FEATURES_ENABLED, FEATURES_ENABLED),
-        ("--disable-features=", PLAYWRIGHT_FEATURES_DISABLED, ()),
+        ("--disable-features=", PLAYWRIGHT_FEATURES_DISABLED, FEATURES_DISABLED),
     ):
         lists = [arg.removeprefix(switch).split(",") for arg in argv if arg.startswith(switch)]
         assert len(lists) == 2, lists  # Playwright's, then ours
@@ -160,3 +165,17 @@ async def test_fresh_context_isolation_stays_selectable() -> None:
         assert first.page.url == second.page.url == f"{session.editor_url.rsplit('/', 1)[0]}/{BARE_PAGE}"
         await first.page.evaluate(WRITE)
         assert await second.page.evaluate(READ) == NOTHING
+
+
+async def test_an_editor_page_runs_in_one_renderer_with_no_address_bar_popups(session: BrowserSession) -> None:
+    """``FEATURES_DISABLED``: the SVG-import sandbox iframe stays in its page's process (an out-of-process frame
+    would be a target of its own) and no window preloads the address bar's WebUI popups."""
+    async with session.editor() as first, session.editor() as second:
+        for editor in (first, second):  # the sandbox exists once the editor has warmed it
+            await editor.page.wait_for_function("() => document.querySelector('iframe[sandbox]') !== null")
+        browser = first.page.context.browser
+        assert browser is not None
+        cdp = await browser.new_browser_cdp_session()
+        targets = (await cdp.send("Target.getTargets"))["targetInfos"]
+        await cdp.detach()
+    assert not [t["url"] for t in targets if t["type"] in ("iframe", "browser_ui")], targets

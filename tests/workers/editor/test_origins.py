@@ -7,6 +7,7 @@ import pytest
 
 from workers.editor import BrowserConfig
 from workers.editor._browser import (
+    FEATURES_DISABLED,
     FEATURES_ENABLED,
     ISOLATION_ENV,
     PLAYWRIGHT_FEATURES_DISABLED,
@@ -39,7 +40,7 @@ def test_our_feature_switches_come_last_and_carry_playwrights_and_any_extra_ones
     enabled = [a for a in args if a.startswith("--enable-features=")]
     disabled = [a for a in args if a.startswith("--disable-features=")]
     assert enabled == [f"--enable-features={','.join((*PLAYWRIGHT_FEATURES_ENABLED, *FEATURES_ENABLED, 'Extra'))}"]
-    assert disabled == [f"--disable-features={','.join((*PLAYWRIGHT_FEATURES_DISABLED, 'Off'))}"]
+    assert disabled == [f"--disable-features={','.join((*PLAYWRIGHT_FEATURES_DISABLED, *FEATURES_DISABLED, 'Off'))}"]
     assert args[-2:] == [*enabled, *disabled]
 
 
