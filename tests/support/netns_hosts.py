@@ -49,14 +49,14 @@ _INIT = (
 
 _MOUNTS = (
     "set -e\n"
-    "hostname \"$1\"\n"
+    'hostname "$1"\n'
     "mount -t tmpfs -o mode=1777,size=2g sw-tmp /tmp\n"
     "mount -t tmpfs -o mode=1777,size=1g sw-shm /dev/shm\n"
     "mkdir -p -m 700 /tmp/home\n"
-    "mount --bind \"$2\" \"$2\"\n"
-    "mount -o remount,bind,ro \"$2\"\n"
+    'mount --bind "$2" "$2"\n'
+    'mount -o remount,bind,ro "$2"\n'
     "shift 2\n"
-    "exec \"$@\"\n"
+    'exec "$@"\n'
 )
 """Run in the host's fresh mount namespace before its first process: private /tmp, /dev/shm, home; the
 checkout read-only."""
@@ -100,7 +100,8 @@ class Host:
         line = self._starter.stdout.readline()
         if line.strip() != "ready":
             self._starter.kill()
-            raise RuntimeError(f"{self.name} did not start: {line}{self._starter.stderr.read() if self._starter.stderr else ''}")
+            _, errors = self._starter.communicate(timeout=30)
+            raise RuntimeError(f"{self.name} did not start: {line}{errors}")
         self.pid = self._init_pid()
         """The host's first process, as this machine's PID namespace numbers it."""
 
@@ -131,7 +132,7 @@ class Host:
         """Kill every process of this host: SIGKILL to its PID namespace's first process takes them all."""
         with contextlib.suppress(ProcessLookupError):
             os.kill(self.pid, signal.SIGKILL)
-        self._starter.wait(timeout=30)
+        self._starter.communicate(timeout=30)  # also closes its pipes
 
 
 class IsolatedHosts:
