@@ -1,11 +1,14 @@
 """A sweep across hosts that share nothing, and a partition of one of them (root only).
 
-    sudo .venv/bin/python benchmarks/chaos_hosts.py [--tasks 12] [--seeds 1] [--slots 1] [--cut-after 2] [--mend]
+    sudo .venv/bin/python benchmarks/chaos_hosts.py [--agent oracle|llm] [--tasks 12] [--seeds 1] [--slots 1]
+        [--cut-after 2] [--mend] [--keep DIR]
 
 Makes ``--workers`` + 1 hosts (``tests/support/netns_hosts.py``: each its own network namespace and address
 in 10.201.0.0/24, its own /tmp, /dev/shm, home, processes and hostname; the checkout shared read-only) and
 runs docs/cluster.md's recipe on them: the head (no browsers) and the driver on host-0, ``--slots`` editors
-on each other host. The sweep (oracle agent, composite mode, our suite copied to host-0's disk) runs until
+on each other host. The sweep (composite mode, our suite copied to host-0's disk; the oracle agent, or with
+``--agent llm`` the llm agent against a model server on host-0's address that answers each task's golden
+trajectory, ``benchmarks/_chaos/host_model.py``, whose key only the worker hosts hold) runs until
 the last host has committed ``--cut-after`` verdicts and holds another job; then that host's link is taken
 down. With ``--mend`` the link comes back once the driver has named the node lost.
 
@@ -25,6 +28,7 @@ import tempfile
 import time
 from collections import Counter
 from pathlib import Path
+from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.support: the namespaces and the recipe
 
@@ -33,13 +37,15 @@ import yaml
 from scratchworld_dist.results import JobRow, JobStart, NodeLost, RunStore, read_events
 from scratchworld_dist.suites import load_suite
 from tests.support.netns_cluster import HostCluster
-from tests.support.netns_hosts import IsolatedHosts, unavailable
+from tests.support.netns_hosts import Host, IsolatedHosts, unavailable
 
 REPO = Path(__file__).resolve().parents[1]
 RUNS = "/tmp/runs"
 """Run directories on the driver's own disk (an ``s3://`` URL once runs go to object storage)."""
 
 POLL_S = 0.2
+KEY_ENV = "SCRATCHWORLD_LLM_API_KEY"
+"""The model's key: in the worker hosts' environment only (where the llm agent calls the model)."""
 
 
 def held(folder: Path, hostname: str, verdicts: int) -> bool:
@@ -54,6 +60,25 @@ def held(folder: Path, hostname: str, verdicts: int) -> bool:
     return len(sent) > len(mine)
 
 
+def llm_sweep(host: Host) -> dict[str, Any]:
+    """The llm agent's part of the config, its model a server started on ``host``'s address."""
+    model = [sys.executable, str(REPO / "benchmarks" / "_chaos" / "host_model.py"), host.address, str(REPO / "tasks")]
+    server = subprocess.Popen(host.command(model, {"PYTHONDONTWRITEBYTECODE": "1"}), stdout=subprocess.PIPE, text=True)
+    assert server.stdout is not None
+    url = server.stdout.readline().strip()  # the server dies with its host
+    if not url.startswith("http://"):
+        raise RuntimeError(f"the model server on {host.name} did not start (exit {server.poll()})")
+    return {
+        "agent": "llm",
+        "models": [{
+            "model": "openai/replay", "name": "replay", "api_base": url, "api_key_env": KEY_ENV,
+            "temperature": 0, "max_tokens": 256,
+        }],
+        "llm": {"history_messages": 200},
+        "episodes": {"modes": ["composite"], "max_steps": 40},
+    }  # fmt: skip
+
+
 def per_minute(rows: list[JobRow], start: float, end: float) -> str:
     done = [row for row in rows if row.outcome != "error" and start <= row.finished_at.timestamp() < end]
     minutes = (end - start) / 60
@@ -62,6 +87,7 @@ def per_minute(rows: list[JobRow], start: float, end: float) -> str:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--agent", choices=("oracle", "llm"), default="oracle")
     parser.add_argument("--tasks", type=int, default=12, help="tasks of our suite (in its order)")
     parser.add_argument("--seeds", type=int, default=1)
     parser.add_argument("--workers", type=int, default=2, help="hosts with editors (the last one is cut)")
@@ -94,7 +120,7 @@ def main() -> int:
         cluster = HostCluster(driver_host)
         cluster.head()
         for host in workers:
-            cluster.node(host, args.slots)
+            cluster.node(host, args.slots, {KEY_ENV: "sk-local"})
         cluster.wait_for(nodes=len(hosts.hosts), browsers=args.slots * len(workers))
         mark(f"cluster up: head on {driver_host.name}, {args.slots} editor(s) on each of {len(workers)} host(s)")
 
@@ -104,6 +130,9 @@ def main() -> int:
             "output": f"{RUNS}/apart", "ray": {"address": cluster.address, "connect_timeout_s": 60},
             "limits": {"pages_per_worker": 1, "episode_timeout_s": 300, "retries": 2},
         }  # fmt: skip
+        if args.agent == "llm":
+            config.update(llm_sweep(driver_host))
+            mark(f"model server on {driver_host.name}: {config['models'][0]['api_base']}")
         driver_host.path("/tmp/apart.yaml").write_text(yaml.safe_dump(config))
         folder = driver_host.path(f"{RUNS}/apart")
         driver = cluster.driver("/tmp/apart.yaml", log)

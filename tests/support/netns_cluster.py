@@ -3,7 +3,7 @@
 The head (no browsers) runs on the first host, beside the driver (a Ray driver attaches to a node of its
 own host); worker nodes run on the others. Every node is plain ``ray start`` on its host's address, with
 token authentication on and the head's token copied into each host's home, as the recipe says. The head
-notices a lost node in seconds (``HEALTH_CHECKS``) rather than Ray's default half-minute.
+notices a lost node within seconds (``HEALTH_CHECKS``).
 """
 
 from __future__ import annotations
@@ -12,6 +12,7 @@ import json
 import secrets
 import subprocess
 import sys
+from collections.abc import Mapping
 from pathlib import Path
 
 from tests.support.netns_hosts import HOME, Host
@@ -21,9 +22,9 @@ SCRATCHWORLD = str(Path(sys.executable).with_name("scratchworld"))
 PORT = 6379
 """The head's GCS port: the hosts' ports are their own, so the recipe's default serves."""
 
-HEALTH_CHECKS = {"health_check_period_ms": 1000, "health_check_timeout_ms": 1000, "health_check_failure_threshold": 5}
-"""The head declares a node dead after about five seconds without an answer (Ray's default: 3 s x 5, plus
-10 s timeouts)."""
+HEALTH_CHECKS = {"health_check_period_ms": 1000, "health_check_timeout_ms": 2000, "health_check_failure_threshold": 5}
+"""The head declares a silent node dead after five failed checks, each waiting 2 s for an answer (about 15 s;
+Ray's defaults take longer), and a merely busy node on a loaded machine is still given its 2 s."""
 
 NODE_ENV = {"RAY_AUTH_MODE": "token", "PYTHONDONTWRITEBYTECODE": "1"}
 """Every node's environment: token authentication on (recipe step 4); nothing written into the checkout."""
@@ -58,10 +59,10 @@ class HostCluster:
         folder.mkdir(mode=0o700, exist_ok=True)
         (folder / "auth_token").write_text(self.token)
 
-    def _start(self, host: Host, *args: str) -> None:
+    def _start(self, host: Host, *args: str, env: Mapping[str, str] | None = None) -> None:
         self._give_token(host)
         command = [RAY, "start", f"--node-ip-address={host.address}", "--num-cpus=1", "--disable-usage-stats", *args]
-        done = host.run(command, NODE_ENV, timeout=180)
+        done = host.run(command, {**NODE_ENV, **(env or {})}, timeout=180)
         if done.returncode != 0:
             raise RuntimeError(f"ray start on {host.name} failed:\n{done.stdout}{done.stderr}")
 
@@ -72,8 +73,9 @@ class HostCluster:
             "--resources", '{"browser": 0}', f"--system-config={config}",
         )  # fmt: skip
 
-    def node(self, host: Host, browsers: int) -> None:
-        self._start(host, f"--address={self.address}", "--resources", json.dumps({"browser": browsers}))
+    def node(self, host: Host, browsers: int, env: Mapping[str, str] | None = None) -> None:
+        """A worker node; ``env``: more of its environment, which its workers inherit (a model's key)."""
+        self._start(host, f"--address={self.address}", "--resources", json.dumps({"browser": browsers}), env=env)
         self.nodes[host.name] = host
 
     def wait_for(self, nodes: int, browsers: int, timeout_s: float = 120) -> None:
@@ -83,9 +85,12 @@ class HostCluster:
         if done.returncode != 0:
             raise RuntimeError(f"the cluster at {self.address} did not show {nodes} node(s): {done.stderr[-2000:]}")
 
-    def driver(self, config: str, log: Path, *args: str) -> subprocess.Popen[bytes]:
+    def driver(
+        self, config: str, log: Path, *args: str, env: Mapping[str, str] | None = None
+    ) -> subprocess.Popen[bytes]:
         """``scratchworld run CONFIG`` on the driver's host (``config``: a path there), its output in ``log``
         (a path of the test's): started outside the checkout, with the token in its home."""
-        command = self.driver_host.command([SCRATCHWORLD, "run", config, *args], {"PYTHONDONTWRITEBYTECODE": "1"})
+        environment = {"PYTHONDONTWRITEBYTECODE": "1", **(env or {})}
+        command = self.driver_host.command([SCRATCHWORLD, "run", config, *args], environment)
         with log.open("wb") as out:
             return subprocess.Popen(command, stdout=out, stderr=subprocess.STDOUT)
