@@ -84,8 +84,8 @@ class SweepWatcher:
         )  # fmt: skip
         workers = f"worker(s) {', '.join(map(str, node.workers))}" if node.workers else "no worker of this run"
         self.console.print(
-            f"node lost: {node.name} left the cluster ({node.reason}); it held {workers}, "
-            "whose jobs in flight are sent to other workers",
+            f"node lost: {node.name} left the cluster ({node.reason}); it held {workers}: "
+            "their jobs in flight end as worker_died",
             markup=False,
             highlight=False,
             soft_wrap=True,

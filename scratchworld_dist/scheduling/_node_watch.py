@@ -83,7 +83,10 @@ class NodeWatch:
         if not force and now - self._checked < NODE_CHECK_S:
             return []
         self._checked = now
-        nodes = ray.nodes()
+        try:
+            nodes = ray.nodes()
+        except (RayError, RuntimeError, OSError):  # the head did not answer: look again next time
+            return []
         gone = [node for node in nodes if not node.get("Alive") and node["NodeID"] in self._alive]
         self._alive = {node["NodeID"]: node for node in nodes if node.get("Alive")}
         if not gone:

@@ -276,6 +276,7 @@ class Scheduler(Generic[J]):
                 if time.monotonic() - down.since < self.timeout_s:
                     down.probe = self.pool.handles[worker].info.remote()
                     continue
+                self.nodes.locate(worker, self.pool.handles[worker].info.remote())  # taken back unheard: ask again
             else:
                 if isinstance(answer, WorkerInfo):  # back after a restart, perhaps on another node
                     self.nodes.locate(worker, answer)

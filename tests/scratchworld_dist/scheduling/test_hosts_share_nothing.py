@@ -134,8 +134,8 @@ def test_a_sweep_across_hosts_that_share_nothing_survives_a_partition(tmp_path: 
     said = [line for line in out.splitlines() if line.startswith("node lost: ")]
     assert said == [
         f"node lost: {second.name} ({second.address}, node {node_lost.node_id[:8]}) left the cluster "
-        f"({node_lost.reason}); it held worker(s) {', '.join(map(str, node_lost.workers))}, "
-        "whose jobs in flight are sent to other workers"
+        f"({node_lost.reason}); it held worker(s) {', '.join(map(str, node_lost.workers))}: "
+        "their jobs in flight end as worker_died"
     ], out
 
     manifest = read_manifest(folder)
