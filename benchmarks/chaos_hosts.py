@@ -194,7 +194,8 @@ def main() -> int:
         print()
         print(f"verdicts by host: {dict(hosts_on)}; error attempts: {len(errors)}")
         if cut_at is not None:
-            print(f"before the cut: {per_minute(rows, sweep_began, cut_at)}")
+            first_sent = min(row.started_at.timestamp() for row in rows)  # after the workers opened their editors
+            print(f"before the cut: {per_minute(rows, first_sent, cut_at)} from the first job sent")
             print(f"after the cut:  {per_minute(rows, cut_at, sweep_ended)}")
             resent = [r for r in again if r.started_at is not None]
             if lost_at is not None:
