@@ -33,8 +33,9 @@ from typing import Any
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.support: the namespaces and the recipe
 
 import yaml
+from pydantic import ValidationError
 
-from scratchworld_dist.results import JobRow, JobStart, NodeLost, RunStore, read_events
+from scratchworld_dist.results import JobRow, JobStart, NodeLost, RunEvent, RunStore, read_events
 from scratchworld_dist.suites import load_suite
 from tests.support.netns_cluster import HostCluster
 from tests.support.netns_hosts import Host, IsolatedHosts, unavailable
@@ -56,8 +57,16 @@ def held(folder: Path, hostname: str, verdicts: int) -> bool:
     if len(mine) < verdicts:
         return False
     workers = {row.worker_index for row in mine}
-    sent = [e for e in read_events(folder) if isinstance(e, JobStart) and e.worker in workers]
+    sent = [e for e in events_so_far(folder) if isinstance(e, JobStart) and e.worker in workers]
     return len(sent) > len(mine)
+
+
+def events_so_far(folder: Path) -> list[RunEvent]:
+    """The run's events; none when a line was being written as it was read (the next poll sees it)."""
+    try:
+        return read_events(folder)
+    except ValidationError:
+        return []
 
 
 def llm_sweep(host: Host) -> dict[str, Any]:
@@ -146,7 +155,7 @@ def main() -> int:
                 cut_at = time.time()
                 mark(f"{cut.name}'s link down ({cut.address}) after {args.cut_after} verdict(s) from it")
             if cut_at is not None and lost_at is None:
-                named = [e for e in read_events(folder) if isinstance(e, NodeLost)]
+                named = [e for e in events_so_far(folder) if isinstance(e, NodeLost)]
                 if named:
                     lost_at = named[0].time.timestamp()
                     mark(f"driver names {cut.name} lost ({lost_at - cut_at:.1f} s after the cut): {named[0].reason}")
