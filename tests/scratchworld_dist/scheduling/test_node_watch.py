@@ -25,7 +25,7 @@ from workers.contract import AgentRef, EpisodeClock, JobResult, SyntheticEpisode
 from workers.kinds import kind_fingerprint
 from workers.node import harness_fingerprint
 
-pytestmark = pytest.mark.ray
+pytestmark = [pytest.mark.ray, pytest.mark.slow]
 
 LOOPBACK = "127.0.0.1"
 HEALTH_CHECKS = {"health_check_period_ms": 500, "health_check_timeout_ms": 500, "health_check_failure_threshold": 4}
