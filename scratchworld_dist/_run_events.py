@@ -9,7 +9,8 @@ from typing import Any, Literal
 
 from rich.console import Console
 
-from scratchworld_dist.results import EventLog, JobError, JobFinish, JobRetry, JobStart, SweepEnd
+from scratchworld_dist.results import EventLog, JobError, JobFinish, JobRetry, JobStart, NodeLost, SweepEnd
+from scratchworld_dist.scheduling import LostNode
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import JobResult
 
@@ -73,6 +74,22 @@ class SweepWatcher:
                 highlight=False,
                 soft_wrap=True,
             )
+
+    def node_lost(self, node: LostNode) -> None:
+        self.events.write(
+            NodeLost(
+                session=self.session, node_id=node.node_id, address=node.address, hostname=node.hostname,
+                reason=node.reason, workers=list(node.workers),
+            )
+        )  # fmt: skip
+        workers = f"worker(s) {', '.join(map(str, node.workers))}" if node.workers else "no worker of this run"
+        self.console.print(
+            f"node lost: {node.name} left the cluster ({node.reason}); it held {workers}: "
+            "their jobs in flight end as worker_died",
+            markup=False,
+            highlight=False,
+            soft_wrap=True,
+        )
 
     def end(
         self,

@@ -3,7 +3,8 @@ shipper, a dashboard, ``tail -f | jq``) without reading its tables.
 
 Every ``run`` session appends: ``sweep_start``, then per attempt ``job_start`` and one of ``job_finish`` (a verdict),
 ``job_retry`` (an error that is sent again) or ``job_error`` (an error after its last retry), then ``sweep_end``
-(also when the run stops on an exception or Ctrl-C). A job's events follow the commit of its rows, so an event
+(also when the run stops on an exception or Ctrl-C); ``node_lost`` when a node leaves the cluster meanwhile
+(Ray declared it dead: a crash, a partition). A job's events follow the commit of its rows, so an event
 never names a result the tables do not hold. Each line is one of the models below (``RunEvent``), told apart by
 ``event``.
 """
@@ -83,6 +84,18 @@ class JobError(_JobEvent):
     cost_usd: float
 
 
+class NodeLost(_Event):
+    event: Literal["node_lost"] = "node_lost"
+    node_id: str
+    address: str
+    hostname: str
+    reason: str
+    """Ray's words for why it dropped the node (e.g. its health checks failed)."""
+
+    workers: list[int]
+    """The run's workers that were on it; their jobs in flight are retried on other workers."""
+
+
 class SweepEnd(_Event):
     event: Literal["sweep_end"] = "sweep_end"
     status: Literal["finished", "interrupted", "failed"]
@@ -97,7 +110,9 @@ class SweepEnd(_Event):
     seconds: float
 
 
-RunEvent = Annotated[SweepStart | JobStart | JobFinish | JobRetry | JobError | SweepEnd, Field(discriminator="event")]
+RunEvent = Annotated[
+    SweepStart | JobStart | JobFinish | JobRetry | JobError | NodeLost | SweepEnd, Field(discriminator="event")
+]
 EVENT_ADAPTER: TypeAdapter[RunEvent] = TypeAdapter(RunEvent)
 """Reads one line of ``events.jsonl`` (``EVENT_ADAPTER.validate_json(line)``)."""
 
@@ -109,7 +124,7 @@ class EventLog:
         self.path = run_dir / EVENTS_NAME
         self._file = self.path.open("a", encoding="utf-8")
 
-    def write(self, event: SweepStart | JobStart | JobFinish | JobRetry | JobError | SweepEnd) -> None:
+    def write(self, event: SweepStart | JobStart | JobFinish | JobRetry | JobError | NodeLost | SweepEnd) -> None:
         self._file.write(event.model_dump_json() + "\n")
         self._file.flush()
 

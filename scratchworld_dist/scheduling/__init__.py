@@ -2,6 +2,7 @@
 worker pool, the driver loop and its progress line."""
 
 from scratchworld_dist.scheduling._admission import admitted_slots, derive_local, pages_per_worker
+from scratchworld_dist.scheduling._node_watch import LostNode, NodeWatch
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.scheduling._preflight import (
@@ -30,7 +31,9 @@ from scratchworld_dist.scheduling._scheduler import Scheduler, SchedulerStats, S
 __all__ = [
     "BROWSER_RESOURCE",
     "PROGRESS_MODES",
+    "LostNode",
     "ModelCalls",
+    "NodeWatch",
     "PreflightError",
     "ProgressMode",
     "ProgressOptions",

@@ -6,7 +6,9 @@ a dead worker costs only its own jobs. Failures are classified, never lost:
 - a worker that dies (OOM, crash, kill) fails its calls with ``RayActorError``; those attempts
   are recorded as ``worker_died`` and retried, and Ray restarts the worker. Until it answers
   again it gets no job: Ray fails every call sent to a restarting actor, so it would otherwise
-  turn the queue into ``worker_died`` errors for as long as its restart takes;
+  turn the queue into ``worker_died`` errors for as long as its restart takes. A node that leaves
+  the cluster (a crash, a partition) takes its workers along: the watcher hears which node it was
+  (``NodeWatch``), and its jobs' errors name it;
 - a worker that stops answering past a job's timeout plus a grace period is restarted by the
   driver; the overdue job is recorded as ``episode_timeout``, its neighbours are re-sent as the
   same attempt (they did nothing wrong);
@@ -32,12 +34,14 @@ from typing import Generic, Protocol, TypeVar
 import ray
 from ray.exceptions import GetTimeoutError, RayActorError, RayError
 
+from scratchworld_dist.scheduling._node_watch import LostNode, NodeWatch
 from scratchworld_dist.scheduling._pool import WorkerPool
 from workers.contract import (
     PERMANENT_ERRORS,
     ErrorClass,
     JobResult,
     Refusal,
+    WorkerInfo,
     WorkerJob,
     WorkerLoad,
 )
@@ -75,6 +79,9 @@ class SchedulerWatcher(Protocol[J_contra]):
 
     def finished(self, job: J_contra, result: JobResult, *, retried: bool) -> None:
         """The attempt ended and its result is committed; ``retried``: an error the scheduler sends again."""
+
+    def node_lost(self, node: LostNode) -> None:
+        """``node`` left the cluster (Ray declared it dead); its workers take no job until Ray restarts them."""
 
 
 @dataclass
@@ -120,6 +127,9 @@ class SchedulerStats:
     cost_usd: float = 0.0
     not_started: int = 0
     """Jobs left unstarted because the budget was reached."""
+
+    nodes_lost: int = 0
+    """Nodes that left the cluster during the run (their jobs were sent again elsewhere)."""
 
     declined: int = 0
     """Times a worker declined a job because its node was short of memory (the job was sent again)."""
@@ -173,6 +183,9 @@ class Scheduler(Generic[J]):
         self._down: dict[int, _Down] = {}
         self._paused: dict[int, ray.ObjectRef] = {}
         """Workers whose node is short of memory, and the call that answers once it has enough again."""
+        self.nodes = NodeWatch()
+        for worker, handle in enumerate(pool.handles):
+            self.nodes.locate(worker, handle.info.remote())
 
     def run(self, jobs: Iterable[tuple[J, int]]) -> None:
         """Run each (job, first attempt) to a final outcome or until its retries are spent."""
@@ -181,6 +194,7 @@ class Scheduler(Generic[J]):
         if self.open_editors or self.calls_models:
             self._warm(len(queue))
         while queue or self._flights:
+            self._check_nodes()
             self._probe_down()
             self._probe_paused()
             while queue and len(self._flights) < self.capacity and not self.over_budget:
@@ -257,13 +271,24 @@ class Scheduler(Generic[J]):
             if not ready:
                 continue
             try:
-                ray.get(down.probe)
+                answer = ray.get(down.probe)
             except RayError:
                 if time.monotonic() - down.since < self.timeout_s:
                     down.probe = self.pool.handles[worker].info.remote()
                     continue
+                self.nodes.locate(worker, self.pool.handles[worker].info.remote())  # taken back unheard: ask again
+            else:
+                if isinstance(answer, WorkerInfo):  # back after a restart, perhaps on another node
+                    self.nodes.locate(worker, answer)
             del self._down[worker]
         self.stats.warming = sum(down.warming for down in self._down.values())
+
+    def _check_nodes(self, force: bool = False) -> None:
+        """Say which nodes left the cluster since the last look."""
+        for node in self.nodes.check(force):
+            self.stats.nodes_lost += 1
+            if self.watcher is not None:
+                self.watcher.node_lost(node)
 
     def _pause(self, worker: int) -> None:
         self.stats.declined += 1
@@ -322,7 +347,13 @@ class Scheduler(Generic[J]):
             self._mark_down(flight.worker)
             if flight.collateral:
                 return None
-            return self._lost(flight, "worker_died", f"the worker died during the episode: {_first_line(exc)}")
+            self._check_nodes(force=True)
+            node = self.nodes.lost_with(flight.worker)
+            if node is not None:
+                message = f"the worker's node {node.name} left the cluster during the episode: {node.reason}"
+            else:
+                message = f"the worker died during the episode: {_first_line(exc)}"
+            return self._lost(flight, "worker_died", message)
         except (RayError, GetTimeoutError) as exc:
             return self._lost(flight, "internal_error", f"{type(exc).__name__}: {_first_line(exc)}")
 

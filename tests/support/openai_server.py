@@ -3,7 +3,8 @@
 Each request takes the next behaviour from the script (the ``default`` once it runs out): a reply,
 an HTTP error, a hang, a dropped connection or a malformed body. Every request is recorded with
 its headers, JSON body and arrival time so tests can assert counts, headers, forwarded parameters
-and pacing. The server is a stdlib ``ThreadingHTTPServer`` on 127.0.0.1 with an ephemeral port.
+and pacing. The server is a stdlib ``ThreadingHTTPServer`` on 127.0.0.1 (or another address of a network
+namespace a test made) with an ephemeral port.
 """
 
 from __future__ import annotations
@@ -110,8 +111,11 @@ class OpenAIServer:
         script: Iterable[Behaviour] = (),
         default: Behaviour | None = None,
         responder: Callable[[dict[str, Any]], Behaviour] | None = None,
+        host: str = "127.0.0.1",
     ) -> None:
-        """``responder``, when given, answers each request (by its JSON body) once the script has run out."""
+        """``responder``, when given, answers each request (by its JSON body) once the script has run out;
+        ``host``: the address to listen on (loopback, but for hosts a test made: ``tests/support/netns_hosts.py``)."""
+        self.host = host
         self._script: deque[Behaviour] = deque(script)
         self.default = default or reply()
         self.responder = responder
@@ -127,7 +131,7 @@ class OpenAIServer:
 
     def start(self) -> OpenAIServer:
         handler = type("Handler", (_Handler,), {"owner": self})
-        self._httpd = _QuietServer(("127.0.0.1", 0), handler)
+        self._httpd = _QuietServer((self.host, 0), handler)
         self._thread = threading.Thread(
             target=self._httpd.serve_forever, kwargs={"poll_interval": 0.05}, name="openai-test-server", daemon=True
         )
@@ -156,7 +160,7 @@ class OpenAIServer:
     def url(self) -> str:
         """The ``api_base`` to give a client (ends in ``/v1``)."""
         assert self._httpd is not None, "server not started"
-        return f"http://127.0.0.1:{self._httpd.server_address[1]}/v1"
+        return f"http://{self.host}:{self._httpd.server_address[1]}/v1"
 
     def hold(self) -> None:
         """Keep every reply (scripted or not) waiting until ``release``; requests are still recorded."""
