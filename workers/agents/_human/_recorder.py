@@ -96,9 +96,12 @@ class GestureRecorder:
     def _mouse(self, event: MouseEvent, now: float) -> list[PrimitiveAction]:
         if event.event == "down":
             double = event.clicks >= 2 and self._click is not None and self._near(self._click[0], event)
+            first = self._click[0].args if double and self._click is not None else None
             done = self._others(keep_click=double)
             self._click = None
             self._press = _Press(event, now, double)
+            if first is not None:  # a double click is where its first click was
+                self._press.start = (float(first["x"]), float(first["y"]))  # type: ignore[arg-type]
             return done
         press = self._press
         if press is None:
