@@ -92,14 +92,13 @@ def play_command(
         f"ssh -L {port}:127.0.0.1:{port} THIS_HOST). Time limit: {time_limit:g} s."
     )
     summary = run_sweep(config)
-    outcomes = summary.outcomes
-    if outcomes.get("error"):
+    from scratchworld_dist.results import RunStore, effective_rows
+
+    rows = list(effective_rows(RunStore(summary.run_dir).job_rows()))
+    outcome = rows[0].outcome if rows else "error"
+    if outcome == "error":
         click.echo(f"No verdict (an error); run the same command again to play it again. Results: {summary.run_dir}")
         raise click.exceptions.Exit(EXIT_NO_VERDICT)
-    if outcomes.get("passed"):
-        click.echo(f"Passed. Results: {summary.run_dir}")
-        return
-    if outcomes.get("failed"):
-        click.echo(f"Failed. Results: {summary.run_dir}")
+    click.echo(f"{outcome.capitalize()}. Results: {summary.run_dir} (scratchworld view {summary.run_dir})")
+    if outcome != "passed":
         raise click.exceptions.Exit(EXIT_NOT_PASSED)
-    click.echo(f"Already decided before: see scratchworld report {summary.run_dir}")
