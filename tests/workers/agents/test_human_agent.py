@@ -138,6 +138,7 @@ async def oracle_gestures(pool: EditorPool, content: TaskContent) -> list[Primit
         return (await drive(editor, oracle)).actions
 
 
+@pytest.mark.slow
 async def test_the_oracles_gestures_made_through_the_page_solve_the_task_and_are_its_steps(
     episode_runner: EpisodeRunner, shared_pool: EditorPool, person_browser: Browser
 ) -> None:

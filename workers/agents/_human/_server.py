@@ -65,6 +65,7 @@ class PageServer:
         self.port = self._runner.addresses[0][1]
 
     async def stop(self) -> None:
+        await asyncio.gather(*self._sends, return_exceptions=True)  # the last word ("ended") reaches every page
         for socket in list(self._sockets):
             await socket.close()
         if self._runner is not None:
