@@ -8,18 +8,27 @@ import asyncio
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
 from playwright.async_api import Browser, Page, async_playwright
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
+from scratchworld_dist.results import RunStore, record_of
 from scratchworld_dist.suites import load_suite
-from scratchworld_dist.sweep import worker_job
+from scratchworld_dist.sweep import JobSpec, worker_job
 from tests.conftest import SUITE_DIR, primitive_editor
 from tests.support.primitive_oracle import drive
 from workers.agents._human import HumanAgent
 from workers.agents._primitive_oracle import PrimitiveOracle
-from workers.contract import PERMANENT_ERRORS, AgentRef, EpisodeClock, JobResult, PrimitiveAction
+from workers.contract import (
+    PERMANENT_ERRORS,
+    AgentRef,
+    EpisodeClock,
+    JobResult,
+    ObservationSettings,
+    PrimitiveAction,
+)
 from workers.editor import BrowserConfig, EditorPool
 from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 from workers.primitive._gestures import key_name
@@ -35,7 +44,7 @@ def task(task_id: str) -> TaskContent:
     return read_task(load_suite(SUITE_DIR).task(task_id))
 
 
-def episode(content: TaskContent, participant: str = "tester") -> EpisodeSpec:
+def planned(content: TaskContent, participant: str = "tester") -> JobSpec:
     (job,) = plan_jobs(
         EpisodeMatrix(
             models=[None],
@@ -45,9 +54,14 @@ def episode(content: TaskContent, participant: str = "tester") -> EpisodeSpec:
             seeds=[0],
             max_steps=50,
             episode_clock=EpisodeClock(mode="real"),
+            observation=ObservationSettings(ocr="none"),  # DOM-only element lists: what a person sees is the page
         )
     )
-    return worker_job(job, 1, 120)
+    return job
+
+
+def episode(content: TaskContent, attempt: int = 1) -> EpisodeSpec:
+    return worker_job(planned(content), attempt, 120)  # type: ignore[return-value]
 
 
 @pytest.fixture(scope="module")
@@ -106,12 +120,12 @@ class Person:
 
 @asynccontextmanager
 async def playing(
-    runner: EpisodeRunner, content: TaskContent, browser: Browser, agent: HumanAgent | None = None
+    runner: EpisodeRunner, content: TaskContent, browser: Browser, agent: HumanAgent | None = None, attempt: int = 1
 ) -> AsyncIterator[tuple[Person, asyncio.Task[JobResult]]]:
-    """The episode running, and the person at its page once it is served."""
+    """The episode running (as attempt ``attempt``), and the person at its page once it is served."""
     agent = agent or HumanAgent(HumanAgent.Params(participant="tester"))
     agent.port = 0  # any free port: tests run side by side
-    running = asyncio.ensure_future(runner.run(episode(content), content.payload, agent))
+    running = asyncio.ensure_future(runner.run(episode(content, attempt), content.payload, agent))
     opened = asyncio.ensure_future(agent.opened.wait())
     await asyncio.wait([running, opened], return_when=asyncio.FIRST_COMPLETED)
     if running.done():
@@ -193,7 +207,7 @@ async def test_giving_up_fails_the_task(episode_runner: EpisodeRunner, person_br
 
 
 async def test_a_page_closed_for_good_is_an_error_that_resumes(
-    episode_runner: EpisodeRunner, person_browser: Browser
+    episode_runner: EpisodeRunner, person_browser: Browser, tmp_path: Path
 ) -> None:
     content = task(SOLVED_TASK)
     agent = HumanAgent(HumanAgent.Params(participant="tester"))
@@ -206,7 +220,20 @@ async def test_a_page_closed_for_good_is_an_error_that_resumes(
         result = await running
     assert (result.outcome, result.error_class) == ("error", "participant_left")
     assert "closed" in (result.error_message or "")
-    assert result.error_class not in PERMANENT_ERRORS  # retried, and run again by a resume (errors are undecided)
+    assert result.error_class not in PERMANENT_ERRORS  # retried within the run
     key, left = result.steps
     assert (key.action, key.args) == ("key", {"key": "ArrowRight"})
     assert left.error_code == "participant_left"
+    # A resume runs the job again, as its next attempt; the person's verdict then decides it.
+    job, store = planned(content), RunStore(tmp_path / "run")
+    store.open_for_writing()
+    store.commit(record_of(job, result, run_name="human", suite_hash="suite", artifact_dir=None))
+    assert store.undecided([job]) == [(job, 2)]
+    async with playing(episode_runner, content, person_browser, attempt=2) as (person, running):
+        await person.ready(0)
+        await person.page.click("#give-up")
+        again = await running
+    assert (again.attempt, again.outcome) == (2, "failed")
+    store.commit(record_of(job, again, run_name="human", suite_hash="suite", artifact_dir=None))
+    assert store.undecided([job]) == []
+    store.close()
