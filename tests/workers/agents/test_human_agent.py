@@ -26,6 +26,7 @@ from workers.contract import (
     AgentRef,
     EpisodeClock,
     JobResult,
+    Mode,
     ObservationSettings,
     PrimitiveAction,
 )
@@ -44,12 +45,12 @@ def task(task_id: str) -> TaskContent:
     return read_task(load_suite(SUITE_DIR).task(task_id))
 
 
-def planned(content: TaskContent, participant: str = "tester") -> JobSpec:
+def planned(content: TaskContent, mode: Mode = "primitive") -> JobSpec:
     (job,) = plan_jobs(
         EpisodeMatrix(
             models=[None],
-            modes=["primitive"],
-            agent=AgentRef(name="human", params={"participant": participant}),
+            modes=[mode],
+            agent=AgentRef(name="human", params={"participant": "tester"}),
             tasks=[content],
             seeds=[0],
             max_steps=50,
@@ -60,8 +61,8 @@ def planned(content: TaskContent, participant: str = "tester") -> JobSpec:
     return job
 
 
-def episode(content: TaskContent, attempt: int = 1) -> EpisodeSpec:
-    return worker_job(planned(content), attempt, 120)  # type: ignore[return-value]
+def episode(content: TaskContent, attempt: int = 1, mode: Mode = "primitive") -> EpisodeSpec:
+    return worker_job(planned(content, mode), attempt, 120)  # type: ignore[return-value]
 
 
 @pytest.fixture(scope="module")
@@ -120,12 +121,17 @@ class Person:
 
 @asynccontextmanager
 async def playing(
-    runner: EpisodeRunner, content: TaskContent, browser: Browser, agent: HumanAgent | None = None, attempt: int = 1
+    runner: EpisodeRunner,
+    content: TaskContent,
+    browser: Browser,
+    agent: HumanAgent | None = None,
+    attempt: int = 1,
+    mode: Mode = "primitive",
 ) -> AsyncIterator[tuple[Person, asyncio.Task[JobResult]]]:
     """The episode running (as attempt ``attempt``), and the person at its page once it is served."""
     agent = agent or HumanAgent(HumanAgent.Params(participant="tester"))
     agent.port = 0  # any free port: tests run side by side
-    running = asyncio.ensure_future(runner.run(episode(content, attempt), content.payload, agent))
+    running = asyncio.ensure_future(runner.run(episode(content, attempt, mode), content.payload, agent))
     opened = asyncio.ensure_future(agent.opened.wait())
     await asyncio.wait([running, opened], return_when=asyncio.FIRST_COMPLETED)
     if running.done():
@@ -188,9 +194,13 @@ async def test_the_oracles_gestures_made_through_the_page_solve_the_task_and_are
             assert {k: v for k, v in step.args.items() if k in gesture.args} == pytest.approx(gesture.args, abs=1.0)
 
 
-async def test_giving_up_fails_the_task(episode_runner: EpisodeRunner, person_browser: Browser) -> None:
+@pytest.mark.parametrize("mode", ["primitive", "composite"])
+async def test_giving_up_fails_the_task(episode_runner: EpisodeRunner, person_browser: Browser, mode: Mode) -> None:
+    """In either mode: the person works in the GUI, and their steps are gestures (the mode chooses what is
+    observed between them: a screenshot and element list, or the composite text)."""
     content = task(SOLVED_TASK)
-    async with playing(episode_runner, content, person_browser) as (person, running):
+    async with playing(episode_runner, content, person_browser, mode=mode) as (person, running):
+        assert await person.page.locator("#title").text_content() == f"{SOLVED_TASK} ({mode}), tester"
         await person.ready(0)
         x, y = await person.at(640, 400)
         await person.page.mouse.click(x, y)  # a click on the workspace: one step
@@ -200,7 +210,10 @@ async def test_giving_up_fails_the_task(episode_runner: EpisodeRunner, person_br
         await person.page.wait_for_function("document.body.dataset.ended === 'failed'")
     assert (result.outcome, result.stop_reason) == ("failed", "failed")
     click, failed = result.steps
-    assert (click.action, click.args) == ("click", {"x": 640.0, "y": 400.0})
+    assert (click.action, click.args, click.ok) == ("click", {"x": 640.0, "y": 400.0}, True)
+    assert click.observation is not None
+    assert (click.observation.screenshot is not None) == (mode == "primitive")
+    assert (click.observation.text is not None) == (mode == "composite")
     assert failed.action == "failed"
     assert result.evaluation is not None
     assert not result.evaluation.success
