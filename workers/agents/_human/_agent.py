@@ -21,7 +21,7 @@ from typing import ClassVar
 from pydantic import BaseModel, ConfigDict, Field
 
 from workers.agent_api import AgentBase, EpisodeEnd, StepResult, TaskContext
-from workers.agents._human._events import Decision, PageMessage
+from workers.agents._human._events import Decision, Ended, PageMessage, Progress, TaskShown
 from workers.agents._human._recorder import GestureRecorder
 from workers.agents._human._relay import InputRelay
 from workers.agents._human._screencast import Screencast
@@ -89,12 +89,15 @@ class HumanAgent(AgentBase):
         page = context.privileges.editor.page
         participant = getattr(self.params, "participant", "")
         self.server = PageServer(self.port, self._message, self._presence)
-        self.server.greeting = {
-            "type": "task", "task_id": context.task_id, "instruction": context.instruction, "mode": context.mode,
-            "max_steps": context.max_steps, "participant": participant, "started_at": time.time(),
-            "viewport": dict(page.viewport_size or {"width": 1280, "height": 720}),
-        }  # fmt: skip
-        self.server.send({"type": "status", "steps": 0, "ready": False})
+        self.server.greeting = TaskShown(
+            task_id=context.task_id,
+            instruction=context.instruction,
+            mode=context.mode,
+            max_steps=context.max_steps,
+            participant=participant,
+            started_at=time.time(),
+            viewport=dict(page.viewport_size or {"width": 1280, "height": 720}),
+        )
         self._relay = InputRelay(page)
         self._screencast = Screencast(page, self.server.send_frame)
         try:
@@ -123,7 +126,7 @@ class HumanAgent(AgentBase):
     async def act(self, observation: Observation | None, last: StepResult | None) -> Action:
         if self.server is None or self._relay is None:
             raise RuntimeError("HumanAgent.start must run before act")
-        self.server.send({"type": "status", "steps": self._steps, "ready": True})
+        self.server.send(Progress(steps=self._steps, ready=True))
         while True:
             now = time.monotonic()
             self._actions.extend(self._recorder.due(now))
@@ -135,7 +138,7 @@ class HumanAgent(AgentBase):
                 await self._relay.drained()  # the next observation shows what the person did
                 if self._actions:
                     self._steps += 1
-                    self.server.send({"type": "status", "steps": self._steps, "ready": False})
+                    self.server.send(Progress(steps=self._steps, ready=False))
                     return self._actions.popleft()
                 assert self._decision is not None
                 return self._decision
@@ -154,7 +157,7 @@ class HumanAgent(AgentBase):
 
     async def finish(self, end: EpisodeEnd) -> None:
         if self.server is not None:
-            self.server.send({"type": "ended", "reason": end.stop_reason, "steps": end.steps})
+            self.server.send(Ended(reason=end.stop_reason, steps=end.steps))
         await self._close()
 
     async def _close(self) -> None:

@@ -1,4 +1,5 @@
-"""What the person's page sends over its websocket: raw input in editor pixels, and their decisions.
+"""What crosses the person's websocket: raw input in editor pixels and their decisions (in), the task, the
+episode's progress and its end (out).
 
 Raw events are relayed to the editor as they come (``_relay``) and coalesced into the steps of the
 primitive action schema (``_recorder``); both read these models, validated at the socket.
@@ -58,6 +59,43 @@ class Decision(_Event):
     """The person is finished: they submit the project as it is, or give up."""
 
     type: Literal["submit", "give_up"]
+
+
+class TaskShown(BaseModel):
+    """The first message a page gets: what to do, and how to map its picture to the editor's pixels."""
+
+    model_config = ConfigDict(frozen=True)
+
+    type: Literal["task"] = "task"
+    task_id: str
+    instruction: str
+    mode: str
+    max_steps: int
+    participant: str
+    started_at: float
+    """When the episode started (epoch seconds): the page's timer counts from it."""
+
+    viewport: dict[str, int]
+
+
+class Progress(BaseModel):
+    """Steps recorded so far; ``ready``: the harness has observed the editor and waits for the next gesture."""
+
+    model_config = ConfigDict(frozen=True)
+
+    type: Literal["status"] = "status"
+    steps: int = 0
+    ready: bool = False
+
+
+class Ended(BaseModel):
+    """The episode is over (``reason``: its stop reason: done, failed, max_steps, an error class)."""
+
+    model_config = ConfigDict(frozen=True)
+
+    type: Literal["ended"] = "ended"
+    reason: str
+    steps: int
 
 
 PageMessage = Annotated[MouseEvent | WheelEvent | KeyEvent | Decision, Field(discriminator="type")]

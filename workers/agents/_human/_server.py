@@ -8,16 +8,15 @@ next one rather than queueing it (the live view stays live on a slow tunnel).
 from __future__ import annotations
 
 import asyncio
-import json
 import logging
 from collections.abc import Callable
 from importlib.resources import files
 from typing import Any
 
 from aiohttp import WSMsgType, web
-from pydantic import JsonValue, TypeAdapter, ValidationError
+from pydantic import BaseModel, TypeAdapter, ValidationError
 
-from workers.agents._human._events import PageMessage
+from workers.agents._human._events import PageMessage, Progress, TaskShown
 
 log = logging.getLogger(__name__)
 
@@ -37,10 +36,10 @@ class PageServer:
         self.port = port
         self.on_message = on_message
         self.on_presence = on_presence
-        self.greeting: dict[str, JsonValue] = {}
-        """The first message every page gets (the task); ``status`` follows it."""
+        self.greeting: TaskShown | None = None
+        """The first message every page gets; ``status`` follows it."""
 
-        self.status: dict[str, JsonValue] = {"type": "status"}
+        self.status = Progress()
         self.latest_frame: bytes | None = None
         self._sockets: dict[web.WebSocketResponse, asyncio.Task[Any] | None] = {}
         self._runner: web.AppRunner | None = None
@@ -78,12 +77,12 @@ class PageServer:
             if sending is None or sending.done():
                 self._sockets[socket] = asyncio.ensure_future(self._send(socket, frame))
 
-    def send(self, message: dict[str, JsonValue]) -> None:
-        """A JSON message to every open page (``status`` is also kept for pages that open later)."""
-        if message.get("type") == "status":
+    def send(self, message: BaseModel) -> None:
+        """A JSON message to every open page (``Progress`` is also kept for pages that open later)."""
+        if isinstance(message, Progress):
             self.status = message
         for socket in list(self._sockets):
-            sending = asyncio.ensure_future(self._send(socket, json.dumps(message)))
+            sending = asyncio.ensure_future(self._send(socket, message.model_dump_json()))
             self._sends.add(sending)
             sending.add_done_callback(self._sends.discard)
 
@@ -106,8 +105,9 @@ class PageServer:
     async def _socket(self, request: web.Request) -> web.WebSocketResponse:
         socket = web.WebSocketResponse(heartbeat=10)
         await socket.prepare(request)
-        await socket.send_str(json.dumps(self.greeting))
-        await socket.send_str(json.dumps(self.status))
+        if self.greeting is not None:
+            await socket.send_str(self.greeting.model_dump_json())
+        await socket.send_str(self.status.model_dump_json())
         if self.latest_frame is not None:
             await socket.send_bytes(self.latest_frame)
         self._sockets[socket] = None
