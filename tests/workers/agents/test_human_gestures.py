@@ -86,6 +86,7 @@ def test_typing_gathers_characters_until_another_key_or_a_pause() -> None:
         (0.3, key(" ")),
         (0.4, KeyEvent(event="down", key="Shift")),  # a modifier alone is no step
         (0.5, key("Backspace")),
+        (0.55, key("Dead")),  # a key no gesture could press again (an accent's dead key): no step
         (0.6, key("a", ctrl=True)),
         (0.7, key("x")),
         (0.7 + TYPING_IDLE_S, key("y")),  # a pause ends the typed run

@@ -15,6 +15,7 @@ from pydantic import JsonValue
 
 from workers.agents._human._events import MODIFIER_KEYS, InputEvent, KeyEvent, MouseEvent, WheelEvent
 from workers.contract import PrimitiveAction
+from workers.primitive._gestures import GestureError, key_name
 
 DRAG_THRESHOLD_PX = 4.0
 """A press that moves farther than this before its release is a drag (what Blockly takes for one is 3)."""
@@ -171,6 +172,8 @@ class GestureRecorder:
             self._typed = (typed + event.key, now + TYPING_IDLE_S)
             return done
         done = self._others()
+        if len(event.key) > 1 and not _replayable(event.key):
+            return done  # a key no gesture can press again (Dead, Unidentified, media keys): relayed, not a step
         modifiers = [name for name, held in (("ctrl", event.ctrl), ("alt", event.alt), ("meta", event.meta)) if held]
         if event.shift and (chord or len(event.key) > 1):
             modifiers.append("shift")
@@ -186,3 +189,12 @@ class GestureRecorder:
         text, _ = self._typed
         self._typed = None
         return [PrimitiveAction(api="type", args={"text": text})]
+
+
+def _replayable(key: str) -> bool:
+    """Whether a ``key`` or ``hotkey`` step could press ``key`` again."""
+    try:
+        key_name(key)
+    except GestureError:
+        return False
+    return True
