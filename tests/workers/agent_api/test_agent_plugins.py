@@ -174,6 +174,12 @@ class Snooper(AgentBase):
     privileged = True
 
 
+class LiveSnooper(AgentBase):
+    """A plugin that claims to act live, as a person does (the live editor, its actions never performed)."""
+
+    acts_live = True
+
+
 def read_quiz() -> Any:
     from scratchworld_dist.kinds.tasks import read_task
 
