@@ -39,6 +39,7 @@ from scratchworld_dist.scheduling import (
     WorkerPool,
     admitted_slots,
     agreed_harness,
+    exclusive,
     inspect_nodes,
     live_progress,
     pages_per_worker,
@@ -228,7 +229,8 @@ def _execute(
         cores = os.cpu_count() or 1
         if local_slots is None:  # a cluster: the cores of all its nodes
             cores = int(ray.cluster_resources().get("CPU", cores))
-        pages = pages_per_worker(config.limits, slots, cores)
+        one_at_a_time = local_slots is not None and exclusive([job for job, _ in todo])  # a person on each job
+        pages = 1 if one_at_a_time else pages_per_worker(config.limits, slots, cores)
         at_once = min(len(todo), config.limits.max_in_flight or len(todo))
         pool = WorkerPool(slots, pages, plan.synthetic, config.limits.memory_reserve_mb * MIB, at_once)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}

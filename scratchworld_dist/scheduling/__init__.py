@@ -1,7 +1,7 @@
 """Scheduling on Ray: the runtime, the nodes' agreement on one harness, the models' preflight, admission, the
 worker pool, the driver loop and its progress line."""
 
-from scratchworld_dist.scheduling._admission import admitted_slots, derive_local, pages_per_worker
+from scratchworld_dist.scheduling._admission import admitted_slots, derive_local, exclusive, pages_per_worker
 from scratchworld_dist.scheduling._node_watch import LostNode, NodeWatch
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.scheduling._pool import WorkerPool
@@ -46,6 +46,7 @@ __all__ = [
     "agreed_harness",
     "broken_line",
     "derive_local",
+    "exclusive",
     "inspect_nodes",
     "live_progress",
     "pages_per_worker",

@@ -5,7 +5,8 @@ as many of them as its CPU (what a waiting page burns, measured) and its memory 
 PSS, measured) allow, less a margin (``workers.node.derive_slots``). Jobs without a model keep
 their page busy: one per core, as before. Either way the episodes are spread over one worker (one
 browser) per core. Jobs that open no editor (perception questions about a static screenshot) cost
-the node nothing while they wait. Explicit ``browser_slots`` and ``pages_per_worker`` win over all of this.
+the node nothing while they wait. Explicit ``browser_slots`` and ``pages_per_worker`` win over all of this,
+except for jobs a person works on (``exclusive`` agents): one at a time.
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ import os
 from collections.abc import Callable, Sequence
 
 from scratchworld_dist.sweep import JobSpec, Limits
-from workers.contract import MIB, ClockMode
+from workers.agent_api import agent_class
+from workers.contract import MIB, AgentUnavailableError, ClockMode
 from workers.editor import cached_editor_cost
 from workers.node import SlotDerivation, derive_slots, node_memory
 
@@ -34,6 +36,9 @@ def waiting_clock(jobs: Sequence[JobSpec]) -> ClockMode | None:
 def admitted_slots(limits: Limits, jobs: Sequence[JobSpec], harness: str, say: Callable[[str], None]) -> int:
     """Browser slots for a private local Ray: as configured, else derived from this machine (jobs that open no
     editor and wait on a model: ``BROWSERLESS_PER_CORE`` per core)."""
+    if exclusive(jobs):
+        say("admission: 1 browser slot (a person works on each job: one at a time, on this machine)")
+        return 1
     if limits.browser_slots is not None:
         return limits.browser_slots
     cores = os.cpu_count() or 1
@@ -45,6 +50,17 @@ def admitted_slots(limits: Limits, jobs: Sequence[JobSpec], harness: str, say: C
     derivation = derive_local(limits, clock, harness, cores)
     say(f"admission: {derivation.describe()} (limits.browser_slots overrides)")
     return derivation.slots
+
+
+def exclusive(jobs: Sequence[JobSpec]) -> bool:
+    """Whether some job's agent takes the whole node (``exclusive``: a person at the screen)."""
+    for name, kind in {(job.agent.name, job.body.kind) for job in jobs}:
+        try:
+            if getattr(agent_class(name, kind), "exclusive", False):
+                return True
+        except AgentUnavailableError:
+            continue  # the preflight names an agent this machine lacks
+    return False
 
 
 def derive_local(limits: Limits, clock: ClockMode, harness: str, cores: int) -> SlotDerivation:

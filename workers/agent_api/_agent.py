@@ -98,6 +98,17 @@ class AgentBase:
     privileged: ClassVar[bool] = False
     modes: ClassVar[tuple[Mode, ...]] = ("composite", "primitive")
     learns: ClassVar[bool] = False
+    acts_live: ClassVar[bool] = False
+    """Whether its actions have happened in the editor when ``act`` returns them (a person's gestures, relayed as
+    they are made): the harness records them without performing them again, and gives it the live editor (never
+    the solution) in ``context.privileges``."""
+
+    real_time: ClassVar[bool] = False
+    """Whether it acts on the wall clock (a person): its jobs' pages run on the real episode clock."""
+
+    exclusive: ClassVar[bool] = False
+    """Whether one of its jobs takes the whole local node (a person at the screen): they run one at a time, on
+    the machine that runs the sweep."""
 
     def __init__(self, params: BaseModel | None = None) -> None:
         self.params = params if params is not None else self.Params()

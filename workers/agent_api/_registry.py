@@ -113,6 +113,11 @@ def checked_agent(ref: AgentRef, kind: str = DEFAULT_KIND) -> type[Any]:
             f"agent {ref.name} declares privileged = True, which would show it the solution: "
             "only the harness's own oracles may be privileged"
         )
+    if getattr(found, "acts_live", False) and agent_code(found) is not None:
+        raise AgentUnavailableError(
+            f"agent {ref.name} declares acts_live = True, which would hand it the live editor unrecorded: "
+            "only the harness's own human agent may act live"
+        )
     return found
 
 

@@ -32,6 +32,11 @@ class AgentUnableError(ScratchWorldError):
     cannot act out): recorded as ``agent_unable``, an error the driver does not retry."""
 
 
+class ParticipantLeftError(ScratchWorldError):
+    """A person's page (the human agent's) closed before they submitted or gave up, and did not come back in
+    time: recorded as ``participant_left``, an error a resume runs again."""
+
+
 class ProjectFormatError(ScratchWorldError):
     """Bytes that cannot be a Scratch 3 project: not a zip, no project.json, bad JSON."""
 

@@ -34,6 +34,7 @@ ErrorClass = Literal[
     "evaluator_error",  # the evaluation produced no verdict for reasons outside the project
     "agent_error",  # the agent itself crashed (a bug in it)
     "agent_unable",  # the agent said it cannot go on and would fail the same way again: permanent
+    "participant_left",  # a person (the human agent) closed their page before submitting or giving up
     "task_invalid",  # the task's initial project cannot be loaded (over the limits, corrupt): permanent
     "harness_mismatch",  # the worker runs other code than the driver planned the job for
     "internal_error",  # anything else: a bug in this harness

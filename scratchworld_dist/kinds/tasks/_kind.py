@@ -52,6 +52,10 @@ class TasksKind(Kind):
         unsupported = [mode for mode in episodes.modes if mode not in supported]
         if unsupported:
             raise ValueError(f"agent {config.agent.name!r} cannot act in {', '.join(unsupported)} mode")
+        if getattr(agent, "real_time", False) and (episodes.episode_clock or EpisodeClock()).mode != "real":
+            raise ValueError(f"agent {config.agent.name!r} acts on the wall clock: episodes.episode_clock must be real")
+        if getattr(agent, "exclusive", False) and config.ray.address is not None:
+            raise ValueError(f"agent {config.agent.name!r} runs on this machine, one job at a time: drop ray.address")
         learns = getattr(agent, "learns", False)
         if episodes.memory is not None and not learns:
             raise ValueError(f"memory is for agents that learn across jobs; {config.agent.name!r} does not")
@@ -100,7 +104,7 @@ class TasksKind(Kind):
             extra_models=extra_models(agent_params(found, config.agent)),
             memory=episodes.memory,
             memory_sources={stream: source_digest(entries) for stream, entries in sources.items()},
-            episode_clock=episodes.episode_clock or default_episode_clock(),
+            episode_clock=episodes.episode_clock or default_episode_clock(found),
             model_cache=config.model_cache,
         )
         jobs = list(plan_jobs(matrix))
@@ -216,10 +220,11 @@ def episode_settings(config: SweepConfig) -> EpisodeSweep:
     return config.section(TasksKind.name, EpisodeSweep)
 
 
-def default_episode_clock() -> EpisodeClock:
+def default_episode_clock(agent: type | None = None) -> EpisodeClock:
     """Virtual, for our suites and upstream clones alike: on upstream tasks the two clocks gave the same
-    verdicts, test for test (docs/episodes-virtual-time.md), and only virtual ones repeat whatever the load."""
-    return EpisodeClock(mode="virtual")
+    verdicts, test for test (docs/episodes-virtual-time.md), and only virtual ones repeat whatever the load.
+    Real for an agent that acts on the wall clock (a person: ``real_time``)."""
+    return EpisodeClock(mode="real" if getattr(agent, "real_time", False) else "virtual")
 
 
 def offline_sources(config: SweepConfig) -> dict[tuple[str, Mode], list[JobItems]]:

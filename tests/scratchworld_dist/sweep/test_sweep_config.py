@@ -152,7 +152,10 @@ def test_duplicate_or_empty_seeds_and_modes_are_refused(tmp_path: Path, fields: 
         ({"limits": {"retries": -1}}, ["limits.retries: ", "greater than or equal to 0"]),
         (
             {"agent": "gpt"},
-            ["agent: ", "agent 'gpt' is not registered for the tasks benchmark (registered: awm, llm, noop, oracle"],
+            [
+                "agent: ",
+                "agent 'gpt' is not registered for the tasks benchmark (registered: awm, human, llm, noop, oracle",
+            ],
         ),
         ({"episodes": {"modes": ["mixed"]}}, ["episodes.modes.0: "]),
         ({"name": "has space"}, ["name: ", "pattern"]),

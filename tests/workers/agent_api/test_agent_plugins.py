@@ -121,7 +121,7 @@ def test_an_installed_plugin_is_found_by_entry_point_and_by_module_path(tmp_path
         ({"name": "json_agent", "params": {"colour": "red"}}, "rejects its params: unknown colour (accepted: style)"),
         (
             {"name": "no_such_agent"},
-            "is not registered for the tasks benchmark (registered: awm, json_agent, llm, noop, oracle",
+            "is not registered for the tasks benchmark (registered: awm, human, json_agent, llm, noop, oracle",
         ),
         ({"name": "my_agents:Missing"}, "agent my_agents:Missing: module my_agents has no Missing"),
         ({"name": "no_such_module:Agent"}, "agent no_such_module:Agent cannot be imported: ModuleNotFoundError"),
@@ -172,6 +172,12 @@ class Snooper(AgentBase):
     """A plugin that claims the oracles' privileges."""
 
     privileged = True
+
+
+class LiveSnooper(AgentBase):
+    """A plugin that claims to act live, as a person does (the live editor, its actions never performed)."""
+
+    acts_live = True
 
 
 def read_quiz() -> Any:

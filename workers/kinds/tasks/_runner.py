@@ -45,6 +45,7 @@ from workers.contract import (
     ModelCallError,
     Observation,
     ObservationSettings,
+    ParticipantLeftError,
     PrimitiveAction,
     ProjectFormatError,
     ProjectLimits,
@@ -228,7 +229,11 @@ def _context(
     memory: AgentMemory,
 ) -> TaskContext:
     privileges = None
-    if getattr(agent, "privileged", False):
+    if getattr(agent, "acts_live", False):  # a person's relay: the live editor, never the solution
+        privileges = Privileges(
+            initial_project=task.initial_project, golden_project=None, golden_trajectory=None, editor=editor
+        )
+    elif getattr(agent, "privileged", False):
         privileges = Privileges(
             initial_project=task.initial_project,
             golden_project=task.golden_project,
@@ -258,6 +263,8 @@ async def _guarded(call: Awaitable[_T], doing: str) -> _T:
     except (EditorError, BridgeError, ModelCallError, AgentCrashedError):
         raise
     except Exception as exc:  # a broken agent is the agent's error, not the harness's
+        if isinstance(exc, ParticipantLeftError):
+            raise AgentCrashedError(str(exc), str(exc), "participant_left") from exc
         unable = isinstance(exc, AgentUnableError)
         message = f"the agent {doing}: {type(exc).__name__}: {exc}"
         raise AgentCrashedError(message, _trace(exc), "agent_unable" if unable else "agent_error") from exc
@@ -324,7 +331,11 @@ async def _act(
             raise AgentCrashedError(message, message)
         await pace.before_action()
         ok, error_code, error_message, data = await _apply(
-            environment, action, spec.project_limits, privileged=getattr(agent, "privileged", False)
+            environment,
+            action,
+            spec.project_limits,
+            privileged=getattr(agent, "privileged", False),
+            live=getattr(agent, "acts_live", False),
         )
         await pace.after_action()
         name, args = _describe(action)
@@ -361,9 +372,12 @@ def _recorded(observation: Observation | None, models: EpisodeModels) -> StepObs
 
 
 async def _apply(
-    environment: Environment, action: Action, limits: ProjectLimits, *, privileged: bool
+    environment: Environment, action: Action, limits: ProjectLimits, *, privileged: bool, live: bool = False
 ) -> tuple[bool, str | None, str | None, JsonValue]:
-    """Carry out one action: (ok, error code, error message, data the environment answered)."""
+    """Carry out one action: (ok, error code, error message, data the environment answered). ``live``: the agent's
+    gestures have happened in the editor already (a person's, relayed as they made them): recorded, not repeated."""
+    if live and isinstance(action, CompositeAction | PrimitiveAction):
+        return True, None, None, {"live": True}
     if isinstance(action, InvalidReply):
         return False, "INVALID_REPLY", action.message, {"reason": action.reason}
     if isinstance(action, LoadProject) and not privileged:

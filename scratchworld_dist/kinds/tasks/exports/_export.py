@@ -8,7 +8,7 @@ from collections import defaultdict
 from collections.abc import Sequence
 from importlib.metadata import version
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import BaseModel
 
@@ -27,7 +27,7 @@ from scratchworld_dist.results import (
     require_manifest,
 )
 from scratchworld_dist.suites import suite_instructions
-from workers.contract import EpisodeClock, StepRecord
+from workers.contract import AgentUnavailableError, EpisodeClock, StepRecord
 
 ExportFormat = Literal["leaderboard", "upstream-submission", "atif"]
 EXPORT_FORMATS: tuple[ExportFormat, ...] = ("leaderboard", "upstream-submission", "atif")
@@ -98,6 +98,20 @@ def _submission(attempts: list[tuple[Path, JobRow, list[StepRecord]]], out: Path
     return ExportSummary(files=written, warnings=warnings)
 
 
+def _configured_agent(config: dict[str, Any]) -> type | None:
+    """The class of the agent a run's config names (None when it is not installed here: the default clock)."""
+    from workers.agent_api import agent_class
+
+    agent = config.get("agent")
+    name = agent.get("name") if isinstance(agent, dict) else agent
+    if not isinstance(name, str):
+        return None
+    try:
+        return agent_class(name)
+    except AgentUnavailableError:
+        return None
+
+
 def _atif(attempts: list[tuple[Path, JobRow, list[StepRecord]]], out: Path) -> ExportSummary:
     """One trajectory per attempt under ``OUT/<run name>/``, the screenshots they show in its ``images/``."""
     from scratchworld_dist.kinds.tasks import default_episode_clock
@@ -110,7 +124,11 @@ def _atif(attempts: list[tuple[Path, JobRow, list[StepRecord]]], out: Path) -> E
         suite = manifest.suite
         instruction = suite_instructions(suite.root, suite.hash).get(row.task_id)
         stated = (manifest.config.get("episodes") or {}).get("episode_clock")
-        clock = EpisodeClock.model_validate(stated) if stated is not None else default_episode_clock()
+        clock = (
+            EpisodeClock.model_validate(stated)
+            if stated is not None
+            else default_episode_clock(_configured_agent(manifest.config))
+        )
         folder = out / row.run_name
         images = ImageFiles(run_dir, row.artifact_dir, folder)
         trajectory = atif_trajectory(

@@ -21,6 +21,7 @@ from scratchworld_dist.reports import (
     html_page,
     plots_html,
 )
+from workers.contract import AgentUnavailableError
 
 _CACHE_NOTE = (
     "Cache hits: model calls answered from the sweep's model cache with the reply the same request (model, "
@@ -73,9 +74,10 @@ def _blocks(report: RunReport) -> list[Block]:
     blocks: list[Block] = [Heading(1, "ScratchWorld report")]
     blocks += [Paragraph(f"Warning: {warning}") for warning in report.warnings]
     blocks += _runs(report)
+    timed = any(_on_wall_clock(row.agent) for row in report.rows)  # a human baseline: every row's time beside it
     for mode in sorted({row.mode for row in report.rows}):
         rows = [row for row in report.rows if row.mode == mode]
-        blocks += [Heading(2, f"Mode: {mode}"), _main_table(rows, report.categories)]
+        blocks += [Heading(2, f"Mode: {mode}"), _main_table(rows, report.categories, timed)]
         if any(row.seeds is not None for row in rows):
             blocks += [Heading(3, f"Across seeds ({mode})"), _seed_table(rows)]
     if report.stability is not None:
@@ -115,9 +117,10 @@ def _runs(report: RunReport) -> list[Block]:
     return blocks
 
 
-def _main_table(rows: list[ReportRow], categories: list[str]) -> Table:
+def _main_table(rows: list[ReportRow], categories: list[str], timed: bool) -> Table:
     header = ["agent/model", *(f"{c.capitalize()} SR" for c in categories), "SR", "PSR", "coverage", "errors"]
-    header += ["mean steps", "tokens (in+out)", "cost (USD)", "cost per success"]
+    header += ["mean steps", *(["time per task"] if timed else []), "tokens (in+out)", "cost (USD)"]
+    header.append("cost per success")
     cache = any(row.llm_cache_hits is not None for row in rows)
     if cache:  # only runs that used the model cache show the column
         header.append("cache hits")
@@ -131,12 +134,24 @@ def _main_table(rows: list[ReportRow], categories: list[str]) -> Table:
         cells += [_rate(row.passed, row.determinate), _pct(row.psr)]
         cells.append(f"{_pct(row.coverage)} ({row.determinate}/{planned})")
         cells += [str(row.errors), "-" if row.mean_steps is None else f"{row.mean_steps:.1f}"]
+        if timed:
+            cells.append("-" if row.mean_agent_s is None else f"{row.mean_agent_s:.1f} s")
         cells += [f"{row.input_tokens + row.output_tokens:,}", _usd(row.cost_usd)]
         cells.append("-" if row.cost_per_success is None else _usd(row.cost_per_success))
         if cache:
             cells.append(_cache_hits(row))
         body.append(cells)
     return Table(header, body)
+
+
+def _on_wall_clock(agent: str) -> bool:
+    """Whether ``agent`` acts on the wall clock (a person: ``real_time``); False for one not installed here."""
+    from workers.agent_api import agent_class
+
+    try:
+        return bool(getattr(agent_class(agent), "real_time", False))
+    except AgentUnavailableError:
+        return False
 
 
 def _seed_table(rows: list[ReportRow]) -> Table:

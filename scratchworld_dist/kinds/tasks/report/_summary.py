@@ -109,6 +109,9 @@ class ReportRow(BaseModel):
     mean_steps: float | None
     """Mean agent steps over determinate jobs."""
 
+    mean_agent_s: float | None = None
+    """Mean seconds the agent acted per determinate job (its time per task: a person's on the wall clock)."""
+
     input_tokens: int
     output_tokens: int
     cost_usd: float
@@ -223,6 +226,7 @@ def summarize(agent: str, model: str, mode: str, rows: Sequence[JobRow], missing
         psr=sum(psrs) / len(psrs) if psrs else None,
         categories={c: _category(c, rows) for c in ordered_categories({r.category for r in rows})},
         mean_steps=sum(r.steps for r in decided) / len(decided) if decided else None,
+        mean_agent_s=sum(r.agent_s for r in decided) / len(decided) if decided else None,
         input_tokens=sum(r.input_tokens for r in rows),
         output_tokens=sum(r.output_tokens for r in rows),
         cost_usd=cost,

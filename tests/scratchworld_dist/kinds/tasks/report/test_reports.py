@@ -205,6 +205,26 @@ def test_markdown_main_table(tmp_path: Path) -> None:
     assert "Missing: 1 planned job(s)" in md
 
 
+def test_a_human_baseline_puts_every_rows_time_per_task_beside_its_rates(tmp_path: Path) -> None:
+    """Rows of the human agent (no model) sit beside the model's, and the table gains the time per task."""
+    rows = [
+        job("c1", "passed", mode="primitive", agent_s=12.0),
+        job("c2", "failed", mode="primitive", agent_s=20.0),
+        *(job(f"h{n}", outcome, agent="human", model="-", mode="primitive", agent_s=seconds)
+          for n, outcome, seconds in ((1, "passed", 100.0), (2, "passed", 300.0), (3, "error", 900.0))),
+    ]  # fmt: skip
+    report = build_report([make_run(tmp_path / "run", rows, planned=5, tasks=5)])
+    human = next(row for row in report.rows if row.agent == "human")
+    assert (human.label, human.sr, human.errors, human.mean_agent_s) == ("human", 1.0, 1, 200.0)  # errors: no time
+    md = render_markdown(report)
+    header = [c.strip() for c in next(line for line in md.splitlines() if line.startswith("| agent/model")).split("|")]
+    at = header.index("time per task")
+    cells = {line.split("|")[1].strip(): line.split("|") for line in md.splitlines() if line.startswith("| ")}
+    assert (cells["human"][at].strip(), cells["gpt"][at].strip()) == ("200.0 s", "16.0 s")
+    models_only = render_markdown(build_report([main_run(tmp_path / "models")]))
+    assert "time per task" not in models_only  # a report without a person keeps its columns
+
+
 def test_html_is_self_contained_and_escaped(tmp_path: Path) -> None:
     rows = [job("a", "passed", model="<b>gpt&co</b>"), job("b", "error", error_class="<script>x</script>")]
     config = {
