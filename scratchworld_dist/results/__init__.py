@@ -38,6 +38,7 @@ from scratchworld_dist.results._schema import (
 )
 from scratchworld_dist.results._store import RunStore, effective_rows, kind_of_run
 from scratchworld_dist.results._trajectories import attempt_steps
+from scratchworld_dist.results.remote._view import local_file, local_folder
 
 __all__ = [
     "CORE_TABLES",
@@ -68,6 +69,8 @@ __all__ = [
     "effective_rows",
     "git_commit",
     "kind_of_run",
+    "local_file",
+    "local_folder",
     "now",
     "package_versions",
     "read_events",

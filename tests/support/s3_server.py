@@ -169,3 +169,18 @@ def s3_environment(server: S3Server) -> Iterator[None]:
                 os.environ.pop(key, None)
             else:
                 os.environ[key] = value
+
+
+def s3_server_fixture(tmp_path_factory: object) -> Iterator[S3Server]:
+    """The body of a module's ``s3`` fixture: the server, its endpoint and credentials in the environment, views
+    and mirrors under a temporary cache folder (``XDG_CACHE_HOME``) while the module runs."""
+    import pytest
+
+    folder = tmp_path_factory.mktemp("s3")  # type: ignore[attr-defined]
+    server = S3Server(folder / "moto.log")
+    try:
+        with s3_environment(server), pytest.MonkeyPatch.context() as patch:
+            patch.setenv("XDG_CACHE_HOME", str(folder / "cache"))
+            yield server
+    finally:
+        server.close()

@@ -141,7 +141,7 @@ class Uploader:
     def _send_with_retries(self, item: _Item) -> None:
         retrying = Retrying(
             retry=retry_if_exception(_retryable),
-            wait=wait_exponential_jitter(initial=0.1, max=5.0),
+            wait=wait_exponential_jitter(multiplier=0.1, max=5.0),
             stop=stop_when_event_set(self._stopping),
             before_sleep=self._failed,
             reraise=True,
