@@ -18,6 +18,7 @@ import time
 import uuid
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 MOTO_SERVER = str(Path(sys.executable).with_name("moto_server"))
 
@@ -126,12 +127,13 @@ class S3Server:
         self.endpoint = f"http://127.0.0.1:{self.relay.port}"
         self.env = {**CREDENTIALS, "AWS_ENDPOINT_URL": self.endpoint}
 
-    def client(self):  # noqa: ANN201 - boto3's client type is generated
+    def client(self) -> Any:
+        """A boto3 client straight to moto (unaffected by the relay), for the test's own looks at the bucket."""
         import boto3
 
         return boto3.client(
             "s3",
-            endpoint_url=f"http://127.0.0.1:{self.moto_port}",  # straight to moto: unaffected by the relay
+            endpoint_url=f"http://127.0.0.1:{self.moto_port}",
             aws_access_key_id=CREDENTIALS["AWS_ACCESS_KEY_ID"],
             aws_secret_access_key=CREDENTIALS["AWS_SECRET_ACCESS_KEY"],
             region_name=CREDENTIALS["AWS_DEFAULT_REGION"],

@@ -136,7 +136,9 @@ def test_a_bucket_that_does_not_exist_or_refuses_writes_is_one_line(s3: S3Server
     bucket = s3.bucket()
     deny = {
         "Version": "2012-10-17",
-        "Statement": [{"Effect": "Deny", "Principal": "*", "Action": "s3:PutObject", "Resource": f"arn:aws:s3:::{bucket}/*"}],
+        "Statement": [
+            {"Effect": "Deny", "Principal": "*", "Action": "s3:PutObject", "Resource": f"arn:aws:s3:::{bucket}/*"}
+        ],
     }
     s3.client().put_bucket_policy(Bucket=bucket, Policy=json.dumps(deny))
     with pytest.raises(RunDirError) as refused:
