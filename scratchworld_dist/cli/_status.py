@@ -18,6 +18,7 @@ def status_command(run_dir: Path, as_json: bool) -> None:
     """Print the progress of the run in RUN_DIR without running anything."""
     from scratchworld_dist._run_status import run_status  # pyarrow: when it runs
     from scratchworld_dist.results import require_manifest
+    from scratchworld_dist.results.remote._view import shown_location
 
     manifest = require_manifest(run_dir)
     status = run_status(run_dir, manifest)
@@ -25,7 +26,7 @@ def status_command(run_dir: Path, as_json: bool) -> None:
         click.echo(status.model_dump_json(indent=2))
         return
     console = make_console()
-    console.print(f"[bold]{escape(manifest.run_name)}[/bold]  {escape(str(run_dir))}")
+    console.print(f"[bold]{escape(manifest.run_name)}[/bold]  {escape(shown_location(run_dir))}")
     harness = status.harness or "-"
     console.print(
         f"suite {manifest.suite.name} ({manifest.suite.tasks} tasks, hash {manifest.suite.hash}); harness {harness}",

@@ -156,3 +156,9 @@ def open_view(url: str) -> Path:
     write_atomic(folder / VIEW_MARK, json.dumps({"url": location.url}).encode(), sync=False)
     _VIEWS.pop(folder.absolute(), None)
     return folder
+
+
+def shown_location(run_dir: Path) -> str:
+    """How a run directory is named to the user: the URL of a remote run's view, else its path."""
+    view = view_of(run_dir)
+    return view.location.url if view is not None else str(run_dir)
