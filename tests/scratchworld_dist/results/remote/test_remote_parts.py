@@ -19,6 +19,7 @@ from scratchworld_dist.results.remote._sync import RemoteRun
 from scratchworld_dist.results.remote._uploader import Uploader
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import REPO
+from tests.support.cli_runner import invoke
 from tests.support.s3_server import S3Server
 
 SECRET = "wJalrXUtnFEMIbPxRfiCYSECRETKEY"
@@ -146,3 +147,23 @@ def test_a_bucket_that_does_not_exist_or_refuses_writes_is_one_line(s3: S3Server
     assert f"s3://{bucket}/run: cannot write results here: the store refuses writes" in str(refused.value)
     for error in (missing.value, refused.value):
         assert "\n" not in str(error) and "testing-secret" not in str(error)
+
+
+def test_run_on_a_missing_bucket_stops_in_one_line_before_any_editor_opens(s3: S3Server, tmp_path: Path) -> None:
+    config = tmp_path / "sweep.yaml"
+    fields = {
+        "name": "t",
+        "suite": str(REPO / "tasks"),
+        "agent": "oracle",
+        "output": "s3://no-such-bucket-here/sweeps/t",
+        "storage": {"cache_dir": str(tmp_path / "mirrors")},
+    }
+    config.write_text(yaml.safe_dump(fields))
+    done = invoke("run", str(config), "--progress", "none")
+    assert done.returncode != 0
+    lines = [line for line in (done.stdout + done.stderr).splitlines() if line.strip()]
+    assert lines == [
+        "error: s3://no-such-bucket-here/sweeps/t: cannot write results here: the bucket does not exist "
+        "(The specified bucket does not exist)"
+    ]
+    assert not (tmp_path / "mirrors").exists()  # nothing written, no worker started
