@@ -60,6 +60,7 @@ class RemoteRun:
         self.say = say
         self.uploader = Uploader(fs, self._problem)
         self.lease: Lease | None = None
+        self.pulled = False
         self.pulled_entries = 0
         self.pushed = 0
 
@@ -99,18 +100,18 @@ class RemoteRun:
             self.mirror.mkdir(parents=True, exist_ok=True)
             self.pushed = push_missing(self.fs, self.location, self.mirror, self.uploader)
         else:
+            self.pulled = True
             self.pulled_entries = pull(self.fs, self.location, self.mirror)
         mark_mirror(self.mirror, self.location, self.lease.record.token)
 
     def describe(self) -> str:
         """One line for the console: where the results go and how the mirror was brought level."""
-        how = (
-            f"{self.pushed} file(s) the bucket lacked pushed from it"
-            if self.pushed
-            else "rebuilt from the bucket"
-            if self.pulled_entries
-            else "level with the bucket"
-        )
+        if self.pulled:
+            how = f"rebuilt from the bucket, {self.pulled_entries} uncompacted journal entry(ies) among it"
+        elif self.pushed:
+            how = f"{self.pushed} file(s) the bucket lacked pushed from it"
+        else:
+            how = "level with the bucket"
         return f"results -> {self.location.url} (local mirror {self.mirror}, {how})"
 
     # -- the run store's listener ---------------------------------------------------------
