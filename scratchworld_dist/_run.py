@@ -23,7 +23,6 @@ from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
 from scratchworld_dist.results import (
-    EVENTS_NAME,
     MANIFEST_NAME,
     EventLog,
     KindRows,
@@ -227,8 +226,8 @@ def _run_in(
         if events is not None:
             events.close()
         store.close()
-        if remote is not None and (run_dir / EVENTS_NAME).is_file():
-            remote.stored(EVENTS_NAME)
+        if remote is not None:
+            remote.push_rest()
     return summary
 
 

@@ -8,11 +8,11 @@ import click
 from rich.markup import escape
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._options import RUN_DIR
+from scratchworld_dist.cli._options import RUN_FOLDER
 
 
 @click.command("status", epilog="Example: scratchworld status results/demo")
-@click.argument("run_dir", type=RUN_DIR)
+@click.argument("run_dir", type=RUN_FOLDER)
 @click.option("--json", "as_json", is_flag=True, help="Print the progress as JSON (RunStatus; docs/sweeps.md).")
 def status_command(run_dir: Path, as_json: bool) -> None:
     """Print the progress of the run in RUN_DIR without running anything."""

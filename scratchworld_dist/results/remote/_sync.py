@@ -132,6 +132,14 @@ class RemoteRun:
 
     # -- the end --------------------------------------------------------------------------
 
+    def push_rest(self) -> None:
+        """At the end of a session: every file of the mirror the bucket lacks (the memory a sweep keeps, written
+        by its own service) and the events. An unreachable store leaves them to the next run."""
+        try:
+            push_missing(self.fs, self.location, self.mirror, self.uploader)
+        except Exception:  # the uploads already waiting say why; the next run from this mirror pushes the rest
+            return
+
     def pending_note(self) -> str | None:
         """What is not in the bucket yet, and why (None: everything is)."""
         pending = self.uploader.pending()
