@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import os
 import time
+from datetime import UTC, datetime
 from pathlib import Path
 
 import pytest
@@ -85,12 +86,18 @@ def test_a_live_lease_keeps_a_second_driver_off_and_says_whose_it_is(s3: S3Serve
 
 def test_a_lease_whose_holder_stopped_renewing_expires(s3: S3Server) -> None:
     location = parse_location(f"s3://{s3.bucket()}/run")
-    stale = Lease(location.filesystem(), location, ttl_s=1.5)
+    stale = Lease(location.filesystem(), location, ttl_s=4)
     stale.acquire()
     stale.stop_renewing()  # as a driver on a machine that went away
     late = Lease(location.filesystem(), location, ttl_s=60)
-    with pytest.raises(RunDirError, match="another scratchworld run"):
+    try:
         late.acquire()
+    except RunDirError as refused:  # within its term the lease still holds (a loaded machine may be past it)
+        assert "another scratchworld run" in str(refused)
+    else:
+        assert datetime.now(tz=UTC) >= stale.record.expires()
+        late.release()
+        return
     took: list[bool] = []
 
     def taken() -> bool:
