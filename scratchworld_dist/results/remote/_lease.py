@@ -66,6 +66,8 @@ class Lease:
             token=uuid.uuid4().hex, host=socket.gethostname(), pid=os.getpid(), since=now, renewed=now, ttl_s=ttl_s
         )
         self.renew_error: str | None = None
+        self.lost_to: str | None = None
+        """Who took the lease while this driver held it (it expired during an outage); None while it holds."""
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
 
@@ -107,6 +109,8 @@ class Lease:
     def release(self) -> None:
         """Stop renewing and mark the lease released (best effort: an unreachable store lets it expire)."""
         self.stop_renewing()
+        if self.lost_to is not None:
+            return
         self.record = self.record.model_copy(update={"released": True, "renewed": datetime.now(tz=UTC)})
         try:
             self._write()
@@ -121,6 +125,10 @@ class Lease:
         while not self._stop.wait(self.record.ttl_s / 3):
             self.record = self.record.model_copy(update={"renewed": datetime.now(tz=UTC)})
             try:
+                found = self.read()
+                if found is not None and found.token != self.record.token:  # expired while unreachable, and taken
+                    self.lost_to = found.holder()
+                    return
                 self._write()
                 self.renew_error = None
             except Exception as exc:  # the store is down: keep the sweep going, try again next term

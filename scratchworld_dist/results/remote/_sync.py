@@ -116,11 +116,19 @@ class RemoteRun:
 
     # -- the run store's listener ---------------------------------------------------------
 
+    def _lost(self) -> bool:
+        """Whether another driver holds the run now: nothing more is put there from this session."""
+        return self.lease is not None and self.lease.lost_to is not None
+
     def committed(self, segment: int, line: int, data: bytes) -> None:
+        if self._lost():
+            return
         self.uploader.put_bytes(self.location.key(entry_key(segment, line)), data, committed_at=time.monotonic())
 
     def compacted(self, segment: int, tables: list[str]) -> None:
         """A segment's shards (``jobs`` last, as written), then its journal entries removed."""
+        if self._lost():
+            return
         for table in tables:
             relative = f"{table}/part-{segment:06d}.parquet"
             self.uploader.put_file(self.location.key(relative), self.mirror / relative)
@@ -128,6 +136,8 @@ class RemoteRun:
 
     def stored(self, relative: str) -> None:
         """An artifact, a shared image, the manifest, the events, a report: put as the file is when sent."""
+        if self._lost():
+            return
         self.uploader.put_file(self.location.key(relative), self.mirror / relative)
 
     # -- the end --------------------------------------------------------------------------
@@ -135,6 +145,8 @@ class RemoteRun:
     def push_rest(self) -> None:
         """At the end of a session: every file of the mirror the bucket lacks (the memory a sweep keeps, written
         by its own service) and the events. An unreachable store leaves them to the next run."""
+        if self._lost():
+            return
         try:
             push_missing(self.fs, self.location, self.mirror, self.uploader)
         except Exception:  # the uploads already waiting say why; the next run from this mirror pushes the rest
@@ -143,6 +155,12 @@ class RemoteRun:
     def pending_note(self) -> str | None:
         """What is not in the bucket yet, and why (None: everything is)."""
         pending = self.uploader.pending()
+        lost = self.lease.lost_to if self.lease is not None else None
+        if lost is not None:
+            return redact(
+                f"{self.location.url}: another driver took this run's lease while its store was unreachable ({lost}); "
+                f"{pending} upload(s) not sent, this session's results stay in {self.mirror}"
+            )
         if not pending:
             return None
         why = f" ({self.uploader.problem})" if self.uploader.problem else ""

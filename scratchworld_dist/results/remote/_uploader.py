@@ -46,10 +46,6 @@ def _one_line(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text}"[:300]
 
 
-def _retryable(exc: BaseException) -> bool:
-    return not isinstance(exc, FileNotFoundError | IsADirectoryError)
-
-
 class Uploader:
     """One thread putting files in ``fs`` in order; ``close`` waits a bounded time for the rest."""
 
@@ -124,8 +120,6 @@ class Uploader:
                 item = self._items[0]
             try:
                 self._send_with_retries(item)
-            except (FileNotFoundError, IsADirectoryError):  # a local file gone: nothing left to send
-                self.dropped.append(item.key)
             except Exception:  # stopped while failing: the item stays pending
                 if self._stopping.is_set():
                     return
@@ -140,7 +134,7 @@ class Uploader:
 
     def _send_with_retries(self, item: _Item) -> None:
         retrying = Retrying(
-            retry=retry_if_exception(_retryable),
+            retry=retry_if_exception(lambda exc: isinstance(exc, Exception)),  # the store's every refusal: again
             wait=wait_exponential_jitter(multiplier=0.1, max=5.0),
             stop=stop_when_event_set(self._stopping),
             before_sleep=self._failed,
@@ -159,7 +153,13 @@ class Uploader:
             with contextlib.suppress(FileNotFoundError):  # already gone (a retried deletion, or never uploaded)
                 self.fs.rm(item.key, recursive=True)
             return
-        data = item.data if item.data is not None else item.source.read_bytes()  # type: ignore[union-attr]
+        data = item.data
+        if data is None:
+            try:
+                data = item.source.read_bytes()  # type: ignore[union-attr]
+            except (FileNotFoundError, IsADirectoryError):  # the local file is gone: nothing left to send
+                self.dropped.append(item.key)
+                return
         self.fs.pipe_file(item.key, data)  # one PUT: the object appears whole or not at all
 
     def _failed(self, state: RetryCallState) -> None:

@@ -13,7 +13,6 @@ import hashlib
 import json
 import os
 import re
-import shutil
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -140,9 +139,9 @@ def open_view(url: str) -> Path:
         raise RunDirError(f"{location.url}: cannot read the run: {' '.join(str(exc).split())[:200]}") from None
     if "manifest.json" not in files:
         raise NotARunDirError(location.url, "no such run in the bucket" if not files else "no manifest.json in it")
-    if folder.exists():
-        shutil.rmtree(folder)
-    folder.mkdir(parents=True)
+    folder.mkdir(parents=True, exist_ok=True)  # artifacts fetched before stay (objects never change)
+    for stale in (folder / "journal").glob("*.jsonl"):
+        stale.unlink(missing_ok=True)
     for name in _SMALL:
         if name in files:
             write_atomic(folder / name, fs.cat_file(location.key(name)), sync=False)

@@ -176,3 +176,16 @@ def test_run_on_a_missing_bucket_stops_in_one_line_before_any_editor_opens(s3: S
         "(The specified bucket does not exist)"
     ]
     assert not (tmp_path / "mirrors").exists()  # nothing written, no worker started
+
+
+def test_a_driver_whose_lease_was_taken_stops_renewing_it_and_says_who_took_it(s3: S3Server) -> None:
+    bucket = s3.bucket()
+    location = parse_location(f"s3://{bucket}/run")
+    holder = Lease(location.filesystem(), location, ttl_s=1.5)
+    holder.acquire()
+    taker = Lease(location.filesystem(), location, ttl_s=60)
+    taker._write()  # as a driver that found the lease expired while the holder's store was unreachable
+    wait_for(lambda: holder.lost_to is not None, 30, "the holder to notice at its next renewal")
+    assert f"pid {taker.record.pid}" in str(holder.lost_to)
+    holder.release()  # a lost lease is not released: it is the taker's now
+    assert json.loads(s3.read(bucket, "run/lease.json"))["token"] == taker.record.token
