@@ -14,13 +14,16 @@ import pytest
 import yaml
 
 from scratchworld_dist._errors import ConfigError, RunDirError
+from scratchworld_dist.api import load_results
 from scratchworld_dist.results.remote._lease import Lease
 from scratchworld_dist.results.remote._location import parse_location, redact
 from scratchworld_dist.results.remote._sync import RemoteRun
 from scratchworld_dist.results.remote._uploader import Uploader
+from scratchworld_dist.results.remote._view import open_view
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import REPO
 from tests.support.cli_runner import invoke
+from tests.support.run_dirs import job, make_run
 from tests.support.s3_server import S3Server
 
 SECRET = "wJalrXUtnFEMIbPxRfiCYSECRETKEY"
@@ -189,3 +192,13 @@ def test_a_driver_whose_lease_was_taken_stops_renewing_it_and_says_who_took_it(s
     assert f"pid {taker.record.pid}" in str(holder.lost_to)
     holder.release()  # a lost lease is not released: it is the taker's now
     assert json.loads(s3.read(bucket, "run/lease.json"))["token"] == taker.record.token
+
+
+def test_any_fsspec_url_reads_in_place_here_a_file_url(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    run = make_run(tmp_path / "run", [job("a"), job("b", "failed")], planned=2, tasks=2)
+    table = load_results(f"file://{run}")
+    assert sorted(table.column("job_id").to_pylist()) == ["a", "b"]
+    view = open_view(f"file://{run}")
+    assert view.is_relative_to(tmp_path / "cache") and not list(view.rglob("*.parquet"))
+    assert "2/2 decided: passed 1, failed 1" in invoke("status", f"file://{run}").stdout
