@@ -22,7 +22,7 @@ from tests.support.cli_runner import invoke
 from tests.support.perception_suites import write_suite
 from tests.support.records import episode, record, spec
 from tests.support.run_dirs import make_run
-from tests.support.s3_server import S3Server
+from tests.support.s3_server import CREDENTIALS, S3Server
 from tests.support.sweep_driver import SCRATCHWORLD, run_here
 from workers.contract import HarnessFingerprint
 
@@ -64,6 +64,9 @@ def test_the_sweep_puts_its_whole_run_directory_in_the_bucket(written: tuple[str
     assert sum(key.endswith("trajectory.jsonl") for key in keys) == 8
     assert b'"released":true' in s3.read(bucket, f"{prefix}/lease.json")
     assert s3.read(bucket, f"{prefix}/manifest.json") == (mirror / "manifest.json").read_bytes()
+    secret = CREDENTIALS["AWS_SECRET_ACCESS_KEY"].encode()  # in the driver's environment, never in the run
+    assert not [key for key in s3.keys(bucket, prefix) if secret in s3.read(bucket, key)]
+    assert not [p for p in mirror.rglob("*") if p.is_file() and secret in p.read_bytes()]
 
 
 def test_status_and_report_read_the_bucket(written: tuple[str, Path]) -> None:
