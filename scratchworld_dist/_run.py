@@ -23,6 +23,7 @@ from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
 from scratchworld_dist.results import (
+    MANIFEST_NAME,
     EventLog,
     KindRows,
     RunManifest,
@@ -33,6 +34,7 @@ from scratchworld_dist.results import (
     record_of,
     write_manifest,
 )
+from scratchworld_dist.results.remote._sync import RemoteRun, open_remote
 from scratchworld_dist.scheduling import (
     ProgressOptions,
     Scheduler,
@@ -130,8 +132,28 @@ def _run_plan(
     progress: ProgressOptions,
 ) -> RunSummary:
     config = plan.config
+    remote = open_remote(config, console)  # before anything else: a bucket that cannot take the run stops it here
+    try:
+        return _run_in(plan, nodes, force, console, skip_broken_models, progress, remote)
+    finally:
+        if remote is not None:
+            note = remote.close(config.storage.drain_timeout_s)
+            console.print(note or f"all results are in {remote.location.url}", markup=False)
+
+
+def _run_in(
+    plan: RunPlan,
+    nodes: list[NodeReport],
+    force: bool,
+    console: Console,
+    skip_broken_models: bool,
+    progress: ProgressOptions,
+    remote: RemoteRun | None,
+) -> RunSummary:
+    config = plan.config
     run_dir = config.run_dir()
     store = RunStore(run_dir)
+    store.listener = remote
     manifest = checked_manifest(plan, run_dir, force)
     if config.model_cache is not None:
         _open_model_cache(config.model_cache.dir)
@@ -156,6 +178,8 @@ def _run_plan(
         session.preflight = preflight
         manifest.sessions.append(session)
         write_manifest(run_dir, manifest)
+        if remote is not None:
+            remote.stored(MANIFEST_NAME)
         console.print(
             f"{config.name}: {len(plan.jobs)} job(s) planned over {plan.suite.tasks} task(s) of {plan.suite.name}; "
             f"{len(plan.jobs) - len(undecided)} already decided, {len(todo)} to run"
@@ -189,6 +213,8 @@ def _run_plan(
         session.budget_stop = summary.budget_stop
         write_manifest(run_dir, manifest)
         watcher.end("finished", budget_stop=summary.budget_stop)
+        if remote is not None:
+            remote.stored(MANIFEST_NAME)
     except KeyboardInterrupt:
         if watcher is not None:
             watcher.end("interrupted")
@@ -201,6 +227,8 @@ def _run_plan(
         if events is not None:
             events.close()
         store.close()
+        if remote is not None:
+            remote.push_rest()
     return summary
 
 

@@ -35,6 +35,7 @@ def config_hash(config: SweepConfig) -> str:
         "sections": sections,
         "suite": True,
         "output": True,
+        "storage": True,
         "limits": True,
         "ray": True,
         "model_cache": True,

@@ -25,6 +25,8 @@ from pydantic import BaseModel
 from scratchworld_dist._plan_preview import PlanPreview, preview_plan
 from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist.results import RunStore, effective_rows, require_manifest, row_tables
+from scratchworld_dist.results.remote._location import is_remote
+from scratchworld_dist.results.remote._view import open_view
 from scratchworld_dist.sweep import SweepConfig, SweepOverrides, load_sweep_config, stderr_notice
 
 if TYPE_CHECKING:
@@ -104,6 +106,7 @@ def load_results(
     run_dir: str | Path, table: str = "jobs", *, effective: bool = True, as_: TableFormat = "pyarrow"
 ) -> pa.Table | pandas.DataFrame | polars.DataFrame:
     """One table of a run (``jobs``, ``steps``, ``tests`` or its kind's own, e.g. ``drags``), journal included.
+    ``run_dir`` may be a URL (``s3://bucket/run``): its shards are read in the bucket, nothing else is downloaded.
 
     ``effective``: only each job's counted attempt (its latest with a verdict, else its latest error) among
     the rows of the run as it stands (rows of an older suite or harness left out), as reports count them;
@@ -114,7 +117,7 @@ def load_results(
         raise ValueError(f"no table {table!r}: tables are {', '.join(row_tables())}")
     if as_ not in TABLE_FORMATS:
         raise ValueError(f"as_={as_!r}: choose one of {', '.join(TABLE_FORMATS)}")
-    path = Path(run_dir)
+    path = Path(run_dir) if not is_remote(run_dir) else open_view(str(run_dir))  # s3://...: read in place
     manifest = require_manifest(path)
     store = RunStore(path)
     data = store.read_table(table)

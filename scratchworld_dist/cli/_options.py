@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any, TypeVar
 
 import click
@@ -53,6 +54,25 @@ evaluation_seed_option = click.option(
     show_default=True,
     help="Sweep seed whose random numbers the evaluations draw, as a job of the task at that seed does.",
 )
+
+
+class RunDirParam(click.Path):
+    """A run directory to read: a path (checked as ``click.Path`` checks it), or a URL of one on object storage
+    (``s3://bucket/run``), opened as a local view whose shards are read in the bucket (``results.remote``)."""
+
+    def __init__(self, *, file_okay: bool = True) -> None:
+        super().__init__(file_okay=file_okay, path_type=Path)
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        if isinstance(value, Path) or "://" not in str(value):
+            return super().convert(value, param, ctx)
+        from scratchworld_dist.results.remote._view import open_view  # fsspec: only for a remote run
+
+        return open_view(str(value))
+
+
+RUN_DIR = RunDirParam()
+RUN_FOLDER = RunDirParam(file_okay=False)
 
 
 def comma_list(text: str | None) -> list[str] | None:

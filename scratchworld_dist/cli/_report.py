@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from scratchworld_dist.cli._options import report_format_option
+from scratchworld_dist.cli._options import RUN_DIR, report_format_option
 from scratchworld_dist.cli._output import emit
 
 if TYPE_CHECKING:
@@ -18,7 +18,7 @@ if TYPE_CHECKING:
 @click.command(
     "report", epilog="Example: scratchworld report results/demo results/demo-2 --format html --out report.html"
 )
-@click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.argument("run_dirs", nargs=-1, required=True, type=RUN_DIR)
 @report_format_option
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), help="Write here instead of stdout.")
 @click.option("--force", is_flag=True, help="Merge runs of different suites or harnesses anyway.")

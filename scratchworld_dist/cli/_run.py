@@ -18,7 +18,7 @@ EXIT_ERRORS = 1
 
 @click.command("run", epilog="Example: scratchworld run configs/demo.yaml --tasks a,b --seeds 2 --out results/demo")
 @click.argument("config_file", type=click.Path(dir_okay=False, path_type=Path))
-@click.option("--out", type=click.Path(file_okay=False, path_type=Path), help="Run directory (overrides output).")
+@click.option("--out", help="Run directory, or a URL of one (s3://bucket/prefix; overrides output).")
 @address_option
 @click.option("--profile", type=click.Choice(["native", "upstream"]), help="Evaluation profile (overrides profile).")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), help="Evaluation clock (overrides clock).")
@@ -59,7 +59,7 @@ EXIT_ERRORS = 1
 @sweep_overrides
 def run_command(
     config_file: Path,
-    out: Path | None,
+    out: str | None,
     address: str | None,
     profile: str | None,
     clock: str | None,
@@ -84,7 +84,7 @@ def run_command(
     """
     fields: dict[str, object] = {}
     if out is not None:
-        fields["output"] = out
+        fields["output"] = out if "://" in out else Path(out)
     if address is not None:
         fields["ray"] = {"address": address}
     if profile is not None:
@@ -122,6 +122,12 @@ def run_command(
             console.print(line, markup=False, soft_wrap=True)  # messages quote providers and scripts
     report, _ = report_runs([summary.run_dir], "md")  # its warnings are in its text
     (summary.run_dir / "report.md").write_text(report, encoding="utf-8")
+    if config.remote_output() is not None:
+        from scratchworld_dist.results.remote._sync import put_once
+
+        note = put_once(config.remote_output(), "report.md", report.encode())
+        if note is not None:
+            console.print(note, markup=False)
     click.echo(report)
     if outcomes["error"]:
         raise click.exceptions.Exit(EXIT_ERRORS)

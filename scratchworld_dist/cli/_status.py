@@ -8,15 +8,17 @@ import click
 from rich.markup import escape
 
 from scratchworld_dist._console import make_console
+from scratchworld_dist.cli._options import RUN_FOLDER
 
 
 @click.command("status", epilog="Example: scratchworld status results/demo")
-@click.argument("run_dir", type=click.Path(file_okay=False, path_type=Path))
+@click.argument("run_dir", type=RUN_FOLDER)
 @click.option("--json", "as_json", is_flag=True, help="Print the progress as JSON (RunStatus; docs/sweeps.md).")
 def status_command(run_dir: Path, as_json: bool) -> None:
     """Print the progress of the run in RUN_DIR without running anything."""
     from scratchworld_dist._run_status import run_status  # pyarrow: when it runs
     from scratchworld_dist.results import require_manifest
+    from scratchworld_dist.results.remote._view import shown_location
 
     manifest = require_manifest(run_dir)
     status = run_status(run_dir, manifest)
@@ -24,7 +26,7 @@ def status_command(run_dir: Path, as_json: bool) -> None:
         click.echo(status.model_dump_json(indent=2))
         return
     console = make_console()
-    console.print(f"[bold]{escape(manifest.run_name)}[/bold]  {escape(str(run_dir))}")
+    console.print(f"[bold]{escape(manifest.run_name)}[/bold]  {escape(shown_location(run_dir))}")
     harness = status.harness or "-"
     console.print(
         f"suite {manifest.suite.name} ({manifest.suite.tasks} tasks, hash {manifest.suite.hash}); harness {harness}",

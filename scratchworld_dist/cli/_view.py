@@ -7,9 +7,11 @@ from pathlib import Path
 
 import click
 
+from scratchworld_dist.cli._options import RUN_DIR
+
 
 @click.command("view", epilog="Example: scratchworld view results/demo --export site/")
-@click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.argument("run_dirs", nargs=-1, required=True, type=RUN_DIR)
 @click.option("--port", type=click.IntRange(0, 65535), default=0, show_default=True, help="Port (0: a free one).")
 @click.option(
     "--export",

@@ -39,6 +39,7 @@ from scratchworld_dist.results._schema import (
 )
 from scratchworld_dist.results._store import RunStore, effective_rows, kind_of_run
 from scratchworld_dist.results._trajectories import attempt_steps
+from scratchworld_dist.results.remote._view import local_file, local_folder
 
 __all__ = [
     "CORE_TABLES",
@@ -70,6 +71,8 @@ __all__ = [
     "effective_rows",
     "git_commit",
     "kind_of_run",
+    "local_file",
+    "local_folder",
     "now",
     "package_versions",
     "read_events",

@@ -13,6 +13,9 @@ Layout::
     RUN_DIR/journal/segment-000002.jsonl   (not yet compacted)
     RUN_DIR/artifacts/<job_id>/attempt-<n>/{final.sb3, trajectory.jsonl}
     RUN_DIR/images/<sha256>.png   (images many jobs share, e.g. perception screenshots: once per run)
+
+A writer may have a listener (``StoreListener``: a remote run directory's uploader) told of each commit,
+compaction and stored file. A store on a view of a remote run (``remote._view``) reads the shards in the bucket.
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ import fcntl
 import re
 from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import IO, Protocol, TypeVar
+from typing import IO, TYPE_CHECKING, Any, Protocol, TypeVar
 
 import pyarrow as pa
 import pyarrow.dataset as ds
@@ -35,6 +38,10 @@ from scratchworld_dist.results._kind import KindRows
 from scratchworld_dist.results._records import JobRecord
 from scratchworld_dist.results._rows import JobRow
 from scratchworld_dist.results._schema import CORE_TABLES, KIND_TABLE_KEYS, table_schema
+from scratchworld_dist.results.remote._view import view_of
+
+if TYPE_CHECKING:
+    from scratchworld_dist.results.remote._view import RemoteView
 
 
 class _Named(Protocol):
@@ -43,6 +50,17 @@ class _Named(Protocol):
 
 
 _Job = TypeVar("_Job", bound=_Named)
+
+
+class StoreListener(Protocol):
+    """Told what a writing store has made durable (``remote.RemoteRun`` copies it to a bucket)."""
+
+    def committed(self, segment: int, line: int, data: bytes) -> None: ...
+
+    def compacted(self, segment: int, tables: list[str]) -> None: ...
+
+    def stored(self, relative: str) -> None: ...
+
 
 SEGMENT_ROWS = 200
 """Attempts per journal segment before it is compacted into shards."""
@@ -82,10 +100,10 @@ _KEYS: dict[str, tuple[str, ...]] = {
 without them is not one."""
 
 
-def _check_shard(path: Path, table: str) -> None:
+def _check_shard(path: str, table: str, filesystem: Any = None) -> None:
     """Refuse, naming it, a file in a table's folder that is not one of its shards (torn, or foreign)."""
     try:
-        schema = pq.read_schema(path)
+        schema = pq.read_schema(path, filesystem=filesystem)
     except (OSError, pa.ArrowInvalid) as exc:
         raise RunDirError(f"{path}: unreadable shard ({' '.join(str(exc).split())})") from exc
     missing = [name for name in _KEYS.get(table, KIND_TABLE_KEYS) if name not in schema.names]
@@ -123,6 +141,8 @@ class RunStore:
         self._segment: IO[bytes] | None = None
         self._segment_number = 0
         self._segment_rows = 0
+        self.listener: StoreListener | None = None
+        self.view: RemoteView | None = view_of(run_dir)
 
     def table_dir(self, table: str) -> Path:
         return self.run_dir / table
@@ -141,6 +161,9 @@ class RunStore:
             raise
 
     def _open_for_writing(self) -> None:
+        if self.view is not None:
+            url = self.view.location.url
+            raise RunDirError(f"{url}: a remote run is written only by `scratchworld run` (output: URL)")
         self.run_dir.mkdir(parents=True, exist_ok=True)
         lock = (self.run_dir / ".lock").open("ab")
         try:
@@ -170,9 +193,12 @@ class RunStore:
             self._segment_number += 1
             self._segment = self._segment_path(self._segment_number).open("ab")
             self._segment_rows = 0
-        self._segment.write(record.model_dump_json().encode() + b"\n")
+        line = record.model_dump_json().encode()
+        self._segment.write(line + b"\n")
         self._segment.flush()
         self._segment_rows += 1
+        if self.listener is not None:
+            self.listener.committed(self._segment_number, self._segment_rows, line)
         if self._segment_rows >= SEGMENT_ROWS:
             self.flush()
 
@@ -184,6 +210,7 @@ class RunStore:
             write_atomic(folder / name, data, sync=False)  # survives the driver's death; shards are synced
         except OSError as exc:
             raise unwritable(self.run_dir, exc) from exc
+        self._stored(folder / name)
         return str(folder.relative_to(self.run_dir))
 
     def write_shared_image(self, path: str, data: bytes) -> None:
@@ -196,6 +223,7 @@ class RunStore:
             write_atomic(target, data, sync=False)
         except OSError as exc:
             raise unwritable(self.run_dir, exc) from exc
+        self._stored(target)
 
     def link_artifact(self, job_id: str, attempt: int, name: str, source: Path) -> str:
         """Store an existing file as one of an attempt's (a hard link when the file system allows, else a
@@ -206,7 +234,12 @@ class RunStore:
             link_atomic(source, folder / name)
         except OSError as exc:
             raise unwritable(self.run_dir, exc) from exc
+        self._stored(folder / name)
         return str(folder.relative_to(self.run_dir))
+
+    def _stored(self, path: Path) -> None:
+        if self.listener is not None:
+            self.listener.stored(str(path.relative_to(self.run_dir)))
 
     def flush(self) -> None:
         """Compact the open segment into shards."""
@@ -227,14 +260,16 @@ class RunStore:
 
     def _compact(self, number: int, path: Path) -> None:
         records = _read_segment(path)
-        if records:
-            for table in _segment_tables(records):
-                shard = _to_table(records, table)
-                sink = pa.BufferOutputStream()
-                pq.write_table(shard, sink, compression="zstd")
-                self.table_dir(table).mkdir(exist_ok=True)
-                write_atomic(self.table_dir(table) / f"part-{number:06d}.parquet", sink.getvalue().to_pybytes())
+        tables = _segment_tables(records) if records else []
+        for table in tables:
+            shard = _to_table(records, table)
+            sink = pa.BufferOutputStream()
+            pq.write_table(shard, sink, compression="zstd")
+            self.table_dir(table).mkdir(exist_ok=True)
+            write_atomic(self.table_dir(table) / f"part-{number:06d}.parquet", sink.getvalue().to_pybytes())
         path.unlink()
+        if self.listener is not None and tables:
+            self.listener.compacted(number, tables)
 
     def _segment_path(self, number: int) -> Path:
         return self.journal_dir / f"segment-{number:06d}.jsonl"
@@ -247,13 +282,16 @@ class RunStore:
                 found.append((int(match.group(1)), path))
         return sorted(found)
 
-    def _parts(self, table: str) -> dict[int, Path]:
+    def _parts(self, table: str) -> dict[int, str]:
+        """The table's shards by segment number: files here, or objects in the bucket for a view."""
+        if self.view is not None:
+            return self.view.parts(table)
         folder = self.table_dir(table)
-        found: dict[int, Path] = {}
+        found: dict[int, str] = {}
         for path in folder.iterdir() if folder.exists() else []:
             match = _PART.match(path.name)
             if match:
-                found[int(match.group(1))] = path
+                found[int(match.group(1))] = str(path)
         return found
 
     def _last_number(self) -> int:
@@ -281,13 +319,13 @@ class RunStore:
         segments = self._segments()  # listed before the shards: a segment gone by then has its jobs shard
         done = set(self._parts("jobs"))
         files = [path for n, path in sorted(self._parts(table).items()) if n in done]
+        filesystem = self.view.fs if self.view is not None else None
         for path in files:
-            _check_shard(path, table)
+            _check_shard(path, table, filesystem)
         if files:
             try:
-                parts.append(
-                    ds.dataset([str(f) for f in files], schema=schema, format="parquet").to_table(columns=columns)
-                )
+                dataset = ds.dataset(files, schema=schema, format="parquet", filesystem=filesystem)
+                parts.append(dataset.to_table(columns=columns))
             except (OSError, pa.ArrowInvalid) as exc:
                 raise RunDirError(f"{folder}: unreadable shard: {exc}") from exc
         pending = [r for n, path in segments if n not in done for r in _read_segment(path)]

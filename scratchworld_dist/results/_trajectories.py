@@ -10,6 +10,7 @@ from pydantic import ValidationError
 
 from scratchworld_dist._files import read_file
 from scratchworld_dist.results._rows import JobRow, StepRow
+from scratchworld_dist.results.remote._view import local_file
 from workers.contract import StepRecord
 
 
@@ -17,7 +18,7 @@ def attempt_steps(run_dir: Path, row: JobRow, rows: list[StepRow]) -> tuple[list
     """An attempt's steps, whole from its trajectory artifact, else from its ``steps`` rows (without prompts,
     replies and observations), and a note when they are partial or missing."""
     if row.artifact_dir is not None:
-        path = run_dir / row.artifact_dir / "trajectory.jsonl"
+        path = local_file(run_dir, f"{row.artifact_dir}/trajectory.jsonl")  # fetched now from a remote run
         if path.is_file():
             return _read_trajectory(path)
     steps = [_step_of(r) for r in sorted(rows, key=lambda r: r.step)]

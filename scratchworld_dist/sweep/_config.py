@@ -36,6 +36,7 @@ from scratchworld_dist.sweep._former_keys import Notice, into_sections, stderr_n
 from scratchworld_dist.sweep._key_hints import unknown_key_message
 from scratchworld_dist.sweep._model_config import ModelConfig
 from scratchworld_dist.sweep._overrides import SweepOverrides
+from scratchworld_dist.sweep._storage import StorageSettings, checked_output
 from workers.agent_api import agent_class, checked_agent
 from workers.contract import (
     AgentRef,
@@ -180,8 +181,12 @@ class SweepConfig(BaseModel):
     """The largest project a worker loads (task projects are checked when the sweep is planned)."""
 
     limits: Limits = Field(default_factory=Limits)
-    output: Path | None = None
-    """The run directory (default: ``results/<name>`` in the working directory)."""
+    output: Path | str | None = None
+    """The run directory (default: ``results/<name>`` in the working directory), or a URL of one on object
+    storage (``s3://bucket/prefix``; written through a local mirror, see ``storage``)."""
+
+    storage: StorageSettings = Field(default_factory=StorageSettings)
+    """For an ``output`` URL: the local mirror's folder, the lease's term, the wait for uploads at the end."""
 
     ray: RayConfig = Field(default_factory=RayConfig)
     model_cache: ModelCacheSettings | None = None
@@ -190,6 +195,11 @@ class SweepConfig(BaseModel):
     tags: dict[str, str] = Field(default_factory=dict)
     """Labels of the run (``--tag key=value``: a team, a ticket, a model revision): recorded in the manifest and
     carried to reports and exports; they change no job, so a run may gain tags when it resumes."""
+
+    @field_validator("output", mode="before")
+    @classmethod
+    def _output_url_or_path(cls, value: Any) -> Any:
+        return checked_output(value)
 
     @field_validator("tags", mode="before")
     @classmethod
@@ -315,7 +325,17 @@ class SweepConfig(BaseModel):
         return [m.spec() for m in self.models] or [None]
 
     def run_dir(self) -> Path:
+        """The local run directory: ``output``, or the local mirror of an ``output`` URL."""
+        if isinstance(self.output, str):
+            from scratchworld_dist.results.remote._location import parse_location
+            from scratchworld_dist.results.remote._mirror import default_mirror
+
+            return default_mirror(parse_location(self.output), self.storage.cache_dir)
         return self.output if self.output is not None else Path("results") / self.name
+
+    def remote_output(self) -> str | None:
+        """The URL of a run directory on object storage (None: a local one)."""
+        return self.output if isinstance(self.output, str) else None
 
 
 def load_sweep_config(
@@ -368,8 +388,10 @@ def sweep_config_from(
         problems = "; ".join(f"{_field_path(e['loc'])}: {_problem(e)}" for e in exc.errors())
         raise ConfigError(f"invalid config: {problems}", where) from None
     resolved: dict[str, Any] = {"suite": _resolve(base, config.suite)}
-    if config.output is not None and "output" not in (overrides or {}):
+    if isinstance(config.output, Path) and "output" not in (overrides or {}):
         resolved["output"] = _resolve(base, config.output)
+    if config.storage.cache_dir is not None:
+        resolved["storage"] = config.storage.model_copy(update={"cache_dir": _resolve(base, config.storage.cache_dir)})
     task_list = config.tasks.task_list
     if task_list is not None and (base / task_list).is_file():  # a file next to the config, not a list name
         resolved["tasks"] = config.tasks.model_copy(update={"task_list": str((base / task_list).resolve())})

@@ -27,6 +27,8 @@ from scratchworld_dist.results import (
     TestRow,
     attempt_steps,
     kind_of_run,
+    local_file,
+    local_folder,
     read_manifest,
     require_manifest,
 )
@@ -127,6 +129,7 @@ class ViewedRun:
     def artifact(self, relative: str) -> Path | None:
         """The file ``relative`` names under the run's artifacts, or None if it is not one (or escapes them)."""
         root = (self.path / ARTIFACTS).resolve()
+        local_file(self.path, f"{ARTIFACTS}/{relative}")  # a remote run's file is fetched when first shown
         try:
             target = (root / relative).resolve()
         except (OSError, ValueError):
@@ -139,11 +142,11 @@ class ViewedRun:
         """An image the run keeps once for many jobs (``images/<sha256>.png``), or None if ``name`` is not one."""
         if not _IMAGE_NAME.fullmatch(name):
             return None
-        path = self.path / SHARED_IMAGES / name
+        path = local_file(self.path, f"{SHARED_IMAGES}/{name}")
         return path if path.is_file() else None
 
     def shared_images(self) -> list[Path]:
-        folder = self.path / SHARED_IMAGES
+        folder = local_folder(self.path, SHARED_IMAGES)
         return sorted(p for p in folder.iterdir() if _IMAGE_NAME.fullmatch(p.name)) if folder.is_dir() else []
 
     def instruction(self, task_id: str) -> str | None:

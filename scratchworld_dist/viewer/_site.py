@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from scratchworld_dist._errors import RunDirError
+from scratchworld_dist.results import local_folder
 from scratchworld_dist.viewer._html import STATIC_FILES, render_page, static_file
 from scratchworld_dist.viewer._pages import job_page, jobs_data, run_card, run_page
 from scratchworld_dist.viewer._runs import ARTIFACTS, ViewedRun
@@ -104,7 +105,7 @@ class ViewerSite:
             for row in run.rows():
                 if row.artifact_dir is None:
                     continue
-                folder = (run.path / row.artifact_dir).resolve()
+                folder = local_folder(run.path, row.artifact_dir).resolve()
                 if not folder.is_relative_to(root) or not folder.is_dir():
                     continue
                 for file in sorted(folder.rglob("*")):

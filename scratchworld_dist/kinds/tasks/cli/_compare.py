@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from scratchworld_dist.cli._options import report_format_option
+from scratchworld_dist.cli._options import RUN_DIR, report_format_option
 from scratchworld_dist.cli._output import emit
 
 if TYPE_CHECKING:
@@ -64,6 +64,8 @@ def compare_command(
         render_ranking,
     )
 
+    system_a, system_b, *rest = (_read_in_place(text) for text in (system_a, system_b, *more))
+    more = tuple(rest)
     if more:
         selectors = [parse_selector(text) for text in (system_a, system_b, *more)]
         ranking = rank_systems(
@@ -81,3 +83,13 @@ def compare_command(
         stable_only=stable_only,
     )
     emit(render_comparison(comparison, fmt), out, comparison.warnings, f"{fmt} comparison")
+
+
+def _read_in_place(text: str) -> str:
+    """A selector whose run is a URL (``s3://bucket/run:SYSTEM@MODE``) with the URL replaced by the run's local view
+    (its shards are read in the bucket); others as given."""
+    if "://" not in text:
+        return text
+    scheme, rest = text.split("://", 1)
+    cut = min((i for i in (rest.find(":"), rest.find("@")) if i >= 0), default=len(rest))
+    return str(RUN_DIR.convert(f"{scheme}://{rest[:cut]}", None, None)) + rest[cut:]

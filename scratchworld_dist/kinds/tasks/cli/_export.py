@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING
 
 import click
 
+from scratchworld_dist.cli._options import RUN_FOLDER
+
 if TYPE_CHECKING:
     from scratchworld_dist.kinds.tasks.exports import ExportFormat
 
@@ -15,7 +17,7 @@ FORMATS = ("leaderboard", "upstream-submission", "atif")
 
 
 @click.command("export", epilog="Example: scratchworld export results/demo --format atif --out exports/demo")
-@click.argument("run_dirs", nargs=-1, required=True, type=click.Path(file_okay=False, path_type=Path))
+@click.argument("run_dirs", nargs=-1, required=True, type=RUN_FOLDER)
 @click.option(
     "--format",
     "fmt",

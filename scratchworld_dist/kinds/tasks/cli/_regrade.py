@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist.cli._options import address_option, page_option, render_option
+from scratchworld_dist.cli._options import RUN_FOLDER, address_option, page_option, render_option
 from workers.contract import EvaluationClock, EvaluationPage, EvaluationProfile, EvaluationRender
 
 EXIT_ERRORS = 1
@@ -16,7 +16,7 @@ EXIT_ERRORS = 1
 @click.command(
     "regrade", epilog="Example: scratchworld regrade results/demo --out results/demo-fixed --suite tasks-fixed"
 )
-@click.argument("run_dir", type=click.Path(file_okay=False, path_type=Path))
+@click.argument("run_dir", type=RUN_FOLDER)
 @click.option("--out", required=True, type=click.Path(file_okay=False, path_type=Path), help="The new run directory.")
 @click.option("--suite", type=click.Path(file_okay=False, path_type=Path), help="Suite (default: the source's).")
 @click.option(

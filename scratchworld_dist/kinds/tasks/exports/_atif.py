@@ -43,7 +43,7 @@ from atif import (
 )
 from pydantic import JsonValue
 
-from scratchworld_dist.results import JobRow
+from scratchworld_dist.results import JobRow, local_file
 from scratchworld_dist.sweep import SuiteInfo
 from workers.contract import EpisodeClock, StepObservation, StepRecord
 
@@ -73,15 +73,16 @@ class ImageFiles:
     """Screenshots a trajectory references, copied once into ``images/`` beside the trajectories of a run."""
 
     def __init__(self, run_dir: Path, artifact_dir: str | None, out_dir: Path) -> None:
-        self.sources = [run_dir / artifact_dir / "images"] if artifact_dir else []
-        self.sources.append(run_dir / "images")  # images a run keeps once for many jobs
+        self.run_dir = run_dir
+        self.sources = [f"{artifact_dir}/images"] if artifact_dir else []
+        self.sources.append("images")  # images a run keeps once for many jobs
         self.out_dir = out_dir
 
     def part(self, sha256: str) -> ContentPart:
         """An image part naming the copied file, or a text part saying the screenshot was not kept."""
         if re.fullmatch(r"[0-9a-f]{64}", sha256):
             for folder in self.sources:
-                source = folder / f"{sha256}.png"
+                source = local_file(self.run_dir, f"{folder}/{sha256}.png")  # a remote run's: fetched now
                 if source.is_file():
                     target = self.out_dir / "images" / source.name
                     if not target.exists():

@@ -21,6 +21,7 @@ from scratchworld_dist.results import (
     package_versions,
     read_manifest,
 )
+from scratchworld_dist.results.remote._view import shown_location
 
 
 def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
@@ -46,7 +47,7 @@ def regrade_manifest(plan: RegradePlan, out: Path, force: bool) -> RunManifest:
         "project_limits": plan.project_limits.model_dump(mode="json"),
     }
     info = RegradeInfo(
-        source_run=str(plan.source.path),
+        source_run=shown_location(plan.source.path),  # a remote source by its URL, not its local view
         source_run_name=source.run_name,
         source_harness=source.harness.digest if source.harness else None,
         source_config_hash=source.config_hash,

@@ -16,6 +16,7 @@ from scratchworld_dist.results import (
     StepRow,
     effective_rows,
     kind_of_run,
+    local_folder,
     require_manifest,
 )
 
@@ -60,7 +61,7 @@ def read_source(path: Path) -> SourceRun:
     jobs, without = [], []
     artifacts = (path / "artifacts").resolve()
     for row in sorted(effective_rows(rows), key=lambda r: (r.task_id, r.mode, r.seed, r.job_id)):
-        folder = (path / row.artifact_dir).resolve() if row.artifact_dir else None
+        folder = local_folder(path, row.artifact_dir).resolve() if row.artifact_dir else None  # remote: fetched
         if folder is not None and not folder.is_relative_to(artifacts):
             raise RunDirError(f"{path}: job {row.job_id} names artifacts outside the run ({row.artifact_dir})")
         if folder is None or not (folder / FINAL_PROJECT).is_file():
