@@ -2,17 +2,19 @@
 
 Three hosts made by the test (``tests/support/netns_hosts.py``): each its own network namespace and
 address in 10.201.0.0/24, its own /tmp, /dev/shm and home, its own processes and hostname; the checkout
-is shared read-only, as an install on every machine would be. host-0 holds the head (no browsers) and
-the driver, whose config, suite and run directory are on host-0's own /tmp; host-1 and host-2 hold one
-editor each. A sweep of real browser episodes runs across both; once host-2 has delivered a verdict and
-holds another job, its link is taken down. Its job is sent to host-1 and decided there, the run's log
-and events name the lost node, and every job is decided exactly once.
+is shared read-only, as an install on every machine would be. host-0 holds the head (no browsers), the
+driver, whose config and suite are on host-0's own /tmp, and an S3 server (moto's, on host-0's loopback) that
+takes the run directory; host-1 and host-2 hold one editor each. A sweep of real browser episodes runs across
+both; once host-2 has delivered a verdict and holds another job, its link is taken down. Its job is sent to
+host-1 and decided there, the run's log and events name the lost node, and every job is decided exactly
+once: in the bucket, read back whole onto host-0's disk after the driver's mirror is gone.
 """
 
 from __future__ import annotations
 
 import shutil
 import subprocess
+import sys
 import time
 from collections import Counter
 from collections.abc import Callable, Iterator
@@ -26,6 +28,7 @@ from scratchworld_dist.results import JobStart, NodeLost, RunStore, read_events,
 from tests.conftest import REPO
 from tests.support.netns_cluster import HostCluster
 from tests.support.netns_hosts import Host, IsolatedHosts, unavailable
+from tests.support.s3_server import CREDENTIALS, MOTO_SERVER
 
 pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow]
 
@@ -34,14 +37,34 @@ TASKS = [
     "double_each_letter",
 ]  # fmt: skip
 
-RUNS = "/tmp/runs"
-"""Where the driver keeps run directories: its own disk (an ``s3://`` URL on a server in host-0 once runs
-go to object storage; ``run_dir`` reads them back)."""
+MIRRORS = "/tmp/mirrors"
+"""The driver's local mirror of the remote run (``storage.cache_dir``), on host-0's own disk."""
+
+S3_PORT = 9000
+S3_ENV = {**CREDENTIALS, "AWS_ENDPOINT_URL": f"http://127.0.0.1:{S3_PORT}"}
+"""How host-0's processes reach its S3 server (its loopback: nothing outside host-0 can)."""
+
+_ON_HOST_0 = """
+import sys, time, boto3, botocore.exceptions, fsspec
+bucket, target = sys.argv[1], sys.argv[2]
+client = boto3.client("s3")
+for _ in range(600):  # the server is starting
+    try:
+        client.list_buckets()
+        break
+    except botocore.exceptions.EndpointConnectionError:
+        time.sleep(0.1)
+if target == "-":
+    client.create_bucket(Bucket=bucket)
+else:
+    fsspec.filesystem("s3").get(f"{bucket}/apart/", target, recursive=True)
+"""
+"""Run on host-0: make the bucket (target ``-``) or copy the run out of it onto host-0's disk."""
 
 
-def run_dir(driver_host: Host, name: str) -> Path:
-    """The run directory as the test reads it."""
-    return driver_host.path(f"{RUNS}/{name}")
+def from_bucket(driver_host: Host, target: str) -> None:
+    done = driver_host.run([sys.executable, "-c", _ON_HOST_0, "runs", target], env=S3_ENV)
+    assert done.returncode == 0, done.stderr
 
 
 @pytest.fixture
@@ -59,6 +82,20 @@ def hosts() -> Iterator[IsolatedHosts]:
         assert not [host.pid for host in made.hosts if Path(f"/proc/{host.pid}").exists()], "a host outlived it"
 
 
+@pytest.fixture
+def s3(hosts: IsolatedHosts, tmp_path: Path) -> Iterator[subprocess.Popen[bytes]]:
+    """moto's S3 server on host-0's loopback."""
+    with (tmp_path / "moto.log").open("wb") as log:
+        server = subprocess.Popen(
+            hosts.hosts[0].command([MOTO_SERVER, "-H", "127.0.0.1", "-p", str(S3_PORT)]), stdout=log, stderr=log
+        )
+    try:
+        yield server
+    finally:
+        server.kill()
+        server.wait()
+
+
 def wait_until(condition: Callable[[], bool], driver: subprocess.Popen[bytes], log: Path, timeout_s: float) -> None:
     """Until ``condition`` holds; fails if the driver exits first or on a hang (a generous deadline)."""
     deadline = time.monotonic() + timeout_s
@@ -68,10 +105,12 @@ def wait_until(condition: Callable[[], bool], driver: subprocess.Popen[bytes], l
         time.sleep(0.2)
 
 
-def holds_second_job(folder: Path, hostname: str) -> bool:
+def holds_second_job(driver_host: Host, hostname: str) -> bool:
     """``hostname`` committed a verdict and its worker holds another job (started, not committed)."""
-    if not (folder / "journal").exists():
+    mirrors = list(driver_host.path(MIRRORS).glob("s3/*/apart"))
+    if not mirrors or not (mirrors[0] / "journal").exists():
         return False
+    folder = mirrors[0]
     mine = [row for row in RunStore(folder).job_rows() if row.worker_host == hostname]
     if not mine:
         return False
@@ -84,7 +123,9 @@ def holds_second_job(folder: Path, hostname: str) -> bool:
 
 
 @pytest.mark.timeout(900)
-def test_a_sweep_across_hosts_that_share_nothing_survives_a_partition(tmp_path: Path, hosts: IsolatedHosts) -> None:
+def test_a_sweep_across_hosts_that_share_nothing_survives_a_partition(
+    tmp_path: Path, hosts: IsolatedHosts, s3: subprocess.Popen[bytes]
+) -> None:
     driver_host, first, second = hosts.hosts
     cluster = HostCluster(driver_host)
     cluster.head()
@@ -93,24 +134,25 @@ def test_a_sweep_across_hosts_that_share_nothing_survives_a_partition(tmp_path: 
     cluster.wait_for(nodes=3, browsers=2)
 
     shutil.copytree(REPO / "tasks", driver_host.path("/tmp/suite"))  # the suite is on the driver's disk only
+    from_bucket(driver_host, "-")
     config = {
         "name": "apart",
         "suite": "/tmp/suite",
         "agent": "oracle",
         "tasks": {"ids": TASKS},
-        "output": f"{RUNS}/apart",
+        "output": "s3://runs/apart",
+        "storage": {"cache_dir": MIRRORS},
         "ray": {"address": cluster.address, "connect_timeout_s": 60},
         "limits": {"pages_per_worker": 1, "episode_timeout_s": 300, "retries": 2},
     }
     driver_host.path("/tmp/apart.yaml").write_text(yaml.safe_dump(config))
     for host in (first, second):
-        assert not host.path("/tmp/suite").exists() and not host.path(RUNS).exists()
+        assert not host.path("/tmp/suite").exists()
 
     log = tmp_path / "driver.log"
-    driver = cluster.driver("/tmp/apart.yaml", log)
-    folder = run_dir(driver_host, "apart")
+    driver = cluster.driver("/tmp/apart.yaml", log, env=S3_ENV)
     try:
-        wait_until(lambda: holds_second_job(folder, second.name), driver, log, timeout_s=600)
+        wait_until(lambda: holds_second_job(driver_host, second.name), driver, log, timeout_s=600)
         hosts.cut(second)
         code = driver.wait(timeout=600)
     finally:
@@ -118,6 +160,15 @@ def test_a_sweep_across_hosts_that_share_nothing_survives_a_partition(tmp_path: 
             driver.kill()
     out = log.read_text()
     assert code == 0, out
+    assert s3.poll() is None, "the S3 server ended during the run"
+    assert CREDENTIALS["AWS_SECRET_ACCESS_KEY"] not in out
+
+    # The run as the bucket holds it, copied onto host-0's disk with the driver's mirror gone.
+    shutil.rmtree(driver_host.path(MIRRORS))
+    from_bucket(driver_host, "/tmp/fetched")
+    folder = driver_host.path("/tmp/fetched")
+    for host in (first, second):  # nothing of the run reached a worker's disk
+        assert not host.path(MIRRORS).exists() and not host.path("/tmp/fetched").exists()
 
     rows = RunStore(folder).job_rows()
     verdicts = Counter(row.task_id for row in rows if row.outcome != "error")
