@@ -7,7 +7,9 @@ say which jobs are decided. Running the same config again skips decided jobs, re
 
 from __future__ import annotations
 
+import contextlib
 import os
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -16,7 +18,7 @@ from ray.exceptions import RayError
 from rich.console import Console
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist._errors import ConfigError
+from scratchworld_dist._errors import ConfigError, RunDirError
 from scratchworld_dist._run_events import SweepWatcher
 from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist._sweep_manifest import checked_manifest
@@ -50,6 +52,7 @@ from scratchworld_dist.scheduling import (
     worker_logs_dir,
 )
 from scratchworld_dist.sweep import JobSpec, RunPlan, SuiteInfo, SweepConfig, plan_run, worker_job
+from scratchworld_dist.trackers import TrackerFeed, run_files, start_trackers
 from workers.contract import (
     MIB,
     JobResult,
@@ -138,9 +141,11 @@ def _run_plan(
     on_node = None if config.ray.address is None else nodes[0]  # a cluster: where the workers' environment is
     preflight = run_preflight(plan, [job for job, _ in store.undecided(plan.jobs)], on_node)
     refuse_broken(preflight, skip_broken_models)
+    feed = start_trackers(plan, manifest, run_dir, partial(console.print, markup=False, highlight=False))
     store.open_for_writing()
     events: EventLog | None = None
     watcher: SweepWatcher | None = None
+    status = "failed"
     try:
         events = EventLog(run_dir)
         undecided = store.undecided(plan.jobs)
@@ -170,7 +175,8 @@ def _run_plan(
             )
         )  # fmt: skip
         say_errors = shown_mode(progress.mode, console) != "none"
-        watcher = SweepWatcher(events, len(manifest.sessions), console, say_errors)
+        followers = [feed.hear] if feed is not None else []
+        watcher = SweepWatcher(events, len(manifest.sessions), console, say_errors, followers)
         summary = RunSummary(
             run_dir=run_dir,
             planned=len(plan.jobs),
@@ -188,7 +194,9 @@ def _run_plan(
         session.budget_stop = summary.budget_stop
         write_manifest(run_dir, manifest)
         watcher.end("finished", budget_stop=summary.budget_stop)
+        status = "finished"
     except KeyboardInterrupt:
+        status = "interrupted"
         if watcher is not None:
             watcher.end("interrupted")
         raise
@@ -200,7 +208,18 @@ def _run_plan(
         if events is not None:
             events.close()
         store.close()
+        if feed is not None:  # after the store's last commit: the report it is handed is the run's
+            _finish_trackers(feed, status, run_dir, manifest, config.benchmark)
     return summary
+
+
+def _finish_trackers(feed: TrackerFeed, status: str, run_dir: Path, manifest: RunManifest, benchmark: str) -> None:
+    """Hand the trackers the run's end and its report; record their run ids so that a resumed run continues them."""
+    runs = feed.finish(status, partial(run_files, run_dir, benchmark))
+    if manifest.trackers is not None and runs != manifest.trackers.runs:
+        manifest.trackers.runs.update(runs)
+        with contextlib.suppress(RunDirError):  # the key is recorded already: a resume finds the runs by it
+            write_manifest(run_dir, manifest)
 
 
 def _execute(

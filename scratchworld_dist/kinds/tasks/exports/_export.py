@@ -59,15 +59,25 @@ def export_runs(run_dirs: Sequence[Path], fmt: ExportFormat, out: Path, *, force
 
 
 def _leaderboard(run_dirs: Sequence[Path], out: Path, force: bool) -> ExportSummary:
+    contents, warnings = leaderboard_files(run_dirs, force=force)
+    files = [out / name for name in contents]
+    for path in files:
+        write_atomic(path, contents[path.name])
+    return ExportSummary(files=files, warnings=warnings)
+
+
+def leaderboard_files(run_dirs: Sequence[Path], *, force: bool = False) -> tuple[dict[str, bytes], list[str]]:
+    """``leaderboard.csv`` and ``leaderboard.json`` of the runs (name: content), and the report's warnings."""
     from scratchworld_dist.kinds.tasks.report import build_report
 
     report = build_report(list(run_dirs), force=force)
     entries = leaderboard(report)
     table = {"runs": [run.model_dump(mode="json") for run in report.runs], "entries": [e.model_dump() for e in entries]}
-    files = [out / "leaderboard.csv", out / "leaderboard.json"]
-    write_atomic(files[0], leaderboard_csv(entries).encode())
-    write_atomic(files[1], (json.dumps(table, indent=2) + "\n").encode())
-    return ExportSummary(files=files, warnings=report.warnings)
+    files = {
+        "leaderboard.csv": leaderboard_csv(entries).encode(),
+        "leaderboard.json": (json.dumps(table, indent=2) + "\n").encode(),
+    }
+    return files, report.warnings
 
 
 def _counted_attempts(run_dir: Path) -> list[tuple[JobRow, list[StepRecord]]]:
