@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -20,6 +21,7 @@ from rich.console import Console
 from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ConfigError, RunDirError
 from scratchworld_dist._run_events import SweepWatcher
+from scratchworld_dist._run_spans import JobSpans
 from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds import job_kind
@@ -58,9 +60,11 @@ from workers.contract import (
     JobResult,
     ModelSpec,
     NodeReport,
+    WorkerJob,
 )
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 from workers.node import describe_node, harness_fingerprint
+from workers.tracing import TracingConfigError, tracing_active
 
 
 class AttemptRecorder:
@@ -112,6 +116,10 @@ def run_sweep(
     terminal, plain lines elsewhere); every attempt is also an event in the run directory's ``events.jsonl``."""
     console = console or make_console(stderr=True)
     shown = progress or ProgressOptions()
+    try:
+        tracing_active()  # an exporter OTEL_TRACES_EXPORTER names but no package provides: said before any job
+    except TracingConfigError as exc:
+        raise ConfigError(str(exc)) from None
     if config.ray.address is None:  # a private local Ray: this machine is the only node
         local = describe_node()
         return _run_plan(plan_run(config, local.harness), [local], force, console, skip_broken_models, shown)
@@ -145,6 +153,7 @@ def _run_plan(
     store.open_for_writing()
     events: EventLog | None = None
     watcher: SweepWatcher | None = None
+    spans: JobSpans | None = None
     status = "failed"
     try:
         events = EventLog(run_dir)
@@ -176,6 +185,9 @@ def _run_plan(
         )  # fmt: skip
         say_errors = shown_mode(progress.mode, console) != "none"
         followers = [feed.hear] if feed is not None else []
+        if tracing_active():
+            spans = JobSpans(worker_job, config.name, len(manifest.sessions))
+            followers.append(spans.hear)
         watcher = SweepWatcher(events, len(manifest.sessions), console, say_errors, followers)
         summary = RunSummary(
             run_dir=run_dir,
@@ -188,7 +200,8 @@ def _run_plan(
             retried=0,
         )
         if todo:
-            summary = _execute(plan, manifest, store, todo, local_slots, console, summary, watcher, progress)
+            sends = spans.sends if spans is not None else worker_job
+            summary = _execute(plan, manifest, store, todo, local_slots, console, summary, watcher, progress, sends)
         session.finished_at = now()
         session.submitted = summary.sent
         session.budget_stop = summary.budget_stop
@@ -205,6 +218,8 @@ def _run_plan(
             watcher.end("failed", reason=(str(exc).strip().splitlines() or [type(exc).__name__])[0][:300])
         raise
     finally:
+        if spans is not None:
+            spans.end(status)
         if events is not None:
             events.close()
         store.close()
@@ -232,8 +247,10 @@ def _execute(
     summary: RunSummary,
     watcher: SweepWatcher,
     progress: ProgressOptions,
+    sends: Callable[[JobSpec, int, float], WorkerJob],
 ) -> RunSummary:
-    """Run ``todo`` on Ray (a private one with ``local_slots`` browser slots, or the configured cluster)."""
+    """Run ``todo`` on Ray (a private one with ``local_slots`` browser slots, or the configured cluster); ``sends``
+    makes each attempt's worker job (``worker_job``, with its span's ``traceparent`` while tracing)."""
     config = plan.config
     needed = {job.task_id for job, _ in todo}
     with ray_runtime(config.ray.address, local_slots, config.ray.connect_timeout_s) as slots:
@@ -258,7 +275,7 @@ def _execute(
             timeout_s=config.limits.episode_timeout_s,
             retries=config.limits.retries,
             on_result=commit,
-            sends=worker_job,
+            sends=sends,
             max_in_flight=config.limits.max_in_flight,
             budget_usd=config.limits.budget_usd,
             spent_usd=store.cost_usd() if config.limits.budget_usd is not None else 0.0,

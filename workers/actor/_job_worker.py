@@ -20,6 +20,7 @@ killer. Each result carries the worker's load: its editors, their memory and the
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import os
 import socket
 import time
@@ -46,6 +47,15 @@ from workers.kinds import WorkerKind, kind_fingerprint, kind_of, worker_kinds
 from workers.llm import close_litellm_clients
 from workers.llm import load_litellm as import_litellm
 from workers.node import BrowserUsage, browser_usage, harness_fingerprint, node_memory
+from workers.tracing import (
+    TracingConfigError,
+    configure_tracing,
+    flush_spans,
+    mark_error,
+    parent_context,
+    set_attributes,
+    span,
+)
 
 MEMORY_POLL_S = 0.5
 """How often a worker short of memory looks again."""
@@ -86,6 +96,8 @@ class JobWorker:
         self._starting = asyncio.Lock()
         self._usage: tuple[float, BrowserUsage, int] | None = None
         """The browsers' usage last read, when (``time.monotonic``), and the editors they held then."""
+        with contextlib.suppress(TracingConfigError):  # the driver said it already; spans are not worth a worker
+            configure_tracing()
 
     async def info(self) -> WorkerInfo:
         return self.info_
@@ -158,15 +170,28 @@ class JobWorker:
             )
             return Refusal(reason=reason, load=load)
         started, clock = time.time(), time.perf_counter()
-        try:
-            result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
-        except TimeoutError:
-            result = JobResult.errored(spec, "episode_timeout", f"episode exceeded {spec.timeout_s:g} s")
-        except (EditorError, PlaywrightError) as exc:  # the browser could not be started
-            result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
-        except Exception as exc:  # the worker must answer, whatever broke: the driver records it
-            detail = "".join(traceback.format_exception_only(exc)).strip()
-            result = JobResult.errored(spec, "internal_error", detail)
+        model, mode = getattr(getattr(spec, "model", None), "name", None), getattr(spec, "mode", None)
+        attributes = {"job_id": spec.job_id, "task": spec.task_id, "attempt": spec.attempt, "model": model}
+        attributes["mode"] = mode
+        with span("episode", parent_context(spec.trace_parent), **attributes) as opened:
+            try:
+                result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
+            except TimeoutError:
+                result = JobResult.errored(spec, "episode_timeout", f"episode exceeded {spec.timeout_s:g} s")
+            except (EditorError, PlaywrightError) as exc:  # the browser could not be started
+                result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
+            except Exception as exc:  # the worker must answer, whatever broke: the driver records it
+                detail = "".join(traceback.format_exception_only(exc)).strip()
+                result = JobResult.errored(spec, "internal_error", detail)
+            if opened.is_recording():
+                set_attributes(
+                    opened, outcome=result.outcome, error_class=result.error_class, steps=len(result.steps),
+                    input_tokens=result.input_tokens, output_tokens=result.output_tokens,
+                )  # fmt: skip
+                if result.outcome == "error":
+                    mark_error(opened, result.error_class or "error")
+        if opened.is_recording():  # a worker is killed without exit handlers: its spans leave with each job
+            await asyncio.to_thread(flush_spans)
         update: dict[str, object] = {"worker": self.info_, "load": await self.load()}
         if not result.started_at:  # an episode cut short never stamped itself
             timings = result.timings.model_copy(update={"total_s": time.perf_counter() - clock})

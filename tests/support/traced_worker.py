@@ -1,0 +1,56 @@
+"""Spans read back from where they were made: the SDK's in-memory exporter, in this process or in a Ray worker."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import BaseModel
+
+from workers.actor import JobWorker
+
+
+class SpanRecord(BaseModel):
+    """A finished span as a test reads it (and as it crosses back from a Ray worker)."""
+
+    name: str
+    trace_id: str
+    span_id: str
+    parent_id: str | None
+    attributes: dict[str, Any]
+
+    @classmethod
+    def of(cls, span: Any) -> SpanRecord:
+        parent = span.parent
+        return cls(
+            name=span.name,
+            trace_id=f"{span.context.trace_id:032x}",
+            span_id=f"{span.context.span_id:016x}",
+            parent_id=f"{parent.span_id:016x}" if parent is not None else None,
+            attributes=dict(span.attributes or {}),
+        )
+
+
+def memory_provider() -> tuple[Any, Any]:
+    """An SDK tracer provider whose spans go to an in-memory exporter, each as it ends: (provider, exporter)."""
+    from opentelemetry.sdk.trace import TracerProvider
+    from opentelemetry.sdk.trace.export import SimpleSpanProcessor
+    from opentelemetry.sdk.trace.export.in_memory_span_exporter import InMemorySpanExporter
+
+    exporter = InMemorySpanExporter()
+    provider = TracerProvider()
+    provider.add_span_processor(SimpleSpanProcessor(exporter))
+    return provider, exporter
+
+
+class TracedJobWorker(JobWorker):
+    """The worker actor with its spans kept in memory (``finished_spans``); construct through ``ray.remote``."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        from opentelemetry import trace
+
+        provider, self.exporter = memory_provider()
+        trace.set_tracer_provider(provider)  # this actor's own process
+        super().__init__(*args, **kwargs)
+
+    async def finished_spans(self) -> list[SpanRecord]:
+        return [SpanRecord.of(span) for span in self.exporter.get_finished_spans()]
