@@ -54,7 +54,7 @@ from scratchworld_dist.scheduling import (
     worker_logs_dir,
 )
 from scratchworld_dist.sweep import JobSpec, RunPlan, SuiteInfo, SweepConfig, plan_run, worker_job
-from scratchworld_dist.trackers import TrackerFeed, run_files, start_trackers
+from scratchworld_dist.trackers import TrackerFeed, configured_trackers, run_files, start_trackers
 from workers.contract import (
     MIB,
     JobResult,
@@ -143,20 +143,22 @@ def _run_plan(
     run_dir = config.run_dir()
     store = RunStore(run_dir)
     manifest = checked_manifest(plan, run_dir, force)
+    configured_trackers(config.loggers)  # a tracker whose package is missing: refused before a model is called
     if config.model_cache is not None:
         _open_model_cache(config.model_cache.dir)
     # Before the run directory is touched: a broken model stops the run leaving nothing behind.
     on_node = None if config.ray.address is None else nodes[0]  # a cluster: where the workers' environment is
     preflight = run_preflight(plan, [job for job, _ in store.undecided(plan.jobs)], on_node)
     refuse_broken(preflight, skip_broken_models)
-    feed = start_trackers(plan, manifest, run_dir, partial(console.print, markup=False, highlight=False))
     store.open_for_writing()
+    feed: TrackerFeed | None = None
     events: EventLog | None = None
     watcher: SweepWatcher | None = None
     spans: JobSpans | None = None
     status = "failed"
     try:
         events = EventLog(run_dir)
+        feed = start_trackers(plan, manifest, run_dir, partial(console.print, markup=False, highlight=False))
         undecided = store.undecided(plan.jobs)
         todo = settle(preflight, plan, undecided, console)
         local_slots = None

@@ -40,6 +40,8 @@ class JobSpans:
             }  # fmt: skip
             opened = self._open[key] = tracer().start_span("job", context=self._parent, attributes=attributes)
         spec = self._sends(job, attempt, timeout_s)
+        if "trace_parent" not in type(spec).model_fields:  # a plugin's spec need not extend JobHeader
+            return spec
         return spec.model_copy(update={"trace_parent": traceparent_of(opened)})
 
     def hear(self, event: RunEvent) -> None:

@@ -45,6 +45,7 @@ __all__ = [
     "RunTally",
     "Tracker",
     "TrackerFeed",
+    "configured_trackers",
     "redacted",
     "run_files",
     "start_trackers",

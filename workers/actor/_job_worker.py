@@ -173,7 +173,8 @@ class JobWorker:
         model, mode = getattr(getattr(spec, "model", None), "name", None), getattr(spec, "mode", None)
         attributes = {"job_id": spec.job_id, "task": spec.task_id, "attempt": spec.attempt, "model": model}
         attributes["mode"] = mode
-        with span("episode", parent_context(spec.trace_parent), **attributes) as opened:
+        parent = parent_context(getattr(spec, "trace_parent", None))  # a plugin's spec need not extend JobHeader
+        with span("episode", parent, **attributes) as opened:
             try:
                 result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
             except TimeoutError:

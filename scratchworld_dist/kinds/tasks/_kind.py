@@ -142,7 +142,7 @@ class TasksKind(Kind):
         return render(report, fmt, plots), report.warnings
 
     def tracker_files(self, run_dir: Path) -> dict[str, bytes]:
-        from scratchworld_dist.kinds.tasks.exports._export import leaderboard_files
+        from scratchworld_dist.kinds.tasks.exports._leaderboard import leaderboard_files
 
         return leaderboard_files([run_dir])[0]
 

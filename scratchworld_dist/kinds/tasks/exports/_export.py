@@ -15,7 +15,7 @@ from pydantic import BaseModel
 from scratchworld_dist._errors import RunDirError, ScratchWorldError
 from scratchworld_dist._files import write_atomic
 from scratchworld_dist.kinds.tasks.exports._atif import ImageFiles, atif_trajectory, trajectory_file_name
-from scratchworld_dist.kinds.tasks.exports._leaderboard import leaderboard, leaderboard_csv
+from scratchworld_dist.kinds.tasks.exports._leaderboard import leaderboard_files
 from scratchworld_dist.kinds.tasks.exports._submission import SubmissionLine, submission_file_name, submission_line
 from scratchworld_dist.results import (
     JobRow,
@@ -64,20 +64,6 @@ def _leaderboard(run_dirs: Sequence[Path], out: Path, force: bool) -> ExportSumm
     for path in files:
         write_atomic(path, contents[path.name])
     return ExportSummary(files=files, warnings=warnings)
-
-
-def leaderboard_files(run_dirs: Sequence[Path], *, force: bool = False) -> tuple[dict[str, bytes], list[str]]:
-    """``leaderboard.csv`` and ``leaderboard.json`` of the runs (name: content), and the report's warnings."""
-    from scratchworld_dist.kinds.tasks.report import build_report
-
-    report = build_report(list(run_dirs), force=force)
-    entries = leaderboard(report)
-    table = {"runs": [run.model_dump(mode="json") for run in report.runs], "entries": [e.model_dump() for e in entries]}
-    files = {
-        "leaderboard.csv": leaderboard_csv(entries).encode(),
-        "leaderboard.json": (json.dumps(table, indent=2) + "\n").encode(),
-    }
-    return files, report.warnings
 
 
 def _counted_attempts(run_dir: Path) -> list[tuple[JobRow, list[StepRecord]]]:
