@@ -9,8 +9,9 @@ from __future__ import annotations
 
 from pathlib import Path
 from typing import Literal
+from urllib.parse import urlsplit
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 
 class MLflowLogger(BaseModel):
@@ -19,7 +20,18 @@ class MLflowLogger(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     tracking_uri: str | None = None
-    """Where runs are kept (default: ``MLFLOW_TRACKING_URI``, else MLflow's own default)."""
+    """Where runs are kept (default: ``MLFLOW_TRACKING_URI``, else MLflow's own default). Never with credentials
+    in it (the config is recorded in the run's manifest): MLflow reads them from its own variables."""
+
+    @field_validator("tracking_uri")
+    @classmethod
+    def _no_credentials(cls, uri: str | None) -> str | None:
+        if uri is not None and "@" in urlsplit(uri).netloc:
+            raise ValueError(
+                "a tracking URI with credentials would be recorded with the run: give them in "
+                "MLFLOW_TRACKING_USERNAME and MLFLOW_TRACKING_PASSWORD (or MLFLOW_TRACKING_TOKEN) instead"
+            )
+        return uri
 
     experiment: str | None = None
     """The experiment the run is logged under (default: the sweep's name)."""

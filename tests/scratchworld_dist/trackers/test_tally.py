@@ -84,3 +84,11 @@ def test_loggers_change_no_job_and_a_misspelt_key_is_named(tmp_path: Path) -> No
         sweep_config_from(_config(tmp_path, {"mlflw": {}}), tmp_path)
     with pytest.raises(ConfigError, match=r"loggers\.wandb\.mode"):
         sweep_config_from(_config(tmp_path, {"wandb": {"mode": "sometimes"}}), tmp_path)
+
+
+def test_a_tracking_uri_with_credentials_is_refused(tmp_path: Path) -> None:
+    secret = {"mlflow": {"tracking_uri": "https://alice:s3cret@mlflow.lab"}}
+    with pytest.raises(ConfigError, match=r"loggers\.mlflow\.tracking_uri: .*MLFLOW_TRACKING_USERNAME") as caught:
+        sweep_config_from(_config(tmp_path, secret), tmp_path)
+    assert "s3cret" not in str(caught.value)
+    sweep_config_from(_config(tmp_path, {"mlflow": {"tracking_uri": "https://mlflow.lab:5000"}}), tmp_path)
