@@ -14,7 +14,7 @@ from opentelemetry import trace
 
 from tests.conftest import REPO
 from tests.support.sweep_driver import run_here
-from tests.support.traced_worker import SpanRecord, memory_provider
+from tests.support.traced_worker import SpanRecord, spans_here
 
 pytestmark = pytest.mark.ray
 
@@ -23,10 +23,8 @@ TASKS = ["sum_two_numbers", "quiz_score"]
 
 @pytest.fixture
 def driver_spans(monkeypatch: pytest.MonkeyPatch) -> Iterator[Any]:
-    provider, exporter = memory_provider()
-    monkeypatch.setattr(trace, "_TRACER_PROVIDER", provider)
-    yield exporter
-    provider.shutdown()
+    with spans_here(monkeypatch) as exporter:
+        yield exporter
 
 
 def test_a_traced_sweep_has_a_span_per_attempt_and_the_same_jobs(

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
+import pytest
 from pydantic import BaseModel
 
 from workers.actor import JobWorker
@@ -40,6 +43,20 @@ def memory_provider() -> tuple[Any, Any]:
     provider = TracerProvider()
     provider.add_span_processor(SimpleSpanProcessor(exporter))
     return provider, exporter
+
+
+@contextmanager
+def spans_here(monkeypatch: pytest.MonkeyPatch) -> Iterator[Any]:
+    """This process's spans kept in memory (the exporter) until the test ends, when the API's global provider is
+    restored (the API lets a provider be set once per process: a test sets it as a fixture would, and undoes it)."""
+    from opentelemetry import trace
+
+    provider, exporter = memory_provider()
+    monkeypatch.setattr(trace, "_TRACER_PROVIDER", provider)
+    try:
+        yield exporter
+    finally:
+        provider.shutdown()
 
 
 class TracedJobWorker(JobWorker):

@@ -10,7 +10,7 @@ import pytest
 from scratchworld_dist.sweep._loggers import Loggers, MLflowLogger
 from scratchworld_dist.trackers import PlannedJob, RunInfo, TrackerFeed
 from scratchworld_dist.trackers._mlflow import MLflowTracker
-from tests.scratchworld_dist.trackers.test_tally import finish
+from tests.support.run_events import finish
 
 PLANNED = {f"j{n}": PlannedJob("m", "composite", "create") for n in range(5)}
 RUN = RunInfo(name="fed", key="0123456789abcdef", params={"suite_hash": "abc"}, tags={"team": "evals"})

@@ -9,22 +9,11 @@ import pytest
 
 from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._sweep_manifest import config_hash
-from scratchworld_dist.results import JobError, JobFinish, JobRetry, JobStart
+from scratchworld_dist.results import JobError, JobRetry, JobStart
 from scratchworld_dist.sweep import sweep_config_from
 from scratchworld_dist.trackers import PlannedJob, RunTally, redacted
 from tests.conftest import REPO
-
-
-def _fields(job_id: str, attempt: int = 1) -> dict[str, object]:
-    return {"session": 1, "job_id": job_id, "task_id": job_id, "model": "m", "agent": "a", "mode": "composite",
-            "seed": 0, "attempt": attempt}  # fmt: skip
-
-
-def finish(job_id: str, outcome: str, passed: int, total: int, cost: float = 0.0, attempt: int = 1) -> JobFinish:
-    return JobFinish(
-        **_fields(job_id, attempt), outcome=outcome, tests_passed=passed, tests_total=total, steps=1,
-        input_tokens=0, output_tokens=0, cost_usd=cost, seconds=1.0,
-    )  # fmt: skip
+from tests.support.run_events import finish, job_fields
 
 
 def test_metrics_follow_each_jobs_last_attempt() -> None:
@@ -37,11 +26,11 @@ def test_metrics_follow_each_jobs_last_attempt() -> None:
     tally = RunTally(planned)
     assert tally.metrics()["composite/coverage"] == 0.0
     assert "composite/sr" not in tally.metrics()  # no verdict yet: no rate to report
-    assert not tally.hear(JobStart(**_fields("a"), worker=0))
-    assert tally.hear(JobRetry(**_fields("a"), error_class="episode_timeout", message="x", cost_usd=0.25))
+    assert not tally.hear(JobStart(**job_fields("a"), worker=0))
+    assert tally.hear(JobRetry(**job_fields("a"), error_class="episode_timeout", message="x", cost_usd=0.25))
     assert tally.hear(finish("a", "passed", 3, 3, cost=0.5, attempt=2))
     assert tally.hear(finish("b", "failed", 1, 4))
-    assert tally.hear(JobError(**_fields("c"), error_class="episode_timeout", message="x", cost_usd=0.0))
+    assert tally.hear(JobError(**job_fields("c"), error_class="episode_timeout", message="x", cost_usd=0.0))
     assert not tally.hear(finish("other", "passed", 1, 1))  # a job of another plan
     metrics = tally.metrics()
     assert metrics["composite/sr"] == 0.5

@@ -9,7 +9,6 @@ from typing import Any
 
 import pytest
 import ray
-from opentelemetry import trace
 
 from scratchworld_dist._run_spans import JobSpans
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
@@ -18,7 +17,7 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR
 from tests.support.openai_server import OpenAIServer, reply
-from tests.support.traced_worker import SpanRecord, TracedJobWorker, memory_provider
+from tests.support.traced_worker import SpanRecord, TracedJobWorker, spans_here
 from workers.contract import JobResult, ModelSpec
 
 pytestmark = [pytest.mark.ray, pytest.mark.browser]
@@ -28,11 +27,8 @@ DONE_REPLY = 'Analysis: finished.\n```json\n{"api": "done", "args": {}}\n```'
 
 @pytest.fixture
 def driver_spans(monkeypatch: pytest.MonkeyPatch) -> Iterator[Any]:
-    """This process's spans in memory while the test runs (the API's global provider is restored after it)."""
-    provider, exporter = memory_provider()
-    monkeypatch.setattr(trace, "_TRACER_PROVIDER", provider)
-    yield exporter
-    provider.shutdown()
+    with spans_here(monkeypatch) as exporter:
+        yield exporter
 
 
 def by_name(spans: list[SpanRecord], name: str) -> list[SpanRecord]:
