@@ -142,5 +142,6 @@ def main() -> None:
         share = cost / (off_mean * 1e6) * 100
         print(f"tracing's {what} cost per step: {cost:.1f} us = {share:.3f}% of the mean untraced step (target < 1%)")
 
+
 if __name__ == "__main__":
     main()

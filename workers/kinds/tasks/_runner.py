@@ -351,14 +351,14 @@ async def _step(
     if not isinstance(action, ACTION_TYPES):
         message = f"the agent returned a {type(action).__name__} at step {index}, not an action"
         raise AgentCrashedError(message, message)
-    name, args = _describe(action)
-    with span("action", action=name) as acting:
+    with span("action", action=getattr(action, "api", None) or action.name) as acting:
         await pace.before_action()
         ok, error_code, error_message, data = await _apply(
             environment, action, spec.project_limits, privileged=getattr(agent, "privileged", False)
         )
         await pace.after_action()
         set_attributes(acting, ok=ok, error_code=error_code)
+    name, args = _describe(action)
     step = StepRecord(
         index=index,
         action=name,
