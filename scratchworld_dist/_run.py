@@ -27,6 +27,7 @@ from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
 from scratchworld_dist.results import (
+    MANIFEST_NAME,
     EventLog,
     KindRows,
     RunManifest,
@@ -233,7 +234,7 @@ def _run_plan(
 def _finish_trackers(feed: TrackerFeed, status: str, run_dir: Path, manifest: RunManifest, benchmark: str) -> None:
     """Hand the trackers the run's end and its report; record their run ids so that a resumed run continues them."""
     runs = feed.finish(status, partial(run_files, run_dir, benchmark))
-    if manifest.trackers is not None and runs != manifest.trackers.runs:
+    if manifest.trackers is not None and runs != manifest.trackers.runs and (run_dir / MANIFEST_NAME).exists():
         manifest.trackers.runs.update(runs)
         with contextlib.suppress(RunDirError):  # the key is recorded already: a resume finds the runs by it
             write_manifest(run_dir, manifest)
