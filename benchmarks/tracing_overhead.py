@@ -7,8 +7,8 @@ Traced means what ``OTEL_EXPORTER_OTLP_ENDPOINT`` turns on: the SDK's tracer pro
 the OTLP/HTTP exporter, sending to a sink on 127.0.0.1 in another process (a collector's stand-in that answers
 200), with the attempt's ``traceparent`` in the job as the driver sends it. Untraced is the API's no-op tracer.
 Step time is each step's ``latency_s`` (observe, act, apply); the target is under 1% of it. On a loaded machine the
-episodes' difference is mostly noise (its standard error is printed with it); the spans' own cost is also given as
-CPU time (the exporter's thread included), which other processes' load does not inflate as it does wall time.
+episodes' difference is mostly noise (the spread of the pairs' ratios shows how much); the spans' own cost is also
+given as CPU time (the exporter's thread included), which other processes' load does not inflate as wall time.
 """
 
 from __future__ import annotations
@@ -82,17 +82,20 @@ def step_spans_us(provider: object | None, steps: int = 2_000, tries: int = 3) -
     return wall, cpu
 
 
-async def episodes(rounds: int, limit: int, provider: object) -> dict[bool, tuple[list[float], list[float]]]:
-    """Step latencies and episode times (s) of the demo's composite jobs, untraced (False) and traced (True)."""
+async def episodes(rounds: int, limit: int, provider: object) -> tuple[dict[bool, list[float]], list[float]]:
+    """Step latencies (s) of the demo's composite jobs, untraced (False) and traced (True); and for each job and
+    round, its mean traced step over its mean untraced step (a pair run back to back, which goes first alternating)."""
     plan = plan_run(load_sweep_config(REPO / "configs" / "demo.yaml"))
     jobs = [job for job in plan.jobs if job.mode == "composite"][:limit]
     payloads = {content.task.id: content.payload for content in plan.contents}
-    found: dict[bool, tuple[list[float], list[float]]] = {False: ([], []), True: ([], [])}
+    steps: dict[bool, list[float]] = {False: [], True: []}
+    ratios: list[float] = []
     worker = JobWorker(worker_index=0)
     try:
         await worker.run(worker_job(jobs[0], 1, 300), payloads[jobs[0].task_id])  # the browser's start, untimed
         for round_index in range(rounds):
             for number, job in enumerate(jobs):
+                means: dict[bool, float] = {}
                 for traced in (True, False) if (round_index + number) % 2 else (False, True):
                     use(provider if traced else None)
                     sent = worker_job(job, 1, 300)
@@ -102,13 +105,14 @@ async def episodes(rounds: int, limit: int, provider: object) -> dict[bool, tupl
                     opened.end()
                     if result.outcome != "passed":
                         raise RuntimeError(f"{job.task_id}: {result.outcome} {result.error_message}")
-                    found[traced][0].extend(step.latency_s for step in result.steps)
-                    found[traced][1].append(result.timings.total_s)
+                    steps[traced].extend(step.latency_s for step in result.steps)
+                    means[traced] = statistics.fmean(step.latency_s for step in result.steps)
+                ratios.append(means[True] / means[False])
             print(f"round {round_index + 1}/{rounds}: {len(jobs)} task(s) each way", file=sys.stderr)
     finally:
         use(None)
         await worker.close()
-    return found
+    return steps, ratios
 
 
 def main() -> None:
@@ -120,21 +124,21 @@ def main() -> None:
     try:
         port = int(sink.stdout.readline())  # type: ignore[union-attr]
         provider = traced_provider(port)
-        found = asyncio.run(episodes(args.rounds, args.tasks, provider))
+        found, ratios = asyncio.run(episodes(args.rounds, args.tasks, provider))
         micro_off, micro_on = step_spans_us(None), step_spans_us(provider)
         provider.shutdown()  # type: ignore[attr-defined]
     finally:
         sink.kill()
-    (off_steps, off_eps), (on_steps, on_eps) = found[False], found[True]
+    off_steps, on_steps = found[False], found[True]
     off_mean, on_mean = statistics.fmean(off_steps), statistics.fmean(on_steps)
-    spread = (statistics.variance(off_steps) / len(off_steps) + statistics.variance(on_steps) / len(on_steps)) ** 0.5
     print(f"composite steps: {len(off_steps)} untraced, {len(on_steps)} traced ({args.tasks} demo task(s) x "
-          f"{args.rounds} round(s) each way, alternating)")  # fmt: skip
+          f"{args.rounds} round(s), each run untraced and traced back to back)")  # fmt: skip
     print(f"step time untraced: mean {off_mean * 1000:.2f} ms, median {statistics.median(off_steps) * 1000:.2f} ms")
     print(f"step time traced:   mean {on_mean * 1000:.2f} ms, median {statistics.median(on_steps) * 1000:.2f} ms")
-    print(f"difference of the means: {(on_mean - off_mean) / off_mean * 100:+.2f}% "
-          f"(standard error {spread / off_mean * 100:.2f}%: the machine's noise)")  # fmt: skip
-    print(f"episode time: untraced mean {statistics.fmean(off_eps):.2f} s, traced {statistics.fmean(on_eps):.2f} s")
+    quartiles = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else [ratios[0]] * 3
+    print(f"traced / untraced mean step, per pair: geometric mean {statistics.geometric_mean(ratios):.3f}, "
+          f"median {quartiles[1]:.3f}, quartiles {quartiles[0]:.3f}-{quartiles[2]:.3f} over {len(ratios)} pairs "
+          "(the spread is the machine's noise)")  # fmt: skip
     (wall_off, cpu_off), (wall_on, cpu_on) = micro_off, micro_on
     print(f"spans of one step (step, action, attributes, export): wall {wall_on:.1f} us traced, {wall_off:.1f} us "
           f"no-op; CPU {cpu_on:.1f} us traced, {cpu_off:.1f} us no-op")  # fmt: skip
