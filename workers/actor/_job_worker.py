@@ -98,6 +98,9 @@ class JobWorker:
         """The browsers' usage last read, when (``time.monotonic``), and the editors they held then."""
         with contextlib.suppress(TracingConfigError):  # the driver said it already; spans are not worth a worker
             configure_tracing()
+        self._flushes_answer = True
+        """Whether the span exporter took the last flush in time (if not, flushes no longer hold up a job)."""
+        self._flushing: asyncio.Future[bool] | None = None
 
     async def info(self) -> WorkerInfo:
         return self.info_
@@ -191,8 +194,8 @@ class JobWorker:
                 )  # fmt: skip
                 if result.outcome == "error":
                     mark_error(opened, result.error_class or "error")
-        if opened.is_recording():  # a worker is killed without exit handlers: its spans leave with each job
-            await asyncio.to_thread(flush_spans)
+        if opened.is_recording():
+            await self._flush_spans()
         update: dict[str, object] = {"worker": self.info_, "load": await self.load()}
         if not result.started_at:  # an episode cut short never stamped itself
             timings = result.timings.model_copy(update={"total_s": time.perf_counter() - clock})
@@ -215,6 +218,16 @@ class JobWorker:
             )
             return JobResult.errored(spec, "harness_mismatch", message)
         return await kind.run(self, spec, task)
+
+    async def _flush_spans(self) -> None:
+        """Export the job's spans before its result leaves: the driver may kill this actor next, without exit
+        handlers. A collector that does not take them within 2 s costs that once; from then on they leave in the
+        background (and as the batch processor's schedule sends them)."""
+        if self._flushing is not None and not self._flushing.done():
+            return  # one flush at a time: the one under way takes these spans too, or the schedule does
+        self._flushing = asyncio.ensure_future(asyncio.to_thread(flush_spans))
+        if self._flushes_answer:
+            self._flushes_answer = await asyncio.shield(self._flushing)
 
     def kind_harness(self, kind: str) -> str:
         """The digest ``kind``'s jobs must be planned under here: this process's harness minus other kinds' code."""

@@ -55,13 +55,13 @@ def tracing_active() -> bool:
     return configure_tracing() or not isinstance(trace.get_tracer_provider(), trace.ProxyTracerProvider)
 
 
-def flush_spans(timeout_s: float = 10.0) -> None:
-    """Export the spans ended so far: a Ray worker is killed without running its exit handlers."""
+def flush_spans(timeout_s: float = 2.0) -> bool:
+    """Export the spans ended so far (a Ray worker is killed without running its exit handlers); whether they
+    were exported within ``timeout_s``."""
     from opentelemetry import trace
 
     flush = getattr(trace.get_tracer_provider(), "force_flush", None)
-    if flush is not None:
-        flush(int(timeout_s * 1000))
+    return bool(flush(int(timeout_s * 1000))) if flush is not None else True
 
 
 def _exporter_name(name: str) -> str:
