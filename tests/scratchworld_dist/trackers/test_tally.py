@@ -11,7 +11,7 @@ from scratchworld_dist._errors import ConfigError
 from scratchworld_dist._sweep_manifest import config_hash
 from scratchworld_dist.results import JobError, JobRetry, JobStart
 from scratchworld_dist.sweep import sweep_config_from
-from scratchworld_dist.trackers import PlannedJob, RunTally, redacted
+from scratchworld_dist.trackers import TRACKERS, PlannedJob, RunTally, configured_trackers, redacted
 from tests.conftest import REPO
 from tests.support.run_events import finish, job_fields
 
@@ -81,3 +81,12 @@ def test_a_tracking_uri_with_credentials_is_refused(tmp_path: Path) -> None:
         sweep_config_from(_config(tmp_path, secret), tmp_path)
     assert "s3cret" not in str(caught.value)
     sweep_config_from(_config(tmp_path, {"mlflow": {"tracking_uri": "https://mlflow.lab:5000"}}), tmp_path)
+
+
+def test_a_tracker_whose_package_is_missing_names_its_extra(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    module, cls, _, extra = TRACKERS["mlflow"]
+    monkeypatch.setitem(TRACKERS, "mlflow", (module, cls, "scratchworld_no_such_package", extra))
+    config = sweep_config_from(_config(tmp_path, {"mlflow": {}}), tmp_path)
+    with pytest.raises(ConfigError, match=r"^loggers\.mlflow: .* pip install 'scratchworld-dist\[mlflow\]'$"):
+        configured_trackers(config.loggers)
+    assert configured_trackers(sweep_config_from(_config(tmp_path, {}), tmp_path).loggers) == []
