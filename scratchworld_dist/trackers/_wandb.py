@@ -13,6 +13,9 @@ from scratchworld_dist.trackers._tracker import RunInfo
 
 _EXIT_CODES = {"finished": 0, "interrupted": 130, "failed": 1}
 
+MAX_TAG_CHARS = 64
+"""W&B's limit on a tag (the run's ``key=value`` labels are cut to it)."""
+
 
 class WandbTracker:
     name = "wandb"
@@ -36,7 +39,7 @@ class WandbTracker:
             mode=settings.mode,
             dir=str(settings.dir) if settings.dir is not None else None,
             config=run.params,
-            tags=[f"{k}={v}" if v else k for k, v in run.tags.items()][:64],
+            tags=[(f"{k}={v}" if v else k)[:MAX_TAG_CHARS] for k, v in run.tags.items()],
             reinit="create_new",  # its own run object: the user's runs in this process are left alone
             settings=wandb.Settings(console="off", silent=True, x_disable_stats=True),
         )
