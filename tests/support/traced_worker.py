@@ -33,15 +33,19 @@ class SpanRecord(BaseModel):
         )
 
 
-def memory_provider() -> tuple[Any, Any]:
-    """An SDK tracer provider whose spans go to an in-memory exporter, each as it ends: (provider, exporter)."""
+def memory_provider(batched: bool = False) -> tuple[Any, Any]:
+    """An SDK tracer provider whose spans go to an in-memory exporter: (provider, exporter). Each span as it ends,
+    or ``batched``: only when the provider is flushed (the batch processor's schedule is far beyond any test)."""
     from opentelemetry.sdk.trace import TracerProvider
-    from opentelemetry.sdk.trace.export import SimpleSpanProcessor
+    from opentelemetry.sdk.trace.export import BatchSpanProcessor, SimpleSpanProcessor
     from opentelemetry.sdk.trace.export.in_memory_span_exporter import InMemorySpanExporter
 
     exporter = InMemorySpanExporter()
     provider = TracerProvider()
-    provider.add_span_processor(SimpleSpanProcessor(exporter))
+    if batched:
+        provider.add_span_processor(BatchSpanProcessor(exporter, schedule_delay_millis=3_600_000))
+    else:
+        provider.add_span_processor(SimpleSpanProcessor(exporter))
     return provider, exporter
 
 
@@ -60,12 +64,13 @@ def spans_here(monkeypatch: pytest.MonkeyPatch) -> Iterator[Any]:
 
 
 class TracedJobWorker(JobWorker):
-    """The worker actor with its spans kept in memory (``finished_spans``); construct through ``ray.remote``."""
+    """The worker actor with its spans kept in memory (``finished_spans``); construct through ``ray.remote``. Its
+    spans are batched as an exporter's are: the test sees those the worker flushed itself."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         from opentelemetry import trace
 
-        provider, self.exporter = memory_provider()
+        provider, self.exporter = memory_provider(batched=True)
         trace.set_tracer_provider(provider)  # this actor's own process
         super().__init__(*args, **kwargs)
 

@@ -187,14 +187,15 @@ class JobWorker:
             except Exception as exc:  # the worker must answer, whatever broke: the driver records it
                 detail = "".join(traceback.format_exception_only(exc)).strip()
                 result = JobResult.errored(spec, "internal_error", detail)
-            if opened.is_recording():
+            traced = opened.is_recording()  # an ended span no longer records
+            if traced:
                 set_attributes(
                     opened, outcome=result.outcome, error_class=result.error_class, steps=len(result.steps),
                     input_tokens=result.input_tokens, output_tokens=result.output_tokens,
                 )  # fmt: skip
                 if result.outcome == "error":
                     mark_error(opened, result.error_class or "error")
-        if opened.is_recording():
+        if traced:
             await self._flush_spans()
         update: dict[str, object] = {"worker": self.info_, "load": await self.load()}
         if not result.started_at:  # an episode cut short never stamped itself
