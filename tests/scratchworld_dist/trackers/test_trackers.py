@@ -21,7 +21,7 @@ from tests.support.sweep_driver import run_here
 pytestmark = pytest.mark.ray
 
 TASKS = ["sum_two_numbers", "quiz_score"]
-"""One of each category's... two tasks: ``quiz_score`` fails (synthetic), the other passes."""
+"""Two tasks: ``quiz_score`` fails (synthetic episodes), the other passes."""
 
 
 @pytest.fixture(autouse=True)
