@@ -7,7 +7,10 @@ say which jobs are decided. Running the same config again skips decided jobs, re
 
 from __future__ import annotations
 
+import contextlib
 import os
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -16,8 +19,9 @@ from ray.exceptions import RayError
 from rich.console import Console
 
 from scratchworld_dist._console import make_console
-from scratchworld_dist._errors import ConfigError
+from scratchworld_dist._errors import ConfigError, RunDirError
 from scratchworld_dist._run_events import SweepWatcher
+from scratchworld_dist._run_spans import JobSpans
 from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds import job_kind
@@ -53,14 +57,17 @@ from scratchworld_dist.scheduling import (
     worker_logs_dir,
 )
 from scratchworld_dist.sweep import JobSpec, RunPlan, SuiteInfo, SweepConfig, plan_run, worker_job
+from scratchworld_dist.trackers import TrackerFeed, configured_trackers, run_files, start_trackers
 from workers.contract import (
     MIB,
     JobResult,
     ModelSpec,
     NodeReport,
+    WorkerJob,
 )
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 from workers.node import describe_node, harness_fingerprint
+from workers.tracing import TracingConfigError, tracing_active
 
 
 class AttemptRecorder:
@@ -112,6 +119,10 @@ def run_sweep(
     terminal, plain lines elsewhere); every attempt is also an event in the run directory's ``events.jsonl``."""
     console = console or make_console(stderr=True)
     shown = progress or ProgressOptions()
+    try:
+        tracing_active()  # an exporter OTEL_TRACES_EXPORTER names but no package provides: said before any job
+    except TracingConfigError as exc:
+        raise ConfigError(str(exc)) from None
     if config.ray.address is None:  # a private local Ray: this machine is the only node
         local = describe_node()
         return _run_plan(plan_run(config, local.harness), [local], force, console, skip_broken_models, shown)
@@ -155,6 +166,7 @@ def _run_in(
     store = RunStore(run_dir)
     store.listener = remote
     manifest = checked_manifest(plan, run_dir, force)
+    configured_trackers(config.loggers)  # a tracker whose package is missing: refused before a model is called
     if config.model_cache is not None:
         _open_model_cache(config.model_cache.dir)
     # Before the run directory is touched: a broken model stops the run leaving nothing behind.
@@ -162,10 +174,14 @@ def _run_in(
     preflight = run_preflight(plan, [job for job, _ in store.undecided(plan.jobs)], on_node)
     refuse_broken(preflight, skip_broken_models)
     store.open_for_writing()
+    feed: TrackerFeed | None = None
     events: EventLog | None = None
     watcher: SweepWatcher | None = None
+    spans: JobSpans | None = None
+    status = "failed"
     try:
         events = EventLog(run_dir)
+        feed = start_trackers(plan, manifest, run_dir, partial(console.print, markup=False, highlight=False))
         undecided = store.undecided(plan.jobs)
         todo = settle(preflight, plan, undecided, console)
         local_slots = None
@@ -195,7 +211,11 @@ def _run_in(
             )
         )  # fmt: skip
         say_errors = shown_mode(progress.mode, console) != "none"
-        watcher = SweepWatcher(events, len(manifest.sessions), console, say_errors)
+        followers = [feed.hear] if feed is not None else []
+        if tracing_active():
+            spans = JobSpans(worker_job, config.name, len(manifest.sessions))
+            followers.append(spans.hear)
+        watcher = SweepWatcher(events, len(manifest.sessions), console, say_errors, followers)
         summary = RunSummary(
             run_dir=run_dir,
             planned=len(plan.jobs),
@@ -207,7 +227,8 @@ def _run_in(
             retried=0,
         )
         if todo:
-            summary = _execute(plan, manifest, store, todo, local_slots, console, summary, watcher, progress)
+            sends = spans.sends if spans is not None else worker_job
+            summary = _execute(plan, manifest, store, todo, local_slots, console, summary, watcher, progress, sends)
         session.finished_at = now()
         session.submitted = summary.sent
         session.budget_stop = summary.budget_stop
@@ -215,7 +236,9 @@ def _run_in(
         watcher.end("finished", budget_stop=summary.budget_stop)
         if remote is not None:
             remote.stored(MANIFEST_NAME)
+        status = "finished"
     except KeyboardInterrupt:
+        status = "interrupted"
         if watcher is not None:
             watcher.end("interrupted")
         raise
@@ -224,12 +247,27 @@ def _run_in(
             watcher.end("failed", reason=(str(exc).strip().splitlines() or [type(exc).__name__])[0][:300])
         raise
     finally:
+        if spans is not None:
+            spans.end(status)
         if events is not None:
             events.close()
         store.close()
+        if feed is not None:  # after the store's last commit: the report it is handed is the run's
+            _finish_trackers(feed, status, run_dir, manifest, config.benchmark)
+            if remote is not None:  # the manifest records the trackers' runs
+                remote.stored(MANIFEST_NAME)
         if remote is not None:
             remote.push_rest()
     return summary
+
+
+def _finish_trackers(feed: TrackerFeed, status: str, run_dir: Path, manifest: RunManifest, benchmark: str) -> None:
+    """Hand the trackers the run's end and its report; record their run ids so that a resumed run continues them."""
+    runs = feed.finish(status, partial(run_files, run_dir, benchmark))
+    if manifest.trackers is not None and runs != manifest.trackers.runs and (run_dir / MANIFEST_NAME).exists():
+        manifest.trackers.runs.update(runs)
+        with contextlib.suppress(RunDirError):  # the key is recorded already: a resume finds the runs by it
+            write_manifest(run_dir, manifest)
 
 
 def _execute(
@@ -242,8 +280,10 @@ def _execute(
     summary: RunSummary,
     watcher: SweepWatcher,
     progress: ProgressOptions,
+    sends: Callable[[JobSpec, int, float], WorkerJob],
 ) -> RunSummary:
-    """Run ``todo`` on Ray (a private one with ``local_slots`` browser slots, or the configured cluster)."""
+    """Run ``todo`` on Ray (a private one with ``local_slots`` browser slots, or the configured cluster); ``sends``
+    makes each attempt's worker job (``worker_job``, with its span's ``traceparent`` while tracing)."""
     config = plan.config
     needed = {job.task_id for job, _ in todo}
     with ray_runtime(config.ray.address, local_slots, config.ray.connect_timeout_s) as slots:
@@ -269,7 +309,7 @@ def _execute(
             timeout_s=config.limits.episode_timeout_s,
             retries=config.limits.retries,
             on_result=commit,
-            sends=worker_job,
+            sends=sends,
             max_in_flight=config.limits.max_in_flight,
             budget_usd=config.limits.budget_usd,
             spent_usd=store.cost_usd() if config.limits.budget_usd is not None else 0.0,

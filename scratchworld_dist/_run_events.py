@@ -5,11 +5,21 @@ so a run off a terminal shows its trouble before it ends."""
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Sequence
 from typing import Any, Literal
 
 from rich.console import Console
 
-from scratchworld_dist.results import EventLog, JobError, JobFinish, JobRetry, JobStart, NodeLost, SweepEnd
+from scratchworld_dist.results import (
+    EventLog,
+    JobError,
+    JobFinish,
+    JobRetry,
+    JobStart,
+    NodeLost,
+    RunEvent,
+    SweepEnd,
+)
 from scratchworld_dist.scheduling import LostNode
 from scratchworld_dist.sweep import JobSpec
 from workers.contract import JobResult
@@ -19,10 +29,19 @@ MESSAGE_CHARS = 300
 
 
 class SweepWatcher:
-    """Hears the scheduler (``SchedulerWatcher``): writes each attempt's events and prints its errors."""
+    """Hears the scheduler (``SchedulerWatcher``): writes each attempt's events and prints its errors; ``followers``
+    hear every event it writes (the experiment trackers' feed, the job spans), and must return at once."""
 
-    def __init__(self, events: EventLog, session: int, console: Console, say_errors: bool) -> None:
+    def __init__(
+        self,
+        events: EventLog,
+        session: int,
+        console: Console,
+        say_errors: bool,
+        followers: Sequence[Callable[[RunEvent], None]] = (),
+    ) -> None:
         self.events = events
+        self.followers = list(followers)
         self.session = session
         self.console = console
         self.say_errors = say_errors
@@ -32,6 +51,11 @@ class SweepWatcher:
         self.outcomes = {"passed": 0, "failed": 0, "error": 0}
         self.began = time.monotonic()
 
+    def _write(self, event: JobStart | JobFinish | JobRetry | JobError | SweepEnd) -> None:
+        self.events.write(event)
+        for follow in self.followers:
+            follow(event)
+
     def _job(self, job: JobSpec, attempt: int) -> dict[str, Any]:
         return {
             "session": self.session, "job_id": job.job_id, "task_id": job.task_id, "model": job.model_name,
@@ -40,7 +64,7 @@ class SweepWatcher:
 
     def started(self, job: JobSpec, attempt: int, worker: int) -> None:
         self.sent += 1
-        self.events.write(JobStart(**self._job(job, attempt), worker=worker))
+        self._write(JobStart(**self._job(job, attempt), worker=worker))
 
     def finished(self, job: JobSpec, result: JobResult, *, retried: bool) -> None:
         self.cost_usd += result.cost_usd
@@ -51,7 +75,7 @@ class SweepWatcher:
         fields = self._job(job, result.attempt)
         if result.outcome != "error":
             evaluation = result.evaluation
-            self.events.write(
+            self._write(
                 JobFinish(
                     **fields, outcome=result.outcome, steps=len(result.steps),
                     tests_passed=evaluation.passed if evaluation is not None else 0,
@@ -63,7 +87,7 @@ class SweepWatcher:
             return
         kind = JobRetry if retried else JobError
         error = {"error_class": result.error_class, "message": result.error_message, "cost_usd": result.cost_usd}
-        self.events.write(kind(**fields, **error))
+        self._write(kind(**fields, **error))
         if self.say_errors:
             message = " ".join((result.error_message or "").split())[:MESSAGE_CHARS]
             then = "; retrying" if retried else "; no retry left"
@@ -98,7 +122,7 @@ class SweepWatcher:
         budget_stop: str | None = None,
     ) -> None:
         """Write the session's ``sweep_end``, with what this watcher heard."""
-        self.events.write(
+        self._write(
             SweepEnd(
                 session=self.session, status=status, reason=reason, sent=self.sent, outcomes=self.outcomes,
                 retried=self.retried, cost_usd=self.cost_usd, budget_stop=budget_stop,

@@ -23,7 +23,7 @@ from scratchworld_dist.sweep import RunPlan, SweepConfig
 
 def config_hash(config: SweepConfig) -> str:
     """Hash of the fields that shape the job matrix; paths, execution limits, the model cache (a replay is
-    the reply the same request got, so a run may turn it on or off), tags, other kinds' sections and what its
+    the reply the same request got, so a run may turn it on or off), tags, trackers, other kinds' sections and what its
     own section lets change (``resume_free``: offline memory's source folder) may change freely. A config hashes
     the same whichever layout its file used (old configs' top-level keys are validated into their sections)."""
     sections: dict[str, object] = {kind: True for kind in config.sections if kind != config.benchmark}
@@ -41,6 +41,7 @@ def config_hash(config: SweepConfig) -> str:
         "model_cache": True,
         "probe": True,
         "tags": True,
+        "loggers": True,
         "llm": {"retry"},
         "models": {"__all__": {"rate_limits"}},
     }
@@ -68,7 +69,7 @@ def checked_manifest(plan: RunPlan, run_dir: Path, force: bool, *, write_info: b
     )
     old = read_manifest(run_dir)
     tags = {**(old.tags if old is not None else {}), **plan.config.tags}
-    return manifest.model_copy(update={"tags": tags})
+    return manifest.model_copy(update={"tags": tags, "trackers": old.trackers if old is not None else None})
 
 
 def _hash_as_now(old: RunManifest) -> str:

@@ -7,6 +7,7 @@ Each import runs in a fresh interpreter, since this test process has long loaded
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -74,3 +75,20 @@ def test_only_an_html_report_draws_with_matplotlib(tmp_path: Path) -> None:
     assert "matplotlib" not in status
     html = loaded_after(f"{invoke}assert CliRunner().invoke(cli, ['report', {run}, '--format', 'html']).exit_code == 0")
     assert "matplotlib" in html
+
+
+def test_trackers_and_the_tracing_sdk_load_only_when_asked_for() -> None:
+    """A run without ``loggers:`` nor ``OTEL_*`` variables imports neither tracker nor the OpenTelemetry SDK."""
+    probe = (
+        "import json, sys\n"
+        "import scratchworld_dist._run, scratchworld_dist.trackers, workers.actor, workers.kinds.tasks._runner\n"
+        "from workers.tracing import tracing_active\n"
+        "assert not tracing_active()\n"
+        "print(json.dumps(sorted(sys.modules)))"
+    )
+    environ = {k: v for k, v in os.environ.items() if not k.startswith(("OTEL_", "MLFLOW_", "WANDB_"))}
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, env=environ)
+    assert done.returncode == 0, done.stderr
+    loaded = json.loads(done.stdout.splitlines()[-1])
+    assert not [name for name in loaded if name.split(".")[0] in ("mlflow", "wandb")]
+    assert not [name for name in loaded if name.startswith(("opentelemetry.sdk", "opentelemetry.exporter"))]

@@ -34,6 +34,11 @@ class KindReport(KindTraits):
         """The model ``report_data`` returns (its JSON schema is published with the reports')."""
         raise NotImplementedError(f"benchmark {self.name} has no report")
 
+    def tracker_files(self, run_dir: Path) -> dict[str, bytes]:
+        """Files besides the report a run hands its experiment trackers at its end (name: content): the tasks
+        kind's leaderboard. Default: none."""
+        return {}
+
     def diagnosis(self) -> DiagnosisPart | None:
         """Its columns of the diagnosis table and its section of the report over several kinds (None: none)."""
         return None

@@ -80,6 +80,17 @@ class RegradeInfo(BaseModel):
     """Source jobs that stored no final project (e.g. an error before the editor opened): not regraded."""
 
 
+class TrackerRuns(BaseModel):
+    """Which experiment-tracker runs hold this run (``loggers:``), so a resumed run continues them."""
+
+    key: str
+    """The run's own key (hex), chosen by its first session with a tracker: W&B's run id, MLflow's
+    ``scratchworld.run_key`` tag (found again even when the driver died before it recorded MLflow's id)."""
+
+    runs: dict[str, str] = Field(default_factory=dict)
+    """Each tracker's run id, by tracker name, as the last session that reached it recorded it."""
+
+
 class RunManifest(BaseModel):
     run_name: str
     schema_version: int
@@ -101,6 +112,9 @@ class RunManifest(BaseModel):
     tags: dict[str, str] = Field(default_factory=dict)
     """The run's labels (``--tag key=value``, the config's ``tags``), those of every session; reports and exports
     carry them."""
+
+    trackers: TrackerRuns | None = None
+    """The experiment-tracker runs its sessions reported to (None: no session had a tracker)."""
 
     def is_current(self, suite_hash: str, harness: str | None) -> bool:
         """Whether a row of this suite and harness belongs to the run as it stands (others are stale)."""

@@ -34,6 +34,7 @@ from scratchworld_dist._files import read_text
 from scratchworld_dist.kinds import DEFAULT_KIND, KindTraits, job_kind, job_kinds
 from scratchworld_dist.sweep._former_keys import Notice, into_sections, stderr_notice
 from scratchworld_dist.sweep._key_hints import unknown_key_message
+from scratchworld_dist.sweep._loggers import Loggers
 from scratchworld_dist.sweep._model_config import ModelConfig
 from scratchworld_dist.sweep._overrides import SweepOverrides
 from scratchworld_dist.sweep._storage import StorageSettings, checked_output
@@ -191,6 +192,9 @@ class SweepConfig(BaseModel):
     ray: RayConfig = Field(default_factory=RayConfig)
     model_cache: ModelCacheSettings | None = None
     """Opt-in: answer a model request made before from ``model_cache.dir`` (no request, no cost)."""
+
+    loggers: Loggers = Field(default_factory=Loggers)
+    """Experiment trackers the run reports to (MLflow, W&B; ``scratchworld_dist.trackers``): none by default."""
 
     tags: dict[str, str] = Field(default_factory=dict)
     """Labels of the run (``--tag key=value``: a team, a ticket, a model revision): recorded in the manifest and
@@ -398,6 +402,12 @@ def sweep_config_from(
     resolved["sections"] = {kind: _resolved_paths(base, section) for kind, section in config.sections.items()}
     if config.model_cache is not None and "model_cache" not in (overrides or {}):
         resolved["model_cache"] = ModelCacheSettings(dir=_resolve(base, config.model_cache.dir))
+    wandb = config.loggers.wandb
+    if wandb is not None and wandb.dir is not None:
+        loggers = config.loggers.model_copy(
+            update={"wandb": wandb.model_copy(update={"dir": _resolve(base, wandb.dir)})}
+        )
+        resolved["loggers"] = loggers
     if config.ray.address is None and os.environ.get("RAY_ADDRESS"):
         resolved["ray"] = RayConfig(address=os.environ["RAY_ADDRESS"])
     return config.model_copy(update=resolved)

@@ -20,6 +20,7 @@ killer. Each result carries the worker's load: its editors, their memory and the
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import os
 import socket
 import time
@@ -46,6 +47,15 @@ from workers.kinds import WorkerKind, kind_fingerprint, kind_of, worker_kinds
 from workers.llm import close_litellm_clients
 from workers.llm import load_litellm as import_litellm
 from workers.node import BrowserUsage, browser_usage, harness_fingerprint, node_memory
+from workers.tracing import (
+    TracingConfigError,
+    configure_tracing,
+    flush_spans,
+    mark_error,
+    parent_context,
+    set_attributes,
+    span,
+)
 
 MEMORY_POLL_S = 0.5
 """How often a worker short of memory looks again."""
@@ -86,6 +96,11 @@ class JobWorker:
         self._starting = asyncio.Lock()
         self._usage: tuple[float, BrowserUsage, int] | None = None
         """The browsers' usage last read, when (``time.monotonic``), and the editors they held then."""
+        with contextlib.suppress(TracingConfigError):  # the driver said it already; spans are not worth a worker
+            configure_tracing()
+        self._flushes_answer = True
+        """Whether the span exporter took the last flush in time (if not, flushes no longer hold up a job)."""
+        self._flushing: asyncio.Future[bool] | None = None
 
     async def info(self) -> WorkerInfo:
         return self.info_
@@ -158,15 +173,30 @@ class JobWorker:
             )
             return Refusal(reason=reason, load=load)
         started, clock = time.time(), time.perf_counter()
-        try:
-            result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
-        except TimeoutError:
-            result = JobResult.errored(spec, "episode_timeout", f"episode exceeded {spec.timeout_s:g} s")
-        except (EditorError, PlaywrightError) as exc:  # the browser could not be started
-            result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
-        except Exception as exc:  # the worker must answer, whatever broke: the driver records it
-            detail = "".join(traceback.format_exception_only(exc)).strip()
-            result = JobResult.errored(spec, "internal_error", detail)
+        model, mode = getattr(getattr(spec, "model", None), "name", None), getattr(spec, "mode", None)
+        attributes = {"job_id": spec.job_id, "task": spec.task_id, "attempt": spec.attempt, "model": model}
+        attributes["mode"] = mode
+        parent = parent_context(getattr(spec, "trace_parent", None))  # a plugin's spec need not extend JobHeader
+        with span("episode", parent, **attributes) as opened:
+            try:
+                result = await asyncio.wait_for(self._run(spec, task), timeout=spec.timeout_s)
+            except TimeoutError:
+                result = JobResult.errored(spec, "episode_timeout", f"episode exceeded {spec.timeout_s:g} s")
+            except (EditorError, PlaywrightError) as exc:  # the browser could not be started
+                result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}")
+            except Exception as exc:  # the worker must answer, whatever broke: the driver records it
+                detail = "".join(traceback.format_exception_only(exc)).strip()
+                result = JobResult.errored(spec, "internal_error", detail)
+            traced = opened.is_recording()  # an ended span no longer records
+            if traced:
+                set_attributes(
+                    opened, outcome=result.outcome, error_class=result.error_class, steps=len(result.steps),
+                    input_tokens=result.input_tokens, output_tokens=result.output_tokens,
+                )  # fmt: skip
+                if result.outcome == "error":
+                    mark_error(opened, result.error_class or "error")
+        if traced:
+            await self._flush_spans()
         update: dict[str, object] = {"worker": self.info_, "load": await self.load()}
         if not result.started_at:  # an episode cut short never stamped itself
             timings = result.timings.model_copy(update={"total_s": time.perf_counter() - clock})
@@ -189,6 +219,16 @@ class JobWorker:
             )
             return JobResult.errored(spec, "harness_mismatch", message)
         return await kind.run(self, spec, task)
+
+    async def _flush_spans(self) -> None:
+        """Export the job's spans before its result leaves: the driver may kill this actor next, without exit
+        handlers. A collector that does not take them within 2 s costs that once; from then on they leave in the
+        background (and as the batch processor's schedule sends them)."""
+        if self._flushing is not None and not self._flushing.done():
+            return  # one flush at a time: the one under way takes these spans too, or the schedule does
+        self._flushing = asyncio.ensure_future(asyncio.to_thread(flush_spans))
+        if self._flushes_answer:
+            self._flushes_answer = await asyncio.shield(self._flushing)
 
     def kind_harness(self, kind: str) -> str:
         """The digest ``kind``'s jobs must be planned under here: this process's harness minus other kinds' code."""

@@ -157,6 +157,10 @@ class JobHeader(BaseModel):
     harness: str | None = None
     """The harness fingerprint the driver planned the job under; a worker running other code refuses it."""
 
+    trace_parent: str | None = None
+    """The W3C ``traceparent`` of the driver's span of this attempt (``workers.tracing``): the worker's spans join
+    its trace. Set only while tracing; never part of the job's identity (the id is the plan's, made without it)."""
+
 
 class AgentJob(JobHeader):
     """The header of a job an agent acts in: who acts, with which model and seed, how its model is called."""

@@ -167,6 +167,19 @@ class ModelClient:
         With a ``cache``, a request answered before is answered from it (no request, no cost, no
         rate-limiter slot, whatever the circuit says) and a successful reply is stored there.
         """
+        from workers.tracing import set_attributes, span  # the OpenTelemetry API: only once a model is called
+
+        with span("model_call", model=self.spec.name, litellm_model=self.spec.model) as calling:
+            completion = await self._complete_cached(messages, seed, cache)
+            set_attributes(
+                calling, input_tokens=completion.input_tokens, output_tokens=completion.output_tokens,
+                cached=completion.cached, cost_usd=completion.cost_usd,
+            )  # fmt: skip
+        return completion
+
+    async def _complete_cached(
+        self, messages: list[dict[str, Any]], seed: int | None, cache: ModelCache | None
+    ) -> Completion:
         started = time.monotonic()
         key = await self._cache_key(messages, seed) if cache is not None else None
         if cache is not None and key is not None:

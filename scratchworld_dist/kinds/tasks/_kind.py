@@ -145,6 +145,11 @@ class TasksKind(Kind):
         plots = report_plots(members, force=force) if fmt == "html" else []  # drawing is slow: only for a page
         return render(report, fmt, plots), report.warnings
 
+    def tracker_files(self, run_dir: Path) -> dict[str, bytes]:
+        from scratchworld_dist.kinds.tasks.exports._leaderboard import leaderboard_files
+
+        return leaderboard_files([run_dir])[0]
+
     def report_model(self) -> type[BaseModel]:
         from scratchworld_dist.kinds.tasks.report import RunReport
 

@@ -63,6 +63,7 @@ from workers.kinds.tasks._environment import CompositeEnvironment, Environment, 
 from workers.llm import ModelCache
 from workers.ocr import RegionOCR
 from workers.primitive import PrimitiveObserver, region_ocr
+from workers.tracing import set_attributes, span
 
 MAX_LOGGED_ARGS = 16_384
 """Arguments longer than this (as JSON characters) are logged by size: no action accepts that much
@@ -202,9 +203,14 @@ class EpisodeRunner:
             return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
         evaluation_start = time.perf_counter()
         judging = with_random_seed(task.evaluation, evaluation_seed(spec.task_id, spec.seed))
-        evaluation = await self.browser.evaluate_giving_way(final_project, judging, spec.project_limits)
+        with span("evaluation", task=spec.task_id) as evaluating:
+            evaluation = await self.browser.evaluate_giving_way(final_project, judging, spec.project_limits)
+            outcome, error_class = outcome_of(evaluation)
+            set_attributes(
+                evaluating, outcome=outcome, error_class=error_class, tests_passed=evaluation.passed,
+                tests_total=evaluation.total,
+            )  # fmt: skip
         timings.evaluation_s = time.perf_counter() - evaluation_start
-        outcome, error_class = outcome_of(evaluation)
         result = JobResult(
             job_id=spec.job_id,
             attempt=spec.attempt,
@@ -321,14 +327,38 @@ async def _act(
     """The agent loop; returns why it stopped."""
     last: StepResult | None = None
     for index in range(spec.max_steps):
-        step_start, started_at = time.perf_counter(), time.time()
-        episode_clock_ms = pace.elapsed_ms if pace.virtual else None
-        observation = await environment.observe() if getattr(agent, "observes", True) else None
-        observation_s = time.perf_counter() - step_start
-        action = await _guarded(agent.act(observation, last), f"raised at step {index}")
-        if not isinstance(action, ACTION_TYPES):
-            message = f"the agent returned a {type(action).__name__} at step {index}, not an action"
-            raise AgentCrashedError(message, message)
+        with span("step", index=index, task=spec.task_id, mode=spec.mode) as stepping:
+            step, last, name = await _step(agent, environment, spec, models, pace, index, last)
+            set_attributes(
+                stepping, action=step.action, ok=step.ok, error_code=step.error_code, llm_calls=step.llm_calls,
+                input_tokens=step.input_tokens, output_tokens=step.output_tokens,
+            )  # fmt: skip
+        steps.append(step)
+        if name in FINAL_ACTIONS:
+            return name
+    return "max_steps"
+
+
+async def _step(
+    agent: Agent,
+    environment: Environment,
+    spec: EpisodeSpec,
+    models: EpisodeModels,
+    pace: _Pace,
+    index: int,
+    last: StepResult | None,
+) -> tuple[StepRecord, StepResult, str]:
+    """One step: observe, let the agent choose, carry out its action. The step as recorded, what the agent is told
+    of it, and the action's name (a final one ends the episode)."""
+    step_start, started_at = time.perf_counter(), time.time()
+    episode_clock_ms = pace.elapsed_ms if pace.virtual else None
+    observation = await environment.observe() if getattr(agent, "observes", True) else None
+    observation_s = time.perf_counter() - step_start
+    action = await _guarded(agent.act(observation, last), f"raised at step {index}")
+    if not isinstance(action, ACTION_TYPES):
+        message = f"the agent returned a {type(action).__name__} at step {index}, not an action"
+        raise AgentCrashedError(message, message)
+    with span("action", action=getattr(action, "api", None) or action.name) as acting:
         await pace.before_action()
         ok, error_code, error_message, data = await _apply(
             environment,
@@ -338,27 +368,25 @@ async def _act(
             live=getattr(agent, "acts_live", False),
         )
         await pace.after_action()
-        name, args = _describe(action)
-        step = StepRecord(
-            index=index,
-            action=name,
-            args=args,
-            ok=ok,
-            error_code=error_code,
-            error_message=error_message,
-            data=data,
-            latency_s=time.perf_counter() - step_start,
-            observation_s=observation_s,
-            warnings=list(getattr(observation, "warnings", [])),
-            observation=_recorded(observation, models),
-            started_at=started_at,
-            episode_clock_ms=episode_clock_ms,
-        )
-        steps.append(models.drain().booked_on(step))
-        last = StepResult(ok=ok, error_code=error_code, error_message=error_message, data=data)
-        if action.name in FINAL_ACTIONS:
-            return action.name
-    return "max_steps"
+        set_attributes(acting, ok=ok, error_code=error_code)
+    name, args = _describe(action)
+    step = StepRecord(
+        index=index,
+        action=name,
+        args=args,
+        ok=ok,
+        error_code=error_code,
+        error_message=error_message,
+        data=data,
+        latency_s=time.perf_counter() - step_start,
+        observation_s=observation_s,
+        warnings=list(getattr(observation, "warnings", [])),
+        observation=_recorded(observation, models),
+        started_at=started_at,
+        episode_clock_ms=episode_clock_ms,
+    )
+    told = StepResult(ok=ok, error_code=error_code, error_message=error_message, data=data)
+    return models.drain().booked_on(step), told, action.name
 
 
 def _recorded(observation: Observation | None, models: EpisodeModels) -> StepObservation | None:

@@ -15,7 +15,7 @@ from pydantic import BaseModel
 from scratchworld_dist._errors import RunDirError, ScratchWorldError
 from scratchworld_dist._files import write_atomic
 from scratchworld_dist.kinds.tasks.exports._atif import ImageFiles, atif_trajectory, trajectory_file_name
-from scratchworld_dist.kinds.tasks.exports._leaderboard import leaderboard, leaderboard_csv
+from scratchworld_dist.kinds.tasks.exports._leaderboard import leaderboard_files
 from scratchworld_dist.kinds.tasks.exports._submission import SubmissionLine, submission_file_name, submission_line
 from scratchworld_dist.results import (
     JobRow,
@@ -59,15 +59,11 @@ def export_runs(run_dirs: Sequence[Path], fmt: ExportFormat, out: Path, *, force
 
 
 def _leaderboard(run_dirs: Sequence[Path], out: Path, force: bool) -> ExportSummary:
-    from scratchworld_dist.kinds.tasks.report import build_report
-
-    report = build_report(list(run_dirs), force=force)
-    entries = leaderboard(report)
-    table = {"runs": [run.model_dump(mode="json") for run in report.runs], "entries": [e.model_dump() for e in entries]}
-    files = [out / "leaderboard.csv", out / "leaderboard.json"]
-    write_atomic(files[0], leaderboard_csv(entries).encode())
-    write_atomic(files[1], (json.dumps(table, indent=2) + "\n").encode())
-    return ExportSummary(files=files, warnings=report.warnings)
+    contents, warnings = leaderboard_files(run_dirs, force=force)
+    files = [out / name for name in contents]
+    for path in files:
+        write_atomic(path, contents[path.name])
+    return ExportSummary(files=files, warnings=warnings)
 
 
 def _counted_attempts(run_dir: Path) -> list[tuple[JobRow, list[StepRecord]]]:

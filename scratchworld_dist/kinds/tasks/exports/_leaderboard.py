@@ -11,12 +11,15 @@ from __future__ import annotations
 
 import csv
 import io
+import json
+from collections.abc import Sequence
 from itertools import groupby
+from pathlib import Path
 
 from pydantic import BaseModel
 from scipy.stats import binomtest
 
-from scratchworld_dist.kinds.tasks.report import ReportRow, RunReport
+from scratchworld_dist.kinds.tasks.report import ReportRow, RunReport, build_report
 
 
 class LeaderboardEntry(BaseModel):
@@ -90,3 +93,15 @@ def leaderboard_csv(entries: list[LeaderboardEntry]) -> str:
     for entry in entries:
         writer.writerow({k: "" if v is None else v for k, v in entry.model_dump().items()})
     return out.getvalue()
+
+
+def leaderboard_files(run_dirs: Sequence[Path], *, force: bool = False) -> tuple[dict[str, bytes], list[str]]:
+    """``leaderboard.csv`` and ``leaderboard.json`` of the runs (name: content), and the report's warnings."""
+    report = build_report(list(run_dirs), force=force)
+    entries = leaderboard(report)
+    table = {"runs": [run.model_dump(mode="json") for run in report.runs], "entries": [e.model_dump() for e in entries]}
+    files = {
+        "leaderboard.csv": leaderboard_csv(entries).encode(),
+        "leaderboard.json": (json.dumps(table, indent=2) + "\n").encode(),
+    }
+    return files, report.warnings
