@@ -134,6 +134,7 @@ from workers.contract._preflight import ModelCheck, Preflight
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
 from workers.contract._sb3_archive import Sb3Archive
 from workers.contract._synthetic import SyntheticEpisodes
+from workers.contract._video import EpisodeVideo, RecordSettings, VideoInfo
 from workers.contract._view import DRAG_VIEWPORT, ConnectionKind, DragRegions, DragView, PaletteCategory, Point, Region
 
 __all__ = [
@@ -171,6 +172,7 @@ __all__ = [
     "ElementSource",
     "EpisodeClock",
     "EpisodeTimings",
+    "EpisodeVideo",
     "ErrorClass",
     "EvalError",
     "EvalErrorKind",
@@ -223,6 +225,7 @@ __all__ = [
     "ProjectLimits",
     "ProjectTooLargeError",
     "RateLimits",
+    "RecordSettings",
     "RecordedTiming",
     "Refusal",
     "Region",
@@ -237,6 +240,7 @@ __all__ = [
     "TaskPayload",
     "TestVerdict",
     "TimerLateness",
+    "VideoInfo",
     "WorkerInfo",
     "WorkerJob",
     "WorkerLoad",

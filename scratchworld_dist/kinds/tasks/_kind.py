@@ -102,6 +102,7 @@ class TasksKind(Kind):
             memory_sources={stream: source_digest(entries) for stream, entries in sources.items()},
             episode_clock=episodes.episode_clock or default_episode_clock(),
             model_cache=config.model_cache,
+            record=config.record,
         )
         jobs = list(plan_jobs(matrix))
         return RunPlan(
@@ -127,6 +128,7 @@ class TasksKind(Kind):
             project_limits=body.project_limits,
             memory=job.memory_snapshot,
             episode_clock=body.episode_clock,
+            record=body.record,
         )
 
     def holds(self, run_dir: Path) -> bool:
