@@ -27,12 +27,27 @@ from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs,
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import worker_job
 from workers.actor import WorkerBrowser
+from workers.agent_api import StepResult
 from workers.agents import OracleAgent
-from workers.contract import ClockMode, EpisodeClock, Mode, ObservationSettings, RecordSettings
+from workers.contract import Action, ClockMode, EpisodeClock, Mode, Observation, ObservationSettings, RecordSettings
 from workers.editor import BrowserSession, EditorPool
 from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 
 SUITE_DIR = Path(__file__).resolve().parents[1] / "tasks"
+WIDTH = 1280
+"""The video's width (``--width``)."""
+
+THINK_S = 0.0
+"""Seconds the agent waits before each action (``--think``), as a model would: the page is still meanwhile."""
+
+
+class ThinkingOracle(OracleAgent):
+    """The oracle, taking ``THINK_S`` before each action as a model-driven agent takes its model's latency."""
+
+    async def act(self, observation: Observation | None, last: StepResult | None) -> Action:
+        if THINK_S:
+            await asyncio.sleep(THINK_S)
+        return await super().act(observation, last)
 
 
 @dataclass
@@ -83,9 +98,9 @@ def spec(content: TaskContent, mode: Mode, clock: ClockMode, record: RecordSetti
 async def one(
     runner: EpisodeRunner, browser_pid: int, content: TaskContent, mode: Mode, clock: ClockMode, fps: int, video: bool
 ) -> Run:
-    record = RecordSettings(video=video, fps=fps)
+    record = RecordSettings(video=video, fps=fps, width=WIDTH)
     before = tree_cpu(browser_pid) + time.process_time()
-    result = await runner.run(spec(content, mode, clock, record), content.payload, OracleAgent())
+    result = await runner.run(spec(content, mode, clock, record), content.payload, ThinkingOracle())
     cpu = tree_cpu(browser_pid) + time.process_time() - before
     run = Run(content.task.id, mode, video, result.outcome, result.timings.agent_s, result.timings.total_s, cpu)
     if result.video is not None:
@@ -99,9 +114,9 @@ async def one(
     return run
 
 
-async def main(tasks: int, modes: list[Mode], fps: int, clock: ClockMode, repeat: int) -> None:
+async def main(tasks: int, skip: int, modes: list[Mode], fps: int, clock: ClockMode, repeat: int) -> None:
     suite = load_suite(SUITE_DIR)
-    contents = [read_task(task) for task in suite.tasks if task.trajectory() is not None][:tasks]
+    contents = [read_task(task) for task in suite.tasks if task.trajectory() is not None][skip : skip + tasks]
     runs: list[Run] = []
     started = time.perf_counter()
     async with BrowserSession() as session, EditorPool(session, spare=0) as pool:
@@ -139,7 +154,9 @@ def report(runs: list[Run], fps: int, clock: str, wall_s: float) -> None:
     total_sum = sum(o.total_s for o, _ in pairs) / sum(f.total_s for _, f in pairs) - 1
     mb = [size / 1e6 for size in sizes]
     lines = [
-        f"video cost: {len(on)} episode(s) each way, {fps} fps, {clock} episode clock, {wall_s / 60:.1f} min in all",
+        f"video cost: {len(on)} episode(s) each way, {fps} fps, {WIDTH} px wide, {clock} episode clock, "
+        f"{THINK_S:g} s before each action, "
+        f"{wall_s / 60:.1f} min in all",
         f"  video recorded: {minutes:.2f} min; outcomes equal with and without: {same}",
         f"  CPU-s per wall minute of episode (on - off, browser + worker): {extra_cpu / minutes:.2f}",
         f"  of which the encoder thread: {sum(o.encode_cpu_s for o in on) / minutes:.2f}",
@@ -155,10 +172,15 @@ def report(runs: list[Run], fps: int, clock: str, wall_s: float) -> None:
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--tasks", type=int, default=4, help="the first N tasks of our suite with a trajectory")
+    parser.add_argument("--skip", type=int, default=0, help="start at the suite's task N+1")
     parser.add_argument("--modes", default="primitive", help="comma-separated: composite,primitive")
     parser.add_argument("--fps", type=int, default=5)
     parser.add_argument("--clock", choices=["virtual", "real"], default="virtual")
     parser.add_argument("--repeat", type=int, default=1)
+    parser.add_argument("--think", type=float, default=0.0, help="seconds before each action, as a model's latency")
+    parser.add_argument("--width", type=int, default=RecordSettings().width, help="the video's width (320-1280)")
     args = parser.parse_args()
+    WIDTH = args.width
+    THINK_S = args.think
     modes = [m for m in args.modes.split(",") if m]
-    asyncio.run(main(args.tasks, modes, args.fps, args.clock, args.repeat))  # type: ignore[arg-type]
+    asyncio.run(main(args.tasks, args.skip, modes, args.fps, args.clock, args.repeat))  # type: ignore[arg-type]

@@ -21,6 +21,10 @@ class RecordSettings(BaseModel):
     """Frames per second of the video at most (the page is sent and encoded no more often; a still page
     costs no frames at all)."""
 
+    width: int = Field(default=1280, ge=320, le=1280)
+    """The video's width in pixels (its height follows the page's 16:9). Chromium captures the page at this
+    size, and the capture is most of a video's CPU cost: 960 costs about half of 1280's (see docs/video.md)."""
+
 
 class VideoInfo(BaseModel):
     """A recording's facts, kept beside it (``video.json``): how to line the video up with the steps."""

@@ -7,6 +7,7 @@ that follows it, and a viewer lines the two up by the steps' wall-clock times (`
 
 from __future__ import annotations
 
+import asyncio
 import time
 
 from playwright.async_api import Page
@@ -17,7 +18,7 @@ from workers.video._encoder import VideoEncoder
 
 
 class EpisodeRecorder:
-    """One page's video: ``await start()``, then ``await stop()`` hands back the video (None when none came)."""
+    """One page's video: ``await start()``, then ``await (await stop())`` is the video (None when none came)."""
 
     def __init__(self, page: Page, settings: RecordSettings) -> None:
         self.page = page
@@ -27,20 +28,24 @@ class EpisodeRecorder:
 
     async def start(self) -> None:
         self._encoder = VideoEncoder(self.settings.fps, time.time())
-        self._screencast = Screencast(self.page, self._frame, max_fps=self.settings.fps)
+        size = (self.settings.width, round(self.settings.width * 9 / 16))
+        self._screencast = Screencast(self.page, self._frame, max_fps=self.settings.fps, max_size=size)
         await self._screencast.start()
 
     def _frame(self, frame: ScreencastFrame) -> None:
         if self._encoder is not None:
             self._encoder.add(frame.timestamp, frame.jpeg)
 
-    async def stop(self) -> EpisodeVideo | None:
-        """Stop recording, with the page as it is now as the last frame (when it can still be captured), and
-        wait for the encoding of what is left; idempotent."""
+    async def stop(self) -> asyncio.Future[EpisodeVideo | None]:
+        """Stop recording, with the page as it is now as the last frame (when it can still be captured); returns
+        at once with the encoding of what is left, to await when the video is needed (an episode's evaluation
+        goes on meanwhile). Idempotent: a second call's future holds None."""
         screencast, encoder = self._screencast, self._encoder
         self._screencast = self._encoder = None
         if encoder is None:
-            return None
+            nothing: asyncio.Future[EpisodeVideo | None] = asyncio.get_running_loop().create_future()
+            nothing.set_result(None)
+            return nothing
         try:
             if screencast is not None:
                 try:
@@ -52,7 +57,7 @@ class EpisodeRecorder:
                     await screencast.stop()
         finally:  # ended even when cancelled (an episode past its time limit): the thread then ends by itself
             encoded = encoder.finish(time.time())
-        return await encoded
+        return encoded
 
     @property
     def frames(self) -> int:

@@ -160,7 +160,9 @@ class EpisodeRunner:
                     await editor.load_project(task.initial_project, spec.project_limits)
                 except ProjectFormatError as exc:
                     message = f"the task's initial project cannot be loaded: {exc}"
-                    return _finish(JobResult.errored(spec, "task_invalid", message), started, clock, timings, recording)
+                    return await _finish(
+                        JobResult.errored(spec, "task_invalid", message), started, clock, timings, recording
+                    )
                 await editor.seed_random(evaluation_seed(spec.task_id, spec.seed))
                 pace = _Pace(editor, spec.episode_clock)
                 environment = await self._environment(spec, editor, pace)
@@ -198,14 +200,14 @@ class EpisodeRunner:
                 final_project = await editor.save_project()
         except (EditorError, BridgeError) as exc:
             result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=steps)
-            return _finish(result, started, clock, timings, recording)
+            return await _finish(result, started, clock, timings, recording)
         except AgentCrashedError as exc:
             steps.append(_crash_step(len(steps), exc))
             result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
-            return _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
+            return await _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
         except ModelCallError as exc:  # the model cannot be reached or refuses: no verdict about it
             result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
-            return _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
+            return await _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
         evaluation_start = time.perf_counter()
         judging = with_random_seed(task.evaluation, evaluation_seed(spec.task_id, spec.seed))
         evaluation = await self.browser.evaluate_giving_way(final_project, judging, spec.project_limits)
@@ -222,7 +224,7 @@ class EpisodeRunner:
             steps=steps,
             final_project=final_project,
         )
-        return _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
+        return await _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
 
 
 def _context(
@@ -439,8 +441,8 @@ class _Recording:
     (``_Pace.start``) to the end of its last step, or to where the episode broke off."""
 
     def __init__(self) -> None:
-        self.video: EpisodeVideo | None = None
         self._recorder: EpisodeRecorder | None = None
+        self._encoding: asyncio.Future[EpisodeVideo | None] | None = None
 
     async def start(self, editor: Editor, settings: RecordSettings) -> None:
         if settings.video:
@@ -448,10 +450,14 @@ class _Recording:
             await self._recorder.start()
 
     async def stop(self) -> None:
-        """Idempotent; called as the agent's part ends, however it ends."""
+        """Idempotent; called as the agent's part ends, however it ends. The encoder finishes the video while
+        the episode goes on to its evaluation: nothing waits for it before the episode's result."""
         recorder, self._recorder = self._recorder, None
         if recorder is not None:
-            self.video = await recorder.stop()
+            self._encoding = await recorder.stop()
+
+    async def video(self) -> EpisodeVideo | None:
+        return None if self._encoding is None else await self._encoding
 
     async def __aenter__(self) -> _Recording:
         return self
@@ -460,11 +466,11 @@ class _Recording:
         await self.stop()
 
 
-def _finish(
-    result: JobResult, started: float, clock: float, timings: EpisodeTimings, recording: _Recording | None = None
+async def _finish(
+    result: JobResult, started: float, clock: float, timings: EpisodeTimings, recording: _Recording
 ) -> JobResult:
+    video = await recording.video()
     timings.total_s = time.perf_counter() - clock
-    video = recording.video if recording is not None else None
     return result.model_copy(
         update={"timings": timings, "started_at": started, "finished_at": time.time(), "video": video}
     )

@@ -69,7 +69,7 @@ async def _replay(
                 await _perform(editor, actions, envelopes, console)
             finally:
                 if recorder is not None:
-                    video = await recorder.stop()
+                    video = await (await recorder.stop())
             if show_final:
                 console.print((await composite.observe(editor)).text, markup=False, highlight=False)
             final = await editor.save_project()
