@@ -90,6 +90,8 @@ class Screencast:
         session, self._session = self._session, None
         if session is None:
             return
+        for ack in self._acks:  # acknowledgements still held back (``max_fps``): no further frame is wanted
+            ack.cancel()
         with contextlib.suppress(PlaywrightError):
             await session.send("Page.stopScreencast")
         if self._acks:
