@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import io
+import itertools
 import time
 from pathlib import Path
 
@@ -39,10 +40,11 @@ async def test_frames_come_while_the_page_changes_stamped_on_the_wall_clock(shar
     assert screencast.frames == count
     stamps = [frame.timestamp for frame in frames]
     assert all(before - 1 <= stamp <= after for stamp in stamps)
-    assert stamps == sorted(stamps)
+    # Frames in flight together are encoded side by side and may arrive a frame apart, not more.
+    assert all(later >= earlier - 0.1 for earlier, later in itertools.pairwise(stamps))
     # At most max_fps once going (a load only spaces them further): each waits for an acknowledgement, which
     # comes no sooner than 1/max_fps after the one before.
-    assert stamps[-1] - stamps[-7] >= 0.5
+    assert max(stamps) - sorted(stamps)[-7] >= 0.5
     picture = cv2.imdecode(np.frombuffer(frames[-1].jpeg, np.uint8), cv2.IMREAD_COLOR)
     assert picture.shape == (720, 1280, 3) and (frames[-1].width, frames[-1].height) == (1280, 720)
     assert cv2.imdecode(np.frombuffer(last.jpeg, np.uint8), cv2.IMREAD_COLOR).shape == (720, 1280, 3)
