@@ -28,6 +28,8 @@ from scratchworld_dist.kinds import job_kind
 from scratchworld_dist.memory import JobItems, StoreInfo, start_memory_service
 from scratchworld_dist.results import (
     MANIFEST_NAME,
+    VIDEO_FILE,
+    VIDEO_INFO_FILE,
     EventLog,
     KindRows,
     RunManifest,
@@ -93,6 +95,10 @@ class AttemptRecorder:
         if result.steps:
             lines = "".join(step.model_dump_json() + "\n" for step in result.steps)
             artifact_dir = self.store.write_artifact(job.job_id, result.attempt, "trajectory.jsonl", lines.encode())
+        if result.video is not None:  # an artifact only: the viewer plays it beside the steps
+            self.store.write_artifact(job.job_id, result.attempt, VIDEO_FILE, result.video.mp4)
+            info = result.video.info.model_dump_json(indent=1).encode()
+            artifact_dir = self.store.write_artifact(job.job_id, result.attempt, VIDEO_INFO_FILE, info)
         record = record_of(
             job,
             result,

@@ -23,8 +23,9 @@ from scratchworld_dist.sweep import RunPlan, SweepConfig
 
 def config_hash(config: SweepConfig) -> str:
     """Hash of the fields that shape the job matrix; paths, execution limits, the model cache (a replay is
-    the reply the same request got, so a run may turn it on or off), tags, trackers, other kinds' sections and what its
-    own section lets change (``resume_free``: offline memory's source folder) may change freely. A config hashes
+    the reply the same request got, so a run may turn it on or off), what is recorded besides the steps (a
+    video), tags, trackers, other kinds' sections and what its own section lets change (``resume_free``: offline
+    memory's source folder) may change freely. A config hashes
     the same whichever layout its file used (old configs' top-level keys are validated into their sections)."""
     sections: dict[str, object] = {kind: True for kind in config.sections if kind != config.benchmark}
     own = config.sections.get(config.benchmark)
@@ -39,6 +40,7 @@ def config_hash(config: SweepConfig) -> str:
         "limits": True,
         "ray": True,
         "model_cache": True,
+        "record": True,
         "probe": True,
         "tags": True,
         "loggers": True,

@@ -38,7 +38,7 @@ from scratchworld_dist.results._schema import (
     table_model,
     table_schema,
 )
-from scratchworld_dist.results._store import RunStore, effective_rows, kind_of_run
+from scratchworld_dist.results._store import VIDEO_FILE, VIDEO_INFO_FILE, RunStore, effective_rows, kind_of_run
 from scratchworld_dist.results._trajectories import attempt_steps
 from scratchworld_dist.results.remote._view import local_file, local_folder
 
@@ -47,6 +47,8 @@ __all__ = [
     "EVENTS_NAME",
     "MANIFEST_NAME",
     "SCHEMA_VERSION",
+    "VIDEO_FILE",
+    "VIDEO_INFO_FILE",
     "EventLog",
     "JobError",
     "JobFinish",

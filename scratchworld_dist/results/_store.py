@@ -11,7 +11,7 @@ Layout::
     RUN_DIR/manifest.json
     RUN_DIR/jobs/part-000001.parquet   steps/...   tests/...   drags/...   perception/part-000001.parquet
     RUN_DIR/journal/segment-000002.jsonl   (not yet compacted)
-    RUN_DIR/artifacts/<job_id>/attempt-<n>/{final.sb3, trajectory.jsonl}
+    RUN_DIR/artifacts/<job_id>/attempt-<n>/{final.sb3, trajectory.jsonl, video.mp4, video.json}
     RUN_DIR/images/<sha256>.png   (images many jobs share, e.g. perception screenshots: once per run)
 
 A writer may have a listener (``StoreListener``: a remote run directory's uploader) told of each commit,
@@ -50,6 +50,12 @@ class _Named(Protocol):
 
 
 _Job = TypeVar("_Job", bound=_Named)
+
+VIDEO_FILE = "video.mp4"
+"""An attempt's episode video (``record.video``), among its artifacts."""
+
+VIDEO_INFO_FILE = "video.json"
+"""Beside it: its ``VideoInfo`` (when it starts on the wall clock, to line it up with the steps)."""
 
 
 class StoreListener(Protocol):

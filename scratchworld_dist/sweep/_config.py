@@ -52,6 +52,7 @@ from workers.contract import (
     ModelSpec,
     ObservationSettings,
     ProjectLimits,
+    RecordSettings,
 )
 from workers.llm import uncacheable
 
@@ -195,6 +196,9 @@ class SweepConfig(BaseModel):
 
     loggers: Loggers = Field(default_factory=Loggers)
     """Experiment trackers the run reports to (MLflow, W&B; ``scratchworld_dist.trackers``): none by default."""
+    record: RecordSettings = Field(default_factory=RecordSettings)
+    """What is recorded of each episode besides its steps: ``{video: true, fps: 5}`` records the agent's editor as
+    an MP4 artifact. It changes no job (not part of any id), so a run may turn it on or off when it resumes."""
 
     tags: dict[str, str] = Field(default_factory=dict)
     """Labels of the run (``--tag key=value``: a team, a ticket, a model revision): recorded in the manifest and
@@ -289,6 +293,12 @@ class SweepConfig(BaseModel):
         except AgentUnavailableError as exc:
             raise ValueError(str(exc)) from None
         return agent
+
+    @model_validator(mode="after")
+    def _video_of_episodes(self) -> SweepConfig:
+        if self.record.video and not job_kind(self.benchmark).episodes:
+            raise ValueError(f"record.video records agent episodes; the {self.benchmark} benchmark has none")
+        return self
 
     @model_validator(mode="after")
     def _agent_fits_sweep(self) -> SweepConfig:

@@ -11,7 +11,7 @@ from typing import Any
 
 import jinja2
 
-STATIC_FILES = ("viewer.css", "jobs.js")
+STATIC_FILES = ("viewer.css", "jobs.js", "video.js")
 """Everything a page loads besides its own data: shipped in the package, never fetched from a CDN."""
 
 _ENVIRONMENT = jinja2.Environment(

@@ -13,13 +13,14 @@ from typing import Literal
 from pydantic import BaseModel, JsonValue
 
 from scratchworld_dist._errors import RunDirError
-from scratchworld_dist.results import JobRow
+from scratchworld_dist.results import VIDEO_FILE, JobRow
 from scratchworld_dist.suites import StabilityMarks
 from scratchworld_dist.sweep import stored_section
 from scratchworld_dist.viewer._kind import AttemptPanel
 from scratchworld_dist.viewer._listing import project_listing
 from scratchworld_dist.viewer._runs import Attempt, ViewedRun
 from scratchworld_dist.viewer._timeline import StepView, step_views
+from scratchworld_dist.viewer._video import VideoView, video_view
 
 JOB_COLUMNS = (
     "job_id",
@@ -129,6 +130,9 @@ class AttemptView(BaseModel):
 
     panel: AttemptPanel | None = None
     """What the run's kind shows of the attempt's own rows (a perception job's answer and scores)."""
+
+    video: VideoView | None = None
+    """The episode's video with its steps' marks, when the attempt was recorded (``record.video``)."""
 
 
 class JobPage(BaseModel):
@@ -279,12 +283,14 @@ def job_page(index: int, run: ViewedRun, job_id: str) -> JobPage | None:
 def _attempt_view(run: ViewedRun, attempt: Attempt, panel: AttemptPanel | None, notes: dict[str, str]) -> AttemptView:
     """``notes``: the run's notes on the task's unstable tests, by test name."""
     row = attempt.row
-    listing, files = None, None
+    listing, files, video = None, None, None
     if row.artifact_dir is not None:
         files = row.artifact_dir.removeprefix("artifacts/")
         final = run.artifact(f"{files}/final.sb3")
         if final is not None:
             listing = project_listing(final.read_bytes())
+        recorded = run.artifact(f"{files}/{VIDEO_FILE}")
+        video = video_view(recorded.parent if recorded is not None else None, files, attempt.steps)
     tests = [
         TestLine(
             name=t.name,
@@ -311,6 +317,7 @@ def _attempt_view(run: ViewedRun, attempt: Attempt, panel: AttemptPanel | None, 
         files=files,
         image_hrefs=hrefs,
         panel=panel,
+        video=video,
     )
 
 

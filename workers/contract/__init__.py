@@ -135,6 +135,7 @@ from workers.contract._preflight import ModelCheck, Preflight
 from workers.contract._sb3 import MIB, ProjectLimits, check_project
 from workers.contract._sb3_archive import Sb3Archive
 from workers.contract._synthetic import SyntheticEpisodes
+from workers.contract._video import EpisodeVideo, RecordSettings, VideoInfo
 from workers.contract._view import DRAG_VIEWPORT, ConnectionKind, DragRegions, DragView, PaletteCategory, Point, Region
 
 __all__ = [
@@ -172,6 +173,7 @@ __all__ = [
     "ElementSource",
     "EpisodeClock",
     "EpisodeTimings",
+    "EpisodeVideo",
     "ErrorClass",
     "EvalError",
     "EvalErrorKind",
@@ -225,6 +227,7 @@ __all__ = [
     "ProjectLimits",
     "ProjectTooLargeError",
     "RateLimits",
+    "RecordSettings",
     "RecordedTiming",
     "Refusal",
     "Region",
@@ -239,6 +242,7 @@ __all__ = [
     "TaskPayload",
     "TestVerdict",
     "TimerLateness",
+    "VideoInfo",
     "WorkerInfo",
     "WorkerJob",
     "WorkerLoad",

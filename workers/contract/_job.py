@@ -21,6 +21,7 @@ from workers.contract._evaluation_spec import EvaluationSpec
 from workers.contract._memory import MemoryItem
 from workers.contract._model import LLMSettings, ModelCacheSettings, ModelSpec
 from workers.contract._observations import StepObservation
+from workers.contract._video import EpisodeVideo
 
 Mode = Literal["composite", "primitive"]
 Outcome = Literal["passed", "failed", "error"]
@@ -316,6 +317,9 @@ class JobResult(BaseModel):
     """Images the prompts showed, by SHA-256, each stored once however often it was sent."""
 
     timings: EpisodeTimings = Field(default_factory=EpisodeTimings)
+    video: EpisodeVideo | None = Field(default=None, repr=False)
+    """The agent's editor recorded, when the job asked for it (``RecordSettings.video``); an artifact only."""
+
     memory_items: list[MemoryItem] = Field(default_factory=list)
     """What a learning agent proposed to learn from this episode, each with its own judgement."""
 

@@ -1,10 +1,11 @@
 """The editor in a browser: Chromium per worker, the served editor files, one editor page, a pool of them,
-and what one editor costs the node."""
+what one editor costs the node, and a page's screencast."""
 
 from workers.editor._browser import CHROMIUM_ARGS, BrowserConfig, BrowserSession, isolation_args
 from workers.editor._cost import cached_editor_cost, measure_editor_cost
 from workers.editor._editor import Editor, EditorStatus, StageLayout, opened
 from workers.editor._pool import EditorPool
+from workers.editor._screencast import FrameSink, Screencast, ScreencastFrame
 from workers.editor._server import EditorAssets, EditorServer
 
 __all__ = [
@@ -16,6 +17,9 @@ __all__ = [
     "EditorPool",
     "EditorServer",
     "EditorStatus",
+    "FrameSink",
+    "Screencast",
+    "ScreencastFrame",
     "StageLayout",
     "cached_editor_cost",
     "isolation_args",

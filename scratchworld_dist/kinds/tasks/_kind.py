@@ -106,6 +106,7 @@ class TasksKind(Kind):
             memory_sources={stream: source_digest(entries) for stream, entries in sources.items()},
             episode_clock=episodes.episode_clock or default_episode_clock(found),
             model_cache=config.model_cache,
+            record=config.record,
         )
         jobs = list(plan_jobs(matrix))
         return RunPlan(
@@ -131,6 +132,7 @@ class TasksKind(Kind):
             project_limits=body.project_limits,
             memory=job.memory_snapshot,
             episode_clock=body.episode_clock,
+            record=body.record,
         )
 
     def holds(self, run_dir: Path) -> bool:

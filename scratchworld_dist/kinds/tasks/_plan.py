@@ -33,6 +33,7 @@ from workers.contract import (
     ModelSpec,
     ObservationSettings,
     ProjectLimits,
+    RecordSettings,
     SyntheticEpisodes,
     TaskPayload,
 )
@@ -52,6 +53,9 @@ class EpisodeBody(JobBody):
     project_limits: ProjectLimits = ProjectLimits()
     episode_clock: EpisodeClock = EpisodeClock()
     """How time passes on the agent's page (part of the id when virtual)."""
+
+    record: RecordSettings = RecordSettings()
+    """What is recorded besides the steps (a video): not part of the id."""
 
     def columns(self) -> dict[str, Any]:
         return {"mode": self.mode, "max_steps": self.max_steps}
@@ -200,6 +204,9 @@ class EpisodeMatrix(BaseModel):
     model_cache: ModelCacheSettings | None = None
     """Handed to every job (it does not change their ids)."""
 
+    record: RecordSettings = RecordSettings()
+    """Handed to every job (it does not change their ids)."""
+
 
 def plan_jobs(matrix: EpisodeMatrix) -> Iterator[JobSpec]:
     """The matrix in a stable order: model, mode, seed, then suite order of tasks.
@@ -254,5 +261,6 @@ def plan_jobs(matrix: EpisodeMatrix) -> Iterator[JobSpec]:
                             observation=settings,
                             project_limits=limits,
                             episode_clock=clock,
+                            record=matrix.record,
                         ),
                     )

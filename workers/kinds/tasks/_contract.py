@@ -18,6 +18,7 @@ from workers.contract import (
     Mode,
     ObservationSettings,
     ProjectLimits,
+    RecordSettings,
 )
 
 
@@ -37,6 +38,9 @@ class EpisodeSpec(AgentJob):
 
     episode_clock: EpisodeClock = Field(default_factory=EpisodeClock)
     """How time passes on the agent's page."""
+
+    record: RecordSettings = Field(default_factory=RecordSettings)
+    """What is recorded of the episode besides its steps (a video); not part of the job's identity."""
 
 
 class RegradeSpec(JobHeader):

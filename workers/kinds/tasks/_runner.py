@@ -36,6 +36,7 @@ from workers.contract import (
     EditorError,
     EpisodeClock,
     EpisodeTimings,
+    EpisodeVideo,
     ErrorClass,
     Failed,
     InvalidReply,
@@ -50,6 +51,7 @@ from workers.contract import (
     ProjectFormatError,
     ProjectLimits,
     ProjectTooLargeError,
+    RecordSettings,
     StepObservation,
     StepRecord,
     TaskPayload,
@@ -64,6 +66,7 @@ from workers.llm import ModelCache
 from workers.ocr import RegionOCR
 from workers.primitive import PrimitiveObserver, region_ocr
 from workers.tracing import set_attributes, span
+from workers.video import EpisodeRecorder
 
 MAX_LOGGED_ARGS = 16_384
 """Arguments longer than this (as JSON characters) are logged by size: no action accepts that much
@@ -145,22 +148,27 @@ class EpisodeRunner:
         cache = ModelCache(spec.model_cache.dir) if spec.model_cache is not None else None
         models = EpisodeModels((spec.llm or LLMSettings()).retry, spec.seed, cache=cache)
         memory = AgentMemory(spec.memory, spec.job_id, task.task_id)
+        recording = _Recording()
         try:
             async with (
                 _Turn(self._starts) as starting,
                 self.browser.pool.editor()
                 if self.browser.pool is not None
                 else self.browser.session.editor() as editor,
+                recording,  # stopped before the editor goes back, however the episode ends
             ):
                 editor.uses += 1
                 try:
                     await editor.load_project(task.initial_project, spec.project_limits)
                 except ProjectFormatError as exc:
                     message = f"the task's initial project cannot be loaded: {exc}"
-                    return _finish(JobResult.errored(spec, "task_invalid", message), started, clock, timings)
+                    return await _finish(
+                        JobResult.errored(spec, "task_invalid", message), started, clock, timings, recording
+                    )
                 await editor.seed_random(evaluation_seed(spec.task_id, spec.seed))
                 pace = _Pace(editor, spec.episode_clock)
                 environment = await self._environment(spec, editor, pace)
+                await recording.start(editor, spec.record)
                 await pace.start()
                 await editor.collect_garbage()  # the start's garbage: the page waits with ~35 MB less
                 starting.release()
@@ -181,6 +189,7 @@ class EpisodeRunner:
                     stop_reason = "editor_failure"
                     raise
                 finally:
+                    await recording.stop()  # the video ends with the agent's last step
                     self.browser.acting -= 1
                     ended = agent.finish(EpisodeEnd(stop_reason=stop_reason, steps=len(steps)))
                     if stop_reason in (*FINAL_ACTIONS, "max_steps"):
@@ -193,14 +202,14 @@ class EpisodeRunner:
                 final_project = await editor.save_project()
         except (EditorError, BridgeError) as exc:
             result = JobResult.errored(spec, "editor_failure", f"{type(exc).__name__}: {exc}", steps=steps)
-            return _finish(result, started, clock, timings)
+            return await _finish(result, started, clock, timings, recording)
         except AgentCrashedError as exc:
             steps.append(_crash_step(len(steps), exc))
             result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
-            return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
+            return await _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
         except ModelCallError as exc:  # the model cannot be reached or refuses: no verdict about it
             result = JobResult.errored(spec, exc.error_class, str(exc), steps=steps)
-            return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
+            return await _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
         evaluation_start = time.perf_counter()
         judging = with_random_seed(task.evaluation, evaluation_seed(spec.task_id, spec.seed))
         with span("evaluation", task=spec.task_id) as evaluating:
@@ -222,7 +231,7 @@ class EpisodeRunner:
             steps=steps,
             final_project=final_project,
         )
-        return _finish(_with_agent_outputs(result, models, memory), started, clock, timings)
+        return await _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
 
 
 def _context(
@@ -469,6 +478,41 @@ def _crash_step(index: int, exc: AgentCrashedError) -> StepRecord:
     return StepRecord(index=index, action=kind, ok=False, error_code=kind, error_message=exc.trace)
 
 
-def _finish(result: JobResult, started: float, clock: float, timings: EpisodeTimings) -> JobResult:
+class _Recording:
+    """An episode's video, when its spec asks for one: the agent's page from just before its first page time
+    (``_Pace.start``) to the end of its last step, or to where the episode broke off."""
+
+    def __init__(self) -> None:
+        self._recorder: EpisodeRecorder | None = None
+        self._encoding: asyncio.Future[EpisodeVideo | None] | None = None
+
+    async def start(self, editor: Editor, settings: RecordSettings) -> None:
+        if settings.video:
+            self._recorder = EpisodeRecorder(editor.page, settings)
+            await self._recorder.start()
+
+    async def stop(self) -> None:
+        """Idempotent; called as the agent's part ends, however it ends. The encoder finishes the video while
+        the episode goes on to its evaluation: nothing waits for it before the episode's result."""
+        recorder, self._recorder = self._recorder, None
+        if recorder is not None:
+            self._encoding = await recorder.stop()
+
+    async def video(self) -> EpisodeVideo | None:
+        return None if self._encoding is None else await self._encoding
+
+    async def __aenter__(self) -> _Recording:
+        return self
+
+    async def __aexit__(self, *exc: object) -> None:
+        await self.stop()
+
+
+async def _finish(
+    result: JobResult, started: float, clock: float, timings: EpisodeTimings, recording: _Recording
+) -> JobResult:
+    video = await recording.video()
     timings.total_s = time.perf_counter() - clock
-    return result.model_copy(update={"timings": timings, "started_at": started, "finished_at": time.time()})
+    return result.model_copy(
+        update={"timings": timings, "started_at": started, "finished_at": time.time(), "video": video}
+    )

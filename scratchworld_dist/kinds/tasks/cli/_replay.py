@@ -1,7 +1,8 @@
 """``scratchworld replay`` and ``scratchworld observe``: composite mode by hand.
 
 ``replay`` performs a trajectory of composite actions on a task's initial project, showing each
-action's envelope, then evaluates the result like an episode would; ``observe`` prints what a
+action's envelope (and, with ``--video``, recording the editor meanwhile), then evaluates the result like
+an episode would; ``observe`` prints what a
 composite agent would read for every target of a project (handy when writing trajectories).
 """
 
@@ -10,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 from rich.console import Console
@@ -25,38 +27,72 @@ from scratchworld_dist.kinds.tasks.cli._evaluate import (
     render_result,
 )
 from scratchworld_dist.suites import load_suite, read_trajectory
-from workers.contract import ActionEnvelope, CompositeAction, EvalResult, ProjectLimits, check_project
+from workers.contract import (
+    ActionEnvelope,
+    CompositeAction,
+    EpisodeVideo,
+    EvalResult,
+    ProjectLimits,
+    RecordSettings,
+    check_project,
+)
+
+if TYPE_CHECKING:
+    from workers.editor import Editor
 
 
 async def _replay(
-    project: bytes, actions: list[CompositeAction], task_spec: object, console: Console, show_final: bool
-) -> tuple[list[ActionEnvelope], bytes, EvalResult]:
+    project: bytes,
+    actions: list[CompositeAction],
+    task_spec: object,
+    console: Console,
+    show_final: bool,
+    record: RecordSettings | None = None,
+) -> tuple[list[ActionEnvelope], bytes, EvalResult, EpisodeVideo | None]:
     # The browser stack loads with the command that needs it: ``report`` and ``status`` never do.
     from workers import composite
     from workers.editor import BrowserSession, EditorPool
     from workers.evaluation import Evaluator
+    from workers.video import EpisodeRecorder
 
     envelopes: list[ActionEnvelope] = []
+    video = None
     # The replay's page is recycled for the evaluation, as a worker's agent pages are: one editor to open.
     async with BrowserSession() as session, EditorPool(session, spare=0) as pool:
         async with pool.editor() as editor:
             editor.uses += 1  # an episode's use: the pool recycles the page (or closes it) when it comes back
             await editor.load_project(project)
-            for number, action in enumerate(actions, start=1):
-                envelope = await composite.execute(editor, action.api, action.args)
-                envelopes.append(envelope)
-                outcome = (
-                    f"[green]ok[/green] {escape(json.dumps(envelope.data))}"
-                    if envelope.success
-                    else f"[red]{envelope.error.code if envelope.error else '?'}[/red] "
-                    f"{escape(envelope.error.message if envelope.error else '')}"
-                )
-                console.print(f"{number:>3} {escape(action.api)} {escape(json.dumps(action.args))} -> {outcome}")
+            recorder = EpisodeRecorder(editor.page, record) if record is not None and record.video else None
+            if recorder is not None:
+                await recorder.start()
+            try:
+                await _perform(editor, actions, envelopes, console)
+            finally:
+                if recorder is not None:
+                    video = await (await recorder.stop())
             if show_final:
                 console.print((await composite.observe(editor)).text, markup=False, highlight=False)
             final = await editor.save_project()
         result = await Evaluator(session, pool).evaluate(final, task_spec)  # type: ignore[arg-type]
-    return envelopes, final, result
+    return envelopes, final, result, video
+
+
+async def _perform(
+    editor: Editor, actions: list[CompositeAction], envelopes: list[ActionEnvelope], console: Console
+) -> None:
+    """Each action in turn, its envelope printed as it comes."""
+    from workers import composite
+
+    for number, action in enumerate(actions, start=1):
+        envelope = await composite.execute(editor, action.api, action.args)
+        envelopes.append(envelope)
+        outcome = (
+            f"[green]ok[/green] {escape(json.dumps(envelope.data))}"
+            if envelope.success
+            else f"[red]{envelope.error.code if envelope.error else '?'}[/red] "
+            f"{escape(envelope.error.message if envelope.error else '')}"
+        )
+        console.print(f"{number:>3} {escape(action.api)} {escape(json.dumps(action.args))} -> {outcome}")
 
 
 @click.command("replay", epilog="Example: scratchworld replay tasks sum_two_numbers --save final.sb3 --observe")
@@ -68,6 +104,14 @@ async def _replay(
     "--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), help="Write envelopes and verdict."
 )
 @click.option("--observe", "show_final", is_flag=True, help="Print the final observation.")
+@click.option(
+    "--video",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Record the editor while the trajectory is replayed, as an H.264 MP4 written here.",
+)
+@click.option(
+    "--fps", type=click.IntRange(1, 30), default=5, show_default=True, help="Video frames per second at most."
+)
 @evaluation_seed_option
 def replay_command(
     suite_dir: Path,
@@ -76,6 +120,8 @@ def replay_command(
     save: Path | None,
     json_file: Path | None,
     show_final: bool,
+    video: Path | None,
+    fps: int,
     seed: int,
 ) -> None:
     """Replay TRAJECTORY (default: the task's golden one) on TASK_ID's initial project and evaluate it.
@@ -93,10 +139,19 @@ def replay_command(
 
     console = make_console()
     initial = read_project(task.initial_project, ProjectLimits())
-    envelopes, final, result = asyncio.run(
-        _replay(initial, actions, task.evaluation_spec(seed=seed), console, show_final)
+    record = RecordSettings(video=True, fps=fps) if video is not None else None
+    envelopes, final, result, recorded = asyncio.run(
+        _replay(initial, actions, task.evaluation_spec(seed=seed), console, show_final, record)
     )
     render_result(result, console)
+    if video is not None:
+        if recorded is None:
+            console.print(f"[yellow]no video: the page sent no frame[/yellow] ({escape(str(video))} not written)")
+        else:
+            video.write_bytes(recorded.mp4)
+            info = recorded.info
+            size = f"{len(recorded.mp4):,} bytes, {info.duration_s:.1f} s, {info.frames} frames"
+            console.print(f"video: {escape(str(video))} ({size})")
     if save is not None:
         save.write_bytes(final)
     if json_file is not None:
