@@ -246,7 +246,7 @@ def test_the_atif_package_enforces_the_format_s_rules() -> None:
 
 def test_the_virtual_clock_s_lead_before_an_action_is_the_worker_s() -> None:
     from scratchworld_dist.kinds.tasks.exports._atif import ACTION_LEAD_MS
-    from workers.kinds.tasks._runner import ACTION_LEAD_MS as WORKER_LEAD_MS
+    from workers.kinds.tasks._pace import ACTION_LEAD_MS as WORKER_LEAD_MS
 
     assert ACTION_LEAD_MS == WORKER_LEAD_MS
 

@@ -22,8 +22,8 @@ class RecordSettings(BaseModel):
     costs no frames at all)."""
 
     width: int = Field(default=1280, ge=320, le=1280)
-    """The video's width in pixels (its height follows the page's 16:9). Chromium captures the page at this
-    size, and the capture is most of a video's CPU cost: 960 costs about half of 1280's (see docs/video.md)."""
+    """The video's width in pixels (its height follows the page's 16:9): a smaller file, not a cheaper recording
+    (Chromium copies every changed frame whatever the size; 640 cost what 1280 did, see docs/video.md)."""
 
 
 class VideoInfo(BaseModel):

@@ -27,7 +27,7 @@ from workers.contract import (
     RetryPolicy,
 )
 from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
-from workers.kinds.tasks._runner import ACTION_LEAD_MS
+from workers.kinds.tasks._pace import ACTION_LEAD_MS
 from workers.llm import load_litellm
 
 FAST = RetryPolicy(max_attempts=2, initial_backoff_s=0.01, max_backoff_s=0.02, request_timeout_s=10, max_total_s=30)

@@ -24,9 +24,9 @@ from workers.agent_api import AgentBase, EpisodeEnd, StepResult, TaskContext
 from workers.agents._human._events import Decision, Ended, PageMessage, Progress, TaskShown
 from workers.agents._human._recorder import GestureRecorder
 from workers.agents._human._relay import InputRelay
-from workers.agents._human._screencast import Screencast
 from workers.agents._human._server import PageServer
 from workers.contract import Action, Done, EditorCrashedError, Failed, Mode, Observation, ParticipantLeftError
+from workers.editor import Screencast
 
 log = logging.getLogger(__name__)
 
@@ -34,6 +34,9 @@ PORT_VARIABLE = "SCRATCHWORLD_HUMAN_PORT"
 DEFAULT_PORT = 8765
 """Where the page listens unless ``SCRATCHWORLD_HUMAN_PORT`` says otherwise: fixed, so an SSH tunnel can be set
 up before the job starts (human jobs run one at a time, so one port serves a whole sweep)."""
+
+LIVE_QUALITY = 70
+"""JPEG quality of the live view's frames (lighter than a video's over an SSH tunnel)."""
 
 RECONNECT_GRACE_S = 30.0
 """How long a closed page may stay closed (a reload, a dropped tunnel) before the episode ends as an error."""
@@ -99,7 +102,7 @@ class HumanAgent(AgentBase):
             viewport=dict(page.viewport_size or {"width": 1280, "height": 720}),
         )
         self._relay = InputRelay(page)
-        self._screencast = Screencast(page, self.server.send_frame)
+        self._screencast = Screencast(page, lambda frame: self.server.send_frame(frame.jpeg), quality=LIVE_QUALITY)
         try:
             await self.server.start()
             await self._screencast.start()

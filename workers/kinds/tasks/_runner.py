@@ -34,7 +34,6 @@ from workers.contract import (
     CompositeAction,
     Done,
     EditorError,
-    EpisodeClock,
     EpisodeTimings,
     EpisodeVideo,
     ErrorClass,
@@ -62,6 +61,7 @@ from workers.contract import (
 from workers.editor import Editor
 from workers.kinds.tasks._contract import EpisodeSpec
 from workers.kinds.tasks._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
+from workers.kinds.tasks._pace import Pace
 from workers.llm import ModelCache
 from workers.ocr import RegionOCR
 from workers.primitive import PrimitiveObserver, region_ocr
@@ -131,7 +131,7 @@ class EpisodeRunner:
         self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
         """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
 
-    async def _environment(self, spec: EpisodeSpec, editor: Editor, pace: _Pace) -> Environment:
+    async def _environment(self, spec: EpisodeSpec, editor: Editor, pace: Pace) -> Environment:
         if spec.mode == "composite":
             return CompositeEnvironment(editor)
         await editor.set_stage_size(PRIMITIVE_STAGE)
@@ -166,7 +166,7 @@ class EpisodeRunner:
                         JobResult.errored(spec, "task_invalid", message), started, clock, timings, recording
                     )
                 await editor.seed_random(evaluation_seed(spec.task_id, spec.seed))
-                pace = _Pace(editor, spec.episode_clock)
+                pace = Pace(editor, spec.episode_clock)
                 environment = await self._environment(spec, editor, pace)
                 await recording.start(editor, spec.record)
                 await pace.start()
@@ -285,53 +285,13 @@ async def _guarded(call: Awaitable[_T], doing: str) -> _T:
         raise AgentCrashedError(message, _trace(exc), "agent_unable" if unable else "agent_error") from exc
 
 
-ACTION_LEAD_MS = 50
-"""Virtual page time before each action: the timers the page set meanwhile (an observation, a
-privileged agent reading the page) come due first, as they would have while a user reached for the
-mouse; e.g. Blockly makes a block it has just drawn a drop target 1 ms later."""
-
-
-class _Pace:
-    """The agent page's time: nothing to do on the real clock; on the virtual clock, a fixed amount
-    of page time before the first observation, before each action and after it, and none in between."""
-
-    def __init__(self, editor: Editor, clock: EpisodeClock) -> None:
-        self.editor = editor
-        self.clock = clock
-        self.virtual = clock.mode == "virtual"
-        self.elapsed_ms = 0
-        """Page time moved so far on the virtual clock (the episode's time, recorded with each step)."""
-
-    async def _advance(self, ms: int) -> None:
-        await self.editor.advance_clock(ms)
-        self.elapsed_ms += ms
-
-    async def pass_time(self, ms: float) -> None:
-        """Page time during an action (a drag's moves); only on the virtual clock."""
-        await self._advance(round(ms))
-
-    async def start(self) -> None:
-        if self.virtual:
-            await self.editor.start_episode_clock(self.clock)
-            await self._advance(self.clock.start_ms)
-            await self.editor.redraw_panels()
-
-    async def before_action(self) -> None:
-        if self.virtual:
-            await self._advance(ACTION_LEAD_MS)
-
-    async def after_action(self) -> None:
-        if self.virtual:
-            await self._advance(self.clock.step_ms)
-
-
 async def _act(
     agent: Agent,
     environment: Environment,
     spec: EpisodeSpec,
     steps: list[StepRecord],
     models: EpisodeModels,
-    pace: _Pace,
+    pace: Pace,
 ) -> str:
     """The agent loop; returns why it stopped."""
     last: StepResult | None = None
@@ -353,7 +313,7 @@ async def _step(
     environment: Environment,
     spec: EpisodeSpec,
     models: EpisodeModels,
-    pace: _Pace,
+    pace: Pace,
     index: int,
     last: StepResult | None,
 ) -> tuple[StepRecord, StepResult, str]:
@@ -480,7 +440,7 @@ def _crash_step(index: int, exc: AgentCrashedError) -> StepRecord:
 
 class _Recording:
     """An episode's video, when its spec asks for one: the agent's page from just before its first page time
-    (``_Pace.start``) to the end of its last step, or to where the episode broke off."""
+    (``Pace.start``) to the end of its last step, or to where the episode broke off."""
 
     def __init__(self) -> None:
         self._recorder: EpisodeRecorder | None = None

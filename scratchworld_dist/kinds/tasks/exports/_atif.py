@@ -50,7 +50,7 @@ from workers.contract import EpisodeClock, StepObservation, StepRecord
 SCHEMA_VERSION = "ATIF-v1.8"
 
 ACTION_LEAD_MS = 50
-"""Virtual page time before each action (``workers.kinds.tasks._runner.ACTION_LEAD_MS``; a test checks they agree)."""
+"""Virtual page time before each action (``workers.kinds.tasks._pace.ACTION_LEAD_MS``; a test checks they agree)."""
 
 DRAG_ACTIONS = frozenset({"drag_and_drop"})
 """Primitive actions whose moves pass virtual page time of their own (not recorded per step)."""
