@@ -50,11 +50,15 @@ _INIT = (
 _MOUNTS = (
     "set -e\n"
     'hostname "$1"\n'
-    "mount -t tmpfs -o mode=1777,size=2g sw-tmp /tmp\n"
     "mount -t tmpfs -o mode=1777,size=1g sw-shm /dev/shm\n"
+    "mkdir /dev/shm/.checkout\n"
+    'mount --bind "$2" /dev/shm/.checkout\n'  # held aside: the checkout may be under /tmp (a CI clone)
+    "mount -t tmpfs -o mode=1777,size=2g sw-tmp /tmp\n"
     "mkdir -p -m 700 /tmp/home\n"
-    'mount --bind "$2" "$2"\n'
+    'mkdir -p "$2"\n'
+    'mount --move /dev/shm/.checkout "$2"\n'
     'mount -o remount,bind,ro "$2"\n'
+    "rmdir /dev/shm/.checkout\n"
     "shift 2\n"
     'exec "$@"\n'
 )
