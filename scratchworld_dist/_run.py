@@ -199,9 +199,7 @@ def _run_in(
         session = Session.begin(len(todo), [node.summary() for node in nodes])
         session.preflight = preflight
         manifest.sessions.append(session)
-        write_manifest(run_dir, manifest)
-        if remote is not None:
-            remote.stored(MANIFEST_NAME)
+        _save_manifest(run_dir, manifest, remote)
         console.print(
             f"{config.name}: {len(plan.jobs)} job(s) planned over {plan.suite.tasks} task(s) of {plan.suite.name}; "
             f"{len(plan.jobs) - len(undecided)} already decided, {len(todo)} to run"
@@ -238,10 +236,8 @@ def _run_in(
         session.finished_at = now()
         session.submitted = summary.sent
         session.budget_stop = summary.budget_stop
-        write_manifest(run_dir, manifest)
+        _save_manifest(run_dir, manifest, remote)
         watcher.end("finished", budget_stop=summary.budget_stop)
-        if remote is not None:
-            remote.stored(MANIFEST_NAME)
         status = "finished"
     except KeyboardInterrupt:
         status = "interrupted"
@@ -259,21 +255,28 @@ def _run_in(
             events.close()
         store.close()
         if feed is not None:  # after the store's last commit: the report it is handed is the run's
-            _finish_trackers(feed, status, run_dir, manifest, config.benchmark)
-            if remote is not None:  # the manifest records the trackers' runs
-                remote.stored(MANIFEST_NAME)
+            _finish_trackers(feed, status, run_dir, manifest, config.benchmark, remote)
         if remote is not None:
             remote.push_rest()
     return summary
 
 
-def _finish_trackers(feed: TrackerFeed, status: str, run_dir: Path, manifest: RunManifest, benchmark: str) -> None:
+def _save_manifest(run_dir: Path, manifest: RunManifest, remote: RemoteRun | None) -> None:
+    """Write the run's manifest, and put it in the bucket when the run directory is remote."""
+    write_manifest(run_dir, manifest)
+    if remote is not None:
+        remote.stored(MANIFEST_NAME)
+
+
+def _finish_trackers(
+    feed: TrackerFeed, status: str, run_dir: Path, manifest: RunManifest, benchmark: str, remote: RemoteRun | None
+) -> None:
     """Hand the trackers the run's end and its report; record their run ids so that a resumed run continues them."""
     runs = feed.finish(status, partial(run_files, run_dir, benchmark))
     if manifest.trackers is not None and runs != manifest.trackers.runs and (run_dir / MANIFEST_NAME).exists():
         manifest.trackers.runs.update(runs)
         with contextlib.suppress(RunDirError):  # the key is recorded already: a resume finds the runs by it
-            write_manifest(run_dir, manifest)
+            _save_manifest(run_dir, manifest, remote)
 
 
 def _execute(
