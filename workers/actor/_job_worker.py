@@ -173,9 +173,13 @@ class JobWorker:
             )
             return Refusal(reason=reason, load=load)
         started, clock = time.time(), time.perf_counter()
-        model, mode = getattr(getattr(spec, "model", None), "name", None), getattr(spec, "mode", None)
-        attributes = {"job_id": spec.job_id, "task": spec.task_id, "attempt": spec.attempt, "model": model}
-        attributes["mode"] = mode
+        attributes = {
+            "job_id": spec.job_id,
+            "task": spec.task_id,
+            "attempt": spec.attempt,
+            "model": getattr(getattr(spec, "model", None), "name", None),
+            "mode": getattr(spec, "mode", None),
+        }
         parent = parent_context(getattr(spec, "trace_parent", None))  # a plugin's spec need not extend JobHeader
         with span("episode", parent, **attributes) as opened:
             try:

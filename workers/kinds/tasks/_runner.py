@@ -277,9 +277,9 @@ async def _guarded(call: Awaitable[_T], doing: str) -> _T:
         return await call
     except (EditorError, BridgeError, ModelCallError, AgentCrashedError):
         raise
+    except ParticipantLeftError as exc:  # a person's page closed: their job is retried, not judged
+        raise AgentCrashedError(str(exc), str(exc), "participant_left") from exc
     except Exception as exc:  # a broken agent is the agent's error, not the harness's
-        if isinstance(exc, ParticipantLeftError):
-            raise AgentCrashedError(str(exc), str(exc), "participant_left") from exc
         unable = isinstance(exc, AgentUnableError)
         message = f"the agent {doing}: {type(exc).__name__}: {exc}"
         raise AgentCrashedError(message, _trace(exc), "agent_unable" if unable else "agent_error") from exc
