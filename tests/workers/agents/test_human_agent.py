@@ -79,12 +79,21 @@ class Person:
     """Playwright at the human page: gestures aimed at the editor's picture, in the editor's pixels."""
 
     page: Page
+    episode: asyncio.Task[JobResult]
 
     async def ready(self, steps: int) -> None:
-        """Wait until the harness recorded ``steps`` steps and observed the editor for the next one."""
-        await self.page.wait_for_function(
-            "n => document.body.dataset.ready === 'true' && Number(document.body.dataset.steps) === n", arg=steps
+        """Wait until the harness recorded ``steps`` steps and observed the editor for the next one (an episode
+        that ends meanwhile fails the test with its result)."""
+        shown = asyncio.ensure_future(
+            self.page.wait_for_function(
+                "n => document.body.dataset.ready === 'true' && Number(document.body.dataset.steps) === n", arg=steps
+            )
         )
+        await asyncio.wait([shown, self.episode], return_when=asyncio.FIRST_COMPLETED)
+        if not shown.done():
+            shown.cancel()
+            raise AssertionError(f"the episode ended before step {steps}: {self.episode.result()}")
+        await shown
 
     async def at(self, x: float, y: float) -> tuple[float, float]:
         box = await self.page.locator("#frame").bounding_box()
@@ -142,7 +151,7 @@ async def playing(
     page = await context.new_page()
     await page.goto(agent.server.url)
     try:
-        yield Person(page), running
+        yield Person(page, running), running
     finally:
         await context.close()
         if not running.done():

@@ -107,10 +107,17 @@ class PageServer:
         await socket.prepare(request)
         if self.greeting is not None:
             await socket.send_str(self.greeting.model_dump_json())
-        await socket.send_str(self.status.model_dump_json())
-        if self.latest_frame is not None:
-            await socket.send_bytes(self.latest_frame)
-        self._sockets[socket] = None
+        status: Progress | None = None
+        frame: bytes | None = None
+        while status is not self.status or frame is not self.latest_frame:  # again if either changed meanwhile
+            if status is not self.status:
+                status = self.status
+                await socket.send_str(status.model_dump_json())
+            if frame is not self.latest_frame:
+                frame = self.latest_frame
+                if frame is not None:
+                    await socket.send_bytes(frame)
+        self._sockets[socket] = None  # from here on, every status and frame reaches this page as it is sent
         self.on_presence(len(self._sockets))
         try:
             async for message in socket:
