@@ -155,6 +155,8 @@ class RateLimitState:
         lease_id = lease_id or uuid.uuid4().hex
         if lease_id in self._tombstones:
             return Wait(None)  # released (cancelled) before it was granted
+        if (held := self._leases.get(lease_id)) is not None:  # asked again (a retried call): granted once
+            return Grant(lease_id, held.estimated_tokens)
         if now < self.paused_until:
             self.waits += 1
             return Wait(self.paused_until - now)
