@@ -121,7 +121,6 @@ def test_a_lease_released_before_its_grant_is_never_granted() -> None:
     assert state.in_flight == 0
 
 
-
 def test_a_lease_asked_for_again_is_granted_once() -> None:
     """A retried ask (its first reply lost on the way) gets the same grant, holding one slot."""
     state = RateLimitState(RateLimits(max_concurrency=2), now=0.0)
@@ -130,6 +129,7 @@ def test_a_lease_asked_for_again_is_granted_once() -> None:
     assert (state.granted, state.in_flight) == (1, 1)
     grant(state.acquire(5, now=0.0, lease_id="another"))  # the second slot is still free
     assert state.in_flight == 2
+
 
 # -- the asyncio handle ----------------------------------------------------------------------------------------
 
