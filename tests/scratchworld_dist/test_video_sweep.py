@@ -19,7 +19,8 @@ from workers.contract import VideoInfo
 
 pytestmark = [pytest.mark.ray, pytest.mark.browser, pytest.mark.slow, pytest.mark.timeout(900)]
 
-TASKS = ["quiz_score", "sum_two_numbers"]
+TASKS = ["quiz_score"]
+"""One task in both modes: its primitive gestures click and drag, which the video's markers show."""
 
 
 def write_config(tmp_path: Path, name: str, **fields: object) -> Path:
@@ -57,7 +58,7 @@ def test_the_same_jobs_reach_the_same_verdicts_with_a_video_which_the_viewer_pla
 
     plain, filmed = verdicts(tmp_path / "plain"), verdicts(tmp_path / "filmed")
     assert filmed == plain  # the same job ids, each with the same outcome, tests, stop and step count
-    assert len(plain) == 4 and {v[0] for v in plain.values()} == {"passed"}
+    assert len(plain) == 2 and {v[0] for v in plain.values()} == {"passed"}
     assert not list((tmp_path / "plain" / "artifacts").rglob("video.*"))
 
     rows = list(effective_rows(RunStore(tmp_path / "filmed").job_rows()))
@@ -91,5 +92,5 @@ def test_the_same_jobs_reach_the_same_verdicts_with_a_video_which_the_viewer_pla
 
     summary = export_site(site, tmp_path / "export")
     exported = sorted((tmp_path / "export").rglob("video.mp4"))
-    assert len(exported) == 4 and summary.files >= 4
+    assert len(exported) == 2 and summary.files >= 2
     assert (tmp_path / "export" / "static" / "video.js").is_file()
