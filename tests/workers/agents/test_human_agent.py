@@ -5,6 +5,7 @@ oracle's steps; Give up fails the task; a page closed for good is an error a res
 from __future__ import annotations
 
 import asyncio
+import contextlib
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from dataclasses import dataclass
@@ -154,8 +155,10 @@ async def playing(
         yield Person(page, running), running
     finally:
         await context.close()
-        if not running.done():
+        if not running.done():  # a failed test: the episode ends now, its page server closed, nothing left open
             running.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await running
 
 
 async def oracle_gestures(pool: EditorPool, content: TaskContent) -> list[PrimitiveAction]:
