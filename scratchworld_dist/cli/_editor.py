@@ -13,8 +13,9 @@ import threading
 import click
 
 
-@click.command("capacity", epilog="Example: scratchworld capacity --clock virtual --margin 0.25")
+@click.command("capacity", epilog="Example: scratchworld capacity --clock virtual --mode primitive --margin 0.25")
 @click.option("--clock", type=click.Choice(["virtual", "real"]), default="virtual", help="The episodes' clock.")
+@click.option("--mode", type=click.Choice(["composite", "primitive"]), default="composite", help="The episodes' mode.")
 @click.option(
     "--margin",
     type=click.FloatRange(0, 1, max_open=True),
@@ -24,7 +25,7 @@ import click
 @click.option(
     "--reserve-mb", type=click.IntRange(min=0), default=None, help="Memory kept for the rest of the node (1024)."
 )
-def capacity_command(clock: str, margin: float | None, reserve_mb: int | None) -> None:
+def capacity_command(clock: str, mode: str, margin: float | None, reserve_mb: int | None) -> None:
     """Measure a waiting editor's CPU and memory here and print the browser slots they allow."""
     from scratchworld_dist.scheduling import derive_local  # imports Ray and the browser stack: only for this command
     from scratchworld_dist.sweep import Limits
@@ -32,7 +33,7 @@ def capacity_command(clock: str, margin: float | None, reserve_mb: int | None) -
 
     overrides = {"capacity_margin": margin, "memory_reserve_mb": reserve_mb}
     limits = Limits.model_validate({key: value for key, value in overrides.items() if value is not None})
-    derivation = derive_local(limits, clock, harness_fingerprint().digest, os.cpu_count() or 1)  # type: ignore[arg-type]
+    derivation = derive_local(limits, clock, harness_fingerprint().digest, os.cpu_count() or 1, mode)  # type: ignore[arg-type]
     click.echo(derivation.describe())
     click.echo(f"""ray start --address HEAD:6379 --resources='{{"browser": {derivation.slots}}}'""")
 

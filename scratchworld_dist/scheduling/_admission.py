@@ -2,7 +2,8 @@
 
 Jobs whose agent calls a model spend most of their time waiting on the provider, so a node holds
 as many of them as its CPU (what a waiting page burns, measured) and its memory (one editor's
-PSS, measured) allow, less a margin (``workers.node.derive_slots``). Jobs without a model keep
+PSS, measured) allow, less a margin, and never more than the node delivers in their mode (primitive
+if any job's is: its steps cost the browser far more; ``workers.node.derive_slots``). Jobs without a model keep
 their page busy: one per core, as before. Either way the episodes are spread over one worker (one
 browser) per core. Jobs that open no editor (perception questions about a static screenshot) cost
 the node nothing while they wait. Explicit ``browser_slots`` and ``pages_per_worker`` win over all of this,
@@ -16,7 +17,7 @@ from collections.abc import Callable, Sequence
 
 from scratchworld_dist.sweep import JobSpec, Limits
 from workers.agent_api import agent_class
-from workers.contract import MIB, AgentUnavailableError, ClockMode
+from workers.contract import MIB, AgentUnavailableError, ClockMode, Mode
 from workers.editor import cached_editor_cost
 from workers.node import SlotDerivation, derive_slots, node_memory
 
@@ -33,6 +34,11 @@ def waiting_clock(jobs: Sequence[JobSpec]) -> ClockMode | None:
     return "real" if any(job.body.page_clock == "real" for job in waiting) else "virtual"
 
 
+def waiting_mode(jobs: Sequence[JobSpec]) -> Mode:
+    """The mode whose steps bound what the node delivers: primitive if any job waiting on a model runs in it."""
+    return "primitive" if any(job.model is not None and job.mode == "primitive" for job in jobs) else "composite"
+
+
 def admitted_slots(limits: Limits, jobs: Sequence[JobSpec], harness: str, say: Callable[[str], None]) -> int:
     """Browser slots for a private local Ray: as configured, else derived from this machine (jobs that open no
     editor and wait on a model: ``BROWSERLESS_PER_CORE`` per core)."""
@@ -47,7 +53,7 @@ def admitted_slots(limits: Limits, jobs: Sequence[JobSpec], harness: str, say: C
     clock = waiting_clock(jobs)
     if clock is None:
         return cores
-    derivation = derive_local(limits, clock, harness, cores)
+    derivation = derive_local(limits, clock, harness, cores, waiting_mode(jobs))
     say(f"admission: {derivation.describe()} (limits.browser_slots overrides)")
     return derivation.slots
 
@@ -63,13 +69,16 @@ def exclusive(jobs: Sequence[JobSpec]) -> bool:
     return False
 
 
-def derive_local(limits: Limits, clock: ClockMode, harness: str, cores: int) -> SlotDerivation:
+def derive_local(
+    limits: Limits, clock: ClockMode, harness: str, cores: int, mode: Mode = "composite"
+) -> SlotDerivation:
     return derive_slots(
         cached_editor_cost(clock, harness),
         cores=cores,
         memory=node_memory(),
         margin=limits.capacity_margin,
         reserve_bytes=limits.memory_reserve_mb * MIB,
+        mode=mode,
     )
 
 

@@ -310,3 +310,75 @@ async def test_async_recognition_runs_off_the_event_loop_thread() -> None:
     assert whole == [TextBox(text="hello", score=0.9, x=1, y=2, width=3, height=4)]
     assert backend.threads
     assert threading.get_ident() not in backend.threads
+
+
+class GatedBackend:
+    """Blocks in ``recognize`` until released, then answers like ``FixedBackend`` or raises ``error``."""
+
+    name = "gated"
+
+    def __init__(self, error: Exception | None = None) -> None:
+        self.entered = threading.Event()
+        self.release = threading.Event()
+        self.calls = 0
+        self.error = error
+
+    def recognize(self, image: np.ndarray) -> list[TextBox]:
+        self.calls += 1
+        self.entered.set()
+        assert self.release.wait(10), "the test never released the backend"
+        if self.error is not None:
+            raise self.error
+        return [TextBox(text="hello", score=0.9, x=1, y=2, width=3, height=4)]
+
+
+def read_twice_at_once(ocr: RegionOCR, backend: GatedBackend, image: np.ndarray) -> list[object]:
+    """Two threads read ``image``; the second arrives while the first is inside the backend. Each thread's boxes, or
+    the exception it raised."""
+    outcomes: list[object] = [None, None]
+
+    def read(slot: int) -> None:
+        try:
+            outcomes[slot] = ocr.recognize(image)
+        except Exception as exc:
+            outcomes[slot] = exc
+
+    first = threading.Thread(target=read, args=(0,))
+    first.start()
+    assert backend.entered.wait(10)
+    second = threading.Thread(target=read, args=(1,))
+    second.start()
+    deadline = time.monotonic() + 10
+    while ocr.shared < 1:  # the second read is waiting on the first
+        assert time.monotonic() < deadline, "the second read never joined the first"
+        time.sleep(0.001)
+    backend.release.set()
+    first.join(10)
+    second.join(10)
+    return outcomes
+
+
+def test_a_read_of_pixels_already_being_read_waits_for_it_instead_of_reading_again() -> None:
+    backend = GatedBackend()
+    ocr = RegionOCR(backend)
+    image = blank(40, 40)
+    image[5, 5] = 0
+
+    first, second = read_twice_at_once(ocr, backend, image)
+
+    assert first == second == [TextBox(text="hello", score=0.9, x=1, y=2, width=3, height=4)]
+    assert (backend.calls, ocr.misses, ocr.hits, ocr.shared) == (1, 1, 1, 1)
+    assert ocr.recognize(image) == first and backend.calls == 1  # and it was cached
+
+
+def test_a_failed_read_fails_the_reads_waiting_on_it_and_is_not_cached() -> None:
+    backend = GatedBackend(RuntimeError("session exploded"))
+    ocr = RegionOCR(backend)
+
+    first, second = read_twice_at_once(ocr, backend, blank(40, 40))
+
+    assert isinstance(first, OCRError) and "session exploded" in str(first)
+    assert second is first
+    assert (backend.calls, ocr.misses, ocr.shared) == (1, 1, 1)
+    backend.error = None
+    assert ocr.recognize(blank(40, 40)) != [] and backend.calls == 2  # the next read tries again

@@ -1,7 +1,14 @@
 """This node: where its editor and browser are installed, its harness fingerprint, how it describes itself,
 what its browsers cost and how many episodes it can hold."""
 
-from workers.node._capacity import DELIVERED_PER_CORE, EditorCost, SlotDerivation, derive_slots
+from workers.node._capacity import (
+    DELIVERED_PER_CORE,
+    PRIMITIVE_DELIVERED_PER_CORE,
+    EditorCost,
+    SlotDerivation,
+    delivered_per_core,
+    derive_slots,
+)
 from workers.node._describe import describe_node
 from workers.node._fingerprint import code_parts, environment_parts, harness_fingerprint
 from workers.node._installation import (
@@ -32,6 +39,7 @@ __all__ = [
     "DELIVERED_PER_CORE",
     "EDITOR_PAGE",
     "OWN_FILES",
+    "PRIMITIVE_DELIVERED_PER_CORE",
     "REPO_DIR",
     "BrowserUsage",
     "EditorCost",
@@ -41,6 +49,7 @@ __all__ = [
     "code_parts",
     "default_chromium",
     "default_gui_dir",
+    "delivered_per_core",
     "derive_slots",
     "describe_node",
     "environment_parts",

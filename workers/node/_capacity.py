@@ -5,7 +5,8 @@ an episode costs the node is its editor's memory and the CPU its page burns whil
 page on the real clock keeps its VM stepping, one on the virtual clock stands still. Both are
 measured on the node with real editors (``workers.editor.measure_editor_cost``), and the browser slots
 follow with a safety margin (``derive_slots``), but never past what the node delivers: the episodes per
-core at which ``benchmarks/density.py`` measured steps still undelayed (``DELIVERED_PER_CORE``). Waiting
+core at which ``benchmarks/density.py`` measured steps still undelayed, in the jobs' mode
+(``delivered_per_core``: a primitive step drags and screenshots, a composite one calls the API). Waiting
 pages alone would allow far more, and the episodes' own work (starting, stepping, ending, being judged)
 then delays every step: 64 on 2 cores ran their steps up to seconds late.
 Agents that never wait (the oracle) keep one episode per core: their pages are busy all the time.
@@ -17,7 +18,7 @@ import math
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from workers.contract import MIB, ClockMode
+from workers.contract import MIB, ClockMode, Mode
 from workers.node._usage import NodeMemory
 
 CPU_FLOOR_CORES = 0.01
@@ -29,6 +30,17 @@ DELIVERED_PER_CORE = 16
 0.08 s against 0.07 s alone, the steady steps' p95 0.19 s; at N = 64 the p50 was 0.28 s and the steady p95
 2.0 s (its episodes' ends, 64 within half a minute, crowd the steps of the others). Past it the agents' own work, not
 their waiting pages, binds the node; ``limits.browser_slots`` sets more where a node was measured to hold them."""
+
+PRIMITIVE_DELIVERED_PER_CORE = 2
+"""The same for primitive-mode episodes, whose every step takes a screenshot, reads the element list (OCR where
+the DOM has no text) and moves a real mouse through a drag's frames, about 0.8 CPU-s of the browser's per step
+against a composite step's few hundredths (``benchmarks/density.py --mode primitive``, 2026-12-02, 2 cores): at N = 4
+the step overhead p50 was 1.58 s against 0.84 s alone, at N = 8 2.29 s and at N = 16 4-6 s."""
+
+
+def delivered_per_core(mode: Mode) -> int:
+    """Episodes per core the node holds with their steps undelayed in ``mode``."""
+    return PRIMITIVE_DELIVERED_PER_CORE if mode == "primitive" else DELIVERED_PER_CORE
 
 
 class EditorCost(BaseModel):
@@ -57,12 +69,14 @@ class SlotDerivation(BaseModel):
     cores: int
     memory: NodeMemory
     cost: EditorCost
+    mode: Mode = "composite"
+    """The episodes' mode (primitive if any job's is): what they deliver per core depends on it."""
     margin: float
     reserve_bytes: int
     by_cpu: int
     by_memory: int
     by_throughput: int
-    """What the node delivers: ``DELIVERED_PER_CORE`` per core (measured, so no margin)."""
+    """What the node delivers: ``delivered_per_core(mode)`` per core (measured, so no margin)."""
     slots: int
 
     def describe(self) -> str:
@@ -72,25 +86,32 @@ class SlotDerivation(BaseModel):
             f"{self.cost.cpu_cores:.3f} core(s) and {self.cost.pss_bytes / MIB:.0f} MB PSS on the {self.cost.clock} "
             f"clock; with a {self.margin:.0%} margin the CPU allows {self.by_cpu}, memory {self.by_memory} "
             f"(after a {self.reserve_bytes / MIB:.0f} MB reserve), throughput {self.by_throughput} "
-            f"({DELIVERED_PER_CORE} per core, measured by benchmarks/density.py)"
+            f"({delivered_per_core(self.mode)} per core in {self.mode} mode, measured by benchmarks/density.py)"
         )
 
 
 def derive_slots(
-    cost: EditorCost, *, cores: int, memory: NodeMemory, margin: float, reserve_bytes: int
+    cost: EditorCost,
+    *,
+    cores: int,
+    memory: NodeMemory,
+    margin: float,
+    reserve_bytes: int,
+    mode: Mode = "composite",
 ) -> SlotDerivation:
-    """The episodes a node may hold at once: the fewest of what its CPU and its memory allow, less a margin, and
-    of what it delivers."""
+    """The episodes of ``mode`` a node may hold at once: the fewest of what its CPU and its memory allow, less a
+    margin, and of what it delivers."""
     usable = 1.0 - margin
     by_cpu = math.floor(cores * usable / max(cost.cpu_cores, CPU_FLOOR_CORES))
     spare = max(memory.available_bytes - reserve_bytes, 0)
-    by_throughput = cores * DELIVERED_PER_CORE
+    by_throughput = cores * delivered_per_core(mode)
     by_memory = math.floor(spare * usable / cost.pss_bytes) if cost.pss_bytes else by_throughput
     slots = max(1, min(by_cpu, by_memory, by_throughput))
     return SlotDerivation(
         cores=cores,
         memory=memory,
         cost=cost,
+        mode=mode,
         margin=margin,
         reserve_bytes=reserve_bytes,
         by_cpu=by_cpu,

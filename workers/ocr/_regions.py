@@ -6,6 +6,7 @@ import asyncio
 import hashlib
 import threading
 from collections import OrderedDict
+from concurrent.futures import Future
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
@@ -43,8 +44,10 @@ class RegionOCR:
     """Reads regions through a backend, caching results by the region's pixels rather than its position.
 
     Boxes are stored relative to their crop, so a panel that scrolled or moved but kept its pixels is
-    still a hit. Eviction is least-recently-used beyond ``max_entries``. The cache is thread-safe; two
-    threads missing on the same pixels at once may both run the backend.
+    still a hit. Eviction is least-recently-used beyond ``max_entries``. The cache is thread-safe, and a
+    read of pixels another thread is reading already waits for that read (``shared``) instead of running
+    the backend again: episodes of one task start on the same stage at once, and each read of it
+    costs about a second of both cores.
     """
 
     def __init__(self, backend: OCRBackend, max_entries: int = 256) -> None:
@@ -56,7 +59,10 @@ class RegionOCR:
         """Regions answered from the cache."""
         self.misses = 0
         """Regions sent to the backend."""
+        self.shared = 0
+        """Regions answered by a read another thread had already begun (also counted in ``hits``)."""
         self._cache: OrderedDict[_CacheKey, list[TextBox]] = OrderedDict()
+        self._reading: dict[_CacheKey, Future[list[TextBox]]] = {}
         self._lock = threading.Lock()
 
     @property
@@ -91,7 +97,7 @@ class RegionOCR:
         return await asyncio.to_thread(self.recognize_regions, image, regions)
 
     def _read(self, crop: np.ndarray) -> list[TextBox]:
-        """Boxes relative to the crop, from the cache or the backend."""
+        """Boxes relative to the crop, from the cache, from a read of the same pixels under way, or the backend."""
         crop = np.ascontiguousarray(crop)
         key = (self.backend.name, crop.shape, hashlib.blake2b(crop.data, digest_size=16).digest())
         with self._lock:
@@ -100,16 +106,36 @@ class RegionOCR:
                 self._cache.move_to_end(key)
                 self.hits += 1
                 return cached
-            self.misses += 1
+            reading = self._reading.get(key)
+            if reading is None:
+                self.misses += 1
+                self._reading[key] = mine = Future()
+            else:
+                self.hits += 1
+                self.shared += 1
+        if reading is not None:
+            return reading.result()  # the reader's boxes, or its OCRError
         try:
-            found = self.backend.recognize(crop)
-        except OCRError:
+            found = self._recognize(crop)
+        except BaseException as exc:  # the waiting reads get it too
+            with self._lock:
+                del self._reading[key]
+            mine.set_exception(exc)
             raise
-        except Exception as exc:
-            raise OCRError(f"OCR backend {self.backend.name!r} failed: {type(exc).__name__}: {exc}") from exc
         with self._lock:
+            del self._reading[key]
             self._cache[key] = found
             self._cache.move_to_end(key)
             while len(self._cache) > self.max_entries:
                 self._cache.popitem(last=False)
+        mine.set_result(found)
         return found
+
+    def _recognize(self, crop: np.ndarray) -> list[TextBox]:
+        """The backend's boxes; any failure of it as an ``OCRError``."""
+        try:
+            return self.backend.recognize(crop)
+        except OCRError:
+            raise
+        except Exception as exc:
+            raise OCRError(f"OCR backend {self.backend.name!r} failed: {type(exc).__name__}: {exc}") from exc

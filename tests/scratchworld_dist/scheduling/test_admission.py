@@ -27,6 +27,7 @@ from workers.editor._cost import cost_cache_path
 from workers.kinds import kind_fingerprint
 from workers.node import (
     DELIVERED_PER_CORE,
+    PRIMITIVE_DELIVERED_PER_CORE,
     EditorCost,
     NodeMemory,
     derive_slots,
@@ -66,7 +67,19 @@ def test_slots_are_the_fewer_of_what_cpu_and_memory_allow_less_the_margin() -> N
     assert derive_slots(cost(0.01, 300), cores=2, memory=starved, margin=0.25, reserve_bytes=GIB).slots == 1
 
 
-def jobs(model: ModelSpec | None, clock: str = "virtual", harness: str = "h") -> list[JobSpec]:
+def test_primitive_episodes_get_the_slots_the_node_delivers_in_primitive_mode() -> None:
+    composite = derive_slots(cost(0.01, 200), cores=2, memory=NODE, margin=0.25, reserve_bytes=GIB)
+    primitive = derive_slots(cost(0.01, 200), cores=2, memory=NODE, margin=0.25, reserve_bytes=GIB, mode="primitive")
+    assert PRIMITIVE_DELIVERED_PER_CORE < DELIVERED_PER_CORE
+    assert (composite.slots, primitive.slots) == (2 * DELIVERED_PER_CORE, 2 * PRIMITIVE_DELIVERED_PER_CORE)
+    assert f"throughput {primitive.slots} ({PRIMITIVE_DELIVERED_PER_CORE} per core in primitive mode" in (
+        primitive.describe()
+    )
+
+
+def jobs(
+    model: ModelSpec | None, clock: str = "virtual", harness: str = "h", modes: tuple[str, ...] = ("composite",)
+) -> list[JobSpec]:
     contents = [read_task(task) for task in load_suite(REPO / "tasks").tasks[:2]]
     episode_clock = EpisodeClock(mode=clock)  # type: ignore[arg-type]
     agent = AgentRef(name="llm" if model else "oracle")
@@ -74,7 +87,7 @@ def jobs(model: ModelSpec | None, clock: str = "virtual", harness: str = "h") ->
         plan_jobs(
             EpisodeMatrix(
                 models=[model],
-                modes=["composite"],
+                modes=list(modes),  # type: ignore[arg-type]
                 agent=agent,
                 tasks=contents,
                 seeds=[0],
@@ -114,7 +127,11 @@ def test_model_jobs_get_slots_from_the_cost_measured_for_their_clock(
         known["virtual"], cores=os.cpu_count() or 1, memory=node_memory(), margin=0.25, reserve_bytes=GIB
     )
     assert abs(slots - expected.slots) <= 1  # the node's free memory moved a little in between
-    assert len(said) == 1 and "virtual clock" in said[0]
+    assert len(said) == 1 and "virtual clock" in said[0] and "in composite mode" in said[0]
+    # One primitive job among composite ones: the node holds what it delivers in primitive mode.
+    mixed = admitted_slots(Limits(), jobs(model, "virtual", modes=("composite", "primitive")), harness, said.append)
+    cores = os.cpu_count() or 1
+    assert mixed == min(slots, cores * PRIMITIVE_DELIVERED_PER_CORE) and "in primitive mode" in said[-1]
     assert cached_editor_cost("virtual", harness) == known["virtual"]  # read back, not measured again
 
 
@@ -130,6 +147,11 @@ def test_the_capacity_command_prints_a_nodes_slots_from_its_measured_cost(
     assert done.returncode == 0, done.stderr
     assert "0.250 core(s) and 300 MB PSS on the real clock" in done.stdout
     assert f"""--resources='{{"browser": {expected.slots}}}'""" in done.stdout
+    primitive = invoke("capacity", "--clock", "real", "--mode", "primitive")
+    slots = derive_slots(
+        measured, cores=os.cpu_count() or 1, memory=node_memory(), margin=0.25, reserve_bytes=GIB, mode="primitive"
+    ).slots
+    assert "per core in primitive mode" in primitive.stdout and f'{{"browser": {slots}}}' in primitive.stdout
     refused = invoke("capacity", "--margin", "1")
     assert refused.returncode == 2 and "--margin" in refused.stderr and len(refused.stderr.splitlines()) == 1
 
