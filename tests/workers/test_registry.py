@@ -14,6 +14,7 @@ from scratchworld_dist.kinds import UnknownKindError, job_kinds, kind_names
 from scratchworld_dist.kinds._registry import _registered
 from tests.support.plugins import install_plugin
 from workers import PLUGIN_RANK, Registry
+from workers._registry import group_entry_points
 from workers.agent_api import agent_class, registered_agents
 from workers.contract import AgentUnavailableError
 from workers.kinds import KindRegistryError, worker_kinds
@@ -146,3 +147,23 @@ def test_a_broken_kind_is_one_line_on_either_side_and_for_the_agents_it_would_se
     with pytest.raises(AgentUnavailableError) as agents:  # agents are found through the worker's kinds
         agent_class("oracle", "drag")
     assert str(agents.value) == str(worker.value)
+
+
+def dist_info(site: Path, name: str, entry_points: str) -> None:
+    """A distribution's metadata written into ``site``, as an installer leaves it."""
+    info = site / f"{name}-1.0.dist-info"
+    info.mkdir(parents=True)
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {name}\nVersion: 1.0\n")
+    (info / "entry_points.txt").write_text(entry_points)
+
+
+def test_a_group_is_read_again_only_when_pythons_path_changed(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    group = "scratchworld_tests.late"
+    first = group_entry_points(group)
+    assert first == () and group_entry_points(group) is first  # nothing changed: the same reading
+    site = tmp_path / "site"
+    dist_info(site, "late_one", f"[{group}]\none = late:ONE\n")
+    monkeypatch.syspath_prepend(str(site))
+    assert [point.name for point in group_entry_points(group)] == ["one"]  # a directory joined the path
+    dist_info(site, "late_two", f"[{group}]\ntwo = late:TWO\n")
+    assert sorted(point.name for point in group_entry_points(group)) == ["one", "two"]  # installed into it
