@@ -29,6 +29,7 @@ MAX_SCAN = 100_000
 _MAX_OBJECT = 20_000
 _MAX_REPAIR = 4_000
 _MAX_OBJECTS = 64
+_MAX_KEYWORDS = 64
 _MAX_ARGS = 1_000
 _MAX_VALUE = 300
 
@@ -152,8 +153,11 @@ def _from_args(args: str) -> tuple[_End, _End] | None:
 
 
 def _from_keywords(text: str, *, last: bool) -> tuple[_End, _End] | None:
-    """``key=value`` / ``key: value`` pairs, each value running to the next key; ``last``: later keys win."""
+    """``key=value`` / ``key: value`` pairs, each value running to the next key; ``last``: later keys win
+    (and only the last ``_MAX_KEYWORDS`` keys are read: a reply of endless keys stays cheap)."""
     matches = list(_KEYWORD.finditer(text))
+    if last:
+        matches = matches[-_MAX_KEYWORDS:]
     parts: _Parts = {}
     for i, match in enumerate(matches):
         stop = matches[i + 1].start() if i + 1 < len(matches) else len(text)
