@@ -230,7 +230,8 @@
   // `on_demand`: the stage is drawn only when something looks at it. The VM asks for a frame on every
   // step, but touching and colour sensing and the pen do not read it: only a snapshot
   // (`renderer.requestSnapshot`, answered inside `draw`) and the canvas's own picture do, so `draw`
-  // runs when a snapshot waits and just before the canvas is read. Returns the undo.
+  // runs when a snapshot waits and just before the canvas is read. Returns the undo, which draws the
+  // last frame unless told `{draw: false}`.
   function drawOnDemand(renderer) {
     const canvas = renderer.gl.canvas;
     const draw = renderer.draw;
@@ -247,9 +248,10 @@
       readers[name] = canvas[name];
       canvas[name] = function (...args) { drawNow(); return readers[name].apply(canvas, args); };
     }
-    return () => {
+    return ({draw: drawLast = true} = {}) => {
       if (hadOwnDraw) renderer.draw = draw; else delete renderer.draw;
       for (const name of Object.keys(readers)) delete canvas[name];
+      if (!drawLast) return;
       try { draw.call(renderer); } catch (e) { /* the page shows the last frame drawn; the verdict stands */ }
     };
   }
@@ -385,13 +387,17 @@
     const ms = Number(args.ms);
     if (!(ms >= 0 && ms <= MAX_ADVANCE_MS)) throw new BridgeFailure('bad_request', `ms must be from 0 to ${MAX_ADVANCE_MS}`);
     if (!clock.status().paused) throw new BridgeFailure('bad_request', 'the page is not on a paused virtual clock');
+    const draw = args.draw === undefined ? true : args.draw;
+    if (typeof draw !== 'boolean') throw new BridgeFailure('bad_request', 'draw must be true or false');
     // Nobody looks at the stage until the advance is over: its frames are drawn on demand, and the last
     // one once at the end (what the page shows afterwards is the same; a step costs a third less CPU).
+    // `draw: false` leaves even that one to the next advance that draws (between a drag's moves, where
+    // a frame of the stage costs the browser more than the move itself and nobody looks at it).
     const drawn = drawOnDemand(requireVm().renderer);
     try {
       await clock.advance(ms);
     } finally {
-      drawn();
+      drawn({draw: draw});
     }
     return {now: clock.now()};
   }

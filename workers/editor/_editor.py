@@ -340,9 +340,10 @@ class Editor:
         sprites start where they would on a rerun (``workers.contract.evaluation_seed``)."""
         await self.call("seedRandom", {"seed": seed})
 
-    async def advance_clock(self, ms: int) -> None:
-        """Let ``ms`` of virtual time pass on a page whose episode runs on the virtual clock."""
-        await self.call("advanceClock", {"ms": ms})
+    async def advance_clock(self, ms: int, *, draw: bool = True) -> None:
+        """Let ``ms`` of virtual time pass on a page whose episode runs on the virtual clock; ``draw=False``
+        leaves the stage's picture as it was until an advance that draws (the VM's state moves on either way)."""
+        await self.call("advanceClock", {"ms": ms, "draw": draw})
 
     async def redraw_panels(self) -> None:
         """Have the editor draw its sprite panels anew from the VM. It drops updates that come within

@@ -166,7 +166,7 @@ class EpisodeRunner:
                         JobResult.errored(spec, "task_invalid", message), started, clock, timings, recording
                     )
                 await editor.seed_random(evaluation_seed(spec.task_id, spec.seed))
-                pace = Pace(editor, spec.episode_clock)
+                pace = Pace(editor, spec.episode_clock, filmed=spec.record.video)
                 environment = await self._environment(spec, editor, pace)
                 await recording.start(editor, spec.record)
                 await pace.start()

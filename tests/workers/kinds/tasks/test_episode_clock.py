@@ -17,13 +17,14 @@ import pytest
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import worker_job
-from tests.conftest import SUITE_DIR
+from tests.conftest import SUITE_DIR, pooled_editor, primitive_editor
 from tests.support.openai_server import Behaviour, OpenAIServer
 from workers.actor import WorkerBrowser
 from workers.agents import LLMAgent
-from workers.contract import EpisodeClock, ModelSpec, ObservationSettings, RetryPolicy
+from workers.contract import BridgeError, EpisodeClock, ModelSpec, ObservationSettings, RetryPolicy
 from workers.editor import BrowserSession, EditorPool
 from workers.kinds.tasks import EpisodeRunner
+from workers.kinds.tasks._pace import Pace
 
 pytestmark = [pytest.mark.usefixtures("litellm_clients"), pytest.mark.browser]
 
@@ -144,3 +145,35 @@ async def test_on_the_real_clock_the_model_s_latency_shows_on_the_stage(
     slow = await screenshots_seen(episode_runner, content, EpisodeClock(mode="real"), delay_s=SLOW_MODEL_S)
     assert fast[0] == slow[0]  # nothing runs before the first click
     assert fast[1:] != slow[1:]  # the ball went on moving while the slow model thought
+
+
+async def gesture_pictures(pool: EditorPool, content: TaskContent, *, filmed: bool) -> tuple[bytes, bytes, bytes]:
+    """The stage's picture with the ball running: before a gesture's page time, after it, and after the action."""
+    async with primitive_editor(pool, content.payload.initial_project) as editor:
+        pace = Pace(editor, VIRTUAL, filmed=filmed)
+        await pace.start()
+        await editor.page.get_by_role("button", name="Start project").click()
+        await pace.after_action()
+        stage = editor.page.locator("[class*='stage_stage'] canvas").first
+        before = await stage.screenshot()
+        for _ in range(5):  # a drag's moves
+            await pace.pass_time(33)
+        during = await stage.screenshot()
+        await pace.after_action()
+        return before, during, await stage.screenshot()
+
+
+async def test_the_stage_is_drawn_after_a_gesture_not_during_it_unless_filmed(
+    shared_pool: EditorPool, content: TaskContent
+) -> None:
+    """Between a drag's moves the VM runs on but the stage is not drawn (each picture cost the browser more
+    than the move); the action's end draws it, so every picture an agent is shown is the same either way."""
+    before, during, after = await gesture_pictures(shared_pool, content, filmed=False)
+    assert during == before and after != before  # the ball moved, and was drawn once the action ended
+    filmed_before, filmed_during, filmed_after = await gesture_pictures(shared_pool, content, filmed=True)
+    assert filmed_during != filmed_before  # a video shows the ball moving during the gesture
+    assert (filmed_before, filmed_after) == (before, after)
+    async with pooled_editor(shared_pool) as editor:
+        await editor.start_episode_clock(VIRTUAL)
+        with pytest.raises(BridgeError, match="draw must be true or false"):
+            await editor.call("advanceClock", {"ms": 0, "draw": "no"})
