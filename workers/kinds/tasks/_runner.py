@@ -166,7 +166,9 @@ class EpisodeRunner:
                         JobResult.errored(spec, "task_invalid", message), started, clock, timings, recording
                     )
                 await editor.seed_random(evaluation_seed(spec.task_id, spec.seed))
-                pace = Pace(editor, spec.episode_clock, filmed=spec.record.video)
+                pace = Pace(
+                    editor, spec.episode_clock, stage_seen=sees_stage(spec.mode, agent), filmed=spec.record.video
+                )
                 environment = await self._environment(spec, editor, pace)
                 await recording.start(editor, spec.record)
                 await pace.start()
@@ -232,6 +234,11 @@ class EpisodeRunner:
             final_project=final_project,
         )
         return await _finish(_with_agent_outputs(result, models, memory), started, clock, timings, recording)
+
+
+def sees_stage(mode: str, agent: Agent) -> bool:
+    """Whether the agent may look at the stage's picture: primitive screenshots, or an agent with the live page."""
+    return mode == "primitive" or getattr(agent, "privileged", False) or getattr(agent, "acts_live", False)
 
 
 def _context(

@@ -20,11 +20,12 @@ from scratchworld_dist.sweep import worker_job
 from tests.conftest import SUITE_DIR, pooled_editor, primitive_editor
 from tests.support.openai_server import Behaviour, OpenAIServer
 from workers.actor import WorkerBrowser
-from workers.agents import LLMAgent
+from workers.agents import LLMAgent, OracleAgent
 from workers.contract import BridgeError, EpisodeClock, ModelSpec, ObservationSettings, RetryPolicy
 from workers.editor import BrowserSession, EditorPool
 from workers.kinds.tasks import EpisodeRunner
 from workers.kinds.tasks._pace import Pace
+from workers.kinds.tasks._runner import sees_stage
 
 pytestmark = [pytest.mark.usefixtures("litellm_clients"), pytest.mark.browser]
 
@@ -147,10 +148,12 @@ async def test_on_the_real_clock_the_model_s_latency_shows_on_the_stage(
     assert fast[1:] != slow[1:]  # the ball went on moving while the slow model thought
 
 
-async def gesture_pictures(pool: EditorPool, content: TaskContent, *, filmed: bool) -> tuple[bytes, bytes, bytes]:
+async def gesture_pictures(
+    pool: EditorPool, content: TaskContent, *, stage_seen: bool = True, filmed: bool = False
+) -> tuple[bytes, bytes, bytes]:
     """The stage's picture with the ball running: before a gesture's page time, after it, and after the action."""
     async with primitive_editor(pool, content.payload.initial_project) as editor:
-        pace = Pace(editor, VIRTUAL, filmed=filmed)
+        pace = Pace(editor, VIRTUAL, stage_seen=stage_seen, filmed=filmed)
         await pace.start()
         await editor.page.get_by_role("button", name="Start project").click()
         await pace.after_action()
@@ -163,17 +166,27 @@ async def gesture_pictures(pool: EditorPool, content: TaskContent, *, filmed: bo
         return before, during, await stage.screenshot()
 
 
-async def test_the_stage_is_drawn_after_a_gesture_not_during_it_unless_filmed(
+async def test_the_stage_is_drawn_where_the_agent_looks_or_when_filmed(
     shared_pool: EditorPool, content: TaskContent
 ) -> None:
     """Between a drag's moves the VM runs on but the stage is not drawn (each picture cost the browser more
-    than the move); the action's end draws it, so every picture an agent is shown is the same either way."""
+    than the move); the action's end draws it, so every picture an agent is shown is the same either way.
+    A video draws it throughout; an agent that never looks at it never has it drawn."""
     before, during, after = await gesture_pictures(shared_pool, content, filmed=False)
     assert during == before and after != before  # the ball moved, and was drawn once the action ended
     filmed_before, filmed_during, filmed_after = await gesture_pictures(shared_pool, content, filmed=True)
     assert filmed_during != filmed_before  # a video shows the ball moving during the gesture
     assert (filmed_before, filmed_after) == (before, after)
+    # An agent that never looks at the stage (composite, unprivileged) has it drawn never: the start's picture.
+    assert len(set(await gesture_pictures(shared_pool, content, stage_seen=False))) == 1
+    assert len(set(await gesture_pictures(shared_pool, content, stage_seen=False, filmed=True))) == 3
     async with pooled_editor(shared_pool) as editor:
         await editor.start_episode_clock(VIRTUAL)
         with pytest.raises(BridgeError, match="draw must be true or false"):
             await editor.call("advanceClock", {"ms": 0, "draw": "no"})
+
+
+def test_only_agents_that_may_look_at_the_stage_have_it_drawn() -> None:
+    assert not sees_stage("composite", LLMAgent())  # text observations only
+    assert sees_stage("primitive", LLMAgent())  # screenshots
+    assert sees_stage("composite", OracleAgent())  # privileged: it holds the live page
