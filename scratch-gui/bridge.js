@@ -391,8 +391,9 @@
     if (typeof draw !== 'boolean') throw new BridgeFailure('bad_request', 'draw must be true or false');
     // Nobody looks at the stage until the advance is over: its frames are drawn on demand, and the last
     // one once at the end (what the page shows afterwards is the same; a step costs a third less CPU).
-    // `draw: false` leaves even that one to the next advance that draws (between a drag's moves, where
-    // a frame of the stage costs the browser more than the move itself and nobody looks at it).
+    // `draw: false` leaves even that one to the next advance that draws: where nobody looks at the stage
+    // afterwards (before an action, between a drag's moves, a composite agent's page), and a frame of the
+    // software-WebGL stage costs the browser more than the step's own work.
     const drawn = drawOnDemand(requireVm().renderer);
     try {
       await clock.advance(ms);
