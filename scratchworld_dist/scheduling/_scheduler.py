@@ -20,6 +20,8 @@ a dead worker costs only its own jobs. Failures are classified, never lost:
 
 Before its first job, each worker opens the editors its share of the jobs will use (``warm``) and
 gets no job until they are open: an editor opened while episodes run slows their steps for seconds.
+The same holds between the workers of one node, which share its cores: a worker that has opened its
+editors gets no job until every other worker of its node has too (or has taken an episode timeout).
 """
 
 from __future__ import annotations
@@ -93,6 +95,9 @@ class _Down:
     since: float
     warming: bool = False
     """It is opening its editors before its first job (not restarting)."""
+
+    warmed: bool = False
+    """It has opened them and waits for the other workers of its node to open theirs."""
 
 
 @dataclass
@@ -205,8 +210,8 @@ class Scheduler(Generic[J]):
             if not self._flights:
                 if self.over_budget:  # what is queued stays unstarted
                     break
-                # Every worker is restarting or short of memory: wait for one of them.
-                probes = [down.probe for down in self._down.values()] + list(self._paused.values())
+                # Every worker is restarting, opening its editors or short of memory: wait for one of them.
+                probes = [down.probe for down in self._down.values() if not down.warmed] + list(self._paused.values())
                 ray.wait(probes, timeout=WAIT_SLICE_S)
                 continue
             for flight, result in self._collect():
@@ -267,6 +272,8 @@ class Scheduler(Generic[J]):
         are recorded, as for a worker that is gone for good.
         """
         for worker, down in list(self._down.items()):
+            if down.warmed:
+                continue
             ready, _ = ray.wait([down.probe], timeout=0)
             if not ready:
                 continue
@@ -280,8 +287,26 @@ class Scheduler(Generic[J]):
             else:
                 if isinstance(answer, WorkerInfo):  # back after a restart, perhaps on another node
                     self.nodes.locate(worker, answer)
-            del self._down[worker]
-        self.stats.warming = sum(down.warming for down in self._down.values())
+            if down.warming:
+                down.warmed = True
+            else:
+                del self._down[worker]
+        self._start_warmed()
+        self.stats.warming = sum(down.warming and not down.warmed for down in self._down.values())
+
+    def _start_warmed(self) -> None:
+        """Take back the workers that have opened their editors, once no other worker of their node still opens
+        its own. One that has not said where it is yet (still starting) may be on any node; one taking longer
+        than the episode timeout no longer counts."""
+        now = time.monotonic()
+        opening = {
+            self.nodes.node_of(worker)
+            for worker, down in self._down.items()
+            if down.warming and not down.warmed and now - down.since < self.timeout_s
+        }
+        for worker, down in list(self._down.items()):
+            if down.warmed and None not in opening and self.nodes.node_of(worker) not in opening:
+                del self._down[worker]
 
     def _check_nodes(self, force: bool = False) -> None:
         """Say which nodes left the cluster since the last look."""

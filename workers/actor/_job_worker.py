@@ -144,6 +144,9 @@ class JobWorker:
         that fails: the first job then meets the failure and reports it.
         """
         if self.synthetic is not None:
+            index, taken = self.info_.worker_index, self.synthetic.warm_s
+            if index < len(taken):
+                await asyncio.sleep(taken[index])  # stands in for the openings
             return
         importing = asyncio.ensure_future(self.load_litellm()) if calls_models else None
         if editors > 0:

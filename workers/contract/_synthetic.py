@@ -5,7 +5,7 @@ Part of a job's identity: a synthetic verdict must never be taken for a real one
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, NonNegativeFloat
 
 
 class SyntheticEpisodes(BaseModel):
@@ -19,6 +19,10 @@ class SyntheticEpisodes(BaseModel):
     startup_s: float = Field(default=0.0, ge=0)
     """How long a worker takes to start, and to restart after it died (a browser worker's imports
     and launch take seconds on a busy node)."""
+
+    warm_s: list[NonNegativeFloat] = Field(default_factory=list)
+    """How long worker ``i`` takes to open its editors ahead of its first job (``warm_s[i]``; none past the
+    list's end): workers of one node that finish at different times. Not part of a job's identity."""
 
     fail_tasks: list[str] = Field(default_factory=list)
     """Task ids whose episodes fail one of their two tests; every other task passes."""

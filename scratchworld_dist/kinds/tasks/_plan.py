@@ -162,7 +162,7 @@ def job_id(
     if llm is not None:  # only jobs with a model have one
         identity["llm"] = llm.identity()
     if synthetic is not None:  # only synthetic jobs
-        identity["synthetic"] = synthetic.model_dump(mode="json")
+        identity["synthetic"] = synthetic.model_dump(mode="json", exclude={"warm_s"})
     if memory is not None:  # only jobs of learning agents
         identity["memory"] = memory.identity()
     if episode_clock is not None and episode_clock.mode != "real":  # ids of real-clock jobs stay as they were
