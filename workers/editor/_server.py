@@ -14,14 +14,16 @@ on the node's loopback or network (Ray, model servers, dashboards) is reachable 
 With editor origins (``EditorOrigins``: editors sharing one browser context, each at a
 ``127.0.0.2:<port>`` origin of its own), the server also answers the live editor origins, and only
 for that origin's own page (``Sec-Fetch-Site`` ``none``: the browser's navigation, or ``same-origin``),
-so no editor can frame, open or fetch a sibling's origin and reach its storage. The pages' installed
-scripts (the editor bundle, the bare page's packages) then come from the server's own origin, the
-*shared origin*, which serves nothing else and only as scripts: one URL for every editor, so V8's code
-cache serves them all.
+so no editor can frame, open or fetch a sibling's origin and reach its storage. Every script the pages
+load (the editor bundle, the bare page's packages, and our page modules) then comes from the server's own
+origin, the *shared origin*, which serves nothing else and only as scripts: one URL for every editor, so
+the HTTP cache and V8's code cache serve them from the second opening on, without a request to this
+server. Our modules' URLs carry their content's digest, so an edited module is never taken from a cache.
 """
 
 from __future__ import annotations
 
+import hashlib
 import io
 import logging
 import os
@@ -93,6 +95,17 @@ class EditorAssets:
             else None
         )
 
+    @cached_property
+    def script_versions(self) -> dict[str, str]:
+        """Our page modules (every own file but the pages), each with a digest of its content: the query that
+        keeps a cached copy of an older one from being used."""
+        pages = (EDITOR_PAGE, BARE_PAGE)
+        return {
+            name: hashlib.sha256((self.gui_dir / name).read_bytes()).hexdigest()[:16]
+            for name in OWN_FILES
+            if name not in pages
+        }
+
     def page_path(self, page: EvaluationPage) -> str:
         """The URL path of the editor page or the bare evaluation page."""
         return f"/{BARE_PAGE if page == 'bare' else EDITOR_PAGE}"
@@ -114,15 +127,14 @@ class EditorAssets:
         return candidate
 
 
-def with_shared_scripts(html: str, shared_origin: str) -> str:
-    """A page whose installed scripts (not ours) load from ``shared_origin``, as CORS scripts so that their
-    errors keep their messages."""
+def with_shared_scripts(html: str, shared_origin: str, versions: dict[str, str]) -> str:
+    """A page whose scripts load from ``shared_origin``, ours at their content's ``versions``, as CORS scripts
+    so that their errors keep their messages."""
 
     def shared(match: re.Match[str]) -> str:
         name = match.group(1)
-        if name in OWN_FILES:
-            return match.group(0)
-        return f'<script src="{shared_origin}/{name}" crossorigin="anonymous"></script>'
+        query = f"?v={versions[name]}" if name in versions else ""
+        return f'<script src="{shared_origin}/{name}{query}" crossorigin="anonymous"></script>'
 
     return _SCRIPT.sub(shared, html)
 
@@ -163,7 +175,7 @@ class _Handler(SimpleHTTPRequestHandler):
             if self.origins is None:
                 return True
             script = self.headers.get("Sec-Fetch-Dest") == "script"
-            self._shared_script = script and unquote(path).lstrip("/") not in OWN_FILES
+            self._shared_script = script and unquote(path).lstrip("/") not in (EDITOR_PAGE, BARE_PAGE)
             return self._shared_script
         if self.origins is not None and self.origins.is_live(netloc):
             self._at_editor_origin = self.headers.get("Sec-Fetch-Site") in OWN_PAGE_FETCHES
@@ -177,7 +189,7 @@ class _Handler(SimpleHTTPRequestHandler):
             return None
         if self._at_editor_origin and path.name in (EDITOR_PAGE, BARE_PAGE) and path.parent == self.assets.gui_dir:
             shared = f"http://127.0.0.1:{self.server.server_address[1]}"
-            body = with_shared_scripts(path.read_text(encoding="utf-8"), shared).encode()
+            body = with_shared_scripts(path.read_text(encoding="utf-8"), shared, self.assets.script_versions).encode()
             self.send_response(200)
             self.send_header("Content-Type", "text/html; charset=utf-8")
             self.send_header("Content-Length", str(len(body)))

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from scratchworld_dist import EditorBundleMissingError
-from tests.conftest import copy_page_files
+from tests.conftest import copy_page_files, link_installed_packages
 from workers.editor import EditorAssets, EditorServer
 from workers.editor._origins import EditorOrigins
 from workers.editor._server import REFUSALS_KEPT
@@ -63,6 +63,18 @@ def test_a_symlinked_node_modules_is_served(tmp_path: Path) -> None:
         assert status == 200 and len(bundle) > 10_000_000
 
 
+def test_an_edited_page_module_gets_a_new_version_and_no_other_does(tmp_path: Path) -> None:
+    """Modules are cached by URL (a browser keeps them for a day): an edit must change the URL."""
+    copy_page_files(tmp_path)
+    link_installed_packages(tmp_path)
+    before = EditorAssets(tmp_path).script_versions
+    with (tmp_path / "clock.js").open("a") as clock:
+        clock.write("\n// edited\n")
+    after = EditorAssets(tmp_path).script_versions
+    assert set(before) == set(after) and EDITOR_PAGE not in before and "bridge.js" in before
+    assert [name for name in before if before[name] != after[name]] == ["clock.js"]
+
+
 def _proxied(server: EditorServer, method: str, url: str) -> int:
     """A request sent to the server as to a proxy, as Chromium sends all of a page's requests."""
     host, port = server.proxy.removeprefix("http://").split(":")
@@ -108,7 +120,13 @@ def test_with_editor_origins_each_answers_its_own_page_only_and_the_shared_origi
         status, headers, page = _asked(server, f"{editor}/{EDITOR_PAGE}", {"Sec-Fetch-Site": "none"})
         assert status == 200 and headers["Cache-Control"] == "no-store"
         assert f'<script src="{shared}/{BUNDLE_FILE}" crossorigin="anonymous"></script>' in page.decode()
-        assert b'<script src="bridge.js"></script>' in page  # ours stay at the editor's origin
+        # Ours load from the shared origin too (cached from the second opening on), at their content's version.
+        version = server.assets.script_versions["bridge.js"]
+        assert f'<script src="{shared}/bridge.js?v={version}" crossorigin="anonymous"></script>' in page.decode()
+        assert b'src="bridge.js"' not in page
+        status, headers, script = _asked(server, f"{shared}/bridge.js?v={version}", {"Sec-Fetch-Dest": "script"})
+        assert status == 200 and headers["Cache-Control"] == "max-age=86400"
+        assert script == (server.assets.gui_dir / "bridge.js").read_bytes()
         assert _asked(server, f"{editor}/bridge.js", {"Sec-Fetch-Site": "same-origin"})[0] == 200
         for site in ("same-site", "cross-site"):  # a sibling editor's frame, window or fetch
             status, headers, _ = _asked(server, f"{editor}/{EDITOR_PAGE}", {"Sec-Fetch-Site": site})
@@ -118,6 +136,7 @@ def test_with_editor_origins_each_answers_its_own_page_only_and_the_shared_origi
         status, headers, _ = _asked(server, f"{shared}/{BUNDLE_FILE}", {"Sec-Fetch-Dest": "script"})
         assert status == 200 and headers["Access-Control-Allow-Origin"] == "*"
         assert _asked(server, f"{shared}/{BUNDLE_FILE}", {"Sec-Fetch-Dest": "iframe"})[0] == 403
-        assert _asked(server, f"{shared}/bridge.js", {"Sec-Fetch-Dest": "script"})[0] == 403
+        assert _asked(server, f"{shared}/bridge.js", {"Sec-Fetch-Dest": "iframe"})[0] == 403
+        assert _asked(server, f"{shared}/{EDITOR_PAGE}", {"Sec-Fetch-Dest": "script"})[0] == 403
         assert _asked(server, f"{shared}/{EDITOR_PAGE}", {"Sec-Fetch-Dest": "document"})[0] == 403
         assert f"GET {closed}/{EDITOR_PAGE}" in server.refusals.latest
