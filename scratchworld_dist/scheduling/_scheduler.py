@@ -57,6 +57,10 @@ WAIT_SLICE_S = 0.5
 ADMISSION_WAIT_S = 5.0
 """How long a worker that declined a job waits for memory before it answers that it still lacks it."""
 
+UNPLACED_HOLD_S = 60.0
+"""How long a worker that has not started yet (Ray has not placed it, or it is still importing) holds back
+the workers that have opened their editors: it may be on their node, but it may also wait for a slot for good."""
+
 
 class Job(Protocol):
     """What the scheduler needs of a job (a sweep's ``JobSpec``, or a regrade's job): its name and its task's
@@ -296,14 +300,16 @@ class Scheduler(Generic[J]):
 
     def _start_warmed(self) -> None:
         """Take back the workers that have opened their editors, once no other worker of their node still opens
-        its own. One that has not said where it is yet (still starting) may be on any node; one taking longer
-        than the episode timeout no longer counts."""
+        its own. One that has not said where it is yet (still starting) may be on any node, for
+        ``UNPLACED_HOLD_S``: one Ray has not placed (the cluster's browser slots are taken) holds no one longer;
+        one opening for longer than the episode timeout no longer counts either."""
         now = time.monotonic()
-        opening = {
-            self.nodes.node_of(worker)
-            for worker, down in self._down.items()
-            if down.warming and not down.warmed and now - down.since < self.timeout_s
-        }
+        opening: set[str | None] = set()
+        for worker, down in self._down.items():
+            if down.warming and not down.warmed and now - down.since < self.timeout_s:
+                node = self.nodes.node_of(worker)
+                if node is not None or now - down.since < UNPLACED_HOLD_S:
+                    opening.add(node)
         for worker, down in list(self._down.items()):
             if down.warmed and None not in opening and self.nodes.node_of(worker) not in opening:
                 del self._down[worker]
