@@ -23,7 +23,6 @@ server. Our modules' URLs carry their content's digest, so an edited module is n
 
 from __future__ import annotations
 
-import hashlib
 import io
 import logging
 import os
@@ -50,7 +49,9 @@ from workers.node import (
     BUNDLE_PACKAGE,
     EDITOR_PAGE,
     OWN_FILES,
+    PAGES,
     default_gui_dir,
+    file_digest,
 )
 
 log = logging.getLogger(__name__)
@@ -99,12 +100,7 @@ class EditorAssets:
     def script_versions(self) -> dict[str, str]:
         """Our page modules (every own file but the pages), each with a digest of its content: the query that
         keeps a cached copy of an older one from being used."""
-        pages = (EDITOR_PAGE, BARE_PAGE)
-        return {
-            name: hashlib.sha256((self.gui_dir / name).read_bytes()).hexdigest()[:16]
-            for name in OWN_FILES
-            if name not in pages
-        }
+        return {name: file_digest(self.gui_dir / name) for name in OWN_FILES if name not in PAGES}
 
     def page_path(self, page: EvaluationPage) -> str:
         """The URL path of the editor page or the bare evaluation page."""
@@ -175,7 +171,7 @@ class _Handler(SimpleHTTPRequestHandler):
             if self.origins is None:
                 return True
             script = self.headers.get("Sec-Fetch-Dest") == "script"
-            self._shared_script = script and unquote(path).lstrip("/") not in (EDITOR_PAGE, BARE_PAGE)
+            self._shared_script = script and unquote(path).lstrip("/") not in PAGES
             return self._shared_script
         if self.origins is not None and self.origins.is_live(netloc):
             self._at_editor_origin = self.headers.get("Sec-Fetch-Site") in OWN_PAGE_FETCHES
@@ -187,7 +183,7 @@ class _Handler(SimpleHTTPRequestHandler):
         if path is None:
             self.send_error(404)
             return None
-        if self._at_editor_origin and path.name in (EDITOR_PAGE, BARE_PAGE) and path.parent == self.assets.gui_dir:
+        if self._at_editor_origin and path.name in PAGES and path.parent == self.assets.gui_dir:
             shared = f"http://127.0.0.1:{self.server.server_address[1]}"
             body = with_shared_scripts(path.read_text(encoding="utf-8"), shared, self.assets.script_versions).encode()
             self.send_response(200)

@@ -10,7 +10,7 @@ from workers.node._capacity import (
     derive_slots,
 )
 from workers.node._describe import describe_node
-from workers.node._fingerprint import code_parts, environment_parts, harness_fingerprint
+from workers.node._fingerprint import code_parts, environment_parts, file_digest, harness_fingerprint
 from workers.node._installation import (
     BARE_BUILT_FILES,
     BARE_DIR,
@@ -21,6 +21,7 @@ from workers.node._installation import (
     BUNDLE_PACKAGE,
     EDITOR_PAGE,
     OWN_FILES,
+    PAGES,
     REPO_DIR,
     default_chromium,
     default_gui_dir,
@@ -39,6 +40,7 @@ __all__ = [
     "DELIVERED_PER_CORE",
     "EDITOR_PAGE",
     "OWN_FILES",
+    "PAGES",
     "PRIMITIVE_DELIVERED_PER_CORE",
     "REPO_DIR",
     "BrowserUsage",
@@ -53,6 +55,7 @@ __all__ = [
     "derive_slots",
     "describe_node",
     "environment_parts",
+    "file_digest",
     "harness_fingerprint",
     "idle_priority",
     "node_memory",

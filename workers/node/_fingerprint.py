@@ -42,7 +42,8 @@ EPISODE_PACKAGES = ("playwright", "litellm", "rapidocr", "onnxruntime", "opencv-
 """Packages whose version can change what an agent sees or what a model call returns."""
 
 
-def _file_digest(path: Path) -> str:
+def file_digest(path: Path) -> str:
+    """The first 16 hex digits of the file's SHA-256, or "missing"."""
     try:
         return hashlib.sha256(path.read_bytes()).hexdigest()[:16]
     except OSError:
@@ -60,9 +61,9 @@ def code_parts(workers_dir: Path, gui_dir: Path) -> dict[str, str]:
     """A checkout's parts: its worker code, page files and editor lock, and this environment's packages."""
     parts: dict[str, str] = {}
     for path in sorted(workers_dir.rglob("*.py")):
-        parts[f"workers/{path.relative_to(workers_dir).as_posix()}"] = _file_digest(path)
+        parts[f"workers/{path.relative_to(workers_dir).as_posix()}"] = file_digest(path)
     for name in (*OWN_FILES, *EDITOR_LOCK_FILES):
-        parts[f"scratch-gui/{name}"] = _file_digest(gui_dir / name)
+        parts[f"scratch-gui/{name}"] = file_digest(gui_dir / name)
     for name in EPISODE_PACKAGES:
         parts[f"package:{name}"] = _package_version(name)
     return parts
@@ -73,7 +74,7 @@ def environment_parts(gui_dir: Path, chromium: Path) -> dict[str, str]:
     dist = gui_dir / "node_modules" / BUNDLE_PACKAGE
     try:
         bundle_version = json.loads((dist / "package.json").read_text(encoding="utf-8")).get("version", "?")
-        editor = f"{bundle_version} {_file_digest(dist / 'dist' / BUNDLE_FILE)}"
+        editor = f"{bundle_version} {file_digest(dist / 'dist' / BUNDLE_FILE)}"
     except (OSError, ValueError):
         editor = "missing"
     try:

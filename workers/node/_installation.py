@@ -19,6 +19,7 @@ EDITOR_PAGE = "index.html"
 """The Scratch editor (agents' episodes; the reference page for evaluations)."""
 BARE_PAGE = "bare.html"
 """The evaluation page without the editor GUI (``scratch-gui/bare/``)."""
+PAGES = (EDITOR_PAGE, BARE_PAGE)
 
 BARE_DIR = "bare"
 """The bare page's own npm install (``bare/package.json``) and what ``install.sh`` builds from it."""
@@ -36,7 +37,7 @@ def _own_files() -> tuple[str, ...]:
     """The two pages and the scripts they load but installed packages: one list, kept in the pages."""
     files: list[str] = []
     installed = (BUNDLE_FILE, *BARE_BUILT_FILES)
-    for name in (EDITOR_PAGE, BARE_PAGE):
+    for name in PAGES:
         page = REPO_DIR / "scratch-gui" / name
         scripts = _SCRIPT.findall(page.read_text(encoding="utf-8")) if page.is_file() else []
         mine = [s for s in scripts if s not in installed and not s.startswith(BARE_VENDOR_URL)]
