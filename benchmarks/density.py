@@ -41,6 +41,13 @@ step's latency.
   and ending, and with evaluations; ``start``/``end`` p95 are printed apart); ``obs p50/p95``: the
   observation's own seconds (``observation_s``), which in primitive mode are the screenshot, the
   element list and OCR;
+- where the cores went, per phase of the run: ``ramp`` (episodes starting, until 90% of the most are in their
+  agent loop), ``full`` (at least 90% of the most in their loop: the load the targets are about) and ``end``
+  (from the first episode's end: episodes end, save and recycle their pages, and are judged beside those still
+  acting); per phase its seconds, its steps' overhead p50/p95, the model calls per second, and the cores of each
+  kind of process below this one (``PROCESS_KINDS``: the agents' Chromium processes by type, the idle-class
+  browsers that judge, Playwright's drivers, Ray's workers, this process with the model server, Ray's own),
+  with the CPU-ms per model call in brackets;
 - ep/h: the jobs over the run phase, the first episode's start to the last one's end (Ray, worker and
   browser start-up excluded); start s: from the sweep's start to its first episode's (Ray and the
   workers start, and each worker opens the editors its episodes will use); errors: jobs whose
@@ -115,11 +122,37 @@ class DelayedModel:
             return [(t, t + self.delay) for t in self.arrivals]
 
 
+PROCESS_KINDS = ("renderer", "browser", "gpu", "utility", "judge", "playwright", "worker", "driver", "ray")
+"""Where a sweep's cores go: the agents' Chromium processes by ``--type``, the idle-class browsers that judge
+(every process of theirs), Playwright's Node drivers, Ray's workers (``ray::...``), this process (the driver,
+the scheduler and the model server), and Ray's own (raylet, GCS...)."""
+
+
+AGENT_BROWSER = ("renderer", "browser", "gpu", "utility")
+
+
+def process_kind(process: psutil.Process) -> str:
+    """One of ``PROCESS_KINDS`` for a process below this one."""
+    name = process.name()
+    if "chrom" in name:
+        if os.sched_getscheduler(process.pid) == os.SCHED_IDLE:
+            return "judge"
+        kind = next((arg.split("=", 1)[1] for arg in process.cmdline() if arg.startswith("--type=")), "browser")
+        return {"renderer": "renderer", "gpu-process": "gpu"}.get(kind, "utility" if kind != "browser" else kind)
+    if name.startswith("node"):  # Playwright's driver, "node-MainThread"
+        return "playwright"
+    if name.startswith("ray::"):
+        return "worker"
+    return "ray"
+
+
 @dataclass(frozen=True)
 class Sample:
     t: float
     cpu_s: float
     """CPU seconds the browsers spent since sampling began (per process, so exits lose no earlier CPU)."""
+    by_kind: dict[str, float]
+    """CPU seconds since sampling began per ``PROCESS_KINDS`` entry, the browsers' included."""
 
 
 @dataclass
@@ -128,8 +161,8 @@ class Sampler:
 
     samples: list[Sample] = field(default_factory=list)
     _stop: threading.Event = field(default_factory=threading.Event)
-    _cpu: dict[int, float] = field(default_factory=dict)
-    _total: float = 0.0
+    _cpu: dict[int, tuple[str, float]] = field(default_factory=dict)
+    _totals: dict[str, float] = field(default_factory=lambda: dict.fromkeys(PROCESS_KINDS, 0.0))
 
     def __enter__(self) -> Sampler:
         self._thread = threading.Thread(target=self._loop, name="density-sampler", daemon=True)
@@ -145,18 +178,23 @@ class Sampler:
             self.samples.append(self.sample())
 
     def sample(self) -> Sample:
-        cpu: dict[int, float] = {}
-        for process in psutil.Process().children(recursive=True):
+        cpu: dict[int, tuple[str, float]] = {}
+        me = psutil.Process()
+        for process in [me, *me.children(recursive=True)]:
             try:
                 with process.oneshot():
-                    if "chrom" in process.name():
-                        times = process.cpu_times()
-                        cpu[process.pid] = times.user + times.system
+                    times = process.cpu_times()
+                    kind = "driver" if process.pid == me.pid else self._cpu.get(process.pid, (None,))[0]
+                    if kind is None or kind in AGENT_BROWSER:  # a browser that judges moves to the idle class
+                        kind = process_kind(process)
+                    cpu[process.pid] = (kind, times.user + times.system)
             except psutil.Error:  # it ended meanwhile
                 continue
-        self._total += sum(max(spent - self._cpu.get(pid, 0.0), 0.0) for pid, spent in cpu.items())
+        for pid, (kind, spent) in cpu.items():
+            self._totals[kind] += max(spent - self._cpu.get(pid, (kind, 0.0))[1], 0.0)
         self._cpu = cpu
-        return Sample(time.time(), self._total)
+        browsers = sum(self._totals[kind] for kind in (*AGENT_BROWSER, "judge"))
+        return Sample(time.time(), browsers, dict(self._totals))
 
 
 @dataclass(frozen=True)
@@ -179,6 +217,36 @@ class Row:
     start_s: float
     errors: int
     problems: list[str]
+    phases: list[Phase]
+    """Where the cores went while episodes started, while the node was fullest, and while they ended."""
+
+
+@dataclass(frozen=True)
+class Phase:
+    """Where the cores went in one phase of the run phase: ``ramp`` (episodes starting until 90% of the most are
+    in their agent loop), ``full`` (at least 90% of the most in their loop) and ``end`` (from the first
+    episode's end: episodes end, save and recycle their pages, and are judged, beside those still acting)."""
+
+    name: str
+    seconds: float
+    requests_per_s: float
+    cores: dict[str, float]
+    """Cores per ``PROCESS_KINDS`` entry over the phase's sample intervals."""
+    overhead: tuple[float, float]
+    """Step overhead p50/p95 of the steps that began in the phase."""
+
+    def line(self) -> str:
+        per_call = (
+            {kind: cores / self.requests_per_s for kind, cores in self.cores.items()} if self.requests_per_s else {}
+        )
+        kinds = "  ".join(
+            f"{kind} {cores:.2f}" + (f" ({per_call[kind] * 1000:.0f})" if per_call else "")
+            for kind, cores in self.cores.items()
+        )
+        return (
+            f"{self.name:<4} {self.seconds:4.0f} s, overhead {pair(self.overhead)} s, {self.requests_per_s:4.1f} "
+            f"model calls/s, {sum(self.cores.values()):.2f} cores: {kinds}"
+        )
 
 
 MIN_JOBS = 4
@@ -209,6 +277,22 @@ def config(n: int, clock: str, mode: str, steps: int, url: str, out: Path) -> Sw
             "output": out,
         }
     )
+
+
+def step_starts(
+    jobs: list[dict[str, Any]], steps: list[dict[str, Any]], overhead: Callable[[dict[str, Any]], float]
+) -> list[tuple[float, float]]:
+    """(start, overhead) of every step: an episode's steps follow one another from its agent loop's start."""
+    by_job: dict[str, list[dict[str, Any]]] = {}
+    for step in steps:
+        by_job.setdefault(step["job_id"], []).append(step)
+    found = []
+    for job in jobs:
+        at = job["started_at"].timestamp() + job["setup_s"]
+        for step in sorted(by_job.get(job["job_id"], []), key=lambda s: s["step"]):
+            found.append((at, overhead(step)))
+            at += step["latency_s"]
+    return found
 
 
 def overlap(spans: list[tuple[float, float]], t0: float, t1: float) -> float:
@@ -311,7 +395,44 @@ def measure(
         start_s=first - began,
         errors=sum(1 for j in jobs if j["outcome"] == "error"),
         problems=problems,
+        phases=phases(run, loops, requests, step_starts(jobs, steps, overhead)),
     )
+
+
+def phases(
+    run: list[Sample],
+    loops: list[tuple[float, float]],
+    requests: list[tuple[float, float]],
+    step_overheads: list[tuple[float, float]],
+) -> list[Phase]:
+    """The run phase's ramp, full and end (see ``Phase``); ``step_overheads``: (start, overhead) of every step."""
+    in_loop = [sum(1 for a, b in loops if a <= s.t < b) for s in run]
+    if not in_loop or max(in_loop) == 0:
+        return []
+    floor = 0.9 * max(in_loop)
+    first_end = min(b for _, b in loops)
+    full_at = next(s.t for s, k in zip(run, in_loop, strict=True) if k >= floor)
+
+    def kind_of(sample: Sample, k: int) -> str:
+        if sample.t >= first_end:
+            return "end"
+        return "full" if k >= floor and sample.t >= full_at else "ramp"
+
+    found = []
+    for name in ("ramp", "full", "end"):
+        spans = [
+            (before, after)
+            for (before, after), k in zip(itertools.pairwise(run), in_loop, strict=False)
+            if kind_of(before, k) == name
+        ]
+        seconds = sum(after.t - before.t for before, after in spans)
+        if seconds <= 0:
+            continue
+        cores = {kind: sum(a.by_kind[kind] - b.by_kind[kind] for b, a in spans) / seconds for kind in PROCESS_KINDS}
+        calls = sum(1 for arrival, _ in requests for b, a in spans if b.t <= arrival < a.t)
+        overheads = [o for t, o in step_overheads for b, a in spans if b.t <= t < a.t]
+        found.append(Phase(name, seconds, calls / seconds, cores, percentiles(overheads)))
+    return found
 
 
 HEADER = (
@@ -416,6 +537,10 @@ def main() -> None:
         print(line(row))
         for problem in row.problems:
             print(f"  {row.mode} {row.clock} N={row.n}: {problem}")
+    print("where the cores went, per phase (CPU-ms per model call in brackets):")
+    for row in rows:
+        for phase in row.phases:
+            print(f"  {row.mode} {row.clock} N={row.n} {phase.line()}")
     print("targets:")
     for verdict in targets(rows):
         print(f"  {verdict}")

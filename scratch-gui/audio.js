@@ -11,10 +11,29 @@
  *   it: sounds on the virtual clock end in virtual time (clock.js).
  * - The workspaces' never run: no one hears them and nothing reads them (a click played on a suspended
  *   context is simply not heard).
+ * - Any other the page makes later runs as the VM's does. The GUI makes one on the page's first mouse
+ *   or key gesture (for its sound editor and recorder) and keeps it to itself; recycling presses Escape,
+ *   so before these were tracked every page that had served once held a running context for good: 0.02-0.03
+ *   of a core each (renderer and audio service), and the node's cores went to silence as a sweep went on.
+ *   Contexts are tracked from this script on (it runs before the GUI's bundle), through a subclass of
+ *   `AudioContext`; one made while the VM's is held still is suspended as soon as its maker is done with
+ *   it (the GUI's unlock helper would resume one found suspended, frame after frame).
  * The bridge takes `create` from `window.__scratchworldAudio` (and deletes it).
  */
 (function () {
   'use strict';
+
+  // Every AudioContext made from here on; `held` while the VM's context is to stand still.
+  const made = new Set();
+  let held = false;
+  const NativeAudioContext = window.AudioContext;
+  window.AudioContext = class AudioContext extends NativeAudioContext {
+    constructor(...args) {
+      super(...args);
+      made.add(this);
+      if (held) queueMicrotask(() => { if (held && this.state === 'running') this.suspend(); });
+    }
+  };
 
   // vm(): the VM or null; blocksComponent(): the GUI's Blocks component, throwing where there is none
   // (the bare page, or a workspace not drawn yet).
@@ -37,9 +56,19 @@
         .filter(Boolean);
     }
 
-    // The VM's context running or suspended, as `running` says; the workspaces' suspended.
+    // Contexts made since this script ran that are neither the VM's nor a workspace's (closed ones forgotten).
+    function otherContexts() {
+      const known = new Set([vmContext(), ...workspaceContexts()]);
+      for (const context of made) if (context.state === 'closed') made.delete(context);
+      return [...made].filter((context) => !known.has(context));
+    }
+
+    // The VM's context, and any other the page made, running or suspended as `running` says; the workspaces'
+    // suspended.
     async function set(running) {
+      held = !running;
       const wanted = workspaceContexts().map((context) => [context, false]);
+      for (const context of otherContexts()) wanted.push([context, running]);
       const ofVm = vmContext();
       if (ofVm) wanted.push([ofVm, running]);
       for (const [context, run] of wanted) {
@@ -49,7 +78,7 @@
       }
     }
 
-    return {vmContext: vmContext, workspaceContexts: workspaceContexts, set: set};
+    return {vmContext: vmContext, workspaceContexts: workspaceContexts, otherContexts: otherContexts, set: set};
   }
 
   window.__scratchworldAudio = {create: create};

@@ -111,6 +111,7 @@
       stepping: !!vm && vm.runtime._steppingInterval !== null,
       audio: audio.vmContext() ? audio.vmContext().state : null,
       workspaceAudio: audio.workspaceContexts().map((context) => context.state),
+      otherAudio: audio.otherContexts().map((context) => context.state),
     };
   }
 

@@ -69,6 +69,8 @@ class EditorStatus(BaseModel):
     workspace_audio: list[str] = []
     """The states of the Blockly workspaces' AudioContexts (click sounds): "suspended" once the page has
     waited, parked or on the virtual clock, and from then on (``scratch-gui/audio.js``)."""
+    other_audio: list[str] = []
+    """The states of the page's other AudioContexts (the GUI's own, made on the first gesture): as the VM's."""
 
     def missing(self, kind: EvaluationPage = "editor") -> list[str]:
         """What a page of ``kind`` still lacks to be ready (the bare page needs its VM only)."""
