@@ -132,13 +132,14 @@ AGENT_BROWSER = ("renderer", "browser", "gpu", "utility")
 
 
 def process_kind(process: psutil.Process) -> str:
-    """One of ``PROCESS_KINDS`` for a process below this one."""
+    """One of ``PROCESS_KINDS`` for a process below this one (a browser's by ``--type``; ``Sampler`` tells the
+    judges apart, as they move to the idle class after they start)."""
     name = process.name()
     if "chrom" in name:
-        if os.sched_getscheduler(process.pid) == os.SCHED_IDLE:
-            return "judge"
         kind = next((arg.split("=", 1)[1] for arg in process.cmdline() if arg.startswith("--type=")), "browser")
-        return {"renderer": "renderer", "gpu-process": "gpu"}.get(kind, "utility" if kind != "browser" else kind)
+        if kind == "gpu-process":
+            return "gpu"
+        return kind if kind in ("renderer", "browser") else "utility"
     if name.startswith("node"):  # Playwright's driver, "node-MainThread"
         return "playwright"
     if name.startswith("ray::"):
@@ -149,10 +150,13 @@ def process_kind(process: psutil.Process) -> str:
 @dataclass(frozen=True)
 class Sample:
     t: float
-    cpu_s: float
-    """CPU seconds the browsers spent since sampling began (per process, so exits lose no earlier CPU)."""
     by_kind: dict[str, float]
-    """CPU seconds since sampling began per ``PROCESS_KINDS`` entry, the browsers' included."""
+    """CPU seconds since sampling began per ``PROCESS_KINDS`` entry (per process, so exits lose no earlier CPU)."""
+
+    @property
+    def cpu_s(self) -> float:
+        """CPU seconds the browsers spent since sampling began, the judges' included."""
+        return sum(self.by_kind[kind] for kind in (*AGENT_BROWSER, "judge"))
 
 
 @dataclass
@@ -184,17 +188,17 @@ class Sampler:
             try:
                 with process.oneshot():
                     times = process.cpu_times()
-                    kind = "driver" if process.pid == me.pid else self._cpu.get(process.pid, (None,))[0]
-                    if kind is None or kind in AGENT_BROWSER:  # a browser that judges moves to the idle class
-                        kind = process_kind(process)
+                    known = self._cpu.get(process.pid)
+                    kind = "driver" if process.pid == me.pid else known[0] if known else process_kind(process)
+                    if kind in AGENT_BROWSER and os.sched_getscheduler(process.pid) == os.SCHED_IDLE:
+                        kind = "judge"  # a browser that judges moves to the idle class after it starts
                     cpu[process.pid] = (kind, times.user + times.system)
-            except psutil.Error:  # it ended meanwhile
+            except (psutil.Error, ProcessLookupError):  # it ended meanwhile
                 continue
         for pid, (kind, spent) in cpu.items():
             self._totals[kind] += max(spent - self._cpu.get(pid, (kind, 0.0))[1], 0.0)
         self._cpu = cpu
-        browsers = sum(self._totals[kind] for kind in (*AGENT_BROWSER, "judge"))
-        return Sample(time.time(), browsers, dict(self._totals))
+        return Sample(time.time(), dict(self._totals))
 
 
 @dataclass(frozen=True)
@@ -341,7 +345,8 @@ def measure(
     first, last = min(s for s, _ in episodes), max(e for _, e in episodes)
     run = [s for s in sampler.samples if first <= s.t <= last]
     lo, hi = min(a for a, _ in loops), max(b for _, b in loops)
-    counts = [sum(1 for a, b in loops if a <= s.t < b) for s in run if lo <= s.t <= hi] or [0]
+    in_loop = [sum(1 for a, b in loops if a <= s.t < b) for s in run]  # per sample: episodes in their agent loop
+    counts = [k for s, k in zip(run, in_loop, strict=True) if lo <= s.t <= hi] or [0]
 
     cpu = waited = 0.0
     intervals = 0
@@ -395,18 +400,19 @@ def measure(
         start_s=first - began,
         errors=sum(1 for j in jobs if j["outcome"] == "error"),
         problems=problems,
-        phases=phases(run, loops, requests, step_starts(jobs, steps, overhead)),
+        phases=phases(run, in_loop, loops, requests, step_starts(jobs, steps, overhead)),
     )
 
 
 def phases(
     run: list[Sample],
+    in_loop: list[int],
     loops: list[tuple[float, float]],
     requests: list[tuple[float, float]],
     step_overheads: list[tuple[float, float]],
 ) -> list[Phase]:
-    """The run phase's ramp, full and end (see ``Phase``); ``step_overheads``: (start, overhead) of every step."""
-    in_loop = [sum(1 for a, b in loops if a <= s.t < b) for s in run]
+    """The run phase's ramp, full and end (see ``Phase``); ``in_loop``: the episodes in their agent loop at each
+    sample of ``run``; ``step_overheads``: (start, overhead) of every step."""
     if not in_loop or max(in_loop) == 0:
         return []
     floor = 0.9 * max(in_loop)
