@@ -7,7 +7,8 @@ For each episode clock and each N, one real sweep of N jobs (tasks x seeds of ou
 ``llm`` agent in each ``--mode`` runs on a private local Ray with two workers (one Chromium each)
 holding N/2 pages (N = 1: one worker, one page, and 4 jobs one after the other, so that its
 baseline has more than one episode's steps), so that all N episodes are in flight at once. The
-model is ``tests/support/openai_server.py`` answering every request exactly ``--delay`` seconds after it
+model is ``tests/support/openai_server.py``, in a process of its own (``benchmarks/_delayed_model.py``),
+answering every request exactly ``--delay`` seconds after it
 arrived with a valid action (composite: ``add_block``, a "when green flag clicked" hat; primitive: a
 ``drag_and_drop`` from the palette into the code area, so every step observes with a screenshot, the element
 list and OCR where the DOM has no text, and moves the mouse through half a second of frames), so every episode runs
@@ -46,7 +47,7 @@ step's latency.
   (from the first episode's end: episodes end, save and recycle their pages, and are judged beside those still
   acting); per phase its seconds, its steps' overhead p50/p95, the model calls per second, and the cores of each
   kind of process below this one (``PROCESS_KINDS``: the agents' Chromium processes by type, the idle-class
-  browsers that judge, Playwright's drivers, Ray's workers, this process with the model server, Ray's own),
+  browsers that judge, Playwright's drivers, Ray's workers, this process, the model server's, Ray's own),
   with the CPU-ms per model call in brackets;
 - ep/h: the jobs over the run phase, the first episode's start to the last one's end (Ray, worker and
   browser start-up excluded); start s: from the sweep's start to its first episode's (Ray and the
@@ -80,52 +81,22 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.suppor
 
 import numpy as np
 import psutil
+from _delayed_model import REPLIES, DelayedModel
 from rich.console import Console
 
 from scratchworld_dist._run import run_sweep
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import SweepConfig
-from tests.support.openai_server import Behaviour, OpenAIServer
 
 REPO = Path(__file__).resolve().parents[1]
 TASKS = [task.id for task in load_suite(REPO / "tasks").tasks]
 INTERVAL_S = 0.5
 KEY_ENV = "SCRATCHWORLD_DENSITY_API_KEY"
-REPLIES = {
-    "composite": "Analysis: a harmless edit.\n```json\n"
-    '{"api": "add_block", "args": {"blockType": "event_whenflagclicked"}}\n```',
-    "primitive": 'Analysis: a block into the code area.\n```json\n{"api": "drag_and_drop", "args": '
-    '{"start_x": 80, "start_y": 170, "end_x": 520, "end_y": 330, "duration": 0.5}}\n```',
-}
-"""What the model answers, per mode: a valid action that changes the project a little."""
-
-
-class DelayedModel:
-    """The server's responder: every request is answered ``delay`` seconds after it arrived; arrivals are kept."""
-
-    def __init__(self, delay: float) -> None:
-        self.delay = delay
-        self.arrivals: list[float] = []
-        self.reply = REPLIES["composite"]
-        """Set per sweep (its mode): every request of a sweep gets the same reply."""
-        self._lock = threading.Lock()
-
-    def __call__(self, body: dict[str, Any]) -> Behaviour:
-        with self._lock:
-            self.arrivals.append(time.time())
-        return Behaviour("hang", text=self.reply, seconds=self.delay, prompt_tokens=2000, completion_tokens=40)
-
-    def waiting(self) -> list[tuple[float, float]]:
-        """(arrival, answer) of every request so far: it waits on the model in between."""
-        with self._lock:
-            return [(t, t + self.delay) for t in self.arrivals]
-
-
-PROCESS_KINDS = ("renderer", "browser", "gpu", "utility", "judge", "playwright", "worker", "driver", "ray")
+PROCESS_KINDS = ("renderer", "browser", "gpu", "utility", "judge", "playwright", "worker", "driver", "model", "ray")
 """Where a sweep's cores go: the agents' Chromium processes by ``--type``, the idle-class browsers that judge
-(every process of theirs), Playwright's Node drivers, Ray's workers (``ray::...``), this process (the driver,
-the scheduler and the model server), and Ray's own (raylet, GCS...)."""
+(every process of theirs), Playwright's Node drivers, Ray's workers (``ray::...``), this process (the driver and
+the scheduler), the model server's process, and Ray's own (raylet, GCS...)."""
 
 
 AGENT_BROWSER = ("renderer", "browser", "gpu", "utility")
@@ -163,6 +134,9 @@ class Sample:
 class Sampler:
     """Samples the Chromium processes below this process every ``INTERVAL_S`` in a thread."""
 
+    model_pid: int | None = None
+    """The model server's process, told apart from Ray's own."""
+
     samples: list[Sample] = field(default_factory=list)
     _stop: threading.Event = field(default_factory=threading.Event)
     _cpu: dict[int, tuple[str, float]] = field(default_factory=dict)
@@ -189,7 +163,10 @@ class Sampler:
                 with process.oneshot():
                     times = process.cpu_times()
                     known = self._cpu.get(process.pid)
-                    kind = "driver" if process.pid == me.pid else known[0] if known else process_kind(process)
+                    if process.pid in (me.pid, self.model_pid):
+                        kind = "driver" if process.pid == me.pid else "model"
+                    else:
+                        kind = known[0] if known else process_kind(process)
                     if kind in AGENT_BROWSER and os.sched_getscheduler(process.pid) == os.SCHED_IDLE:
                         kind = "judge"  # a browser that judges moves to the idle class after it starts
                     cpu[process.pid] = (kind, times.user + times.system)
@@ -223,6 +200,8 @@ class Row:
     problems: list[str]
     phases: list[Phase]
     """Where the cores went while episodes started, while the node was fullest, and while they ended."""
+    model_late: tuple[float, float]
+    """p50/p95 of the model server's replies past their due time, by its own clock (its lag, not the harness's)."""
 
 
 @dataclass(frozen=True)
@@ -325,21 +304,20 @@ def percentiles(values: list[float]) -> tuple[float, float]:
     return float(np.percentile(values, 50)), float(np.percentile(values, 95))
 
 
-def measure(
-    n: int, clock: str, mode: str, run: int, args: argparse.Namespace, server: OpenAIServer, model: DelayedModel
-) -> Row:
+def measure(n: int, clock: str, mode: str, run: int, args: argparse.Namespace, model: DelayedModel) -> Row:
     with tempfile.TemporaryDirectory(prefix="density-") as tmp:
         out = args.keep / f"{mode}-{clock}-{n}-{run}" if args.keep else Path(tmp) / "run"
-        sweep = config(n, clock, mode, args.steps, server.url, out)
-        model.reply = REPLIES[mode]
-        already = len(model.waiting())
+        sweep = config(n, clock, mode, args.steps, model.url, out)
+        model.set_reply(mode)
+        earlier = model.served()
         began = time.time()
-        with Sampler() as sampler:
+        with Sampler(model_pid=model.pid) as sampler:
             run_sweep(sweep, console=Console(quiet=True))
         store = RunStore(sweep.run_dir())
         jobs = store.read_table("jobs").to_pylist()
         steps = store.read_table("steps").to_pylist()
-    requests = model.waiting()[already:]
+    served = model.served()
+    requests = served.waiting[len(earlier.waiting) :]
     episodes = [(j["started_at"].timestamp(), j["finished_at"].timestamp()) for j in jobs]
     loops = [(s + j["setup_s"], s + j["setup_s"] + j["agent_s"]) for j, (s, _) in zip(jobs, episodes, strict=True)]
     first, last = min(s for s, _ in episodes), max(e for _, e in episodes)
@@ -401,6 +379,7 @@ def measure(
         errors=sum(1 for j in jobs if j["outcome"] == "error"),
         problems=problems,
         phases=phases(run, in_loop, loops, requests, step_starts(jobs, steps, overhead)),
+        model_late=percentiles(served.lateness[len(earlier.lateness) :]),
     )
 
 
@@ -527,12 +506,11 @@ def main() -> None:
         parser.error("--steps must be at least 3 (a first, a steady and a last step)")
     os.environ[KEY_ENV] = "sk-density-benchmark"  # the workers of the private Ray inherit it
     rows: list[Row] = []
-    model = DelayedModel(args.delay)
-    with OpenAIServer(responder=model) as server:
+    with DelayedModel(args.delay) as model:
         for mode, clock, n in itertools.product(modes, clocks, counts):
             for run in range(args.repeat):
                 started = time.perf_counter()
-                rows.append(measure(n, clock, mode, run, args, server, model))
+                rows.append(measure(n, clock, mode, run, args, model))
                 print(
                     f"{mode} {clock} N={n} run {run + 1}: sweep took {time.perf_counter() - started:.0f} s",
                     file=sys.stderr,
@@ -543,6 +521,9 @@ def main() -> None:
         print(line(row))
         for problem in row.problems:
             print(f"  {row.mode} {row.clock} N={row.n}: {problem}")
+    print("the model server's replies past their due time, p50/p95 (its own lag, in its own process):")
+    for row in rows:
+        print(f"  {row.mode} {row.clock} N={row.n}: {row.model_late[0] * 1000:.1f}/{row.model_late[1] * 1000:.1f} ms")
     print("where the cores went, per phase (CPU-ms per model call in brackets):")
     for row in rows:
         for phase in row.phases:

@@ -102,14 +102,15 @@ def run_command(
     if probe is not None:
         fields["probe"] = probe
     from scratchworld_dist._console import make_console
-    from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
-    from scratchworld_dist.reports import digest_lines, report_runs, run_error_digest
     from scratchworld_dist.scheduling import ProgressOptions
     from scratchworld_dist.sweep import load_sweep_config
 
-    config = load_sweep_config(config_file, fields, overrides)
+    config = load_sweep_config(config_file, fields, overrides)  # a bad config is refused before the heavy imports
     console = make_console(stderr=True)
     shown = ProgressOptions.model_validate({"mode": progress, "interval_s": progress_interval})
+    from scratchworld_dist._run import run_sweep  # imports Ray: only for this command
+    from scratchworld_dist.reports import digest_lines, report_runs, run_error_digest
+
     summary = run_sweep(config, force=force, console=console, skip_broken_models=skip_broken_models, progress=shown)
     outcomes = summary.outcomes
     left_out = f"; {summary.left_out} left out (broken models)" if summary.left_out else ""

@@ -168,11 +168,12 @@ class Scheduler(Generic[J]):
         open_editors: bool = True,
         calls_models: bool = False,
         watcher: SchedulerWatcher[J] | None = None,
+        unplaced_hold_s: float = UNPLACED_HOLD_S,
     ) -> None:
         """``spent_usd`` is what earlier runs of the sweep spent; it counts against ``budget_usd``;
         ``open_editors``: workers open their editors ahead of their first job (False when no job needs one);
         ``calls_models``: workers import LiteLLM meanwhile (some job calls a model);
-        ``watcher`` hears each attempt start and end."""
+        ``watcher`` hears each attempt start and end; ``unplaced_hold_s``: see ``UNPLACED_HOLD_S``."""
         self.pool = pool
         self.payloads = payloads
         self.timeout_s = timeout_s
@@ -187,6 +188,7 @@ class Scheduler(Generic[J]):
         self.open_editors = open_editors
         self.calls_models = calls_models
         self.watcher = watcher
+        self.unplaced_hold_s = unplaced_hold_s
         self._flights: dict[ray.ObjectRef, _Flight[J]] = {}
         self._load = [0] * len(pool)
         self._down: dict[int, _Down] = {}
@@ -308,7 +310,7 @@ class Scheduler(Generic[J]):
         for worker, down in self._down.items():
             if down.warming and not down.warmed and now - down.since < self.timeout_s:
                 node = self.nodes.node_of(worker)
-                if node is not None or now - down.since < UNPLACED_HOLD_S:
+                if node is not None or now - down.since < self.unplaced_hold_s:
                     opening.add(node)
         for worker, down in list(self._down.items()):
             if down.warmed and None not in opening and self.nodes.node_of(worker) not in opening:

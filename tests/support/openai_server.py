@@ -93,6 +93,9 @@ class RecordedRequest:
 
     behaviour: Behaviour = field(repr=False, default_factory=lambda: reply())
 
+    replied: float | None = None
+    """``time.monotonic()`` once the request was answered (or dropped); None until then."""
+
 
 _ERROR_TYPES = {
     400: "invalid_request_error",
@@ -235,6 +238,7 @@ class _Handler(BaseHTTPRequestHandler):
         behaviour = self.owner._next(request)
         with contextlib.suppress(OSError):
             self._perform(behaviour, body if isinstance(body, dict) else {})
+            request.replied = time.monotonic()
 
     def _perform(self, behaviour: Behaviour, body: dict[str, Any]) -> None:
         if behaviour.kind == "drop":
