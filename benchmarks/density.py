@@ -49,6 +49,8 @@ step's latency.
   kind of process below this one (``PROCESS_KINDS``: the agents' Chromium processes by type, the idle-class
   browsers that judge, Playwright's drivers, Ray's workers, this process, the model server's, Ray's own),
   with the CPU-ms per model call in brackets;
+- the model server's lag: per reply, the seconds from its due time (arrival + ``--delay``) to its write, p50/p95,
+  by the server's own clock: a late server would otherwise count as the harness's overhead;
 - ep/h: the jobs over the run phase, the first episode's start to the last one's end (Ray, worker and
   browser start-up excluded); start s: from the sweep's start to its first episode's (Ray and the
   workers start, and each worker opens the editors its episodes will use); errors: jobs whose
@@ -70,18 +72,17 @@ import os
 import statistics
 import sys
 import tempfile
-import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.support.openai_server, the tests' model server
 
 import numpy as np
-import psutil
 from _delayed_model import REPLIES, DelayedModel
+from _process_sampler import PROCESS_KINDS, Sample, Sampler
 from rich.console import Console
 
 from scratchworld_dist._run import run_sweep
@@ -91,91 +92,7 @@ from scratchworld_dist.sweep import SweepConfig
 
 REPO = Path(__file__).resolve().parents[1]
 TASKS = [task.id for task in load_suite(REPO / "tasks").tasks]
-INTERVAL_S = 0.5
 KEY_ENV = "SCRATCHWORLD_DENSITY_API_KEY"
-PROCESS_KINDS = ("renderer", "browser", "gpu", "utility", "judge", "playwright", "worker", "driver", "model", "ray")
-"""Where a sweep's cores go: the agents' Chromium processes by ``--type``, the idle-class browsers that judge
-(every process of theirs), Playwright's Node drivers, Ray's workers (``ray::...``), this process (the driver and
-the scheduler), the model server's process, and Ray's own (raylet, GCS...)."""
-
-
-AGENT_BROWSER = ("renderer", "browser", "gpu", "utility")
-
-
-def process_kind(process: psutil.Process) -> str:
-    """One of ``PROCESS_KINDS`` for a process below this one (a browser's by ``--type``; ``Sampler`` tells the
-    judges apart, as they move to the idle class after they start)."""
-    name = process.name()
-    if "chrom" in name:
-        kind = next((arg.split("=", 1)[1] for arg in process.cmdline() if arg.startswith("--type=")), "browser")
-        if kind == "gpu-process":
-            return "gpu"
-        return kind if kind in ("renderer", "browser") else "utility"
-    if name.startswith("node"):  # Playwright's driver, "node-MainThread"
-        return "playwright"
-    if name.startswith("ray::"):
-        return "worker"
-    return "ray"
-
-
-@dataclass(frozen=True)
-class Sample:
-    t: float
-    by_kind: dict[str, float]
-    """CPU seconds since sampling began per ``PROCESS_KINDS`` entry (per process, so exits lose no earlier CPU)."""
-
-    @property
-    def cpu_s(self) -> float:
-        """CPU seconds the browsers spent since sampling began, the judges' included."""
-        return sum(self.by_kind[kind] for kind in (*AGENT_BROWSER, "judge"))
-
-
-@dataclass
-class Sampler:
-    """Samples the Chromium processes below this process every ``INTERVAL_S`` in a thread."""
-
-    model_pid: int | None = None
-    """The model server's process, told apart from Ray's own."""
-
-    samples: list[Sample] = field(default_factory=list)
-    _stop: threading.Event = field(default_factory=threading.Event)
-    _cpu: dict[int, tuple[str, float]] = field(default_factory=dict)
-    _totals: dict[str, float] = field(default_factory=lambda: dict.fromkeys(PROCESS_KINDS, 0.0))
-
-    def __enter__(self) -> Sampler:
-        self._thread = threading.Thread(target=self._loop, name="density-sampler", daemon=True)
-        self._thread.start()
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self._stop.set()
-        self._thread.join()
-
-    def _loop(self) -> None:
-        while not self._stop.wait(INTERVAL_S):
-            self.samples.append(self.sample())
-
-    def sample(self) -> Sample:
-        cpu: dict[int, tuple[str, float]] = {}
-        me = psutil.Process()
-        for process in [me, *me.children(recursive=True)]:
-            try:
-                with process.oneshot():
-                    times = process.cpu_times()
-                    known = self._cpu.get(process.pid)
-                    if process.pid in (me.pid, self.model_pid):
-                        kind = "driver" if process.pid == me.pid else "model"
-                    else:
-                        kind = known[0] if known else process_kind(process)
-                    if kind in AGENT_BROWSER and os.sched_getscheduler(process.pid) == os.SCHED_IDLE:
-                        kind = "judge"  # a browser that judges moves to the idle class after it starts
-                    cpu[process.pid] = (kind, times.user + times.system)
-            except (psutil.Error, ProcessLookupError):  # it ended meanwhile
-                continue
-        for pid, (kind, spent) in cpu.items():
-            self._totals[kind] += max(spent - self._cpu.get(pid, (kind, 0.0))[1], 0.0)
-        self._cpu = cpu
-        return Sample(time.time(), dict(self._totals))
 
 
 @dataclass(frozen=True)
