@@ -10,7 +10,6 @@ reply's lateness (written, less arrival, less the delay) comes back with the arr
 from __future__ import annotations
 
 import multiprocessing
-import threading
 import time
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
@@ -39,26 +38,19 @@ class Served:
 
 
 class _Responder:
-    """Answers every request ``delay`` seconds after it arrived and keeps the arrivals."""
+    """Answers every request ``delay`` seconds after it arrived (the server records when each arrived)."""
 
     def __init__(self, delay: float) -> None:
         self.delay = delay
         self.reply = REPLIES["composite"]
-        self.arrivals: list[float] = []
-        self._lock = threading.Lock()
 
     def __call__(self, body: dict[str, Any]) -> Behaviour:
-        with self._lock:
-            self.arrivals.append(time.time())
         return Behaviour("hang", text=self.reply, seconds=self.delay, prompt_tokens=2000, completion_tokens=40)
-
-    def arrived(self) -> list[float]:
-        with self._lock:
-            return list(self.arrivals)
 
 
 def _serve(conn: Connection, delay: float) -> None:
     responder = _Responder(delay)
+    unix = time.time() - time.monotonic()  # the server's records are on the monotonic clock, the samples on Unix time
     with OpenAIServer(responder=responder) as server:
         conn.send(server.url)
         while True:
@@ -67,10 +59,12 @@ def _serve(conn: Connection, delay: float) -> None:
                 responder.reply = argument
                 conn.send(None)
             elif command == "served":
+                requests = server.requests
+                waiting = [(unix + request.time, unix + request.time + delay) for request in requests]
                 lateness = [
-                    request.replied - request.time - delay for request in server.requests if request.replied is not None
+                    request.replied - request.time - delay for request in requests if request.replied is not None
                 ]
-                conn.send(Served([(t, t + delay) for t in responder.arrived()], lateness))
+                conn.send(Served(waiting, lateness))
             else:
                 conn.send(None)
                 return
