@@ -4,9 +4,10 @@ with ``editor_isolation: context``, a fresh browser context).
 The isolation unit is the editor's origin (``workers.editor._shared_context``): a page of its own, storage
 kept per origin and cleared when the editor closes, so nothing a previous project did (VM state, globals,
 storage, mouse history) can reach the next one, and V8's code cache serves the bundle to every opening
-after the second. A fresh context per editor isolates the same things and compiles the bundle every
-time; it stays selectable. The editor is served from 127.0.0.1 (and the editor origins), and the
-page reaches nothing else: Chromium sends every request, loopback included, to the editor
+after the second (from the first, in a browser started from the node's cache template: ``_cache_template``).
+A fresh context per editor isolates the same things and compiles the bundle every time; it stays
+selectable. The editor is served by a server on 127.0.0.1 (at the editor origins and the shared script
+origin), and the page reaches nothing else: Chromium sends every request, loopback included, to the editor
 server as its proxy, which serves the editor's own files and refuses the rest (see
 ``workers.editor._server``); UDP (WebRTC) is off, and host names do not resolve. So the sprite
 library's CDN requests fail at once, and no task, project or agent can make a page talk to the
@@ -40,92 +41,13 @@ from workers.contract import (
     EditorError,
     EvaluationPage,
 )
+from workers.editor._cache_template import OPENINGS_TO_OFFER, CacheTemplate
 from workers.editor._editor import Editor, opened
 from workers.editor._origins import EditorOrigins
 from workers.editor._server import EditorAssets, EditorServer
 from workers.editor._shared_context import SharedContext
+from workers.editor._switches import launch_args
 from workers.node import default_chromium, idle_priority
-
-CHROMIUM_ARGS: tuple[str, ...] = (
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    # Without it the editor logs ~100 AudioContext warnings per page.
-    "--autoplay-policy=no-user-gesture-required",
-    # Offline here: every host but the loopback editor server fails to resolve, immediately.
-    "--host-resolver-rules=MAP * ~NOTFOUND , EXCLUDE 127.0.0.1",
-    # No UDP from pages (WebRTC would reach any port); what goes over TCP goes through the proxy.
-    "--webrtc-ip-handling-policy=disable_non_proxied_udp",
-)
-
-
-def isolation_args(proxy: str) -> tuple[str, ...]:
-    """Every request of every page goes to ``proxy`` (the editor server), loopback included."""
-    return (f"--proxy-server={proxy}", "--proxy-bypass-list=<-loopback>")
-
-
-PLAYWRIGHT_FEATURES_ENABLED = ("CDPScreenshotNewSurface", "SkipListAccountsWithoutGaiaCookies")
-PLAYWRIGHT_FEATURES_DISABLED = (
-    "AvoidUnnecessaryBeforeUnloadCheckSync",
-    "DestroyProfileOnBrowserClose",
-    "HttpsUpgrades",
-    "HttpsFirstBalancedModeAutoEnable",
-    "LensOverlay",
-    "MediaRouter",
-    "PaintHolding",
-    "ThirdPartyStoragePartitioning",
-    "AvoidCorsURLLoaderRestartOnRedirect",
-    "TcpPortRandomizationWin",
-    "OptimizationHints",
-    "NetworkTimeServiceQuerying",
-    "AimEnabled",
-    "PreconnectToSearch",
-    "msForceBrowserSignIn",
-    "msEdgeUpdateLaunchServicesPreferredVersion",
-)
-"""Playwright's own feature switches (its ``chromiumSwitches.ts``, 1.65). Chromium keeps only the last
-``--enable-features`` (and ``--disable-features``), and ours come after Playwright's, so ours carry both;
-a test reads the real command line and fails when a Playwright upgrade changes its lists."""
-
-FEATURES_ENABLED = ("EnablePortBoundCookies", "EnableSchemeBoundCookies")
-"""Cookies bound to the origin's port and scheme: without them a cookie set at one editor origin
-(127.0.0.2:<port>) is sent to every other one."""
-
-
-FEATURES_DISABLED = ("WebUIOmniboxPopup", "WebUIOmniboxAimPopup", "IsolateSandboxedIframes")
-"""Processes an editor never uses. Each page's window preloads the address bar's popups as WebUI pages, in
-renderers of their own, though headless shows no address bar; and the editor's SVG-import sandbox (a
-``sandbox="allow-scripts"`` iframe, opaque origin either way) gets a renderer of its own. Measured with 4-6
-waiting editors (``/usr/bin/chromium`` 156): 200-211 MB per editor with them, 153-177 MB without, and 2.5
-renderers per editor instead of 1.3. The sandbox keeps its opaque origin in the page's process; the browser
-stays confined by its proxy and resolver rules either way."""
-
-
-def feature_args(extra_args: tuple[str, ...] = ()) -> tuple[str, ...]:
-    """One ``--enable-features`` and one ``--disable-features`` switch: Playwright's, ours and any in ``extra_args``."""
-    enabled = [*PLAYWRIGHT_FEATURES_ENABLED, *FEATURES_ENABLED]
-    disabled = [*PLAYWRIGHT_FEATURES_DISABLED, *FEATURES_DISABLED]
-    for arg in extra_args:
-        for switch, features in (("--enable-features=", enabled), ("--disable-features=", disabled)):
-            if arg.startswith(switch):
-                features += [name for name in arg.removeprefix(switch).split(",") if name]
-    return (
-        "--enable-features=" + ",".join(dict.fromkeys(enabled)),
-        "--disable-features=" + ",".join(dict.fromkeys(disabled)),
-    )
-
-
-def launch_args(proxy: str, extra_args: tuple[str, ...] = ()) -> list[str]:
-    """Chromium's switches after Playwright's: ours, the proxy, ``extra_args`` and the merged feature switches last."""
-    features = ("--enable-features=", "--disable-features=")
-    rest = [arg for arg in extra_args if not arg.startswith(features)]
-    return [*CHROMIUM_ARGS, *isolation_args(proxy), *rest, *feature_args(extra_args)]
-
 
 EditorIsolation = Literal["origin", "context"]
 
@@ -239,6 +161,9 @@ class BrowserSession:
         self._shared: SharedContext | None = None
         """With ``editor_isolation: origin``: the one context every editor opens in."""
         self._user_data: Path | None = None
+        self._template: CacheTemplate | None = None
+        """With ``editor_isolation: origin``: the node's warm cache this browser started from or may leave."""
+        self._editors_opened = 0
         self._opening = asyncio.Semaphore(self.config.concurrent_opens)
         self._lost = asyncio.Event()
         """Set once the browser disconnected (it died, or the session closed)."""
@@ -299,9 +224,12 @@ class BrowserSession:
         """A persistent context: V8's code cache lives with the HTTP cache in a profile directory. A shared
         non-persistent (incognito) context keeps none: its openings cost the same from the second on
         (measured, loaded machine: 5.7-6.3 CPU-s each, as a fresh context per editor; persistent: ~3.4 from
-        the third)."""
+        the third). The profile starts as a copy of the node's cache template, when there is one."""
         assert self._playwright is not None
         self._user_data = Path(tempfile.mkdtemp(prefix="scratchworld-browser-"))
+        self._template = CacheTemplate.for_node(executable)
+        if self._template is not None:
+            await asyncio.to_thread(self._template.seed, self._user_data)
         width, height = self.config.viewport
         context = await self._playwright.chromium.launch_persistent_context(
             self._user_data,
@@ -461,6 +389,7 @@ class BrowserSession:
         except BaseException:
             await editor.close()
             raise
+        self._editors_opened += kind == "editor"
         return editor
 
     def editor(self, kind: EvaluationPage = "editor") -> AbstractAsyncContextManager[Editor]:
@@ -470,6 +399,7 @@ class BrowserSession:
     async def close(self) -> None:
         """Close the browser, Playwright's driver and the editor server; each step bounded, so a browser
         that dies badly cannot hold its worker (a step past its bound is logged and left behind)."""
+        clean = self.connected  # a browser that died may have left its caches half written
         self._state = _State.CLOSED
         self._lost.set()
         browser, playwright, server, shared = self._browser, self._playwright, self._server, self._shared
@@ -485,6 +415,8 @@ class BrowserSession:
         if server is not None:
             await asyncio.to_thread(server.stop)
         if self._user_data is not None:
+            if clean and self._template is not None and self._editors_opened >= OPENINGS_TO_OFFER:
+                await asyncio.to_thread(self._template.offer, self._user_data)
             await asyncio.to_thread(shutil.rmtree, self._user_data, True)
             self._user_data = None
 

@@ -6,6 +6,9 @@ siblings in the shared context. The origins are ``http://127.0.0.2:<port>``: not
 editor server answers them as Chromium's proxy, and every other 127.0.0.1 port stays refused. All ports
 of one host are one *site*, so the editor bundle that all of them load from the shared origin keeps one
 HTTP-cache entry and one V8 code-cache entry.
+
+The shared origin is a fixed address too (``SHARED_ORIGIN``), the same in every browser on every node, so
+that a cache entry made in one browser is found in another (see ``_cache_template``).
 """
 
 from __future__ import annotations
@@ -17,6 +20,10 @@ EDITOR_HOST = "127.0.0.2"
 FIRST_PORT = 10081
 """Above every port Chromium refuses to load from (its "unsafe ports" end at 10080)."""
 LAST_PORT = 65535
+
+SHARED_ORIGIN = f"http://127.0.0.3:{FIRST_PORT}"
+"""Where every page loads its scripts: nothing listens there either; the editor server answers it as the
+proxy, with installed scripts only, each at its content's version."""
 
 
 class OriginsExhaustedError(RuntimeError):

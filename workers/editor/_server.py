@@ -15,14 +15,18 @@ With editor origins (``EditorOrigins``: editors sharing one browser context, eac
 ``127.0.0.2:<port>`` origin of its own), the server also answers the live editor origins, and only
 for that origin's own page (``Sec-Fetch-Site`` ``none``: the browser's navigation, or ``same-origin``),
 so no editor can frame, open or fetch a sibling's origin and reach its storage. Every script the pages
-load (the editor bundle, the bare page's packages, and our page modules) then comes from the server's own
-origin, the *shared origin*, which serves nothing else and only as scripts: one URL for every editor, so
-the HTTP cache and V8's code cache serve them from the second opening on, without a request to this
-server. Our modules' URLs carry their content's digest, so an edited module is never taken from a cache.
+load (the editor bundle, the bare page's packages, and our page modules) then comes from the *shared
+origin* (``SHARED_ORIGIN``, a fixed address this server answers as the proxy), which serves nothing else
+and only as scripts: one URL for every editor, in every browser, so the HTTP cache and V8's code cache
+serve them from the second opening on, without a request to this server, and a node's browsers can start
+from one cache (``_cache_template``). Every script's URL carries its content's digest, and the shared
+origin answers a script only at its current digest, so no cache ever holds other content under a URL a
+page loads.
 """
 
 from __future__ import annotations
 
+import functools
 import io
 import logging
 import os
@@ -35,10 +39,10 @@ from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from types import TracebackType
 from typing import BinaryIO
-from urllib.parse import unquote, urlsplit
+from urllib.parse import SplitResult, parse_qs, unquote, urlsplit
 
 from workers.contract import EditorBundleMissingError, EvaluationPage
-from workers.editor._origins import EditorOrigins
+from workers.editor._origins import SHARED_ORIGIN, EditorOrigins
 from workers.node import (
     BARE_BUILT_FILES,
     BARE_DIR,
@@ -98,9 +102,16 @@ class EditorAssets:
 
     @cached_property
     def script_versions(self) -> dict[str, str]:
-        """Our page modules (every own file but the pages), each with a digest of its content: the query that
-        keeps a cached copy of an older one from being used."""
-        return {name: file_digest(self.gui_dir / name) for name in OWN_FILES if name not in PAGES}
+        """Every script the pages load (our modules, the bundle, the bare page's packages), each with a digest
+        of its content: the query that keeps a cached copy of other content from being used."""
+        versions: dict[str, str] = {}
+        for page in PAGES:
+            for name in _SCRIPT.findall((self.gui_dir / page).read_text(encoding="utf-8")):
+                path = self.resolve(name)
+                if path is not None:
+                    stat = path.stat()
+                    versions[name] = _content_version(path, stat.st_size, stat.st_mtime_ns)
+        return versions
 
     def page_path(self, page: EvaluationPage) -> str:
         """The URL path of the editor page or the bare evaluation page."""
@@ -123,8 +134,14 @@ class EditorAssets:
         return candidate
 
 
+@functools.lru_cache(maxsize=64)
+def _content_version(path: Path, size: int, mtime_ns: int) -> str:
+    """``file_digest`` once per file state: each browser session serves the 17 MB bundle at its digest."""
+    return file_digest(path)
+
+
 def with_shared_scripts(html: str, shared_origin: str, versions: dict[str, str]) -> str:
-    """A page whose scripts load from ``shared_origin``, ours at their content's ``versions``, as CORS scripts
+    """A page whose scripts load from ``shared_origin``, each at its content's ``versions``, as CORS scripts
     so that their errors keep their messages."""
 
     def shared(match: re.Match[str]) -> str:
@@ -157,7 +174,7 @@ class _Handler(SimpleHTTPRequestHandler):
             netloc = target.netloc if target.scheme == "http" else None
         else:  # origin form (a CONNECT's authority parses as a path here, and is refused below)
             netloc = self.headers.get("Host") if self.command != "CONNECT" and self.path.startswith("/") else None
-        own = netloc is not None and self._answers(netloc, target.path)
+        own = netloc is not None and self._answers(netloc, target)
         if not own:
             self.refusals.note(f"{self.command} {self.path}")
             self._refused = True
@@ -165,13 +182,15 @@ class _Handler(SimpleHTTPRequestHandler):
             self.send_error(403, "the editor page may load the editor's own files only")
         return own
 
-    def _answers(self, netloc: str, path: str) -> bool:
+    def _answers(self, netloc: str, target: SplitResult) -> bool:
         port = self.server.server_address[1]
         if netloc in (f"127.0.0.1:{port}", f"localhost:{port}"):
-            if self.origins is None:
-                return True
+            return self.origins is None  # with editor origins, the pages are there and the scripts shared
+        if self.origins is not None and f"http://{netloc}" == SHARED_ORIGIN:
             script = self.headers.get("Sec-Fetch-Dest") == "script"
-            self._shared_script = script and unquote(path).lstrip("/") not in PAGES
+            name = unquote(target.path).lstrip("/")
+            current = self.assets.script_versions.get(name)
+            self._shared_script = script and current is not None and parse_qs(target.query).get("v") == [current]
             return self._shared_script
         if self.origins is not None and self.origins.is_live(netloc):
             self._at_editor_origin = self.headers.get("Sec-Fetch-Site") in OWN_PAGE_FETCHES
@@ -184,8 +203,8 @@ class _Handler(SimpleHTTPRequestHandler):
             self.send_error(404)
             return None
         if self._at_editor_origin and path.name in PAGES and path.parent == self.assets.gui_dir:
-            shared = f"http://127.0.0.1:{self.server.server_address[1]}"
-            body = with_shared_scripts(path.read_text(encoding="utf-8"), shared, self.assets.script_versions).encode()
+            page = path.read_text(encoding="utf-8")
+            body = with_shared_scripts(page, SHARED_ORIGIN, self.assets.script_versions).encode()
             self.send_response(200)
             self.send_header("Content-Type", "text/html; charset=utf-8")
             self.send_header("Content-Length", str(len(body)))

@@ -13,7 +13,8 @@ from tests.support.browser_pages import crash_renderer
 from tests.support.loopback import LoopbackListener
 from workers.contract import EditorCrashedError
 from workers.editor import BrowserConfig, BrowserSession, Editor
-from workers.editor._browser import (
+from workers.editor._origins import SHARED_ORIGIN
+from workers.editor._switches import (
     FEATURES_DISABLED,
     FEATURES_ENABLED,
     PLAYWRIGHT_FEATURES_DISABLED,
@@ -124,12 +125,13 @@ async def test_a_page_at_an_editor_origin_reaches_no_sibling_no_shared_page_and_
                 # The page the sibling loaded: asked for again, not taken from the HTTP cache (one partition
                 # for all 127.0.0.2 ports), where a frame could find it too.
                 f"{origin(sibling)}/{BARE_PAGE}",
-                f"{shared}/{EDITOR_PAGE}",  # the shared origin serves the installed scripts only, as scripts
+                f"{shared}/{EDITOR_PAGE}",  # the proxy's own address serves pages nothing
+                f"{SHARED_ORIGIN}/{EDITOR_PAGE}",  # the shared origin serves the installed scripts only, as scripts
                 f"http://127.0.0.1:{listener.port}/other-port",
                 "http://example.com/other-host",
             ]
             # A frame at the sibling's origin would have the sibling's storage.
-            framed = [f"{origin(sibling)}/sibling-frame", f"{shared}/{BARE_PAGE}"]
+            framed = [f"{origin(sibling)}/sibling-frame", f"{shared}/{BARE_PAGE}", f"{SHARED_ORIGIN}/{BARE_PAGE}"]
             await page.page.evaluate(REACH, [fetched, framed])
             expected = {f"GET {url}" for url in fetched + framed}
             for _ in range(600):  # each was refused when it was answered; bounded for a loaded machine

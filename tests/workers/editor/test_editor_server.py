@@ -12,9 +12,9 @@ import pytest
 from scratchworld_dist import EditorBundleMissingError
 from tests.conftest import copy_page_files, link_installed_packages
 from workers.editor import EditorAssets, EditorServer
-from workers.editor._origins import EditorOrigins
+from workers.editor._origins import SHARED_ORIGIN, EditorOrigins
 from workers.editor._server import REFUSALS_KEPT
-from workers.node import BUNDLE_FILE, EDITOR_PAGE
+from workers.node import BARE_BUILT_FILES, BUNDLE_FILE, EDITOR_PAGE
 
 
 def _get(url: str) -> tuple[int, bytes]:
@@ -114,12 +114,13 @@ def _asked(server: EditorServer, url: str, headers: dict[str, str]) -> tuple[int
 def test_with_editor_origins_each_answers_its_own_page_only_and_the_shared_origin_scripts_only() -> None:
     origins = EditorOrigins()
     with EditorServer(origins=origins) as server:
-        shared = server.proxy
+        shared = SHARED_ORIGIN
         editor, closed = origins.take(), origins.take()
         origins.release(closed, cleared=True)
         status, headers, page = _asked(server, f"{editor}/{EDITOR_PAGE}", {"Sec-Fetch-Site": "none"})
         assert status == 200 and headers["Cache-Control"] == "no-store"
-        assert f'<script src="{shared}/{BUNDLE_FILE}" crossorigin="anonymous"></script>' in page.decode()
+        bundle = f"{shared}/{BUNDLE_FILE}?v={server.assets.script_versions[BUNDLE_FILE]}"
+        assert f'<script src="{bundle}" crossorigin="anonymous"></script>' in page.decode()
         # Ours load from the shared origin too (cached from the second opening on), at their content's version.
         version = server.assets.script_versions["bridge.js"]
         assert f'<script src="{shared}/bridge.js?v={version}" crossorigin="anonymous"></script>' in page.decode()
@@ -133,10 +134,32 @@ def test_with_editor_origins_each_answers_its_own_page_only_and_the_shared_origi
             assert status == 403 and headers["Cache-Control"] == "no-store"  # not kept for the editor itself
         assert _asked(server, f"{editor}/{EDITOR_PAGE}", {})[0] == 403
         assert _asked(server, f"{closed}/{EDITOR_PAGE}", {"Sec-Fetch-Site": "none"})[0] == 403
-        status, headers, _ = _asked(server, f"{shared}/{BUNDLE_FILE}", {"Sec-Fetch-Dest": "script"})
+        status, headers, _ = _asked(server, bundle, {"Sec-Fetch-Dest": "script"})
         assert status == 200 and headers["Access-Control-Allow-Origin"] == "*"
-        assert _asked(server, f"{shared}/{BUNDLE_FILE}", {"Sec-Fetch-Dest": "iframe"})[0] == 403
-        assert _asked(server, f"{shared}/bridge.js", {"Sec-Fetch-Dest": "iframe"})[0] == 403
+        assert _asked(server, bundle, {"Sec-Fetch-Dest": "iframe"})[0] == 403
+        assert _asked(server, f"{shared}/bridge.js?v={version}", {"Sec-Fetch-Dest": "iframe"})[0] == 403
         assert _asked(server, f"{shared}/{EDITOR_PAGE}", {"Sec-Fetch-Dest": "script"})[0] == 403
         assert _asked(server, f"{shared}/{EDITOR_PAGE}", {"Sec-Fetch-Dest": "document"})[0] == 403
         assert f"GET {closed}/{EDITOR_PAGE}" in server.refusals.latest
+        # The proxy's own address serves nothing to pages: the scripts are at the shared origin.
+        assert _asked(server, f"{server.proxy}/bridge.js?v={version}", {"Sec-Fetch-Dest": "script"})[0] == 403
+
+
+def test_the_shared_origin_answers_a_script_only_at_its_current_version() -> None:
+    """A node's browsers share one cache (``_cache_template``): a script kept under a URL must be what the URL
+    names, so nothing is kept under another version's URL or none, where a page could later find it."""
+    with EditorServer(origins=EditorOrigins()) as server:
+        versions = server.assets.script_versions
+        assert {BUNDLE_FILE, "bridge.js", BARE_BUILT_FILES[0]} <= set(versions)  # installed scripts too
+        script = {"Sec-Fetch-Dest": "script"}
+        for url in (
+            f"{SHARED_ORIGIN}/{BUNDLE_FILE}",
+            f"{SHARED_ORIGIN}/{BUNDLE_FILE}?v=0000000000000000",
+            f"{SHARED_ORIGIN}/{BUNDLE_FILE}?v={versions[BUNDLE_FILE]}&v=0000000000000000",
+            f"{SHARED_ORIGIN}/static/blocks-media/default/green-flag.svg",  # installed, but no page script
+        ):
+            status, headers, _ = _asked(server, url, script)
+            assert (status, headers["Cache-Control"]) == (403, "no-store"), url
+        status, headers, body = _asked(server, f"{SHARED_ORIGIN}/{BUNDLE_FILE}?v={versions[BUNDLE_FILE]}", script)
+        assert (status, headers["Cache-Control"]) == (200, "max-age=86400")
+        assert body == (server.assets.dist_dir / BUNDLE_FILE).read_bytes()

@@ -6,15 +6,15 @@ from __future__ import annotations
 import pytest
 
 from workers.editor import BrowserConfig
-from workers.editor._browser import (
+from workers.editor._browser import ISOLATION_ENV
+from workers.editor._origins import EditorOrigins, OriginsExhaustedError
+from workers.editor._switches import (
     FEATURES_DISABLED,
     FEATURES_ENABLED,
-    ISOLATION_ENV,
     PLAYWRIGHT_FEATURES_DISABLED,
     PLAYWRIGHT_FEATURES_ENABLED,
     launch_args,
 )
-from workers.editor._origins import EditorOrigins, OriginsExhaustedError
 
 
 def test_origins_wrap_only_past_cleared_ports_and_skip_live_and_retired_ones() -> None:

@@ -42,9 +42,11 @@ async def test_frames_come_while_the_page_changes_stamped_on_the_wall_clock(shar
     assert all(before - 1 <= stamp <= after for stamp in stamps)
     # Frames in flight together are encoded side by side and may arrive a frame apart, not more.
     assert all(later >= earlier - 0.1 for earlier, later in itertools.pairwise(stamps))
-    # At most max_fps once going (a load only spaces them further): each waits for an acknowledgement, which
-    # comes no sooner than 1/max_fps after the one before.
-    assert max(stamps) - sorted(stamps)[-7] >= 0.5
+    # At most max_fps once going (a load only spaces them further): acknowledgements come no sooner than
+    # 1/max_fps after the one before, and Chromium keeps two frames unacknowledged, so a frame is made after
+    # the acknowledgement of the one two before it. Two may come close together (seen under load: a pair
+    # 0.03 s apart), but the last 7 span at least 4 gaps.
+    assert max(stamps) - sorted(stamps)[-7] >= 0.4
     picture = cv2.imdecode(np.frombuffer(frames[-1].jpeg, np.uint8), cv2.IMREAD_COLOR)
     assert picture.shape == (720, 1280, 3) and (frames[-1].width, frames[-1].height) == (1280, 720)
     assert cv2.imdecode(np.frombuffer(last.jpeg, np.uint8), cv2.IMREAD_COLOR).shape == (720, 1280, 3)
