@@ -53,7 +53,8 @@ step's latency.
   by the server's own clock: a late server would otherwise count as the harness's overhead;
 - ep/h: the jobs over the run phase, the first episode's start to the last one's end (Ray, worker and
   browser start-up excluded); start s: from the sweep's start to its first episode's (Ray and the
-  workers start, and each worker opens the editors its episodes will use); errors: jobs whose
+  workers start, and each worker opens the editors its episodes will use); all in: from the sweep's
+  start to the last episode's, when all were in flight at once ("-" if the first ended before); errors: jobs whose
   outcome is ``error`` (must be 0).
 
 Targets (issues 16 and 56): at every N above 1 the step overhead p50 within 2x of N = 1, the steady
@@ -89,6 +90,8 @@ from scratchworld_dist._run import run_sweep
 from scratchworld_dist.results import RunStore
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import SweepConfig
+from workers.editor._cache_template import CacheTemplate
+from workers.node import default_chromium
 
 REPO = Path(__file__).resolve().parents[1]
 TASKS = [task.id for task in load_suite(REPO / "tasks").tasks]
@@ -113,6 +116,8 @@ class Row:
     observation: tuple[float, float]
     per_hour: float
     start_s: float
+    all_in_s: float | None
+    """From the sweep's start to the moment all episodes were in flight at once (None: never)."""
     errors: int
     problems: list[str]
     phases: list[Phase]
@@ -293,6 +298,7 @@ def measure(n: int, clock: str, mode: str, run: int, args: argparse.Namespace, m
         observation=percentiles([s["observation_s"] for s in steps if s["observation_s"] is not None]),
         per_hour=len(jobs) / (last - first) * 3600,
         start_s=first - began,
+        all_in_s=(latest - began) if (latest := max(s for s, _ in episodes)) < min(e for _, e in episodes) else None,
         errors=sum(1 for j in jobs if j["outcome"] == "error"),
         problems=problems,
         phases=phases(run, in_loop, loops, requests, step_starts(jobs, steps, overhead)),
@@ -339,10 +345,11 @@ def phases(
 
 HEADER = (
     f"{'mode':<9} {'clock':<7} {'N':>3}  {'in flight':>9}  {'CPU/wait':>11}  {'fit':>6}  {'PSS/ed':>6}  "
-    f"{'overhead':>9}  {'steady':>9}  {'1st/last p95':>12}  {'obs p50/p95':>11}  {'ep/h':>5}  {'start':>5}  {'err':>3}"
+    f"{'overhead':>9}  {'steady':>9}  {'1st/last p95':>12}  {'obs p50/p95':>11}  {'ep/h':>5}  {'start':>5}  "
+    f"{'all in':>6}  {'err':>3}"
 )
 """Columns: in flight max/median; CPU/wait in cores (qualifying intervals); PSS per editor in MB; overhead and
-steady in s, p50/p95; the first and last steps' overhead p95 in s; the observation's s; start in s."""
+steady in s, p50/p95; the first and last steps' overhead p95 in s; the observation's s; start and all in, in s."""
 
 
 def pair(values: tuple[float, float], digits: int = 2) -> str:
@@ -354,10 +361,11 @@ def line(row: Row) -> str:
     cpu = f"{row.cpu_per_wait:.3f} ({row.cpu_intervals})" if row.cpu_per_wait is not None else "-"
     pss = f"{row.pss_per_editor:.0f}" if row.pss_per_editor is not None else "-"
     fit = f"{row.cpu_per_wait_fit:.3f}" if row.cpu_per_wait_fit is not None else "-"
+    all_in = f"{row.all_in_s:.0f}" if row.all_in_s is not None else "-"
     return (
         f"{row.mode:<9} {row.clock:<7} {row.n:>3}  {flight:>9}  {cpu:>11}  {fit:>6}  {pss:>6}  "
         f"{pair(row.overhead):>9}  {pair(row.steady):>9}  {pair(row.start_end_p95, 1):>12}  "
-        f"{pair(row.observation):>11}  {row.per_hour:>5.0f}  {row.start_s:>5.0f}  {row.errors:>3}"
+        f"{pair(row.observation):>11}  {row.per_hour:>5.0f}  {row.start_s:>5.0f}  {all_in:>6}  {row.errors:>3}"
     )
 
 
@@ -422,6 +430,8 @@ def main() -> None:
     if args.steps < 3:
         parser.error("--steps must be at least 3 (a first, a steady and a last step)")
     os.environ[KEY_ENV] = "sk-density-benchmark"  # the workers of the private Ray inherit it
+    template = CacheTemplate.for_node(default_chromium())
+    cache = "off" if template is None else f"{'present' if template.exists else 'none yet'} ({template.path})"
     rows: list[Row] = []
     with DelayedModel(args.delay) as model:
         for mode, clock, n in itertools.product(modes, clocks, counts):
@@ -433,6 +443,7 @@ def main() -> None:
                     file=sys.stderr,
                 )
     print(f"{args.steps} steps per episode, model answering after {args.delay:g} s, {os.cpu_count()} core(s)")
+    print(f"browser cache template at the first run's start: {cache}")
     print(HEADER)
     for row in rows:
         print(line(row))

@@ -1,13 +1,17 @@
 """Prints the CPU-s each editor opening costs, first vs second vs third and later, per isolation setting.
 
     .venv/bin/python benchmarks/editor_openings.py [--openings 6] [--isolation origin,context] [--pages editor,bare]
+        [--start fresh,template]
 
-Each (isolation, page) pair gets a fresh browser, which opens ``--openings`` pages one after another,
+Each (isolation, page, start) gets a fresh browser, which opens ``--openings`` pages one after another,
 each closed before the next opens, so no open VM inflates the figure. An opening's cost is the CPU
 time of the whole Chromium tree (from /proc, via psutil: live processes plus the exited ones their
 parents reaped) from the start of the opening to a ready page. With ``origin`` (one long-lived
 context, an origin per editor) V8's code cache serves the bundle from the third opening on; with
-``context`` (a fresh context per editor) every opening compiles it.
+``context`` (a fresh context per editor) every opening compiles it. ``--start``: ``fresh``, a browser
+with an empty profile (no cache template); ``template``, a browser started from a cache template that
+a first browser (not measured) left after opening two pages of each kind (``origin`` only: the other keeps
+no cache on disk).
 """
 
 from __future__ import annotations
@@ -16,12 +20,14 @@ import argparse
 import asyncio
 import os
 import statistics
+import tempfile
 
 import psutil
 
 from workers.contract import EvaluationPage
 from workers.editor import BrowserConfig, BrowserSession
 from workers.editor._browser import EditorIsolation
+from workers.editor._cache_template import TEMPLATE_ENV
 
 
 def tree_cpu_s(root_pid: int) -> float:
@@ -58,11 +64,27 @@ def summary(costs: list[float]) -> str:
     return f"1st {costs[0]:.2f}, 2nd {costs[1]:.2f}, {rest}  [{', '.join(f'{c:.2f}' for c in costs)}]"
 
 
-async def main(count: int, isolations: list[EditorIsolation], pages: list[EvaluationPage]) -> None:
+async def leave_template(pages: list[EvaluationPage]) -> None:
+    """A browser that opens two of each page and closes, leaving the cache template (not measured)."""
+    async with BrowserSession(BrowserConfig(editor_isolation="origin")) as session:
+        for page in dict.fromkeys(("editor", *pages)):  # two editors are what leaves a template
+            for _ in range(2):
+                await (await session.open_editor(page)).close()
+
+
+async def main(count: int, isolations: list[EditorIsolation], pages: list[EvaluationPage], starts: list[str]) -> None:
     print(f"host: {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f}; CPU-s per opening:")
-    for page in pages:
-        for isolation in isolations:
-            print(f"  {page:6s} {isolation:7s} {summary(await openings(isolation, page, count))}", flush=True)
+    with tempfile.TemporaryDirectory(prefix="editor-openings-") as templates:
+        for start in starts:
+            os.environ[TEMPLATE_ENV] = templates if start == "template" else "off"
+            if start == "template":
+                await leave_template(pages)
+            for page in pages:
+                for isolation in isolations:
+                    if start == "template" and isolation != "origin":
+                        continue
+                    costs = await openings(isolation, page, count)
+                    print(f"  {page:6s} {isolation:7s} {start:8s} {summary(costs)}", flush=True)
     print(f"load average after: {os.getloadavg()[0]:.2f}")
 
 
@@ -71,7 +93,10 @@ if __name__ == "__main__":
     parser.add_argument("--openings", type=int, default=6)
     parser.add_argument("--isolation", default="origin,context")
     parser.add_argument("--pages", default="editor,bare")
+    parser.add_argument("--start", default="fresh,template")
     args = parser.parse_args()
     if args.openings < 3:
         parser.error("--openings must be at least 3 (first, second, third and later)")
-    asyncio.run(main(args.openings, args.isolation.split(","), args.pages.split(",")))  # type: ignore[arg-type]
+    if not set(args.start.split(",")) <= {"fresh", "template"}:
+        parser.error("--start takes fresh and/or template")
+    asyncio.run(main(args.openings, args.isolation.split(","), args.pages.split(","), args.start.split(",")))  # type: ignore[arg-type]

@@ -36,6 +36,7 @@ from pathlib import Path
 import psutil
 
 from workers.editor import BrowserSession
+from workers.editor._cache_template import TEMPLATE_ENV
 
 REPO = Path(__file__).resolve().parents[1]
 CORES = os.cpu_count() or 1
@@ -141,7 +142,8 @@ def switch_value(cmdline: list[str], switch: str, default: str) -> str:
 
 
 def reference_opening_cpu(openings: int = 3) -> float:
-    """Median CPU-seconds of the machine per editor opening (a warm browser, one editor at a time)."""
+    """Median CPU-seconds of the machine per editor opening (a browser started without a cache template, as
+    before there were any, so that the figure compares with older runs; one editor at a time)."""
 
     async def measure() -> list[float]:
         spent = []
@@ -153,7 +155,15 @@ def reference_opening_cpu(openings: int = 3) -> float:
                 await editor.close()
         return spent
 
-    return sorted(asyncio.run(measure()))[openings // 2]
+    setting = os.environ.get(TEMPLATE_ENV)
+    os.environ[TEMPLATE_ENV] = "off"
+    try:
+        return sorted(asyncio.run(measure()))[openings // 2]
+    finally:
+        if setting is None:
+            del os.environ[TEMPLATE_ENV]
+        else:
+            os.environ[TEMPLATE_ENV] = setting
 
 
 def read_tests(folder: Path) -> dict[str, list[tuple[float, float, str]]]:

@@ -410,6 +410,7 @@ class BrowserSession:
         if browser is not None:
             with contextlib.suppress(PlaywrightError):  # already gone
                 await _bounded(browser.close(), "closing Chromium")
+        clean = clean and browser is not None and not browser.is_connected()  # gone, not left behind running
         if playwright is not None:
             await _bounded(playwright.stop(), "stopping Playwright's driver")
         if server is not None:

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from playwright.async_api import Browser, Page, async_playwright
+from playwright.async_api import Browser, Page, async_playwright, expect
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, TaskContent, plan_jobs, read_task
 from scratchworld_dist.results import RunStore, record_of
@@ -212,7 +212,8 @@ async def test_giving_up_fails_the_task(episode_runner: EpisodeRunner, person_br
     observed between them: a screenshot and element list, or the composite text)."""
     content = task(SOLVED_TASK)
     async with playing(episode_runner, content, person_browser, mode=mode) as (person, running):
-        assert await person.page.locator("#title").text_content() == f"{SOLVED_TASK} ({mode}), tester"
+        # The title comes once the page has its task from the server (seen under a full suite's load: not yet).
+        await expect(person.page.locator("#title")).to_have_text(f"{SOLVED_TASK} ({mode}), tester", timeout=60_000)
         await person.ready(0)
         x, y = await person.at(640, 400)
         await person.page.mouse.click(x, y)  # a click on the workspace: one step
