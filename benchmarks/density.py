@@ -54,7 +54,7 @@ step's latency.
 - ep/h: the jobs over the run phase, the first episode's start to the last one's end (Ray, worker and
   browser start-up excluded); start s: from the sweep's start to its first episode's (Ray and the
   workers start, and each worker opens the editors its episodes will use); all in: from the sweep's
-  start to the last episode's, when all were in flight at once ("-" if the first ended before); errors: jobs whose
+  start to the first moment N episodes were in flight at once ("-": never); errors: jobs whose
   outcome is ``error`` (must be 0).
 
 Targets (issues 16 and 56): at every N above 1 the step overhead p50 within 2x of N = 1, the steady
@@ -117,7 +117,7 @@ class Row:
     per_hour: float
     start_s: float
     all_in_s: float | None
-    """From the sweep's start to the moment all episodes were in flight at once (None: never)."""
+    """From the sweep's start to the first moment N episodes were in flight at once (None: never)."""
     errors: int
     problems: list[str]
     phases: list[Phase]
@@ -198,6 +198,17 @@ def step_starts(
             found.append((at, overhead(step)))
             at += step["latency_s"]
     return found
+
+
+def first_all_in_flight(episodes: list[tuple[float, float]], n: int) -> float | None:
+    """The first moment ``n`` of the (start, end) ``episodes`` were in flight at once (an end before a start
+    at the same moment), or None."""
+    in_flight = 0
+    for moment, change in sorted([(start, 1) for start, _ in episodes] + [(end, -1) for _, end in episodes]):
+        in_flight += change
+        if in_flight >= n:
+            return moment
+    return None
 
 
 def overlap(spans: list[tuple[float, float]], t0: float, t1: float) -> float:
@@ -298,7 +309,7 @@ def measure(n: int, clock: str, mode: str, run: int, args: argparse.Namespace, m
         observation=percentiles([s["observation_s"] for s in steps if s["observation_s"] is not None]),
         per_hour=len(jobs) / (last - first) * 3600,
         start_s=first - began,
-        all_in_s=(latest - began) if (latest := max(s for s, _ in episodes)) < min(e for _, e in episodes) else None,
+        all_in_s=None if (all_in := first_all_in_flight(episodes, n)) is None else all_in - began,
         errors=sum(1 for j in jobs if j["outcome"] == "error"),
         problems=problems,
         phases=phases(run, in_loop, loops, requests, step_starts(jobs, steps, overhead)),
