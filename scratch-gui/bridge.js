@@ -38,6 +38,9 @@
   // The page's AudioContexts, suspended while no one hears them (audio.js).
   const audio = window.__scratchworldAudio.create(() => vm, () => blocksComponent());
   delete window.__scratchworldAudio;
+  // The palette the GUI first draws, empty (first-palette.js; the bare page has none).
+  const firstPalette = window.__scratchworldFirstPalette || {seed() {}};
+  delete window.__scratchworldFirstPalette;
 
   // Results larger than this are refused rather than shipped across the protocol.
   const MAX_RESULT_CHARS = 2 * 1024 * 1024;
@@ -79,9 +82,10 @@
     }
   }
 
-  // The palette's flyout holds rendered blocks only once Blockly has drawn the workspace.
+  // The palette's flyout holds rendered blocks only once Blockly has drawn the workspace (and the
+  // project's palette: the first one, first-palette.js, has only the categories' labels).
   function workspaceRendered() {
-    return !!document.querySelector('.blocklyFlyout .blocklyBlockCanvas > g');
+    return !!document.querySelector('.blocklyFlyout .blocklyBlockCanvas > g.blocklyBlock');
   }
 
   // Ready for use, apart from the renderer, which Python checks separately to fail with a
@@ -515,7 +519,10 @@
       call: call,
       settled: settled,
       attachVm: (theVm) => { clock.attachVm(theVm); vm = theVm; },
-      attachStore: (theStore) => { store = theStore; },
+      attachStore: (theStore) => {
+        store = theStore;
+        firstPalette.seed(theStore);
+      },
       // Only before the VM (bare/stage.js does so): a script that runs later cannot swap the stage.
       attachStage: (stage) => {
         if (vm) throw new Error('the stage must be attached before the VM');

@@ -23,6 +23,8 @@ import shutil
 import tempfile
 from pathlib import Path
 
+from workers.node import user_cache_dir
+
 log = logging.getLogger(__name__)
 
 CACHE_DIRS = ("Cache", "Code Cache")
@@ -47,7 +49,7 @@ def default_templates_dir() -> Path | None:
         return None
     if setting:
         return Path(setting)
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "scratchworld_dist" / "browser-cache"
+    return user_cache_dir() / "scratchworld_dist" / "browser-cache"
 
 
 def template_key(executable: Path) -> str:

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-import os
 import time
 from pathlib import Path
 
@@ -16,7 +15,7 @@ from pydantic import ValidationError
 
 from workers.contract import ClockMode, EpisodeClock
 from workers.editor._browser import BrowserConfig, BrowserSession
-from workers.node import EditorCost, browser_usage
+from workers.node import EditorCost, browser_usage, user_cache_dir
 
 CALIBRATION_EDITORS = 3
 """Editors opened to measure one editor's marginal cost (several, so shared pages are split fairly)."""
@@ -56,8 +55,7 @@ async def measure_editor_cost(clock: ClockMode, harness: str = "", editors: int 
 
 
 def cost_cache_path() -> Path:
-    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base / "scratchworld_dist" / "editor-cost.json"
+    return user_cache_dir() / "scratchworld_dist" / "editor-cost.json"
 
 
 def cached_editor_cost(clock: ClockMode, harness: str, path: Path | None = None) -> EditorCost:

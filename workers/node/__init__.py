@@ -25,6 +25,7 @@ from workers.node._installation import (
     REPO_DIR,
     default_chromium,
     default_gui_dir,
+    user_cache_dir,
 )
 from workers.node._priority import idle_priority, thread_policies
 from workers.node._usage import BrowserUsage, NodeMemory, browser_usage, node_memory
@@ -60,4 +61,5 @@ __all__ = [
     "idle_priority",
     "node_memory",
     "thread_policies",
+    "user_cache_dir",
 ]

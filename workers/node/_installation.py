@@ -58,6 +58,11 @@ def default_gui_dir() -> Path:
     return Path(override) if override else REPO_DIR / "scratch-gui"
 
 
+def user_cache_dir() -> Path:
+    """The user's cache folder (``$XDG_CACHE_HOME``, else ``~/.cache``), where this node keeps what it can rebuild."""
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+
+
 def default_chromium() -> Path:
     """Debian's Chromium, or ``SCRATCHWORLD_CHROMIUM`` when set."""
     override = os.environ.get("SCRATCHWORLD_CHROMIUM")

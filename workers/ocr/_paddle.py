@@ -24,6 +24,7 @@ import numpy as np
 import yaml
 
 from workers.contract import OCRError
+from workers.node import user_cache_dir
 from workers.ocr._backend import TextBox, box_from_quad, check_image
 
 PADDLE_EXTRA = "pip install 'scratchworld-dist[paddle]'"
@@ -31,8 +32,7 @@ PADDLE_EXTRA = "pip install 'scratchworld-dist[paddle]'"
 
 def default_cache_dir() -> Path:
     """Where PaddleX may write its caches, instead of the home directory."""
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "scratchworld" / "paddlex"
+    return user_cache_dir() / "scratchworld" / "paddlex"
 
 
 def check_model_dir(model_dir: Path, role: str) -> str | None:

@@ -11,7 +11,6 @@ compacted, the memory a sweep keeps; never the artifacts, which stay in the buck
 from __future__ import annotations
 
 import json
-import os
 import re
 import shutil
 from pathlib import Path
@@ -20,6 +19,7 @@ from typing import TYPE_CHECKING
 from scratchworld_dist._errors import RunDirError
 from scratchworld_dist._files import write_atomic
 from scratchworld_dist.results.remote._location import RemoteLocation
+from workers.node import user_cache_dir
 
 if TYPE_CHECKING:
     from fsspec import AbstractFileSystem
@@ -37,7 +37,7 @@ _PULLED = re.compile(r"^(manifest\.json|events\.jsonl|memory/.+)$")
 
 def default_mirror(location: RemoteLocation, cache_dir: Path | None) -> Path:
     """``cache_dir`` (default ``$XDG_CACHE_HOME/scratchworld/runs``, else ``~/.cache/...``)/protocol/bucket/prefix."""
-    base = cache_dir or Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "scratchworld" / "runs"
+    base = cache_dir or user_cache_dir() / "scratchworld" / "runs"
     return base / location.protocol / location.root.lstrip("/")
 
 

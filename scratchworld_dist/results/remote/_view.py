@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,6 +20,7 @@ from scratchworld_dist._errors import NotARunDirError, RunDirError
 from scratchworld_dist._files import write_atomic
 from scratchworld_dist.results.remote._location import RemoteLocation, parse_location
 from scratchworld_dist.results.remote._mirror import remote_files, write_segments
+from workers.node import user_cache_dir
 
 if TYPE_CHECKING:
     from fsspec import AbstractFileSystem
@@ -123,8 +123,7 @@ def local_folder(run_dir: Path, relative: str) -> Path:
 
 
 def views_dir() -> Path:
-    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base / "scratchworld" / "views"
+    return user_cache_dir() / "scratchworld" / "views"
 
 
 def open_view(url: str) -> Path:

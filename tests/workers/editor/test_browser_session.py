@@ -36,6 +36,31 @@ async def test_ready_editor_has_vm_workspace_and_swiftshader(session: BrowserSes
         assert editor.page.viewport_size == {"width": 1280, "height": 720}
 
 
+# The test's own probe, not the bridge's: the block types the palette's flyout gains, one list per
+# drawing (a drawing is synchronous, so each is one delivery of the observer's records).
+FLYOUT_DRAWINGS = """
+window.__flyoutDrawings = [];
+new MutationObserver((records) => {
+  const types = records.flatMap((record) => [...record.addedNodes])
+    .filter((node) => node.classList && node.classList.contains('blocklyBlock') && node.closest('.blocklyFlyout'))
+    .map((node) => node.classList[0]);
+  if (types.length) window.__flyoutDrawings.push(types);
+}).observe(document, {subtree: true, childList: true});
+"""
+
+
+async def test_an_editor_draws_its_palette_once_for_the_default_sprite_before_it_is_ready() -> None:
+    # The GUI first draws a stage's palette (no motion blocks), which no one sees; first-palette.js
+    # leaves its categories empty, and the editor is ready only once the sprite's palette is drawn.
+    async with BrowserSession(BrowserConfig(editor_isolation="origin")) as session:
+        assert session._shared is not None
+        await session._shared.context.add_init_script(FLYOUT_DRAWINGS)
+        async with session.editor() as editor:
+            drawings = await editor.page.evaluate("window.__flyoutDrawings")
+    assert len(drawings) == 1, [len(types) for types in drawings]
+    assert {"motion_movesteps", "looks_sayforsecs", "event_whenflagclicked"} <= set(drawings[0])
+
+
 async def test_missing_chromium_is_named(tmp_path: Path) -> None:
     session = BrowserSession(BrowserConfig(executable_path=tmp_path / "chromium"))
     with pytest.raises(ChromiumNotFoundError, match=str(tmp_path / "chromium")):
