@@ -32,10 +32,12 @@ scratchworldModule({name: 'geometry/views', requires: ['rects', 'blockly'], crea
     return {x: view.x + EDGE, y: view.y + EDGE, width: view.width - 2 * EDGE - SCROLLBAR, height: view.height - 2 * EDGE - SCROLLBAR};
   }
 
-  // Things drawn over the workspace that a dropped block must not land under.
+  // Things drawn over the workspace that a dropped block must not land under, and that a wheel turn
+  // over the workspace must miss: the zoom buttons, the watermark, and workspace comments (a wheel
+  // turn over one scrolls its text, not the workspace).
   function overlays() {
     const found = [];
-    for (const element of document.querySelectorAll('.blocklyZoom, [class*="watermark"]')) {
+    for (const element of document.querySelectorAll('.blocklyZoom, [class*="watermark"], .blocklyWorkspace > .blocklyBlockCanvas > .blocklyComment')) {
       const r = rects.rectOf(element);
       if (r.width > 0 && r.height > 0) found.push(r);
     }

@@ -4,6 +4,10 @@ empty space), and its self-check stops a gesture gone astray."""
 
 from __future__ import annotations
 
+import io
+import json
+import zipfile
+
 import pytest
 
 from scratchworld_dist.sb3 import Project, block, circle_costume
@@ -12,6 +16,8 @@ from tests.conftest import SUITE_DIR, pooled_editor, primitive_editor
 from tests.support.primitive_oracle import Run, Tamper, composite_and_oracle, drive, sprite_block_ids
 from workers import composite
 from workers.agents._primitive_oracle import OracleDivergenceError, PrimitiveOracle
+from workers.agents._primitive_oracle._page import Page
+from workers.agents._primitive_oracle._scrolling import wheel_point
 from workers.contract import CompositeAction, EvalResult, PrimitiveAction
 from workers.editor import Editor, EditorPool
 from workers.evaluation import Evaluator
@@ -310,3 +316,46 @@ async def test_a_value_whose_every_path_meets_other_inputs_first_goes_where_its_
         await drive(editor, oracle)  # the oracle checks every step against the composite dry run
         attached = (await editor.call("geometryBlock", {"id": join}))["attachment"]  # type: ignore[index,call-overload]
     assert attached == {"parent": think, "input": "MESSAGE"}
+
+
+def with_comment(sb3: bytes, sprite: str, x: float, y: float) -> bytes:
+    """``sb3`` with a workspace comment (not on a block) at (x, y) of ``sprite``'s workspace."""
+    with zipfile.ZipFile(io.BytesIO(sb3)) as source:
+        files = {name: source.read(name) for name in source.namelist()}
+    project = json.loads(files["project.json"])
+    target = next(t for t in project["targets"] if t["name"] == sprite)
+    text = "A note that takes a wheel turn for its own text."
+    target["comments"] = {
+        "note": {"blockId": None, "x": x, "y": y, "width": 200, "height": 200, "minimized": False, "text": text}
+    }
+    files["project.json"] = json.dumps(project).encode()
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w") as archive:
+        for name, data in files.items():
+            archive.writestr(name, data)
+    return out.getvalue()
+
+
+async def test_a_wheel_turn_misses_a_comment_over_the_middle_of_the_workspace(shared_pool: EditorPool) -> None:
+    async with primitive_editor(shared_pool, with_comment(cat_project().to_sb3(), "Cat", 250, 0)) as editor:
+        page, gestures = Page(editor), Gestures(editor.page)
+        layout = await page.layout()
+        middle = layout.safe_area.centre()
+        assert not any(overlay.contains(middle) for overlay in layout.overlays)
+        assert await wheel_point(page) == middle
+        # An agent drags the comment by its top bar over the middle: it is now drawn over the workspace.
+        note = next(o for o in layout.overlays if layout.safe_area.contains(o.centre()))
+        drag = {"start_x": note.x + 30, "start_y": note.y + 10, "end_x": middle.x - 20, "end_y": middle.y - 30}
+        assert (await gestures.execute("drag_and_drop", {**drag, "duration": 0.3})).success
+        await page.wait("quiet", what="the comment to settle")
+        covered = await page.layout()
+        assert any(overlay.contains(middle) for overlay in covered.overlays), covered.overlays
+        point = await wheel_point(page)
+        assert not any(overlay.contains(point) for overlay in covered.overlays)
+        assert covered.safe_area.contains(point)
+        before = (await page.block((await cat_ids(editor))["control_forever"])).rect
+        turn = {"direction": "down", "amount": 120, "x": point.x, "y": point.y}
+        assert (await gestures.execute("scroll", turn)).success
+        await page.wait("quiet", what="the workspace to stop scrolling")
+        after = (await page.block((await cat_ids(editor))["control_forever"])).rect
+        assert after.y < before.y - 60  # the workspace turned, not the comment's text

@@ -248,7 +248,7 @@ class Layout(Reply):
     safe_area: Rect
     """Where blocks may be grabbed and dropped: the workspace without its edges and scrollbars."""
     overlays: list[Rect]
-    """Things drawn over the workspace (zoom buttons, watermark)."""
+    """Things drawn over the workspace (zoom buttons, watermark, workspace comments)."""
     flyout: Rect
     scale: float
     min_scale: float

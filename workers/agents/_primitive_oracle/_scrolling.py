@@ -53,8 +53,19 @@ async def scroll_towards(page: Page, points: list[Point], area: Rect) -> AsyncIt
     dy = (min(ys) + max(ys)) / 2 - middle.y if min(ys) < area.y or max(ys) > area.y + area.height else 0.0
     if abs(dx) < 1 and abs(dy) < 1:
         return
-    yield scroll(dy, dx, middle)
+    yield scroll(dy, dx, await wheel_point(page))
     await page.wait("quiet", what="the workspace to stop scrolling")
+
+
+async def wheel_point(page: Page) -> Point:
+    """Where a wheel turn scrolls the workspace: the middle of its safe area, or the free spot nearest to it
+    when something drawn over the workspace covers the middle (a comment would take the turn for its text)."""
+    layout = await page.layout()
+    middle = layout.safe_area.centre()
+    if not any(overlay.contains(middle) for overlay in layout.overlays):
+        return middle
+    spot = await page.free_spot(1, 1, middle)
+    return spot if spot is not None else middle
 
 
 async def zoom_out(page: Page, why: str) -> AsyncIterator[PrimitiveAction]:
@@ -89,7 +100,7 @@ async def make_room(
         async for gesture in zoom_out(page, why):
             yield gesture
         return
-    yield scroll(max(distance, 0.0), 0.0, area.centre())
+    yield scroll(max(distance, 0.0), 0.0, await wheel_point(page))
     await page.wait("quiet", what="the workspace to stop scrolling")
 
 
