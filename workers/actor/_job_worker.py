@@ -57,6 +57,11 @@ from workers.tracing import (
     span,
 )
 
+OPENS_AT_ONCE = 1
+"""Editors a worker's browser opens at once. A node runs one worker browser per core, and an opening keeps
+more than one core busy (renderer, GPU and browser processes): two browsers filling 16 parked editors each
+on 2 cores took 39 s and 70 CPU-s one at a time each, 48 s and 88 CPU-s two at a time."""
+
 MEMORY_POLL_S = 0.5
 """How often a worker short of memory looks again."""
 
@@ -263,7 +268,7 @@ class JobWorker:
         async with self._starting:
             if self._browser is None or not self._browser.session.connected:
                 await self._drop_browser()
-                self._session = await BrowserSession(BrowserConfig()).start()
+                self._session = await BrowserSession(BrowserConfig(concurrent_opens=OPENS_AT_ONCE)).start()
                 # Agent and evaluation pages are recycled across this worker's jobs (verified as good as fresh).
                 self._browser = WorkerBrowser(self._session, EditorPool(self._session, spare=0))
             return self._browser

@@ -94,12 +94,11 @@ class BrowserConfig(BaseModel):
     ready_timeout_s: float = Field(default=60.0, gt=0)
     """Upper bound for a fresh editor to become ready (from when its opening starts)."""
 
-    concurrent_opens: int = Field(default=1, ge=1)
-    """Editors this browser opens at once; the others wait their turn. Opening one is CPU-bound and
-    keeps more than one core busy (renderer, GPU and browser processes), and a node runs one browser
-    per core, so one at a time each: two browsers filling 16 parked editors each on 2 cores took 39 s
-    and 70 CPU-s one at a time, 48 s and 88 CPU-s two at a time (16 at once ran past the ready
-    timeout). A browser alone on a node opens faster two at a time (16 in 19 s against 22 s)."""
+    concurrent_opens: int = Field(default=2, ge=1)
+    """Editors this browser opens at once; the others wait their turn. Opening one is CPU-bound (16 at
+    once on 2 cores ran past the ready timeout); a browser alone on a 2-core node opens 16 in 19 s two at
+    a time, 22 s one at a time. A sweep's workers, one browser per core, open one at a time each
+    (``workers.actor``)."""
 
     editor_isolation: EditorIsolation = Field(default_factory=default_isolation)
     """What keeps an editor apart from the browser's others: an origin of its own in one long-lived context
