@@ -1,13 +1,14 @@
 /*
  * The editor's first palette: the toolbox's categories, without their blocks.
  *
- * The GUI draws its palette when the code area mounts, from a stage's toolbox kept in its store,
- * and draws it again, for the default project's sprite, as soon as that project has loaded. Nothing
- * ever shows the first drawing, yet it made a third of the flyout's work while the editor opened
- * (every block of every category rendered as SVG). Seeded here with the same categories, empty, it
- * costs next to nothing; the second drawing is unchanged, and the bridge calls the editor ready only
- * once the flyout holds blocks, so no one sees the empty one either. Measured on one browser's
- * openings from the third on: 1.95 CPU-s per opening before, 1.63 after.
+ * The GUI draws its palette when the code area mounts, from a stage's toolbox kept in its store, then
+ * again for the default project's sprite once that project has loaded, and again when its locale is
+ * set: every block of every category rendered as SVG each time, and no one sees the first drawings.
+ * Seeded here with the same categories, empty, the mount draws labels only and the sprite's palette is
+ * drawn once (tests/workers/editor/test_browser_session.py counts the drawings); the bridge calls the
+ * editor ready only once the flyout holds blocks, so no one sees the empty one either. Measured on one
+ * browser's openings from the third on (docs/measuring.md): 1.93-2.09 CPU-s per opening before,
+ * 1.76-1.83 after.
  * The bridge takes `seed` from `window.__scratchworldFirstPalette` (and deletes it); the bare page has
  * no palette and does not load this script.
  */
