@@ -342,7 +342,7 @@ async def test_a_wheel_turn_misses_a_comment_over_the_middle_of_the_workspace(sh
         layout = await page.layout()
         middle = layout.safe_area.centre()
         assert not any(overlay.contains(middle) for overlay in layout.overlays)
-        assert await wheel_point(page) == middle
+        assert await wheel_point(page, layout) == middle
         # An agent drags the comment by its top bar over the middle: it is now drawn over the workspace.
         note = next(o for o in layout.overlays if layout.safe_area.contains(o.centre()))
         drag = {"start_x": note.x + 30, "start_y": note.y + 10, "end_x": middle.x - 20, "end_y": middle.y - 30}
@@ -350,7 +350,7 @@ async def test_a_wheel_turn_misses_a_comment_over_the_middle_of_the_workspace(sh
         await page.wait("quiet", what="the comment to settle")
         covered = await page.layout()
         assert any(overlay.contains(middle) for overlay in covered.overlays), covered.overlays
-        point = await wheel_point(page)
+        point = await wheel_point(page, covered)
         assert not any(overlay.contains(point) for overlay in covered.overlays)
         assert covered.safe_area.contains(point)
         before = (await page.block((await cat_ids(editor))["control_forever"])).rect

@@ -137,8 +137,7 @@ async def drag_connection(
                 yield gesture
             continue
         if not plan.end_visible:
-            area = (await page.layout()).safe_area
-            async for gesture in scroll_towards(page, [plan.reference, plan.end], area):
+            async for gesture in scroll_towards(page, [plan.reference, plan.end], await page.layout()):
                 yield gesture
             continue
         staging = plan.staging if stagings < MAX_STAGINGS else None
@@ -204,15 +203,15 @@ async def reach(page: Page, block: str, step: PlannedStep) -> AsyncIterator[Prim
         if info.grab is not None:
             return
         middle = info.rect.centre()
-        area = (await page.layout()).safe_area
-        if area.contains(middle):
+        layout = await page.layout()
+        if layout.safe_area.contains(middle):
             if cleaned:
                 break
             async for gesture in _clean_up(page, step):
                 yield gesture
             cleaned = True
         else:
-            async for gesture in scroll_towards(page, [middle], area):
+            async for gesture in scroll_towards(page, [middle], layout):
                 yield gesture
     raise OracleDivergenceError(f"{step.describe()}: no part of block {block} can be grabbed")
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import AsyncIterator, Awaitable, Callable
 
 from workers.agents._primitive_oracle._divergence import OracleDivergenceError
-from workers.agents._primitive_oracle._geometry import Point, Rect
+from workers.agents._primitive_oracle._geometry import Layout, Point, Rect
 from workers.agents._primitive_oracle._gestures import click, scroll
 from workers.agents._primitive_oracle._page import Page
 from workers.contract import PrimitiveAction
@@ -28,10 +28,10 @@ async def scroll_into_view(
     """Wheel the workspace until every point ``locate`` finds is inside the safe area."""
     for _ in range(MAX_SCROLLS):
         points = await locate()
-        area = (await page.layout()).safe_area
-        if all(area.contains(p) for p in points):
+        layout = await page.layout()
+        if all(layout.safe_area.contains(p) for p in points):
             return
-        async for gesture in scroll_towards(page, points, area):
+        async for gesture in scroll_towards(page, points, layout):
             yield gesture
     points = await locate()
     area = (await page.layout()).safe_area
@@ -39,9 +39,10 @@ async def scroll_into_view(
         raise OracleDivergenceError(f"{what}: cannot scroll it into view")
 
 
-async def scroll_towards(page: Page, points: list[Point], area: Rect) -> AsyncIterator[PrimitiveAction]:
-    """Wheel the workspace so that the box around ``points`` is centred in ``area``; when the box does
-    not fit, zoom out instead (the caller reads the points again and comes back)."""
+async def scroll_towards(page: Page, points: list[Point], layout: Layout) -> AsyncIterator[PrimitiveAction]:
+    """Wheel the workspace (as ``layout`` shows it) so that the box around ``points`` is centred in its safe
+    area; when the box does not fit, zoom out instead (the caller reads the points again and comes back)."""
+    area = layout.safe_area
     xs, ys = [p.x for p in points], [p.y for p in points]
     if max(xs) - min(xs) > area.width or max(ys) - min(ys) > area.height:
         span = f"({max(xs) - min(xs):.0f}, {max(ys) - min(ys):.0f}) px"
@@ -53,14 +54,14 @@ async def scroll_towards(page: Page, points: list[Point], area: Rect) -> AsyncIt
     dy = (min(ys) + max(ys)) / 2 - middle.y if min(ys) < area.y or max(ys) > area.y + area.height else 0.0
     if abs(dx) < 1 and abs(dy) < 1:
         return
-    yield scroll(dy, dx, await wheel_point(page))
+    yield scroll(dy, dx, await wheel_point(page, layout))
     await page.wait("quiet", what="the workspace to stop scrolling")
 
 
-async def wheel_point(page: Page) -> Point:
-    """Where a wheel turn scrolls the workspace: the middle of its safe area, or the free spot nearest to it
-    when something drawn over the workspace covers the middle (a comment would take the turn for its text)."""
-    layout = await page.layout()
+async def wheel_point(page: Page, layout: Layout) -> Point:
+    """Where a wheel turn scrolls the workspace ``layout`` shows: the middle of its safe area, or the free spot
+    nearest to it when something drawn over the workspace covers the middle (a comment would take the turn for
+    its text)."""
     middle = layout.safe_area.centre()
     if not any(overlay.contains(middle) for overlay in layout.overlays):
         return middle
@@ -100,7 +101,7 @@ async def make_room(
         async for gesture in zoom_out(page, why):
             yield gesture
         return
-    yield scroll(max(distance, 0.0), 0.0, await wheel_point(page))
+    yield scroll(max(distance, 0.0), 0.0, await wheel_point(page, layout))
     await page.wait("quiet", what="the workspace to stop scrolling")
 
 
