@@ -304,7 +304,8 @@ class Scheduler(Generic[J]):
         """Take back the workers that have opened their editors, once no other worker of their node still opens
         its own. One that has not said where it is yet (still starting) may be on any node, for
         ``UNPLACED_HOLD_S``: one Ray has not placed (the cluster's browser slots are taken) holds no one longer;
-        one opening for longer than the episode timeout no longer counts either."""
+        one opening for longer than the episode timeout no longer counts either. One that has opened its editors
+        but whose node is unknown (it died before it said) waits while any worker opens."""
         now = time.monotonic()
         opening: set[str | None] = set()
         for worker, down in self._down.items():
@@ -313,7 +314,10 @@ class Scheduler(Generic[J]):
                 if node is not None or now - down.since < self.unplaced_hold_s:
                     opening.add(node)
         for worker, down in list(self._down.items()):
-            if down.warmed and None not in opening and self.nodes.node_of(worker) not in opening:
+            if not down.warmed or None in opening:
+                continue
+            node = self.nodes.node_of(worker)
+            if node not in opening and (node is not None or not opening):  # unknown: it may share any node
                 del self._down[worker]
 
     def _check_nodes(self, force: bool = False) -> None:

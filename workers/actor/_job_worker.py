@@ -138,9 +138,10 @@ class JobWorker:
             load = await self.load()
         return load
 
-    async def warm(self, editors: int, calls_models: bool = False) -> None:
+    async def warm(self, editors: int, calls_models: bool = False) -> WorkerInfo:
         """Start the browser and open ``editors`` editors ahead of the first jobs (they wait parked); with
-        ``calls_models``, import LiteLLM meanwhile.
+        ``calls_models``, import LiteLLM meanwhile. Answers where this worker is: the driver starts its jobs
+        only once no other worker of its node still opens editors, so it must know the node when this returns.
 
         Opened while this worker's episodes run, each editor would slow their steps for seconds; and the
         LiteLLM import (3-9 s of one core, holding the interpreter) at the first job held up every episode
@@ -152,7 +153,7 @@ class JobWorker:
             index, taken = self.info_.worker_index, self.synthetic.warm_s
             if index < len(taken):
                 await asyncio.sleep(taken[index])  # stands in for the openings
-            return
+            return self.info_
         importing = asyncio.ensure_future(self.load_litellm()) if calls_models else None
         if editors > 0:
             try:
@@ -165,6 +166,7 @@ class JobWorker:
                 pass  # the first episode opens its own editor, or reports why it cannot
         if importing is not None:
             await importing
+        return self.info_
 
     async def run(
         self,

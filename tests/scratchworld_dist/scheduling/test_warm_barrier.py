@@ -52,10 +52,13 @@ def test_no_worker_starts_a_job_while_another_of_its_node_opens_its_editors(
     payloads = {job.task_id: ray.put(read_task_payload(job)) for job in planned}
     finished: list[JobResult] = []
     heard = OpeningAtStart()
+    timeout_s = 120.0
     scheduler = Scheduler(
-        pool, payloads, timeout_s=120, retries=0, on_result=lambda _, r: finished.append(r), sends=worker_job,
-        watcher=heard,
+        pool, payloads, timeout_s=timeout_s, retries=0, on_result=lambda _, r: finished.append(r), sends=worker_job,
+        watcher=heard, unplaced_hold_s=timeout_s,
     )  # fmt: skip
+    # The hold is the timeout: a worker whose process is slow to start on a busy machine (the hold counts from the
+    # call that asked it to open) must not pass for one Ray cannot place (the next test covers that case).
     heard.stats = scheduler.stats
     warming_seen: list[int] = []
     driver = threading.Thread(target=scheduler.run, args=([(job, 1) for job in planned],))

@@ -148,7 +148,7 @@ async def test_an_episode_past_its_timeout_is_cut_and_leaves_nothing_open(
 ) -> None:
     # The browser is up first and the oracle acts by gestures (seconds of them), so the cut lands in the
     # episode on any machine (a slow one once spent the 1.5 s launching the browser).
-    await worker.warm(1)
+    assert await worker.warm(1) == await worker.info()  # where it is, for the driver's barrier (_scheduler.py)
     result = await worker.run(*episode(contents["sum_two_numbers"], timeout_s=1.5, mode="primitive"))
     assert (result.outcome, result.error_class, result.stop_reason) == ("error", "episode_timeout", "episode_timeout")
     assert result.error_message == "episode exceeded 1.5 s"
