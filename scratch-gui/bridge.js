@@ -25,7 +25,6 @@
   // Seeded `Math.random` for perturbed evaluations (random.js).
   const random = window.__scratchworldRandom;
   delete window.__scratchworldRandom;
-  const LATENESS_MODELS = ['fixed', 'uniform'];
   const RENDERS = ['on_demand', 'every_frame'];
   // Undoing and checking what an evaluation leaves, so that the page can serve the next one.
   const recycler = window.__scratchworldRecycler;
@@ -41,9 +40,6 @@
   // The palette the GUI first draws, empty (first-palette.js; the bare page has none).
   const firstPalette = window.__scratchworldFirstPalette || {seed() {}};
   delete window.__scratchworldFirstPalette;
-
-  // Results larger than this are refused rather than shipped across the protocol.
-  const MAX_RESULT_CHARS = 2 * 1024 * 1024;
 
   class BridgeFailure extends Error {
     constructor(kind, message) {
@@ -185,113 +181,6 @@
     return {sb3Base64: encodeBase64(bytes), size: bytes.length};
   }
 
-  // CommonJS-style module: the source sees `module`, `exports` and a `require` that only knows
-  // the suite's helper module (upstream scripts reach it as a global, some may require it).
-  function loadModule(source, name, helper) {
-    if (typeof source !== 'string') throw new BridgeFailure('bad_request', `${name}: source must be a string`);
-    const module = {exports: {}};
-    const require = (id) => {
-      if (helper && /(^|\/)evaluation_utils(\.js)?$|(^|\/)helper(\.js)?$/.test(id)) return helper;
-      throw new Error(`require('${id}') is not available to evaluation scripts`);
-    };
-    let factory;
-    try {
-      factory = new Function('module', 'exports', 'require', `${source}\n//# sourceURL=${encodeURI(name)}`);
-    } catch (reason) {
-      throw new BridgeFailure('script_invalid', `${name} does not parse: ${describe(reason)}`);
-    }
-    try {
-      factory(module, module.exports, require);
-    } catch (reason) {
-      throw new BridgeFailure('script_invalid', `${name} threw while loading: ${describe(reason)}`);
-    }
-    return module.exports;
-  }
-
-  // Turns whatever a script returned into JSON text: cycles and functions are dropped, not fatal.
-  function toJson(value, scriptName) {
-    const seen = new WeakSet();
-    let text;
-    try {
-      text = JSON.stringify(value === undefined ? null : value, (key, item) => {
-        if (typeof item === 'function' || typeof item === 'symbol') return undefined;
-        if (typeof item === 'bigint') return Number(item);
-        if (item && typeof item === 'object') {
-          if (seen.has(item)) return '[circular]';
-          seen.add(item);
-        }
-        return item;
-      });
-    } catch (reason) {
-      throw new BridgeFailure('result_invalid', `${scriptName}: the result cannot be serialised: ${describe(reason)}`);
-    }
-    if (text.length > MAX_RESULT_CHARS) {
-      throw new BridgeFailure(
-        'result_invalid', `${scriptName}: the result is ${text.length} characters long (limit ${MAX_RESULT_CHARS})`);
-    }
-    return text;
-  }
-
-  // `on_demand`: the stage is drawn only when something looks at it. The VM asks for a frame on every
-  // step, but touching and colour sensing and the pen do not read it: only a snapshot
-  // (`renderer.requestSnapshot`, answered inside `draw`) and the canvas's own picture do, so `draw`
-  // runs when a snapshot waits and just before the canvas is read. Returns the undo, which draws the
-  // last frame unless told `{draw: false}`.
-  function drawOnDemand(renderer) {
-    const canvas = renderer.gl.canvas;
-    const draw = renderer.draw;
-    const hadOwnDraw = Object.prototype.hasOwnProperty.call(renderer, 'draw');
-    let drawing = false;
-    const drawNow = () => {
-      if (drawing) return; // draw itself reads the canvas for a snapshot
-      drawing = true;
-      try { draw.call(renderer); } finally { drawing = false; }
-    };
-    renderer.draw = () => { if (renderer._snapshotCallbacks && renderer._snapshotCallbacks.length) drawNow(); };
-    const readers = {};
-    for (const name of ['toDataURL', 'toBlob']) {
-      readers[name] = canvas[name];
-      canvas[name] = function (...args) { drawNow(); return readers[name].apply(canvas, args); };
-    }
-    return ({draw: drawLast = true} = {}) => {
-      if (hadOwnDraw) renderer.draw = draw; else delete renderer.draw;
-      for (const name of Object.keys(readers)) delete canvas[name];
-      if (!drawLast) return;
-      try { draw.call(renderer); } catch (e) { /* the page shows the last frame drawn; the verdict stands */ }
-    };
-  }
-
-  // The perturbation of an evaluation (`scratchworld flakes`), checked: null, or
-  // {randomSeed, phaseMs, lateness: null | {model, ms, seed}}. Phase and lateness need the virtual clock.
-  function perturbationOf(value, clockMode) {
-    if (value == null) return null;
-    const bad = (message) => new BridgeFailure('bad_request', `perturbation: ${message}`);
-    const seed = value.randomSeed;
-    if (!(Number.isInteger(seed) && seed >= 0 && seed < 2 ** 32)) throw bad('randomSeed must be an integer from 0 to 2^32 - 1');
-    const phaseMs = value.phaseMs == null ? 0 : value.phaseMs;
-    if (!(typeof phaseMs === 'number' && phaseMs >= 0 && phaseMs < 1000)) throw bad('phaseMs must be from 0 to under 1000');
-    const late = value.lateness == null ? null : value.lateness;
-    if (late !== null) {
-      if (!LATENESS_MODELS.includes(late.model)) throw bad(`lateness.model must be one of ${LATENESS_MODELS.join(', ')}`);
-      if (!(typeof late.ms === 'number' && late.ms >= 0 && late.ms <= 1000)) throw bad('lateness.ms must be from 0 to 1000');
-      if (!(Number.isInteger(late.seed) && late.seed >= 0 && late.seed < 2 ** 32)) throw bad('lateness.seed must be an integer from 0 to 2^32 - 1');
-      if (late.ms > 0 && clockMode !== 'virtual') throw bad('timer lateness needs the virtual clock');
-    }
-    if (phaseMs > 0 && clockMode !== 'virtual') throw bad('a frame phase needs the virtual clock');
-    return {randomSeed: seed, phaseMs: phaseMs, lateness: late};
-  }
-
-  // The calibrated frame timing (clock.js): null, or {fixedMs, perBlockMs, perRedrawMs}; virtual clock only.
-  function frameTimingOf(value, clockMode) {
-    if (value == null) return null;
-    for (const name of ['fixedMs', 'perBlockMs', 'perRedrawMs']) {
-      const ms = value[name];
-      if (!(typeof ms === 'number' && ms >= 0 && ms <= 1000)) throw new BridgeFailure('bad_request', `frameTiming.${name} must be a number from 0 to 1000`);
-    }
-    if (clockMode !== 'virtual') throw new BridgeFailure('bad_request', 'a frame timing model needs the virtual clock');
-    return {model: 'calibrated', fixedMs: value.fixedMs, perBlockMs: value.perBlockMs, perRedrawMs: value.perRedrawMs};
-  }
-
   async function evaluate(args) {
     const theVm = requireVm();
     const timeoutMs = Number(args.timeoutMs);
@@ -300,8 +189,9 @@
     if (!CLOCKS.includes(clockMode)) throw new BridgeFailure('bad_request', 'clock must be "virtual" or "real"');
     const render = args.render || 'every_frame';
     if (!RENDERS.includes(render)) throw new BridgeFailure('bad_request', 'render must be "on_demand" or "every_frame"');
-    const perturbation = perturbationOf(args.perturbation, clockMode);
-    const frameTiming = frameTimingOf(args.frameTiming, clockMode);
+    const script = feature('evaluation/script');
+    const perturbation = script.perturbationOf(args.perturbation, clockMode);
+    const frameTiming = script.frameTimingOf(args.frameTiming, clockMode);
     // Each observer checks its arguments now, before anything starts: null, or its {start, stop}.
     const watches = evaluationObservers.map((observer) => observer(theVm, args)).filter(Boolean);
     const helperGlobal = args.helperGlobal || 'EvaluationUtils';
@@ -314,11 +204,11 @@
     clock.beginEvaluation();
     let helper = null;
     if (runner === null && args.helperSource != null) {
-      helper = loadModule(args.helperSource, args.helperName || 'helper.js', null);
+      helper = script.loadModule(args.helperSource, args.helperName || 'helper.js', null);
       window[helperGlobal] = helper;
     }
     const scriptName = runner !== null ? `runner ${args.runner.name}` : args.scriptName || 'evaluation.js';
-    const run = runner !== null ? runner : loadModule(args.scriptSource, scriptName, helper);
+    const run = runner !== null ? runner : script.loadModule(args.scriptSource, scriptName, helper);
     if (typeof run !== 'function') {
       throw new BridgeFailure('script_invalid', `${scriptName} must set module.exports to a function, got ${typeof run}`);
     }
@@ -335,7 +225,7 @@
       clock.startVirtual({...late, frameTiming: frameTiming});
     }
     if (args.traceFrames) clock.traceFrames(); // every VM frame's time and work (benchmarks/frame_lateness.py)
-    const undoRender = render === 'on_demand' ? drawOnDemand(theVm.renderer) : null;
+    const undoRender = render === 'on_demand' ? feature('drawing').drawOnDemand(theVm.renderer) : null;
     const timedOut = new Promise((resolve) => {
       timer = setTimeout(() => resolve(TIMED_OUT), timeoutMs);
     });
@@ -365,7 +255,7 @@
       const unit = clockMode === 'virtual' ? 's of virtual time' : 's';
       throw new BridgeFailure('script_timeout', `${scriptName} did not finish within ${timeoutMs / 1000} ${unit}`);
     }
-    return {resultJson: toJson(outcome, scriptName), durationMs: durationMs, frames: frames, notes: notes};
+    return {resultJson: script.toJson(outcome, scriptName), durationMs: durationMs, frames: frames, notes: notes};
   }
 
   // The script a registered runner makes of its checked arguments (a BridgeFailure when they are bad).
@@ -399,7 +289,7 @@
     // `draw: false` leaves even that one to the next advance that draws: where nobody looks at the stage
     // afterwards (before an action, between a drag's moves, a composite agent's page), and a frame of the
     // software-WebGL stage costs the browser more than the step's own work.
-    const drawn = drawOnDemand(requireVm().renderer);
+    const drawn = feature('drawing').drawOnDemand(requireVm().renderer);
     try {
       await clock.advance(ms);
     } finally {
@@ -477,12 +367,13 @@
     throw new BridgeFailure('editor_not_ready', 'the block workspace is not rendered yet');
   }
 
-  // Feature modules (modules.js registers them), created in dependency order; their `api`s join the table.
+  // Feature modules (modules.js registers them), created in dependency order; their `api`s join the table,
+  // and the bridge's own functions use what some return (`feature`).
   const registry = window.__scratchworldModules;
   delete window.__scratchworldModules;
   delete window.scratchworldModule;
   const context = {
-    requireVm: requireVm, BridgeFailure: BridgeFailure, blocksComponent: blocksComponent,
+    requireVm: requireVm, BridgeFailure: BridgeFailure, describe: describe, blocksComponent: blocksComponent,
     realNow: () => clock.realNow(), realSleep: (ms) => clock.realSleep(ms),
     pageTimeStands: () => clock.status().paused, // an episode's virtual clock, between two advances
     onProjectLoaded: (hook) => projectLoadedHooks.push(hook),
@@ -494,7 +385,12 @@
       runners.set(name, make);
     },
   };
-  for (const instance of registry ? registry.createAll(context) : []) {
+  const created = registry ? registry.createAll(context) : new Map();
+  function feature(name) {
+    if (!created.has(name)) throw new BridgeFailure('bridge_error', `page module ${name} is not loaded: is it in the page?`);
+    return created.get(name);
+  }
+  for (const instance of created.values()) {
     for (const [name, fn] of Object.entries(instance.api || {})) {
       if (Object.prototype.hasOwnProperty.call(api, name)) throw new Error(`bridge function ${name} registered twice`);
       api[name] = fn;

@@ -9,7 +9,8 @@
  * The bridge (bridge.js, loaded after every module) has the registry create them (`createAll`):
  * in dependency order, each given the bridge context `ctx` (the VM accessor, the failure type,
  * the real clock, ...) and what the modules it requires returned; it then joins every module's
- * `api` into its one call table. The rest of what `create` returns is what other modules see. Files load as plain
+ * `api` into its one call table. The rest of what `create` returns is what other modules (and the bridge's
+ * own functions: `evaluate` uses evaluation/script and drawing) see. Files load as plain
  * scripts, so this registry is the only global they touch, and the bridge removes it.
  */
 (function () {
@@ -24,7 +25,8 @@
   };
 
   // Every registered module, created in dependency order: each gets the bridge context and what the
-  // modules it requires returned. The bridge calls this once, after every module file has loaded.
+  // modules it requires returned; by name, what each returned. The bridge calls this once, after every
+  // module file has loaded.
   function createAll(ctx) {
     const byName = new Map();
     for (const spec of specs) {
@@ -44,7 +46,7 @@
       return instance;
     }
     for (const name of byName.keys()) create(name, 'index.html');
-    return [...created.values()];
+    return created;
   }
 
   window.__scratchworldModules = {createAll: createAll};
