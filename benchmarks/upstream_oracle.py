@@ -12,7 +12,10 @@ totals, and the mean modified blocks against the paper's (9.14 over its tasks; 1
 Tasks run ``--lanes`` at a time (default: one per core, and one more to use the real-time waits of the
 primitive oracle's gestures), longest plan first, each lane in an editor of its own in one browser; the
 evaluations borrow recycled pages from one pool, as a sweep's worker does (a page is verified as good as fresh
-before it is reused), instead of opening a page for each of a task's six.
+before it is reused), instead of opening a page for each of a task's six. A lane's editor is recycled before
+each replay and each primitive run, as an episode's page is, so no task starts from what the one before it left
+in the GUI (the workspace's zoom and scroll, which the GUI hands to the next project's sprites): which tasks a
+lane took before, an accident of timing, cannot change an outcome.
 
 Run: ``.venv/bin/python benchmarks/upstream_oracle.py [SUITE_DIR] [--out DIR] [--tasks a,b] [--no-primitive]
 [--lanes K]`` (default ``../shared/scratchworld-upstream``; a clone without ``scratch-bench-api`` gets structure
@@ -71,6 +74,30 @@ class OracleRow(BaseModel):
     primitive: Outcome | None = None
 
 
+class Lane:
+    """One editor serving task after task, handed out clean each time (recycled, else a fresh one)."""
+
+    def __init__(self, session: BrowserSession) -> None:
+        self.session = session
+        self.editor: Editor | None = None
+        self.replaced = 0
+        """Times its editor did not recycle clean and a fresh one took its place."""
+
+    async def clean(self) -> Editor:
+        if self.editor is not None:
+            if not await self.editor.recycle():
+                await self.editor.resume()
+                return self.editor
+            self.replaced += 1
+            await self.editor.close()
+        self.editor = await self.session.open_editor()
+        return self.editor
+
+    async def close(self) -> None:
+        if self.editor is not None:
+            await self.editor.close()
+
+
 async def replay(editor: Editor, initial: bytes, actions: list[CompositeAction]) -> tuple[bytes, str]:
     await editor.load_project(initial)
     for action in actions:
@@ -122,13 +149,14 @@ async def outcome(
 
 
 async def check_task(
-    row: OracleRow, task: Task, plans: Path, primitive: bool, editor: Editor, evaluator: Evaluator
+    row: OracleRow, task: Task, plans: Path, primitive: bool, lane: Lane, evaluator: Evaluator
 ) -> None:
     """The golden's verdicts, then the composite replay's and the primitive oracle's outcomes, into ``row``."""
     if row.plan.trajectory is None or task.golden_project is None:
         return
     actions = read_trajectory(plans / row.plan.trajectory)
     initial, golden_bytes = task.initial_project.read_bytes(), task.golden_project.read_bytes()
+    editor = await lane.clean()
     await editor.load_project(golden_bytes)
     golden = await read_state(editor)
     if task.evaluation_script.is_file():
@@ -138,6 +166,7 @@ async def check_task(
     row.composite = await outcome(editor, evaluator, task, project, problem, golden, started)
     if primitive:
         started = time.monotonic()
+        editor = await lane.clean()
         project, problem = await perform(editor, initial, actions)
         row.primitive = await outcome(editor, evaluator, task, project, problem, golden, started)
     print(line(row), flush=True)
@@ -150,15 +179,19 @@ async def check(rows: list[OracleRow], tasks: dict[str, Task], plans: Path, prim
     for row in sorted(rows, key=lambda row: -row.plan.actions):  # the longest first: no long task is left for last
         waiting.put_nowait(row)
 
-    async def lane(session: BrowserSession, evaluator: Evaluator) -> None:
-        async with session.editor() as editor:
+    async def run_lane(lane: Lane, evaluator: Evaluator) -> None:
+        try:
             while not waiting.empty():
                 row = waiting.get_nowait()
-                await check_task(row, tasks[row.plan.task_id], plans, primitive, editor, evaluator)
+                await check_task(row, tasks[row.plan.task_id], plans, primitive, lane, evaluator)
+        finally:
+            await lane.close()
 
     async with BrowserSession() as session, EditorPool(session, spare=0) as pool:
         evaluator = Evaluator(session, pool)
-        await asyncio.gather(*(lane(session, evaluator) for _ in range(lanes)))
+        all_lanes = [Lane(session) for _ in range(lanes)]
+        await asyncio.gather(*(run_lane(lane, evaluator) for lane in all_lanes))
+    print(f"lane editors replaced because they did not recycle clean: {sum(lane.replaced for lane in all_lanes)}")
 
 
 def judged(result: Outcome, golden: dict[str, bool | None]) -> dict[str, bool]:
