@@ -46,7 +46,7 @@ from scratchworld_dist.suites import Task
 from scratchworld_dist.suites._task import read_trajectory
 from workers import composite
 from workers.agents._primitive_oracle import OracleDivergenceError, OracleWaitError, PrimitiveOracle
-from workers.contract import CompositeAction, Done, EvaluationProfile, PrimitiveAction
+from workers.contract import BridgeError, CompositeAction, Done, EditorError, EvaluationProfile, PrimitiveAction
 from workers.editor import BrowserSession, Editor, EditorPool
 from workers.evaluation import Evaluator
 from workers.primitive import Gestures
@@ -85,9 +85,12 @@ class Lane:
 
     async def clean(self) -> Editor:
         if self.editor is not None:
-            if not await self.editor.recycle():
-                await self.editor.resume()
-                return self.editor
+            try:
+                if not await self.editor.recycle():
+                    await self.editor.resume()
+                    return self.editor
+            except (EditorError, BridgeError):  # the page went wrong: a fresh one serves instead
+                pass
             self.replaced += 1
             await self.editor.close()
         self.editor = await self.session.open_editor()
