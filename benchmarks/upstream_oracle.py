@@ -13,9 +13,10 @@ Tasks run ``--lanes`` at a time (default: one per core, and one more to use the 
 primitive oracle's gestures), longest plan first, each lane in an editor of its own in one browser; the
 evaluations borrow recycled pages from one pool, as a sweep's worker does (a page is verified as good as fresh
 before it is reused), instead of opening a page for each of a task's six. A lane's editor is recycled before
-each replay and each primitive run, as an episode's page is, so no task starts from what the one before it left
-in the GUI (the workspace's zoom and scroll, which the GUI hands to the next project's sprites): which tasks a
-lane took before, an accident of timing, cannot change an outcome.
+each task (its golden's read, then the composite replay) and again before its primitive run, as an episode's
+page is, so no task starts from what the one before it left in the GUI (the workspace's zoom and scroll, which
+the GUI hands to the next project's sprites): which tasks a lane took before, an accident of timing, cannot
+change an outcome.
 
 Run: ``.venv/bin/python benchmarks/upstream_oracle.py [SUITE_DIR] [--out DIR] [--tasks a,b] [--no-primitive]
 [--lanes K]`` (default ``../shared/scratchworld-upstream``; a clone without ``scratch-bench-api`` gets structure

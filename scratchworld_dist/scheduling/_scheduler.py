@@ -314,10 +314,10 @@ class Scheduler(Generic[J]):
                 if node is not None or now - down.since < self.unplaced_hold_s:
                     opening.add(node)
         for worker, down in list(self._down.items()):
-            if not down.warmed or None in opening:
+            if not down.warmed:
                 continue
-            node = self.nodes.node_of(worker)
-            if node not in opening and (node is not None or not opening):  # unknown: it may share any node
+            node = self.nodes.node_of(worker)  # None (unknown or unplaced) may be any node
+            if not opening or (node is not None and None not in opening and node not in opening):
                 del self._down[worker]
 
     def _check_nodes(self, force: bool = False) -> None:
