@@ -113,6 +113,30 @@ def test_rapid_empty_image_is_quiet(rapid: RapidOCRBackend, caplog, capfd) -> No
     assert "detection result is empty" not in capfd.readouterr().err
 
 
+def test_rapid_scales_a_small_crop_up_at_most_five_times_and_still_reads_it(rapid: RapidOCRBackend) -> None:
+    # A 32x32 sprite tile would be detected at 736x736 (0.6-0.7 CPU-s); the stage and whole frames keep 736.
+    assert rapid.detection_side(blank(32, 32)) == 160
+    assert rapid.detection_side(blank(180, 240)) == 736
+    assert rapid.detection_side(blank(720, 1280)) == 736
+    assert rapid.detection_side(blank(4, 300)) == 32  # the detector's least input side
+    image, drawn = render([("Score: 42", (4, 30))], (255, 255, 255), (0, 0, 0))
+    x, y, width, height = drawn["Score: 42"]
+    crop = np.ascontiguousarray(image[: y + height + 6, : x + width + 6])
+
+    boxes = rapid.recognize(crop)
+
+    assert [box.text.replace(" ", "") for box in boxes] == ["Score:42"]
+    detector = rapid._engine.text_det  # the engine this read went through, as rapidocr itself resizes for it
+    short = min(crop.shape[:2])
+    assert detector.limit_side_len == 5 * short < 736
+    assert min(detector.get_preprocess().resize(crop).shape[:2]) == round(5 * short / 32) * 32
+
+
+def test_rapid_refuses_a_detection_scale_below_one() -> None:
+    with pytest.raises(ValueError, match="max_det_scale must be at least 1"):
+        RapidOCRBackend(max_det_scale=0.5)
+
+
 def test_rapid_rejects_non_bgr_images(rapid: RapidOCRBackend) -> None:
     with pytest.raises(ValueError, match="HxWx3 uint8"):
         rapid.recognize(np.zeros((20, 20), np.uint8))
