@@ -1,7 +1,7 @@
 """Prints the CPU-s each editor opening costs, first vs second vs third and later, per isolation setting.
 
     .venv/bin/python benchmarks/editor_openings.py [--openings 6] [--isolation origin,context] [--pages editor,bare]
-        [--start fresh,template]
+        [--start fresh,template] [--palette held,drawn]
 
 Each (isolation, page, start) gets a fresh browser, which opens ``--openings`` pages one after another,
 each closed before the next opens, so no open VM inflates the figure. An opening's cost is the CPU
@@ -11,7 +11,9 @@ context, an origin per editor) V8's code cache serves the bundle from the third 
 ``context`` (a fresh context per editor) every opening compiles it. ``--start``: ``fresh``, a browser
 with an empty profile (no cache template); ``template``, a browser started from a cache template that
 a first browser (not measured) left after opening two pages of each kind (``origin`` only: the other keeps
-no cache on disk).
+no cache on disk). ``--palette``: ``held``, editors opened as a pool opens them, the palette left undrawn
+until a first project load; ``drawn``, as ``BrowserSession.open_editor`` opens them by default, the default
+project's palette drawn before the editor counts as ready.
 """
 
 from __future__ import annotations
@@ -46,13 +48,13 @@ def tree_cpu_s(root_pid: int) -> float:
     return total
 
 
-async def openings(isolation: EditorIsolation, page: EvaluationPage, count: int) -> list[float]:
+async def openings(isolation: EditorIsolation, page: EvaluationPage, count: int, draw_palette: bool) -> list[float]:
     costs = []
     async with BrowserSession(BrowserConfig(editor_isolation=isolation)) as session:
         root = await session.browser_pid()
         for _ in range(count):
             before = tree_cpu_s(root)
-            editor = await session.open_editor(page)
+            editor = await session.open_editor(page, draw_palette=draw_palette)
             costs.append(tree_cpu_s(root) - before)
             await editor.close()
     return costs
@@ -72,7 +74,9 @@ async def leave_template(pages: list[EvaluationPage]) -> None:
                 await (await session.open_editor(page)).close()
 
 
-async def main(count: int, isolations: list[EditorIsolation], pages: list[EvaluationPage], starts: list[str]) -> None:
+async def main(
+    count: int, isolations: list[EditorIsolation], pages: list[EvaluationPage], starts: list[str], palettes: list[str]
+) -> None:
     print(f"host: {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f}; CPU-s per opening:")
     with tempfile.TemporaryDirectory(prefix="editor-openings-") as templates:
         for start in starts:
@@ -83,8 +87,9 @@ async def main(count: int, isolations: list[EditorIsolation], pages: list[Evalua
                 for isolation in isolations:
                     if start == "template" and isolation != "origin":
                         continue
-                    costs = await openings(isolation, page, count)
-                    print(f"  {page:6s} {isolation:7s} {start:8s} {summary(costs)}", flush=True)
+                    for palette in palettes if page == "editor" else ["-"]:
+                        costs = await openings(isolation, page, count, palette != "held")
+                        print(f"  {page:6s} {isolation:7s} {start:8s} {palette:5s} {summary(costs)}", flush=True)
     print(f"load average after: {os.getloadavg()[0]:.2f}")
 
 
@@ -94,9 +99,20 @@ if __name__ == "__main__":
     parser.add_argument("--isolation", default="origin,context")
     parser.add_argument("--pages", default="editor,bare")
     parser.add_argument("--start", default="fresh,template")
+    parser.add_argument("--palette", default="held,drawn")
     args = parser.parse_args()
     if args.openings < 3:
         parser.error("--openings must be at least 3 (first, second, third and later)")
     if not set(args.start.split(",")) <= {"fresh", "template"}:
         parser.error("--start takes fresh and/or template")
-    asyncio.run(main(args.openings, args.isolation.split(","), args.pages.split(","), args.start.split(",")))  # type: ignore[arg-type]
+    if not set(args.palette.split(",")) <= {"held", "drawn"}:
+        parser.error("--palette takes held and/or drawn")
+    asyncio.run(
+        main(
+            args.openings,
+            args.isolation.split(","),
+            args.pages.split(","),
+            args.start.split(","),
+            args.palette.split(","),
+        )  # type: ignore[arg-type]
+    )

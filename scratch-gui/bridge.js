@@ -37,8 +37,9 @@
   // The page's AudioContexts, suspended while no one hears them (audio.js).
   const audio = window.__scratchworldAudio.create(() => vm, () => blocksComponent());
   delete window.__scratchworldAudio;
-  // The palette the GUI first draws, empty (first-palette.js; the bare page has none).
-  const firstPalette = window.__scratchworldFirstPalette || {seed() {}};
+  // The palette, held empty until its first use (first-palette.js; the bare page has none).
+  const firstPalette = window.__scratchworldFirstPalette ||
+    {hold() {}, waiting: () => false, isHeld: () => false, stopHolding() {}, release: () => false};
   delete window.__scratchworldFirstPalette;
 
   class BridgeFailure extends Error {
@@ -86,10 +87,27 @@
 
   // Ready for use, apart from the renderer, which Python checks separately to fail with a
   // specific error instead of waiting for something that will never come. The bare page has no
-  // workspace and no default project: its VM is all there is.
+  // workspace and no default project: its VM is all there is. While the palette is held, the GUI
+  // must have caught up with the toolbox it last sent (drawn with empty categories).
   function settled() {
     if (bareStage) return !!vm;
-    return !!vm && projectLoads >= 1 && workspaceRendered();
+    if (!vm || projectLoads < 1) return false;
+    return firstPalette.isHeld() ? firstPalette.waiting() && paletteCaughtUp() : workspaceRendered();
+  }
+
+  function paletteCaughtUp() {
+    if (!document.querySelector('.blocklyFlyout')) return false;
+    try {
+      return blocksComponent()._renderedToolboxXML === store.getState().scratchGui.toolbox.toolboxXML;
+    } catch (e) {
+      return false; // the workspace is not rendered yet
+    }
+  }
+
+  // Draw the default project's palette held since the opening; the page is settled again once it is drawn.
+  function drawPalette() {
+    if (bareStage) throw new BridgeFailure('bad_request', 'the bare page has no palette');
+    return {released: firstPalette.release(store)};
   }
 
   function status() {
@@ -164,6 +182,7 @@
   async function loadProject(args) {
     const theVm = requireVm();
     const bytes = decodeBase64(args.sb3Base64);
+    firstPalette.stopHolding(); // the project's own palette is the first one drawn
     try {
       await theVm.loadProject(bytes.buffer);
     } catch (reason) {
@@ -335,7 +354,7 @@
   }
 
   const api = {
-    status, setStageSize, loadProject, saveProject, evaluate, episodeClock, advanceClock, seedRandom, recycle,
+    status, setStageSize, drawPalette, loadProject, saveProject, evaluate, episodeClock, advanceClock, seedRandom, recycle,
     redrawPanels: () => { requireVm().emitTargetsUpdate(false); },
     clockStatus: () => clock.status(),
     markClean: () => {
@@ -417,7 +436,7 @@
       attachVm: (theVm) => { clock.attachVm(theVm); vm = theVm; },
       attachStore: (theStore) => {
         store = theStore;
-        firstPalette.seed(theStore);
+        firstPalette.hold(theStore);
       },
       // Only before the VM (bare/stage.js does so): a script that runs later cannot swap the stage.
       attachStage: (stage) => {

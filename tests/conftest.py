@@ -143,10 +143,13 @@ def evaluator(session: BrowserSession, shared_pool: EditorPool) -> Evaluator:
 async def pooled_editor(pool: EditorPool) -> AsyncIterator[Editor]:
     """An editor of ``pool`` that a test drives itself, recycled afterwards as a runner's is.
 
-    A use is booked as runners book an episode: the pool closes a page returned unused.
+    A use is booked as runners book an episode: the pool closes a page returned unused. A test may use
+    the default project's palette without loading a project, so a fresh page's is drawn (the pool's
+    own uses all load one first, which draws that project's).
     """
     async with pool.editor() as editor:
         editor.uses += 1
+        await editor.draw_palette()
         yield editor
 
 

@@ -335,19 +335,20 @@ class BrowserSession:
             opening.add_done_callback(_close_orphan)
             raise
 
-    async def open_editor(self, kind: EvaluationPage = "editor") -> Editor:
+    async def open_editor(self, kind: EvaluationPage = "editor", *, draw_palette: bool = True) -> Editor:
         """A ready editor (or bare evaluation page) at an origin of its own (or in a fresh context); the caller
-        closes it. Waits its turn among this browser's openings (``BrowserConfig.concurrent_opens``)."""
+        closes it. Waits its turn among this browser's openings (``BrowserConfig.concurrent_opens``).
+        ``draw_palette=False``: see ``Editor.open`` (for an editor whose every use loads a project first)."""
         if self._server is None:
             raise RuntimeError("the browser session is not open")
         if kind == "bare" and self._server.assets.bare_missing:
             raise EditorBundleMissingError(self._server.assets.bare_missing)
         async with self._opening:
-            return await self._open_editor(kind)
+            return await self._open_editor(kind, draw_palette)
 
-    async def _open_editor(self, kind: EvaluationPage) -> Editor:
+    async def _open_editor(self, kind: EvaluationPage, draw_palette: bool) -> Editor:
         if self._shared is not None:
-            return await self._open_shared_editor(kind, self._shared)
+            return await self._open_shared_editor(kind, self._shared, draw_palette)
         assert self._server is not None
         url = self._server.page_url(kind)
         context = await self.new_context()
@@ -361,13 +362,13 @@ class BrowserSession:
             raise
         editor = Editor(context, page, kind)
         try:
-            await editor.open(url, self.config.ready_timeout_s)
+            await editor.open(url, self.config.ready_timeout_s, draw_palette=draw_palette)
         except BaseException:
             await editor.close()
             raise
         return editor
 
-    async def _open_shared_editor(self, kind: EvaluationPage, shared: SharedContext) -> Editor:
+    async def _open_shared_editor(self, kind: EvaluationPage, shared: SharedContext, draw_palette: bool) -> Editor:
         """A page at a fresh origin in the shared context; whatever fails or is cancelled, the page is closed
         and the origin cleared."""
         assert self._server is not None
@@ -386,7 +387,9 @@ class BrowserSession:
             raise
         editor = Editor(shared.context, page, kind, release=release)
         try:
-            await editor.open(self._server.page_url(kind, origin), self.config.ready_timeout_s)
+            await editor.open(
+                self._server.page_url(kind, origin), self.config.ready_timeout_s, draw_palette=draw_palette
+            )
         except BaseException:
             await editor.close()
             raise

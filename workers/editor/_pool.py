@@ -16,6 +16,8 @@ does three things:
 - ``fill`` opens editors ahead of a run of episodes, all at once, and parks them (VM stopped) like
   recycled ones: opening one costs 3-5 s of CPU here (less from a browser's third editor on, with
   the code cache), and opened while other episodes run, it slows their steps down by seconds.
+Every editor it opens leaves its palette undrawn until its first project load, which draws that
+project's own (``Editor.open``): each use of a pool's editor loads a project first.
 """
 
 from __future__ import annotations
@@ -94,7 +96,7 @@ class EditorPool:
     async def _open_parked(self, kind: EvaluationPage) -> None:
         self.opened += 1
         try:
-            editor = await self.session.open_editor(kind)
+            editor = await self.session.open_editor(kind, draw_palette=False)
         except EditorError as exc:
             log.warning("an editor opened ahead failed: %s", exc)
             return
@@ -140,7 +142,7 @@ class EditorPool:
             await editor.close()
         self._refill()
         self.opened += 1
-        return self._lend(await self.session.open_editor(kind))
+        return self._lend(await self.session.open_editor(kind, draw_palette=False))
 
     def _lend(self, editor: Editor) -> Editor:
         self._lent[editor] = editor.uses
@@ -193,7 +195,7 @@ class EditorPool:
     def _refill(self) -> None:
         while not self._closed and len(self._opening) < self.spare:
             self.opened += 1
-            self._opening.append(asyncio.ensure_future(self.session.open_editor(self._spare_kind)))
+            self._opening.append(asyncio.ensure_future(self.session.open_editor(self._spare_kind, draw_palette=False)))
 
     async def _drop_spares(self) -> None:
         """Close the spares opening (or opened) ahead: they are of a kind no longer asked for."""

@@ -61,6 +61,51 @@ async def test_an_editor_draws_its_palette_once_for_the_default_sprite_before_it
     assert {"motion_movesteps", "looks_sayforsecs", "event_whenflagclicked"} <= set(drawings[0])
 
 
+FLYOUT_TEXT = "document.querySelector('.blocklyFlyout').textContent"
+
+
+async def test_an_editor_opened_ahead_draws_no_palette_until_its_first_project_draws_its_own() -> None:
+    # A pool's editors open without the default project's palette: every use loads a project first, and
+    # that load draws the project's own. Recycled, such a page compares clean (what the pool checks).
+    async with BrowserSession(BrowserConfig(editor_isolation="origin")) as session:
+        assert session._shared is not None
+        await session._shared.context.add_init_script(FLYOUT_DRAWINGS)
+        editor = await session.open_editor(draw_palette=False)
+        try:
+            status = await editor.status()
+            assert status.vm and status.project_loads >= 1 and not status.workspace
+            assert await editor.page.evaluate("window.__flyoutDrawings") == []
+
+            await editor.load_project(counter_project().to_sb3())
+            await editor.page.wait_for_function("() => window.__flyoutDrawings.length > 0", polling=50)
+            assert (await editor.status()).workspace
+            palette = (await editor.page.evaluate(FLYOUT_TEXT)).replace("\xa0", " ")
+            assert "count" in palette and "my variable" not in palette  # the project's variable, not the default's
+            await editor.draw_palette()  # nothing held any more: no second drawing
+            drawings = await editor.page.evaluate("window.__flyoutDrawings")
+            assert len(drawings) == 1, [len(types) for types in drawings]
+            assert {"motion_movesteps", "data_setvariableto"} <= set(drawings[0])
+            editor.uses += 1
+            assert await editor.recycle() == []
+        finally:
+            await editor.close()
+
+
+async def test_the_held_palette_of_an_editor_opened_ahead_is_drawn_on_request() -> None:
+    async with BrowserSession(BrowserConfig(editor_isolation="origin")) as session:
+        assert session._shared is not None
+        await session._shared.context.add_init_script(FLYOUT_DRAWINGS)
+        editor = await session.open_editor(draw_palette=False)
+        try:
+            await editor.draw_palette()
+            assert (await editor.status()).workspace
+            palette = (await editor.page.evaluate(FLYOUT_TEXT)).replace("\xa0", " ")
+            assert "my variable" in palette  # the default project's
+            assert len(await editor.page.evaluate("window.__flyoutDrawings")) == 1
+        finally:
+            await editor.close()
+
+
 async def test_missing_chromium_is_named(tmp_path: Path) -> None:
     session = BrowserSession(BrowserConfig(executable_path=tmp_path / "chromium"))
     with pytest.raises(ChromiumNotFoundError, match=str(tmp_path / "chromium")):
