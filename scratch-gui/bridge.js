@@ -326,7 +326,7 @@
 
   function seedRandom(args) {
     const seed = args.seed;
-    if (!(Number.isInteger(seed) && seed >= 0 && seed < 2 ** 32)) throw new BridgeFailure('bad_request', 'seed must be an integer from 0 to 2^32 - 1');
+    if (!random.isSeed(seed)) throw new BridgeFailure('bad_request', 'seed must be an integer from 0 to 2^32 - 1');
     if (episodeRandom) episodeRandom();
     episodeRandom = random.seed(seed, requireVm().runtime);
     return {seed: seed};
@@ -393,6 +393,7 @@
   delete window.scratchworldModule;
   const context = {
     requireVm: requireVm, BridgeFailure: BridgeFailure, describe: describe, blocksComponent: blocksComponent,
+    isSeed: (value) => random.isSeed(value),
     realNow: () => clock.realNow(), realSleep: (ms) => clock.realSleep(ms),
     pageTimeStands: () => clock.status().paused, // an episode's virtual clock, between two advances
     onProjectLoaded: (hook) => projectLoadedHooks.push(hook),

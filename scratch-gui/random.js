@@ -11,6 +11,9 @@
 (function () {
   'use strict';
 
+  // What every seed given to the page must be: all of mulberry32's state, nothing beyond it.
+  const isSeed = (value) => Number.isInteger(value) && value >= 0 && value < 2 ** 32;
+
   // mulberry32: 32 bits of state, uniform in [0, 1), the same sequence for the same seed everywhere.
   function generator(seed) {
     let state = seed >>> 0;
@@ -55,5 +58,5 @@
     };
   }
 
-  window.__scratchworldRandom = Object.freeze({generator, seed});
+  window.__scratchworldRandom = Object.freeze({generator, seed, isSeed});
 })();

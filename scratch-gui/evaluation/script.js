@@ -65,14 +65,14 @@ scratchworldModule({name: 'evaluation/script', create(ctx) {
     if (value == null) return null;
     const bad = (message) => new BridgeFailure('bad_request', `perturbation: ${message}`);
     const seed = value.randomSeed;
-    if (!(Number.isInteger(seed) && seed >= 0 && seed < 2 ** 32)) throw bad('randomSeed must be an integer from 0 to 2^32 - 1');
+    if (!ctx.isSeed(seed)) throw bad('randomSeed must be an integer from 0 to 2^32 - 1');
     const phaseMs = value.phaseMs == null ? 0 : value.phaseMs;
     if (!(typeof phaseMs === 'number' && phaseMs >= 0 && phaseMs < 1000)) throw bad('phaseMs must be from 0 to under 1000');
     const late = value.lateness == null ? null : value.lateness;
     if (late !== null) {
       if (!LATENESS_MODELS.includes(late.model)) throw bad(`lateness.model must be one of ${LATENESS_MODELS.join(', ')}`);
       if (!(typeof late.ms === 'number' && late.ms >= 0 && late.ms <= 1000)) throw bad('lateness.ms must be from 0 to 1000');
-      if (!(Number.isInteger(late.seed) && late.seed >= 0 && late.seed < 2 ** 32)) throw bad('lateness.seed must be an integer from 0 to 2^32 - 1');
+      if (!ctx.isSeed(late.seed)) throw bad('lateness.seed must be an integer from 0 to 2^32 - 1');
       if (late.ms > 0 && clockMode !== 'virtual') throw bad('timer lateness needs the virtual clock');
     }
     if (phaseMs > 0 && clockMode !== 'virtual') throw bad('a frame phase needs the virtual clock');
