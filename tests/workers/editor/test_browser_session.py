@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import time
+from collections.abc import AsyncIterator
 from pathlib import Path
 
 import pytest
@@ -20,7 +22,7 @@ from tests.conftest import copy_page_files, pooled_editor
 from tests.support.browser_pages import crash_renderer
 from tests.support.projects import counter_project
 from workers.contract import EvaluationSpec
-from workers.editor import BrowserConfig, BrowserSession, EditorAssets, EditorPool
+from workers.editor import BrowserConfig, BrowserSession, Editor, EditorAssets, EditorPool
 from workers.evaluation import Evaluator
 
 pytestmark = pytest.mark.browser
@@ -49,61 +51,59 @@ new MutationObserver((records) => {
 """
 
 
-async def test_an_editor_draws_its_palette_once_for_the_default_sprite_before_it_is_ready() -> None:
-    # The GUI first draws a stage's palette (no motion blocks), which no one sees; first-palette.js
-    # leaves its categories empty, and the editor is ready only once the sprite's palette is drawn.
+@contextlib.asynccontextmanager
+async def drawings_counted(*, draw_palette: bool) -> AsyncIterator[Editor]:
+    """An editor of a browser of its own whose pages count their palette drawings (``FLYOUT_DRAWINGS``)."""
     async with BrowserSession(BrowserConfig(editor_isolation="origin")) as session:
         assert session._shared is not None
         await session._shared.context.add_init_script(FLYOUT_DRAWINGS)
-        async with session.editor() as editor:
-            drawings = await editor.page.evaluate("window.__flyoutDrawings")
+        editor = await session.open_editor(draw_palette=draw_palette)
+        try:
+            yield editor
+        finally:
+            await editor.close()
+
+
+async def flyout_text(editor: Editor) -> str:
+    return (await editor.page.evaluate("document.querySelector('.blocklyFlyout').textContent")).replace("\xa0", " ")
+
+
+async def test_an_editor_draws_its_palette_once_for_the_default_sprite_before_it_is_ready() -> None:
+    # The GUI first draws a stage's palette (no motion blocks), which no one sees; first-palette.js
+    # leaves its categories empty, and the editor is ready only once the sprite's palette is drawn.
+    async with drawings_counted(draw_palette=True) as editor:
+        drawings = await editor.page.evaluate("window.__flyoutDrawings")
     assert len(drawings) == 1, [len(types) for types in drawings]
     assert {"motion_movesteps", "looks_sayforsecs", "event_whenflagclicked"} <= set(drawings[0])
-
-
-FLYOUT_TEXT = "document.querySelector('.blocklyFlyout').textContent"
 
 
 async def test_an_editor_opened_ahead_draws_no_palette_until_its_first_project_draws_its_own() -> None:
     # A pool's editors open without the default project's palette: every use loads a project first, and
     # that load draws the project's own. Recycled, such a page compares clean (what the pool checks).
-    async with BrowserSession(BrowserConfig(editor_isolation="origin")) as session:
-        assert session._shared is not None
-        await session._shared.context.add_init_script(FLYOUT_DRAWINGS)
-        editor = await session.open_editor(draw_palette=False)
-        try:
-            status = await editor.status()
-            assert status.vm and status.project_loads >= 1 and not status.workspace
-            assert await editor.page.evaluate("window.__flyoutDrawings") == []
+    async with drawings_counted(draw_palette=False) as editor:
+        status = await editor.status()
+        assert status.vm and status.project_loads >= 1 and not status.workspace
+        assert await editor.page.evaluate("window.__flyoutDrawings") == []
 
-            await editor.load_project(counter_project().to_sb3())
-            await editor.page.wait_for_function("() => window.__flyoutDrawings.length > 0", polling=50)
-            assert (await editor.status()).workspace
-            palette = (await editor.page.evaluate(FLYOUT_TEXT)).replace("\xa0", " ")
-            assert "count" in palette and "my variable" not in palette  # the project's variable, not the default's
-            await editor.draw_palette()  # nothing held any more: no second drawing
-            drawings = await editor.page.evaluate("window.__flyoutDrawings")
-            assert len(drawings) == 1, [len(types) for types in drawings]
-            assert {"motion_movesteps", "data_setvariableto"} <= set(drawings[0])
-            editor.uses += 1
-            assert await editor.recycle() == []
-        finally:
-            await editor.close()
+        await editor.load_project(counter_project().to_sb3())
+        await editor.page.wait_for_function("() => window.__flyoutDrawings.length > 0", polling=50)
+        assert (await editor.status()).workspace
+        palette = await flyout_text(editor)
+        assert "count" in palette and "my variable" not in palette  # the project's variable, not the default's
+        await editor.draw_palette()  # nothing held any more: no second drawing
+        drawings = await editor.page.evaluate("window.__flyoutDrawings")
+        assert len(drawings) == 1, [len(types) for types in drawings]
+        assert {"motion_movesteps", "data_setvariableto"} <= set(drawings[0])
+        editor.uses += 1
+        assert await editor.recycle() == []
 
 
 async def test_the_held_palette_of_an_editor_opened_ahead_is_drawn_on_request() -> None:
-    async with BrowserSession(BrowserConfig(editor_isolation="origin")) as session:
-        assert session._shared is not None
-        await session._shared.context.add_init_script(FLYOUT_DRAWINGS)
-        editor = await session.open_editor(draw_palette=False)
-        try:
-            await editor.draw_palette()
-            assert (await editor.status()).workspace
-            palette = (await editor.page.evaluate(FLYOUT_TEXT)).replace("\xa0", " ")
-            assert "my variable" in palette  # the default project's
-            assert len(await editor.page.evaluate("window.__flyoutDrawings")) == 1
-        finally:
-            await editor.close()
+    async with drawings_counted(draw_palette=False) as editor:
+        await editor.draw_palette()
+        assert (await editor.status()).workspace
+        assert "my variable" in await flyout_text(editor)  # the default project's
+        assert len(await editor.page.evaluate("window.__flyoutDrawings")) == 1
 
 
 async def test_missing_chromium_is_named(tmp_path: Path) -> None:
