@@ -354,7 +354,8 @@
   }
 
   const api = {
-    status, setStageSize, drawPalette, loadProject, saveProject, evaluate, episodeClock, advanceClock, seedRandom, recycle,
+    status, setStageSize, drawPalette, loadProject, saveProject, evaluate, episodeClock, advanceClock, seedRandom,
+    recycle,
     redrawPanels: () => { requireVm().emitTargetsUpdate(false); },
     clockStatus: () => clock.status(),
     markClean: () => {

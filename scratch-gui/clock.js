@@ -10,10 +10,10 @@
  * between two timers as they do in a browser, and the clock jumps to its due time.
  *
  * A fake clock alone would hang or slow the VM, which also measures work on the clock, so the VM
- * gets three patches (vm-clock-patches.js, installed by `attachVm`): its per-frame work budget and its warp timer use the
- * real clock; "play sound until done" ends after the sound's length in virtual time (the audio
- * clock is not a timer); in virtual mode a frame's work also stops after a pass over the threads in
- * which no block with a side effect ran, since every further pass would repeat it exactly.
+ * gets three patches (vm-clock-patches.js, installed by `attachVm`): its per-frame work budget and its
+ * warp timer use the real clock; "play sound until done" ends after the sound's length in virtual time
+ * (the audio clock is not a timer); in virtual mode a frame's work also stops after a pass over the
+ * threads in which no block with a side effect ran, since every further pass would repeat it exactly.
  * `requestAnimationFrame` stays real: the VM steps on an interval timer and draws in its step, and
  * during our suite's evaluations only the GUI called it (0-2 times per evaluation, measured).
  *

@@ -13,7 +13,7 @@
  *   kept aside is sent on and drawn.
  * tests/workers/editor/test_browser_session.py counts the drawings. Measured on one browser's openings
  * from the third on (docs/measuring.md): 1.93-2.09 CPU-s per opening with three drawings, 1.76-1.83 with
- * the sprite's one, and see there for none.
+ * the sprite's one; on a slower evening, 2.13-2.22 with the sprite's one and 1.69-1.77 with none.
  * The bridge takes this from `window.__scratchworldFirstPalette` (and deletes it); the bare page has no
  * palette and does not load this script.
  */
@@ -73,5 +73,5 @@
     return true;
   }
 
-  window.__scratchworldFirstPalette = {hold: hold, waiting: waiting, isHeld: () => held !== null, stopHolding: stopHolding, release: release};
+  window.__scratchworldFirstPalette = Object.freeze({hold, waiting, isHeld: () => held !== null, stopHolding, release});
 })();

@@ -201,7 +201,7 @@ class Editor:
 
         ``draw_palette=False``: the palette stays undrawn until the page's first project load, which draws
         that project's own (``scratch-gui/first-palette.js``): for an editor opened ahead, whose every use
-        loads a project first, it saves drawing the default project's palette (about 0.3 CPU-s)."""
+        loads a project first, it saves drawing the default project's palette (0.3-0.45 CPU-s here)."""
         started = time.monotonic()
         deadline = started + timeout_s
         try:

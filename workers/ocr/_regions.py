@@ -46,8 +46,8 @@ class RegionOCR:
     Boxes are stored relative to their crop, so a panel that scrolled or moved but kept its pixels is
     still a hit. Eviction is least-recently-used beyond ``max_entries``. The cache is thread-safe, and a
     read of pixels another thread is reading already waits for that read (``shared``) instead of running
-    the backend again: episodes of one task start on the same stage at once, and a region read cold
-    costs 0.5-0.8 CPU-s (rapidocr scales it to 736 pixels on its short side).
+    the backend again: episodes of one task start on the same stage at once, and the stage read cold
+    costs about 0.8 CPU-s (rapidocr scales it to 736 pixels on its short side).
     """
 
     def __init__(self, backend: OCRBackend, max_entries: int = 256) -> None:
