@@ -107,7 +107,7 @@
   // Draw the default project's palette held since the opening; the page is settled again once it is drawn.
   function drawPalette() {
     if (bareStage) throw new BridgeFailure('bad_request', 'the bare page has no palette');
-    return {released: firstPalette.release(store)};
+    return {released: firstPalette.release()};
   }
 
   function status() {

@@ -22,7 +22,7 @@
 
   const UPDATE_TOOLBOX = 'scratch-gui/toolbox/UPDATE_TOOLBOX';
 
-  let held = null; // while the palette is held: {dispatch, kept: the latest real toolbox, sent: toolboxes sent on}
+  let held = null; // while held: {store, dispatch, kept: the latest real toolbox, sent: toolboxes sent on}
 
   // The toolbox with its categories' blocks removed, or null if it does not parse.
   function emptied(xml) {
@@ -38,7 +38,7 @@
     const empty = emptied(xml);
     if (empty === null) return; // left as it is: drawn as the GUI draws it
     const dispatch = store.dispatch;
-    held = {dispatch: dispatch, kept: xml, sent: 0};
+    held = {store: store, dispatch: dispatch, kept: xml, sent: 0};
     store.dispatch = (action) => {
       if (held && action && action.type === UPDATE_TOOLBOX) {
         const heldEmpty = emptied(action.toolboxXML);
@@ -63,10 +63,9 @@
   }
 
   // Draw the toolbox kept aside, unless another has reached the store meanwhile. True if one was sent on.
-  function release(store) {
+  function release() {
     if (!held) return false;
-    const kept = held.kept;
-    const dispatch = held.dispatch;
+    const {store, dispatch, kept} = held;
     held = null;
     if (store.getState().scratchGui.toolbox.toolboxXML !== emptied(kept)) return false;
     dispatch({type: UPDATE_TOOLBOX, toolboxXML: kept});

@@ -96,7 +96,7 @@ class EditorPool:
     async def _open_parked(self, kind: EvaluationPage) -> None:
         self.opened += 1
         try:
-            editor = await self.session.open_editor(kind, draw_palette=False)
+            editor = await self._open_fresh(kind)
         except EditorError as exc:
             log.warning("an editor opened ahead failed: %s", exc)
             return
@@ -142,7 +142,11 @@ class EditorPool:
             await editor.close()
         self._refill()
         self.opened += 1
-        return self._lend(await self.session.open_editor(kind, draw_palette=False))
+        return self._lend(await self._open_fresh(kind))
+
+    async def _open_fresh(self, kind: EvaluationPage) -> Editor:
+        """A new page of the browser's, its palette held until its first project load (every use loads one)."""
+        return await self.session.open_editor(kind, draw_palette=False)
 
     def _lend(self, editor: Editor) -> Editor:
         self._lent[editor] = editor.uses
@@ -195,7 +199,7 @@ class EditorPool:
     def _refill(self) -> None:
         while not self._closed and len(self._opening) < self.spare:
             self.opened += 1
-            self._opening.append(asyncio.ensure_future(self.session.open_editor(self._spare_kind, draw_palette=False)))
+            self._opening.append(asyncio.ensure_future(self._open_fresh(self._spare_kind)))
 
     async def _drop_spares(self) -> None:
         """Close the spares opening (or opened) ahead: they are of a kind no longer asked for."""
