@@ -5,7 +5,6 @@ for a folder that is not a run, "did you mean" for a config key, an example in e
 from __future__ import annotations
 
 import logging
-import socket
 from pathlib import Path
 
 import click
@@ -15,6 +14,7 @@ from scratchworld_dist.cli._main import cli
 from scratchworld_dist.cli._options import REPORT_FORMATS, tasks_option
 from tests.conftest import REPO
 from tests.support.cli_runner import invoke
+from tests.support.closed_port import closed_port
 from tests.support.run_dirs import job, make_run
 
 
@@ -42,28 +42,22 @@ def test_every_command_s_help_shows_an_example() -> None:
         assert "Example: scratchworld " + path.split()[0] in done.stdout, path
 
 
-def closed_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
-
-
 def test_regrade_joins_the_cluster_address_or_ray_address_names(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     run = make_run(tmp_path / "run", [job("j1", artifact_dir="artifacts/j1")], planned=1, tasks=1)
     (run / "artifacts" / "j1").mkdir(parents=True)
     (run / "artifacts" / "j1" / "final.sb3").write_bytes(b"PK\x03\x04 not opened: Ray is reached first")
-    port = closed_port()
     out = str(tmp_path / "out")
     monkeypatch.delenv("RAY_ADDRESS", raising=False)
-    for spelling in ("--address", "--ray-address"):  # the former spelling still works
-        done = invoke("regrade", str(run), "--out", out, spelling, f"127.0.0.1:{port}")
-        assert done.returncode == 2, done.stderr
-        assert f"cannot reach the Ray cluster at 127.0.0.1:{port}" in done.stderr
-    monkeypatch.setenv("RAY_ADDRESS", f"127.0.0.1:{port}")
-    done = invoke("regrade", str(run), "--out", out)
-    assert done.returncode == 2 and f"cannot reach the Ray cluster at 127.0.0.1:{port}" in done.stderr
+    with closed_port() as port:
+        for spelling in ("--address", "--ray-address"):  # the former spelling still works
+            done = invoke("regrade", str(run), "--out", out, spelling, f"127.0.0.1:{port}")
+            assert done.returncode == 2, done.stderr
+            assert f"cannot reach the Ray cluster at 127.0.0.1:{port}" in done.stderr
+        monkeypatch.setenv("RAY_ADDRESS", f"127.0.0.1:{port}")
+        done = invoke("regrade", str(run), "--out", out)
+        assert done.returncode == 2 and f"cannot reach the Ray cluster at 127.0.0.1:{port}" in done.stderr
     help_text = invoke("regrade", "--help").stdout
     assert "--address" in help_text and "--ray-address" not in help_text  # kept, but not shown
 

@@ -7,7 +7,6 @@ perception benchmark (no browser) and stop before Ray is even started, so none o
 
 from __future__ import annotations
 
-import socket
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -21,6 +20,7 @@ from scratchworld_dist.scheduling import ModelCalls, run_preflight
 from scratchworld_dist.sweep import load_sweep_config
 from tests.conftest import SUITE_DIR
 from tests.support.cli_runner import invoke
+from tests.support.closed_port import closed_port
 from tests.support.openai_server import Behaviour, OpenAIServer, reply, status
 from tests.support.perception_suites import write_suite
 from workers.contract import ModelSpec, RetryPolicy
@@ -55,13 +55,6 @@ def server(module_server: OpenAIServer) -> OpenAIServer:
     return module_server.reset(answer)
 
 
-def closed_port() -> int:
-    """A loopback port nothing listens on (bound, then released)."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
-
-
 def model(name: str, model: str = "openai/gpt-4o-mini", **fields: Any) -> dict[str, Any]:
     found = {"model": model, "name": name, "api_base_env": BASE_ENV, "api_key_env": KEY_ENV}
     found.update(fields)
@@ -69,6 +62,7 @@ def model(name: str, model: str = "openai/gpt-4o-mini", **fields: Any) -> dict[s
 
 
 GOOD = model("good")
+CLOSED_BASE = "http://127.0.0.1:{closed_port}/v1"  # the port is held closed for the test's length
 
 
 def perception_sweep(tmp_path: Path, models: list[dict[str, Any]], **fields: Any) -> Path:
@@ -116,7 +110,7 @@ def only_probes(server: OpenAIServer) -> list[str]:
             [],
         ),
         (
-            model("closed", api_base_env=None, api_base=f"http://127.0.0.1:{closed_port()}/v1"),
+            model("closed", api_base_env=None, api_base=CLOSED_BASE),
             "closed (openai/gpt-4o-mini): model_connection: after 2 attempt(s): ",
             [],
         ),
@@ -137,7 +131,10 @@ def test_a_broken_model_stops_the_sweep_before_anything_starts_naming_it(
     tmp_path: Path, server: OpenAIServer, broken: dict[str, Any], line: str, probed: list[str]
 ) -> None:
     assert not ray.is_initialized()
-    done = invoke("run", str(perception_sweep(tmp_path, [GOOD, broken])))
+    with closed_port() as port:
+        if broken.get("api_base") == CLOSED_BASE:
+            broken = {**broken, "api_base": CLOSED_BASE.format(closed_port=port)}
+        done = invoke("run", str(perception_sweep(tmp_path, [GOOD, broken])))
     assert done.returncode == 2, done.stdout + done.stderr
     first, *named = done.stderr.strip().splitlines()
     assert first == (
