@@ -42,7 +42,9 @@ step's latency.
   and ending, and with evaluations; ``start``/``end`` p95 are printed apart); ``obs p50/p95``: the
   observation's own seconds (``observation_s``), which in primitive mode are the screenshot, the
   element list and OCR;
-- where the cores went, per phase of the run: ``ramp`` (episodes starting, until 90% of the most are in their
+- where the cores went, per phase: ``start`` (the sweep's start until its first episode's: Ray, the workers and
+  their browsers start and open their editors ahead; the first sample's interval is left out), then of the run:
+  ``ramp`` (episodes starting, until 90% of the most are in their
   agent loop), ``full`` (at least 90% of the most in their loop: the load the targets are about) and ``end``
   (from the first episode's end: episodes end, save and recycle their pages, and are judged beside those still
   acting); per phase its seconds, its steps' overhead p50/p95, the model calls per second, and the cores of each
@@ -312,9 +314,22 @@ def measure(n: int, clock: str, mode: str, run: int, args: argparse.Namespace, m
         all_in_s=None if (all_in := first_all_in_flight(episodes, n)) is None else all_in - began,
         errors=sum(1 for j in jobs if j["outcome"] == "error"),
         problems=problems,
-        phases=phases(run, in_loop, loops, requests, step_starts(jobs, steps, overhead)),
+        phases=[
+            *start_phase([s for s in sampler.samples if s.t <= first]),
+            *phases(run, in_loop, loops, requests, step_starts(jobs, steps, overhead)),
+        ],
         model_late=percentiles(served.lateness[len(earlier.lateness) :]),
     )
+
+
+def start_phase(samples: list[Sample]) -> list[Phase]:
+    """The sweep's start, from the first sample to the first episode's start: Ray and the workers start, the
+    workers open their editors ahead (and import LiteLLM meanwhile). No model call falls in it."""
+    seconds = samples[-1].t - samples[0].t if len(samples) > 1 else 0.0
+    if seconds <= 0:
+        return []
+    cores = {kind: (samples[-1].by_kind[kind] - samples[0].by_kind[kind]) / seconds for kind in PROCESS_KINDS}
+    return [Phase("start", seconds, 0.0, cores, (math.nan, math.nan))]
 
 
 def phases(
