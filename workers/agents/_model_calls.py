@@ -15,6 +15,7 @@ import binascii
 import hashlib
 import json
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -101,11 +102,15 @@ class EpisodeModels:
         self._conversations: dict[str, list[str]] = {}
         """Per conversation (its first message), the keys of the last call's messages and its reply."""
         self._step = StepCalls()
+        self.before_call: Callable[[], None] | None = None
+        """Called as each model call begins (the episode runner gives back its start turn: no one waits on a model)."""
 
     def connect(self, spec: ModelSpec) -> ModelHandle:
         return _Handle(self, spec, self._client or shared_client(spec, self.policy))
 
     async def call(self, client: ModelClient, messages: list[dict[str, Any]]) -> ModelReply:
+        if self.before_call is not None:
+            self.before_call()
         completion = await client.complete(messages, seed=self.seed, cache=self.cache)
         added = [self._recorded_form(message) for message in self._new_messages(messages, completion.text)]
         if self._step.reply is not None:  # an earlier call of this step: its reply joins the record

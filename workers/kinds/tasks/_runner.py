@@ -18,7 +18,7 @@ import contextlib
 import json
 import time
 import traceback
-from collections.abc import Awaitable
+from collections.abc import Awaitable, Callable
 from typing import TypeVar
 
 from pydantic import JsonValue
@@ -92,23 +92,30 @@ class AgentCrashedError(Exception):
 
 
 STARTS_AT_ONCE = 1
-"""Episodes of one runner (one browser) that take their editor and load their project at once.
+"""Episodes of one runner (one browser) that start at once: take an editor, load the project, and make the first
+observation (or the first model call, whichever comes first).
 
-Starting is CPU-bound (the project loads, the page settles, and on the virtual clock ``start_ms``
-of frames run as fast as they can), so starting many at once only makes each later; started one
-after the other, the first agent acts sooner and the episodes' steps do not all fall at the same
-moments (measured with 32 episodes on 2 cores: every step then waited seconds for the others')."""
+Starting is CPU-bound (loading, settling, ``start_ms`` of frames on the virtual clock, a primitive first
+observation's OCR), so starting many at once only makes each later; one after the other, the first agent acts
+sooner and steps do not all fall at the same moments (32 episodes on 2 cores: every step waited seconds). With
+the turn given back before the first observation, 16 primitive episodes on 2 cores saw theirs 8.6 s into their
+first step at the median, all at the ramp's end, and then stepped in cohorts (11 drags in one second)."""
 
 
 class _Turn:
     """One of a limited number of turns, given back on exit or earlier by ``release`` (once)."""
 
-    def __init__(self, turns: asyncio.Semaphore) -> None:
+    def __init__(self, turns: asyncio.Semaphore, runner: EpisodeRunner) -> None:
         self._turns = turns
+        self._runner = runner
         self._held = False
 
     async def __aenter__(self) -> _Turn:
-        await self._turns.acquire()
+        self._runner.waiting_to_start += 1
+        try:
+            await self._turns.acquire()
+        finally:
+            self._runner.waiting_to_start -= 1
         self._held = True
         return self
 
@@ -128,6 +135,8 @@ class EpisodeRunner:
         """Episodes open their editors in ``browser`` (from its pool, if it has one) and are judged by its evaluator."""
         self.browser = browser
         self._starts = asyncio.Semaphore(STARTS_AT_ONCE)
+        self.waiting_to_start = 0
+        """Episodes queued for their start turn (``STARTS_AT_ONCE``), holding no editor yet."""
         self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
         """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
 
@@ -151,7 +160,7 @@ class EpisodeRunner:
         recording = _Recording()
         try:
             async with (
-                _Turn(self._starts) as starting,
+                _Turn(self._starts, self) as starting,
                 self.browser.pool.editor()
                 if self.browser.pool is not None
                 else self.browser.session.editor() as editor,
@@ -173,14 +182,14 @@ class EpisodeRunner:
                 await recording.start(editor, spec.record)
                 await pace.start()
                 await editor.collect_garbage()  # the start's garbage: the page waits with ~35 MB less
-                starting.release()
+                models.before_call = starting.release  # a model call in the agent's start waits for no one
                 context = _context(spec, task, agent, editor, environment, models, memory)
                 stop_reason = "internal_error"
                 self.browser.acting += 1
                 try:
                     await _guarded(agent.start(context), "failed to start")
                     timings.setup_s = time.perf_counter() - clock
-                    stop_reason = await _act(agent, environment, spec, steps, models, pace)
+                    stop_reason = await _act(agent, environment, spec, steps, models, pace, starting.release)
                 except ModelCallError as exc:
                     stop_reason = exc.error_class
                     raise
@@ -299,12 +308,13 @@ async def _act(
     steps: list[StepRecord],
     models: EpisodeModels,
     pace: Pace,
+    observed: Callable[[], None],
 ) -> str:
-    """The agent loop; returns why it stopped."""
+    """The agent loop; returns why it stopped. ``observed`` is called after each observation."""
     last: StepResult | None = None
     for index in range(spec.max_steps):
         with span("step", index=index, task=spec.task_id, mode=spec.mode) as stepping:
-            step, last, name = await _step(agent, environment, spec, models, pace, index, last)
+            step, last, name = await _step(agent, environment, spec, models, pace, index, last, observed)
             set_attributes(
                 stepping, action=step.action, ok=step.ok, error_code=step.error_code, llm_calls=step.llm_calls,
                 input_tokens=step.input_tokens, output_tokens=step.output_tokens,
@@ -323,6 +333,7 @@ async def _step(
     pace: Pace,
     index: int,
     last: StepResult | None,
+    observed: Callable[[], None],
 ) -> tuple[StepRecord, StepResult, str]:
     """One step: observe, let the agent choose, carry out its action. The step as recorded, what the agent is told
     of it, and the action's name (a final one ends the episode)."""
@@ -330,6 +341,7 @@ async def _step(
     episode_clock_ms = pace.elapsed_ms if pace.virtual else None
     observation = await environment.observe() if getattr(agent, "observes", True) else None
     observation_s = time.perf_counter() - step_start
+    observed()
     action = await _guarded(agent.act(observation, last), f"raised at step {index}")
     if not isinstance(action, ACTION_TYPES):
         message = f"the agent returned a {type(action).__name__} at step {index}, not an action"
