@@ -62,6 +62,7 @@ from workers.editor import Editor
 from workers.kinds.tasks._contract import EpisodeSpec
 from workers.kinds.tasks._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
 from workers.kinds.tasks._pace import Pace
+from workers.kinds.tasks._turns import Turn, Turns
 from workers.llm import ModelCache
 from workers.ocr import RegionOCR
 from workers.primitive import PrimitiveObserver, region_ocr
@@ -102,43 +103,20 @@ the turn given back before the first observation, 16 primitive episodes on 2 cor
 first step at the median, all at the ramp's end, and then stepped in cohorts (11 drags in one second)."""
 
 
-class _Turn:
-    """One of a limited number of turns, given back on exit or earlier by ``release`` (once)."""
-
-    def __init__(self, turns: asyncio.Semaphore, runner: EpisodeRunner) -> None:
-        self._turns = turns
-        self._runner = runner
-        self._held = False
-
-    async def __aenter__(self) -> _Turn:
-        self._runner.waiting_to_start += 1
-        try:
-            await self._turns.acquire()
-        finally:
-            self._runner.waiting_to_start -= 1
-        self._held = True
-        return self
-
-    def release(self) -> None:
-        if self._held:
-            self._held = False
-            self._turns.release()
-
-    async def __aexit__(self, *exc: object) -> None:
-        self.release()
-
-
 class EpisodeRunner:
     """Runs episodes in one browser session; safe to use for several episodes at once."""
 
     def __init__(self, browser: WorkerBrowser) -> None:
         """Episodes open their editors in ``browser`` (from its pool, if it has one) and are judged by its evaluator."""
         self.browser = browser
-        self._starts = asyncio.Semaphore(STARTS_AT_ONCE)
-        self.waiting_to_start = 0
-        """Episodes queued for their start turn (``STARTS_AT_ONCE``), holding no editor yet."""
+        self._starts = Turns(STARTS_AT_ONCE)
         self._ocr: dict[ObservationSettings, RegionOCR | None] = {}
         """One OCR engine (and region cache) per setting, shared by this runner's episodes."""
+
+    @property
+    def waiting_to_start(self) -> int:
+        """Episodes queued for their start turn (``STARTS_AT_ONCE``), holding no editor yet."""
+        return self._starts.waiting
 
     async def _environment(self, spec: EpisodeSpec, editor: Editor, pace: Pace) -> Environment:
         if spec.mode == "composite":
@@ -160,7 +138,7 @@ class EpisodeRunner:
         recording = _Recording()
         try:
             async with (
-                _Turn(self._starts, self) as starting,
+                Turn(self._starts) as starting,
                 self.browser.pool.editor()
                 if self.browser.pool is not None
                 else self.browser.session.editor() as editor,

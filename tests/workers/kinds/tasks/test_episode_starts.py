@@ -8,8 +8,7 @@ from __future__ import annotations
 
 import asyncio
 import time
-from collections.abc import Callable, Iterator
-from typing import Any
+from collections.abc import Awaitable, Callable, Iterator
 
 import pytest
 
@@ -27,6 +26,7 @@ from workers.kinds.tasks import EpisodeRunner, EpisodeSpec
 pytestmark = [pytest.mark.browser, pytest.mark.usefixtures("litellm_clients")]
 
 KEY_ENV = "SCRATCHWORLD_TEST_STARTS_KEY"
+Looking = Callable[[], Awaitable[None]]
 
 
 @pytest.fixture(scope="module")
@@ -68,7 +68,7 @@ class Noting(AgentBase):
     """Writes ``<name> start``, ``<name> answered`` (after a model call in its start, if ``calls``) and ``<name> act``;
     ``before_looking`` is awaited at the end of its start."""
 
-    def __init__(self, name: str, log: list[str], calls: bool = False, before_looking: Any = None) -> None:
+    def __init__(self, name: str, log: list[str], calls: bool = False, before_looking: Looking | None = None) -> None:
         super().__init__()
         self.name, self.log, self.calls, self.before_looking = name, log, calls, before_looking
 
