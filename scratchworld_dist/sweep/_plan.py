@@ -54,6 +54,12 @@ class JobBody(BaseModel):
         """Whose time the job's page runs on, if it has one (admission measures editors under it)."""
         return "real"
 
+    @property
+    def expected_length(self) -> float:
+        """How long the job may take against the other jobs of its sweep, in any unit: the longest start first
+        (``scratchworld_dist._run``). A single-step job is 1."""
+        return 1.0
+
 
 class JobSpec(BaseModel):
     """One cell of the matrix, as planned by the driver: the header every kind shares, and its kind's body."""

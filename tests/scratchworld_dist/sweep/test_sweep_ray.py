@@ -9,6 +9,7 @@ one Ray for the module (the ``shared_ray`` fixture).
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import socket
@@ -265,6 +266,29 @@ def test_episode_timeout_is_recorded_retried_and_kept_out_of_verdicts(tmp_path: 
     text = " ".join(status.stdout.split())
     assert "0/2 decided" in text
     assert "episode_timeout 2" in text
+
+
+@pytest.mark.parametrize(
+    ("max_steps", "first"),
+    [({"composite": 30, "primitive": 20}, "primitive"), ({"composite": 50, "primitive": 20}, "composite")],
+)
+def test_the_longest_jobs_start_first(tmp_path: Path, shared_ray: int, max_steps: dict, first: str) -> None:
+    """A primitive step counts as two composite ones: a sweep's tail is its shortest jobs, whatever the config's
+    order of modes."""
+    config = write_config(
+        tmp_path,
+        tasks={"ids": TASKS[:2]},
+        seeds=2,
+        episodes={"modes": ["composite", "primitive"], "max_steps": max_steps, "synthetic": {"duration_s": 0}},
+        limits={"max_in_flight": 1},
+    )
+    code, out = run_here(config)
+    assert code == 0, out
+    events = [json.loads(line) for line in (tmp_path / "run" / "events.jsonl").read_text().splitlines()]
+    started = [event["mode"] for event in events if event["event"] == "job_start"]
+    assert started == [first] * 4 + [other for other in ("composite", "primitive") if other != first] * 4
+    tasks = [event["task_id"] for event in events if event["event"] == "job_start"][:4]
+    assert set(tasks) == set(TASKS[:2]) and tasks[:2] == tasks[2:]  # plan order among equals: seed, then suite order
 
 
 @pytest.mark.browser
