@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import contextlib
 import os
+import threading
 from collections.abc import Callable
+from concurrent.futures import Future
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import ray
 from ray.exceptions import RayError
@@ -43,13 +45,16 @@ from scratchworld_dist.results import (
 from scratchworld_dist.results.remote._sync import RemoteRun, open_remote
 from scratchworld_dist.scheduling import (
     ProgressOptions,
+    RayUnavailableError,
     Scheduler,
     WorkerPool,
     admitted_slots,
     agreed_harness,
+    broken_by_settings,
     exclusive,
     inspect_nodes,
     live_progress,
+    most_slots,
     pages_per_worker,
     ray_runtime,
     refuse_broken,
@@ -65,11 +70,14 @@ from workers.contract import (
     JobResult,
     ModelSpec,
     NodeReport,
+    Preflight,
     WorkerJob,
 )
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 from workers.node import describe_node, harness_fingerprint
 from workers.tracing import TracingConfigError, tracing_active
+
+_T = TypeVar("_T")
 
 
 class AttemptRecorder:
@@ -151,7 +159,8 @@ def _run_plan(
     config = plan.config
     remote = open_remote(config, console)  # before anything else: a bucket that cannot take the run stops it here
     try:
-        return _run_in(plan, nodes, force, console, skip_broken_models, progress, remote)
+        with contextlib.ExitStack() as ray_scope:
+            return _run_in(plan, nodes, force, console, skip_broken_models, progress, remote, ray_scope)
     finally:
         if remote is not None:
             note = remote.close(config.storage.drain_timeout_s)
@@ -166,7 +175,9 @@ def _run_in(
     skip_broken_models: bool,
     progress: ProgressOptions,
     remote: RemoteRun | None,
+    ray_scope: contextlib.ExitStack,
 ) -> RunSummary:
+    """The run itself; a private Ray started beside the preflight lives in ``ray_scope`` (until the run ends)."""
     config = plan.config
     run_dir = config.run_dir()
     store = RunStore(run_dir)
@@ -176,8 +187,8 @@ def _run_in(
     if config.model_cache is not None:
         _open_model_cache(config.model_cache.dir)
     # Before the run directory is touched: a broken model stops the run leaving nothing behind.
-    on_node = None if config.ray.address is None else nodes[0]  # a cluster: where the workers' environment is
-    preflight = run_preflight(plan, [job for job, _ in store.undecided(plan.jobs)], on_node)
+    undecided_jobs = [job for job, _ in store.undecided(plan.jobs)]
+    preflight, ray_started = _preflight_beside_ray(plan, undecided_jobs, nodes, ray_scope)
     refuse_broken(preflight, skip_broken_models)
     store.open_for_writing()
     feed: TrackerFeed | None = None
@@ -232,7 +243,12 @@ def _run_in(
         )
         if todo:
             sends = spans.sends if spans is not None else worker_job
-            summary = _execute(plan, manifest, store, todo, local_slots, console, summary, watcher, progress, sends)
+            runtime = (
+                contextlib.nullcontext(local_slots)
+                if ray_started and local_slots is not None
+                else ray_runtime(config.ray.address, local_slots, config.ray.connect_timeout_s)
+            )
+            summary = _execute(plan, manifest, store, todo, runtime, console, summary, watcher, progress, sends)
         session.finished_at = now()
         session.submitted = summary.sent
         session.budget_stop = summary.budget_stop
@@ -279,23 +295,65 @@ def _finish_trackers(
             _save_manifest(run_dir, manifest, remote)
 
 
+def _preflight_beside_ray(
+    plan: RunPlan, jobs: list[JobSpec], nodes: list[NodeReport], ray_scope: contextlib.ExitStack
+) -> tuple[Preflight | None, bool]:
+    """The preflight of ``jobs``' models, and whether a private Ray was started meanwhile (into ``ray_scope``).
+
+    A probe waits on LiteLLM's import and the providers (2-3 s, a few more for a slow model), a private Ray on
+    its own processes (3-4 s): one after the other they were 7-12 s of every sweep's start, with the cores
+    mostly idle. So the probe runs in a thread while this one starts the Ray, offering the most slots admission
+    may give (it decides them once the jobs are settled). No worker and no editor start before the preflight
+    has answered, and a broken model still stops the sweep: its Ray is shut down with ``ray_scope``. The
+    preflight runs alone on a cluster (Ray is joined already), with a Ray this process started itself, and when
+    a model's settings alone show it broken (no call needed: the sweep stops at once, starting nothing).
+    """
+    config = plan.config
+    if config.ray.address is not None or not jobs or ray.is_initialized() or broken_by_settings(plan, jobs):
+        on_node = None if config.ray.address is None else nodes[0]  # a cluster: where the workers' environment is
+        return run_preflight(plan, jobs, on_node), False
+    checking = _in_thread(partial(run_preflight, plan, jobs, None))
+    try:
+        ray_scope.enter_context(ray_runtime(None, most_slots(config.limits, os.cpu_count() or 1)))
+    except RayUnavailableError:
+        refuse_broken(checking.result(), skip_broken=False)  # a broken model is the first thing to say
+        raise
+    return checking.result(), True
+
+
+def _in_thread(work: Callable[[], _T]) -> Future[_T]:
+    """``work``'s outcome, run in a daemon thread (an interrupted sweep does not wait for it to end)."""
+    outcome: Future[_T] = Future()
+
+    def run() -> None:
+        try:
+            outcome.set_result(work())
+        except BaseException as exc:  # handed to whoever waits on the outcome
+            outcome.set_exception(exc)
+
+    threading.Thread(target=run, name="preflight", daemon=True).start()
+    return outcome
+
+
 def _execute(
     plan: RunPlan,
     manifest: RunManifest,
     store: RunStore,
     todo: list[tuple[JobSpec, int]],
-    local_slots: int | None,
+    runtime: contextlib.AbstractContextManager[int],
     console: Console,
     summary: RunSummary,
     watcher: SweepWatcher,
     progress: ProgressOptions,
     sends: Callable[[JobSpec, int, float], WorkerJob],
 ) -> RunSummary:
-    """Run ``todo`` on Ray (a private one with ``local_slots`` browser slots, or the configured cluster); ``sends``
-    makes each attempt's worker job (``worker_job``, with its span's ``traceparent`` while tracing)."""
+    """Run ``todo`` on Ray, within ``runtime`` (which yields the browser slots: a private Ray's admitted ones, or
+    the configured cluster's); ``sends`` makes each attempt's worker job (``worker_job``, with its span's
+    ``traceparent`` while tracing)."""
     config = plan.config
     needed = {job.task_id for job, _ in todo}
-    with ray_runtime(config.ray.address, local_slots, config.ray.connect_timeout_s) as slots:
+    local = config.ray.address is None
+    with runtime as slots:
         limiters = _rate_limiters([model for job, _ in todo for model in (job.model, *job.extra_models)])
         memory = None
         if plan.memory is not None:
@@ -304,9 +362,9 @@ def _execute(
             )
         commit = AttemptRecorder(store, config.name, manifest.suite, memory)
         cores = os.cpu_count() or 1
-        if local_slots is None:  # a cluster: the cores of all its nodes
+        if not local:  # a cluster: the cores of all its nodes
             cores = int(ray.cluster_resources().get("CPU", cores))
-        one_at_a_time = local_slots is not None and exclusive([job for job, _ in todo])  # a person on each job
+        one_at_a_time = local and exclusive([job for job, _ in todo])  # a person on each job
         pages = 1 if one_at_a_time else pages_per_worker(config.limits, slots, cores)
         at_once = min(len(todo), config.limits.max_in_flight or len(todo))
         pool = WorkerPool(slots, pages, plan.synthetic, config.limits.memory_reserve_mb * MIB, at_once)

@@ -1,13 +1,20 @@
 """Scheduling on Ray: the runtime, the nodes' agreement on one harness, the models' preflight, admission, the
 worker pool, the driver loop and its progress line."""
 
-from scratchworld_dist.scheduling._admission import admitted_slots, derive_local, exclusive, pages_per_worker
+from scratchworld_dist.scheduling._admission import (
+    admitted_slots,
+    derive_local,
+    exclusive,
+    most_slots,
+    pages_per_worker,
+)
 from scratchworld_dist.scheduling._node_watch import LostNode, NodeWatch
 from scratchworld_dist.scheduling._nodes import agreed_harness, inspect_nodes
 from scratchworld_dist.scheduling._pool import WorkerPool
 from scratchworld_dist.scheduling._preflight import (
     ModelCalls,
     PreflightError,
+    broken_by_settings,
     broken_line,
     refuse_broken,
     run_preflight,
@@ -44,11 +51,13 @@ __all__ = [
     "WorkerPool",
     "admitted_slots",
     "agreed_harness",
+    "broken_by_settings",
     "broken_line",
     "derive_local",
     "exclusive",
     "inspect_nodes",
     "live_progress",
+    "most_slots",
     "pages_per_worker",
     "ray_runtime",
     "refuse_broken",

@@ -19,7 +19,7 @@ from scratchworld_dist.sweep import JobSpec, Limits
 from workers.agent_api import agent_class
 from workers.contract import MIB, AgentUnavailableError, ClockMode, Mode
 from workers.editor import cached_editor_cost
-from workers.node import SlotDerivation, derive_slots, node_memory
+from workers.node import DELIVERED_PER_CORE, SlotDerivation, derive_slots, node_memory
 
 BROWSERLESS_PER_CORE = 8
 """Slots per core for jobs that open no editor and wait on a model (perception): a waiting call costs no CPU, so
@@ -56,6 +56,14 @@ def admitted_slots(limits: Limits, jobs: Sequence[JobSpec], harness: str, say: C
     derivation = derive_local(limits, clock, harness, cores, waiting_mode(jobs))
     say(f"admission: {derivation.describe()} (limits.browser_slots overrides)")
     return derivation.slots
+
+
+def most_slots(limits: Limits, cores: int) -> int:
+    """The most browser slots ``admitted_slots`` gives this machine, whatever the jobs: what a private Ray started
+    before the jobs are settled (beside the preflight) must offer."""
+    if limits.browser_slots is not None:
+        return limits.browser_slots
+    return cores * max(DELIVERED_PER_CORE, BROWSERLESS_PER_CORE)
 
 
 def exclusive(jobs: Sequence[JobSpec]) -> bool:

@@ -64,6 +64,13 @@ def run_preflight(plan: RunPlan, jobs: Sequence[JobSpec], node: NodeReport | Non
     return Preflight(probe=probe, where=node.name, models=checks)
 
 
+def broken_by_settings(plan: RunPlan, jobs: Sequence[JobSpec]) -> bool:
+    """Whether a model ``jobs`` call is broken by its settings alone (a key or base URL unset or malformed), which
+    the preflight finds without calling anything."""
+    models = ModelCalls(plan).over(jobs)
+    return any(check.broken for check in check_models(models, plan.config.llm.retry, probe=False))
+
+
 def _on_node(node: NodeReport, models: list[ModelSpec], policy: RetryPolicy, probe: bool) -> list[ModelCheck]:
     import ray
     from ray.exceptions import GetTimeoutError, RayError

@@ -16,7 +16,7 @@ import pytest
 import ray
 
 from scratchworld_dist.kinds.tasks import EpisodeMatrix, plan_jobs, read_task
-from scratchworld_dist.scheduling import Scheduler, WorkerPool, admitted_slots, pages_per_worker
+from scratchworld_dist.scheduling import Scheduler, WorkerPool, admitted_slots, most_slots, pages_per_worker
 from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import JobSpec, Limits, worker_job
 from tests.conftest import REPO, pooled_editor
@@ -133,6 +133,27 @@ def test_model_jobs_get_slots_from_the_cost_measured_for_their_clock(
     cores = os.cpu_count() or 1
     assert mixed == min(slots, cores * PRIMITIVE_DELIVERED_PER_CORE) and "in primitive mode" in said[-1]
     assert cached_editor_cost("virtual", harness) == known["virtual"]  # read back, not measured again
+
+
+def test_a_private_ray_started_before_admission_offers_every_slot_admission_can_give(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A sweep starts its private Ray beside the preflight, before its jobs are settled, offering ``most_slots``:
+    admission never gives more, even for an editor that costs nothing (the bound is reached there)."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    harness = harness_fingerprint().digest
+    cost_cache_path().parent.mkdir(parents=True)
+    free = cost(0.0, 1).model_copy(update={"harness": harness})
+    cost_cache_path().write_text(f'{{"virtual": {free.model_dump_json()}}}')
+    model = ModelSpec(name="m", model="openai/m")
+    cores = os.cpu_count() or 1
+    for limits in (Limits(), Limits(browser_slots=5), Limits(browser_slots=500)):
+        given = [
+            admitted_slots(limits, planned, harness, lambda _: None)
+            for planned in (jobs(model), jobs(model, modes=("primitive",)), jobs(None))
+        ]
+        assert max(given) <= most_slots(limits, cores), (limits, given)
+    assert admitted_slots(Limits(), jobs(model), harness, lambda _: None) == most_slots(Limits(), cores)
 
 
 def test_the_capacity_command_prints_a_nodes_slots_from_its_measured_cost(

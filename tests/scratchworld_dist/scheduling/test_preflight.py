@@ -2,11 +2,13 @@
 
 A real local OpenAI-compatible server answers the probes (404 for an unknown model, 401 for a refused key,
 scripted 5xx/429/400 for the retry and fallback cases) and real LiteLLM makes them; the sweeps are of the
-perception benchmark (no browser) and stop before Ray is even started, so none of this needs Ray or Chromium.
+perception benchmark (no browser). A sweep whose probe is refused has started its private Ray meanwhile (no
+worker, no editor) and shuts it down; one whose settings are wrong stops before that.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -143,9 +145,35 @@ def test_a_broken_model_stops_the_sweep_before_anything_starts_naming_it(
     )
     assert len(named) == 1 and named[0].startswith(f"  {line}"), named  # one line, naming the model and the cause
     assert sorted(only_probes(server)) == sorted(["gpt-4o-mini", *probed])  # the good model's probe, and its own
-    assert not ray.is_initialized()  # no Ray, so no worker and no editor
+    assert not ray.is_initialized()  # the sweep's Ray (if the probe ran beside its start) is shut down
     assert not (tmp_path / "run").exists()  # nothing that would look like results
     assert KEY not in done.stdout + done.stderr
+
+
+def test_the_probe_runs_while_the_sweeps_ray_starts_and_a_refusal_shuts_that_ray_down(
+    tmp_path: Path, server: OpenAIServer
+) -> None:
+    """The server answers the probe only once the sweep's private Ray is up (in this process: ``invoke``), then
+    refuses it: started after the probe, as it once was, that Ray would never come, and the probe would be
+    answered without it."""
+    assert not ray.is_initialized()
+    ray_was_up: list[bool] = []
+
+    def refuse_once_ray_is_up(body: dict[str, Any]) -> Behaviour:
+        deadline = time.monotonic() + 60
+        while not ray.is_initialized() and time.monotonic() < deadline:
+            time.sleep(0.05)  # Ray has no event another thread can wait on
+        ray_was_up.append(ray.is_initialized())
+        return status(401)
+
+    server.reset(refuse_once_ray_is_up)
+    done = invoke("run", str(perception_sweep(tmp_path, [GOOD])))
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert done.stderr.startswith("error: preflight: 1 of 1 model(s) cannot be called"), done.stderr
+    assert "good (openai/gpt-4o-mini): model_auth" in done.stderr
+    assert ray_was_up == [True]
+    assert not ray.is_initialized()  # shut down with the refused sweep
+    assert not (tmp_path / "run").exists()
 
 
 def test_every_broken_model_gets_its_line(tmp_path: Path, server: OpenAIServer) -> None:
