@@ -3,8 +3,9 @@
  *
  * A fresh editor costs seconds of start-up, more than a whole evaluation in virtual time. Loading
  * a project already resets the VM the way Scratch itself does between projects (threads, targets,
- * clones, monitors, the timer, the answer, the pen layer). What is left is what an evaluation
- * script can change in the page, and this module handles it in two ways:
+ * clones, monitors, the timer, the answer, the pen layer), all but whether the last project was running
+ * (announced stopped here). What is left is what an evaluation script can change in the page, and this
+ * module handles it in two ways:
  * - undone here: listeners the script added to the VM, globals it defined, storage it wrote,
  *   mouse and keyboard state, turbo and compatibility mode, timers it left pending (these fire
  *   ahead of time, see clock.js), and functions it replaced on the VM, its renderer, sequencer,
@@ -222,6 +223,11 @@
     for (const left of await clock.drainEvaluation()) differences.push(`${left} is still pending`);
     vm.runtime.stopAll();
     restoreListeners(vm, differences);
+    // The VM counts the scripts that ran in its last frame and announces a run when that count leaves 0.
+    // A project stopped while running leaves it above 0 until the next frame, and loading a project
+    // does not reset it: a green flag before any frame of the recycled page would go unannounced
+    // (no PROJECT_RUN_START, the GUI's flag not lit). Announced now, as the next frame would.
+    vm.runtime._emitProjectRunStatus(0);
     restoreGlobals(differences);
     restoreStorage(localStorage, clean.local, 'localStorage', differences);
     restoreStorage(sessionStorage, clean.session, 'sessionStorage', differences);

@@ -7,9 +7,11 @@ found a difference), and each test also asserts which of the two happened.
 
 from __future__ import annotations
 
+import json
 import time
 
 import pytest
+from playwright.async_api import expect
 
 from tests.support.evaluations import CHECK_CLEAN, LEAKY, evaluate, spec
 from tests.support.projects import counter_project
@@ -207,6 +209,43 @@ async def test_recycling_puts_the_clock_back_to_real_time(session: BrowserSessio
         status = await editor.clock_status()
         assert status["mode"] == "real" and status["offsetMs"] == 0
         assert abs(status["dateNow"] - status["realDateNow"]) < 50  # type: ignore[operator]
+
+
+async def test_a_project_stopped_while_running_leaves_no_run_behind(session: BrowserSession) -> None:
+    """The VM announces a run (``PROJECT_RUN_START``, the GUI's lit green flag) when its count of running scripts
+    leaves 0, and only its next frame brings a stopped project's count back to 0. Recycled, the page announces the
+    stop itself: the next green flag is announced even when no frame comes between (a parked page steps none; a
+    resumed one may not before a quick load and script), and the flag a primitive agent sees is not lit.
+    Seen in CI as an upstream project's real run missing its start after the previous project's virtual run."""
+    async with session.editor() as editor:
+        await editor.load_project(counter_project().to_sb3())
+        await editor.run_evaluation(spec(RETURNS_WHILE_RUNNING))
+        lit = editor.page.locator(LIT_GREEN_FLAG)
+        await expect(lit).not_to_have_count(0)
+        assert await editor.recycle() == []
+        await expect(lit).to_have_count(0)
+        await editor.load_project(counter_project().to_sb3())
+        run = await editor.run_evaluation(spec(ANNOUNCED_ON_THE_FIRST_FRAME))
+        assert json.loads(run.result_json)["details"][0]["passed"], run.result_json
+
+
+LIT_GREEN_FLAG = '[class*="green-flag_is-active"]'
+
+RETURNS_WHILE_RUNNING = """module.exports = async (vm) => {
+  const started = new Promise((resolve) => vm.runtime.once('PROJECT_RUN_START', resolve));
+  vm.greenFlag();
+  await started;  // the frame that started the run has counted its scripts
+  vm.quit();  // and no frame follows, as when a virtual evaluation ends and recycling comes before the next frame
+  return {details: [{name: 'running', passed: true}]};
+};"""
+
+ANNOUNCED_ON_THE_FIRST_FRAME = """module.exports = async (vm) => {
+  let announced = false;
+  vm.runtime.once('PROJECT_RUN_START', () => { announced = true; });
+  vm.greenFlag();
+  vm.runtime._step();  // the page is parked: this is the first frame since the last project stopped
+  return {details: [{name: 'the run was announced', passed: announced}]};
+};"""
 
 
 WAIT_TEN_SECONDS = """module.exports = async () => {
