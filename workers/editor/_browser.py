@@ -47,7 +47,7 @@ from workers.editor._origins import EditorOrigins
 from workers.editor._server import EditorAssets, EditorServer
 from workers.editor._shared_context import SharedContext
 from workers.editor._switches import launch_args
-from workers.node import default_chromium, idle_priority
+from workers.node import BUNDLE_FILE, default_chromium, idle_priority
 
 EditorIsolation = Literal["origin", "context"]
 
@@ -228,7 +228,8 @@ class BrowserSession:
         the third). The profile starts as a copy of the node's cache template, when there is one."""
         assert self._playwright is not None
         self._user_data = Path(tempfile.mkdtemp(prefix="scratchworld-browser-"))
-        self._template = CacheTemplate.for_node(executable)
+        assert self._server is not None
+        self._template = CacheTemplate.for_node(executable, self._server.assets.script_versions[BUNDLE_FILE])
         if self._template is not None:
             await asyncio.to_thread(self._template.seed, self._user_data)
         width, height = self.config.viewport

@@ -52,25 +52,29 @@ def default_templates_dir() -> Path | None:
     return user_cache_dir() / "scratchworld_dist" / "browser-cache"
 
 
-def template_key(executable: Path) -> str:
-    """One Chromium build's templates apart from another's (its code cache is no use to another V8)."""
+def template_key(executable: Path, bundle_version: str) -> str:
+    """One Chromium build's templates apart from another's (its code cache is no use to another V8), and one
+    editor bundle's apart from another's: a template is written once, so one kept from an earlier bundle
+    would have every later browser compile the new one at its first two openings again."""
     resolved = executable.resolve()
     stat = resolved.stat()
-    identity = f"{FORMAT} {resolved} {stat.st_size} {stat.st_mtime_ns}"
+    identity = f"{FORMAT} {resolved} {stat.st_size} {stat.st_mtime_ns} {bundle_version}"
     return hashlib.sha256(identity.encode()).hexdigest()[:16]
 
 
 class CacheTemplate:
-    """The template for one Chromium build in ``directory``: seeds new profiles, and is offered used ones."""
+    """The template for one Chromium build and editor bundle in ``directory``: seeds new profiles, and is
+    offered used ones."""
 
-    def __init__(self, directory: Path, executable: Path) -> None:
-        self.path = directory / template_key(executable)
+    def __init__(self, directory: Path, executable: Path, bundle_version: str) -> None:
+        self.path = directory / template_key(executable, bundle_version)
 
     @classmethod
-    def for_node(cls, executable: Path) -> CacheTemplate | None:
-        """The node's template for ``executable``, or None when templates are off."""
+    def for_node(cls, executable: Path, bundle_version: str) -> CacheTemplate | None:
+        """The node's template for ``executable`` and the bundle at ``bundle_version`` (its content's digest),
+        or None when templates are off."""
         directory = default_templates_dir()
-        return None if directory is None else cls(directory, executable)
+        return None if directory is None else cls(directory, executable, bundle_version)
 
     @property
     def exists(self) -> bool:

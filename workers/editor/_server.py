@@ -87,7 +87,7 @@ class EditorAssets:
         if not (self.dist_dir / BUNDLE_FILE).is_file():
             raise EditorBundleMissingError(
                 f"the Scratch editor bundle is not installed: {self.dist_dir / BUNDLE_FILE} is missing; "
-                f"run `npm ci --ignore-scripts` in {self.gui_dir} (the README's install command does it)"
+                "run ./install.sh (the README's install command)"
             )
         packages = self.gui_dir / BARE_DIR / "node_modules" / "@scratch"
         self.build_dir = (self.gui_dir / BARE_DIR / "build").resolve()  # may be a link, like node_modules

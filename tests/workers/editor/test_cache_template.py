@@ -11,7 +11,7 @@ from pathlib import Path
 import psutil
 import pytest
 
-from workers.editor import BrowserSession
+from workers.editor import BrowserSession, EditorAssets
 from workers.editor._cache_template import CACHE_DIRS, PROFILE, TEMPLATE_ENV, CacheTemplate, default_templates_dir
 from workers.node import BUNDLE_FILE, default_chromium
 
@@ -25,7 +25,7 @@ def _profile(root: Path, content: str) -> Path:
 
 
 def test_a_template_is_kept_once_whole_and_copied_into_new_profiles(tmp_path: Path) -> None:
-    template = CacheTemplate(tmp_path / "templates", default_chromium())
+    template = CacheTemplate(tmp_path / "templates", default_chromium(), "bundle")
     fresh = tmp_path / "fresh"
     fresh.mkdir()
     assert not template.seed(fresh) and list(fresh.iterdir()) == []  # none yet: the browser starts empty
@@ -39,17 +39,21 @@ def test_a_template_is_kept_once_whole_and_copied_into_new_profiles(tmp_path: Pa
     assert [path.name for path in template.path.parent.iterdir()] == [template.path.name]  # nothing half made
 
 
-def test_each_chromium_build_has_its_own_template(tmp_path: Path) -> None:
+def test_each_chromium_build_and_editor_bundle_has_its_own_template(tmp_path: Path) -> None:
     other = tmp_path / "chromium"
     other.write_bytes(default_chromium().read_bytes()[:1000])
-    assert CacheTemplate(tmp_path, default_chromium()).path != CacheTemplate(tmp_path, other).path
+    kept = CacheTemplate(tmp_path, default_chromium(), "bundle")
+    assert kept.offer(_profile(tmp_path / "used", "used"))
+    assert not CacheTemplate(tmp_path, other, "bundle").exists
+    assert not CacheTemplate(tmp_path, default_chromium(), "another bundle").exists  # offered afresh
+    assert CacheTemplate(tmp_path, default_chromium(), "bundle").exists
 
 
 def test_templates_live_where_the_node_says_or_nowhere(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     monkeypatch.setenv(TEMPLATE_ENV, str(tmp_path))
     assert default_templates_dir() == tmp_path
     monkeypatch.setenv(TEMPLATE_ENV, "off")
-    assert CacheTemplate.for_node(default_chromium()) is None
+    assert CacheTemplate.for_node(default_chromium(), "bundle") is None
     monkeypatch.delenv(TEMPLATE_ENV)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     assert default_templates_dir() == tmp_path / "scratchworld_dist" / "browser-cache"
@@ -81,7 +85,7 @@ async def test_a_browser_started_from_the_template_runs_the_bundle_from_the_code
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
     monkeypatch.setenv(TEMPLATE_ENV, str(tmp_path))
-    template = CacheTemplate.for_node(default_chromium())
+    template = CacheTemplate.for_node(default_chromium(), EditorAssets().script_versions[BUNDLE_FILE])
     assert template is not None
 
     async with BrowserSession() as dying:  # two openings, then the browser dies: its caches may be half written
