@@ -82,7 +82,8 @@ ascii_stamp=scratch-gui/node_modules/.ascii-$(sha256sum $bare/package-lock.json 
 if [ ! -f "$ascii_stamp" ]; then
   say "esbuild --charset=ascii on the editor bundle"
   $bare/node_modules/.bin/esbuild "$bundle" --charset=ascii --minify-whitespace --log-level=warning \
-    --outfile="$bundle.ascii" && mv "$bundle.ascii" "$bundle"
+    --outfile="$bundle.ascii"
+  mv "$bundle.ascii" "$bundle"
   touch "$ascii_stamp"
 fi
 say "done: chromium $(/usr/bin/chromium --version 2>/dev/null | awk '{print $2}'), $(.venv/bin/python --version)"

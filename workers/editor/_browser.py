@@ -229,7 +229,9 @@ class BrowserSession:
         assert self._playwright is not None
         self._user_data = Path(tempfile.mkdtemp(prefix="scratchworld-browser-"))
         assert self._server is not None
-        self._template = CacheTemplate.for_node(executable, self._server.assets.script_versions[BUNDLE_FILE])
+        assets = self._server.assets
+        bundle_version = await asyncio.to_thread(lambda: assets.script_versions[BUNDLE_FILE])  # hashes 19 MB once
+        self._template = CacheTemplate.for_node(executable, bundle_version)
         if self._template is not None:
             await asyncio.to_thread(self._template.seed, self._user_data)
         width, height = self.config.viewport
