@@ -94,7 +94,7 @@ from scratchworld_dist.suites import load_suite
 from scratchworld_dist.sweep import SweepConfig
 from workers.editor import EditorAssets
 from workers.editor._cache_template import CacheTemplate
-from workers.node import BUNDLE_FILE, default_chromium
+from workers.node import default_chromium
 
 REPO = Path(__file__).resolve().parents[1]
 TASKS = [task.id for task in load_suite(REPO / "tasks").tasks]
@@ -457,7 +457,7 @@ def main() -> None:
     if args.steps < 3:
         parser.error("--steps must be at least 3 (a first, a steady and a last step)")
     os.environ[KEY_ENV] = "sk-density-benchmark"  # the workers of the private Ray inherit it
-    template = CacheTemplate.for_node(default_chromium(), EditorAssets().script_versions[BUNDLE_FILE])
+    template = CacheTemplate.for_node(default_chromium(), EditorAssets().bundle_version)
     cache = "off" if template is None else f"{'present' if template.exists else 'none yet'} ({template.path})"
     rows: list[Row] = []
     with DelayedModel(args.delay) as model:

@@ -47,7 +47,7 @@ from workers.editor._origins import EditorOrigins
 from workers.editor._server import EditorAssets, EditorServer
 from workers.editor._shared_context import SharedContext
 from workers.editor._switches import launch_args
-from workers.node import BUNDLE_FILE, default_chromium, idle_priority
+from workers.node import default_chromium, idle_priority
 
 EditorIsolation = Literal["origin", "context"]
 
@@ -230,7 +230,7 @@ class BrowserSession:
         self._user_data = Path(tempfile.mkdtemp(prefix="scratchworld-browser-"))
         assert self._server is not None
         assets = self._server.assets
-        bundle_version = await asyncio.to_thread(lambda: assets.script_versions[BUNDLE_FILE])  # hashes 19 MB once
+        bundle_version = await asyncio.to_thread(lambda: assets.bundle_version)  # hashes 19 MB once per process
         self._template = CacheTemplate.for_node(executable, bundle_version)
         if self._template is not None:
             await asyncio.to_thread(self._template.seed, self._user_data)

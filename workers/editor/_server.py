@@ -113,6 +113,14 @@ class EditorAssets:
                     versions[name] = _content_version(path, stat.st_size, stat.st_mtime_ns)
         return versions
 
+    @cached_property
+    def bundle_version(self) -> str:
+        """The editor bundle's content digest, whichever scripts the pages load (the node's cache template is
+        kept per bundle)."""
+        path = (self.dist_dir / BUNDLE_FILE).resolve()
+        stat = path.stat()
+        return _content_version(path, stat.st_size, stat.st_mtime_ns)
+
     def page_path(self, page: EvaluationPage) -> str:
         """The URL path of the editor page or the bare evaluation page."""
         return f"/{BARE_PAGE if page == 'bare' else EDITOR_PAGE}"

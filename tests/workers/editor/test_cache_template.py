@@ -85,7 +85,7 @@ async def test_a_browser_started_from_the_template_runs_the_bundle_from_the_code
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
     monkeypatch.setenv(TEMPLATE_ENV, str(tmp_path))
-    template = CacheTemplate.for_node(default_chromium(), EditorAssets().script_versions[BUNDLE_FILE])
+    template = CacheTemplate.for_node(default_chromium(), EditorAssets().bundle_version)
     assert template is not None
 
     async with BrowserSession() as dying:  # two openings, then the browser dies: its caches may be half written

@@ -74,6 +74,17 @@ def test_a_symlinked_node_modules_is_served(tmp_path: Path) -> None:
         assert status == 200 and len(bundle) > 10_000_000
 
 
+def test_the_bundle_has_a_version_whether_or_not_a_page_loads_it(tmp_path: Path) -> None:
+    """The node's cache template is kept per bundle version, also for pages that never load the bundle."""
+    real = EditorAssets()
+    assert real.bundle_version == real.script_versions[BUNDLE_FILE]
+    copy_page_files(tmp_path)
+    link_installed_packages(tmp_path)
+    (tmp_path / EDITOR_PAGE).write_text('<!DOCTYPE html><script src="bridge.js"></script>')
+    assets = EditorAssets(tmp_path)
+    assert BUNDLE_FILE not in assets.script_versions and assets.bundle_version == real.bundle_version
+
+
 def test_an_edited_page_module_gets_a_new_version_and_no_other_does(tmp_path: Path) -> None:
     """Modules are cached by URL (a browser keeps them for a day): an edit must change the URL."""
     copy_page_files(tmp_path)
