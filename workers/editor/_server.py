@@ -109,17 +109,14 @@ class EditorAssets:
             for name in _SCRIPT.findall((self.gui_dir / page).read_text(encoding="utf-8")):
                 path = self.resolve(name)
                 if path is not None:
-                    stat = path.stat()
-                    versions[name] = _content_version(path, stat.st_size, stat.st_mtime_ns)
+                    versions[name] = _version_of(path)
         return versions
 
     @cached_property
     def bundle_version(self) -> str:
         """The editor bundle's content digest, whichever scripts the pages load (the node's cache template is
         kept per bundle)."""
-        path = (self.dist_dir / BUNDLE_FILE).resolve()
-        stat = path.stat()
-        return _content_version(path, stat.st_size, stat.st_mtime_ns)
+        return _version_of((self.dist_dir / BUNDLE_FILE).resolve())
 
     def page_path(self, page: EvaluationPage) -> str:
         """The URL path of the editor page or the bare evaluation page."""
@@ -140,6 +137,12 @@ class EditorAssets:
         if not candidate.is_relative_to(root) or not candidate.is_file():
             return None
         return candidate
+
+
+def _version_of(path: Path) -> str:
+    """A file's content digest, computed again only when its size or modification time changed."""
+    stat = path.stat()
+    return _content_version(path, stat.st_size, stat.st_mtime_ns)
 
 
 @functools.lru_cache(maxsize=64)
