@@ -6,8 +6,8 @@ Each run starts ``--browsers`` browsers at once (one per core, as a node runs it
 ``--editors`` editors into its pool one after another (``OPENS_AT_ONCE``), every one parked as it is ready:
 the part of a sweep's start that ``density.py``'s ``start`` phase is mostly made of, without Ray, the model
 server or the workers' imports around it. Printed per run: the wall time from the browsers' launch to the
-last pool full, and the CPU seconds of every process below this one (browsers, their Playwright drivers)
-and of this one, per editor. The browsers start from the node's cache template, as a worker's do.
+last pool full, and the CPU seconds of this process and every one below it (browsers, their Playwright
+drivers), per editor. The browsers start from the node's cache template, as a worker's do.
 """
 
 from __future__ import annotations
@@ -17,22 +17,10 @@ import asyncio
 import os
 import time
 
-import psutil
+from editor_openings import tree_cpu_s
 
 from workers.actor._job_worker import OPENS_AT_ONCE
 from workers.editor import BrowserConfig, BrowserSession, EditorPool
-
-
-def cpu_s_below_here() -> float:
-    """User + system CPU of this process and every live process under it."""
-    total = 0.0
-    for process in [psutil.Process(), *psutil.Process().children(recursive=True)]:
-        try:
-            times = process.cpu_times()
-        except psutil.Error:
-            continue
-        total += times.user + times.system
-    return total
 
 
 async def filled(editors: int) -> tuple[BrowserSession, EditorPool]:
@@ -44,9 +32,9 @@ async def filled(editors: int) -> tuple[BrowserSession, EditorPool]:
 
 async def one_run(browsers: int, editors: int) -> tuple[float, float]:
     """Wall seconds and CPU seconds of ``browsers`` browsers filling ``editors`` each, at once."""
-    cpu, started = cpu_s_below_here(), time.monotonic()
+    cpu, started = tree_cpu_s(os.getpid()), time.monotonic()
     opened = await asyncio.gather(*(filled(editors) for _ in range(browsers)))
-    wall, spent = time.monotonic() - started, cpu_s_below_here() - cpu
+    wall, spent = time.monotonic() - started, tree_cpu_s(os.getpid()) - cpu
     for session, pool in opened:
         await pool.close()
         await session.close()
