@@ -6,8 +6,8 @@
  * `?start=empty`) never shows that project: every use loads the task's project first, which replaces it,
  * as a recycled page's next project replaces the last. For such a page the built-in default is a stage
  * with the default project's blank backdrop and nothing else. Measured on one browser's openings from the
- * third, alternating within one browser (docs/measuring.md): 1.49-1.50 CPU-s against 1.61. An editor
- * opened for direct use keeps the default project.
+ * third, alternating (docs/measuring.md): 1.50 CPU-s at the median against 1.61. An editor opened for
+ * direct use keeps the default project.
  * The bridge takes this from `window.__scratchworldEmptyStart` (and deletes it) and hands it the GUI's
  * storage (`onStorageInit`, which the GUI calls before it fetches the default project); the bare page has
  * no GUI and does not load this script.
