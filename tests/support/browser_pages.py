@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+from urllib.parse import urlsplit
 
 from playwright.async_api import Browser, Page
 from playwright.async_api import Error as PlaywrightError
@@ -13,8 +14,9 @@ from workers.node import BARE_PAGE, EDITOR_PAGE
 
 
 def editor_pages(browser: Browser) -> list[Page]:
-    """Open editor and bare evaluation pages, in every context of ``browser``."""
-    return [page for context in browser.contexts for page in context.pages if page.url.endswith(PAGE_ENDINGS)]
+    """Open editor and bare evaluation pages, in every context of ``browser`` (an editor opened ahead has a query)."""
+    pages = [page for context in browser.contexts for page in context.pages]
+    return [page for page in pages if urlsplit(page.url).path.endswith(PAGE_ENDINGS)]
 
 
 PAGE_ENDINGS = (f"/{EDITOR_PAGE}", f"/{BARE_PAGE}")
