@@ -41,6 +41,9 @@
   const firstPalette = window.__scratchworldFirstPalette ||
     {hold() {}, waiting: () => false, isHeld: () => false, stopHolding() {}, release: () => false};
   delete window.__scratchworldFirstPalette;
+  // An empty default project for an editor opened ahead (empty-start.js; the bare page has no GUI).
+  const emptyStart = window.__scratchworldEmptyStart || {replaceDefault: () => false};
+  delete window.__scratchworldEmptyStart;
 
   class BridgeFailure extends Error {
     constructor(kind, message) {
@@ -436,6 +439,7 @@
       call: call,
       settled: settled,
       attachVm: (theVm) => { clock.attachVm(theVm); vm = theVm; },
+      attachStorage: (storage) => { emptyStart.replaceDefault(storage); },
       attachStore: (theStore) => {
         store = theStore;
         firstPalette.hold(theStore);

@@ -36,6 +36,8 @@ from workers.contract import (
 
 _CALL = "([name, args]) => window.scratchworld.call(name, args)"
 _SETTLED = "() => !!(window.scratchworld && window.scratchworld.settled())"
+EMPTY_START_QUERY = "start=empty"
+"""The editor page's query for an editor opened ahead: its default project is an empty stage."""
 
 CONSOLE_LINE_LIMIT = 400
 """Console lines kept per page; the editor itself is chatty at start-up."""
@@ -199,11 +201,15 @@ class Editor:
     async def open(self, url: str, timeout_s: float, *, draw_palette: bool = True) -> EditorStatus:
         """Navigate to the editor and wait (bounded) until it is ready; fail loudly otherwise.
 
-        ``draw_palette=False``: the palette stays undrawn until the page's first project load, which draws
-        that project's own (``scratch-gui/first-palette.js``): for an editor opened ahead, whose every use
-        loads a project first, it saves drawing the default project's palette (0.3-0.45 CPU-s here)."""
+        ``draw_palette=False``, for an editor opened ahead, whose every use loads a project first: the palette
+        stays undrawn until the page's first project load, which draws that project's own
+        (``scratch-gui/first-palette.js``), and the editor starts with an empty stage instead of the default
+        project (``scratch-gui/empty-start.js``); they save drawing the default project's palette (0.3-0.45
+        CPU-s here) and loading its sprite (about 0.1)."""
         started = time.monotonic()
         deadline = started + timeout_s
+        if not draw_palette and self.kind == "editor":
+            url = f"{url}?{EMPTY_START_QUERY}"
         try:
             await self.page.goto(url, wait_until="domcontentloaded", timeout=timeout_s * 1000)
             remaining = max(deadline - time.monotonic(), 0.1)
@@ -226,8 +232,8 @@ class Editor:
         return status
 
     async def draw_palette(self, timeout_s: float = 10.0) -> None:
-        """Draw the default project's palette, held since an opening without it (``draw_palette=False``) while
-        no project has loaded; nothing to do otherwise (a bare page has none). Returns once it is drawn."""
+        """Draw the palette held since an opening without it (``draw_palette=False``: the empty stage's) while no
+        project has loaded; nothing to do otherwise (a bare page has none). Returns once it is drawn."""
         if self.kind == "editor" and _Released.model_validate(await self.call("drawPalette")).released:
             await self.page.wait_for_function(_SETTLED, timeout=timeout_s * 1000, polling=50)
 

@@ -12,6 +12,10 @@ CHROMIUM_ARGS: tuple[str, ...] = (
     "--disable-background-networking",
     "--disable-component-update",
     "--disable-sync",
+    # A tile is drawn whole whenever part of it changes, so a screenshot is a function of what the page shows,
+    # not of the order it was painted in: with partial raster, a recycled page (or one that started with an
+    # empty stage) drew the tabs' rounded corners a shade off, 11-42 pixels, and the same agent saw other bytes.
+    "--disable-partial-raster",
     # Without it the editor logs ~100 AudioContext warnings per page.
     "--autoplay-policy=no-user-gesture-required",
     # Offline here: every host but the loopback editor server fails to resolve, immediately.

@@ -102,8 +102,24 @@ async def test_the_held_palette_of_an_editor_opened_ahead_is_drawn_on_request() 
     async with drawings_counted(draw_palette=False) as editor:
         await editor.draw_palette()
         assert (await editor.status()).workspace
-        assert "my variable" in await flyout_text(editor)  # the default project's
-        assert len(await editor.page.evaluate("window.__flyoutDrawings")) == 1
+        drawings = await editor.page.evaluate("window.__flyoutDrawings")
+        assert len(drawings) == 1
+        assert "looks_switchbackdropto" in drawings[0] and "motion_movesteps" not in drawings[0]  # the stage's
+
+
+async def test_an_editor_opened_ahead_starts_with_an_empty_stage_and_one_opened_for_use_with_the_cat(
+    session: BrowserSession,
+) -> None:
+    # Every use of an editor opened ahead loads a project first: it starts without the default project's
+    # sprite (empty-start.js). The default stays for an editor opened for direct use.
+    for draw_palette, targets in ((False, ["Stage"]), (True, ["Stage", "Sprite1"])):
+        editor = await session.open_editor(draw_palette=draw_palette)
+        try:
+            project = check_project(await editor.save_project())
+            assert [target["name"] for target in project["targets"]] == targets
+            assert editor.page_errors == []
+        finally:
+            await editor.close()
 
 
 async def test_missing_chromium_is_named(tmp_path: Path) -> None:
