@@ -6,7 +6,6 @@ from collections.abc import Sequence
 
 import numpy as np
 from pydantic import BaseModel
-from scipy import stats
 
 CONFIDENCE = 0.95
 
@@ -47,6 +46,8 @@ def paired_bootstrap(clusters: Sequence[Sequence[tuple[float, float]]], *, resam
     if np.allclose(ratios, ratios[0]):  # every resample gives the same value: the interval is that point
         point = float(sums.sum() / counts.sum())
         return Interval(low=point, high=point, confidence=CONFIDENCE, resamples=resamples, seed=seed)
+    from scipy import stats  # SciPy's import takes most of a second: paid by the commands that compare
+
     result = stats.bootstrap(
         (sums, counts),
         _pooled_mean,
@@ -71,6 +72,8 @@ def mcnemar_exact(pairs: Sequence[tuple[float, float]]) -> McNemar:
     only_a = sum(a == 1 and b == 0 for a, b in pairs)
     only_b = sum(a == 0 and b == 1 for a, b in pairs)
     discordant = only_a + only_b
+    from scipy import stats
+
     p_value = float(stats.binomtest(only_a, discordant, 0.5).pvalue) if discordant else 1.0
     return McNemar(
         both_passed=both, only_a=only_a, only_b=only_b, neither=len(pairs) - both - discordant, p_value=p_value

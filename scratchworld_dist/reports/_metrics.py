@@ -13,7 +13,6 @@ from collections import Counter
 from collections.abc import Iterable, Sequence
 
 from pydantic import BaseModel, ConfigDict
-from scipy import stats
 
 
 class MeanInterval(BaseModel):
@@ -60,6 +59,8 @@ def t_quantile_975(df: int) -> float:
     plain 1.96 would understate the interval over a few seeds)."""
     if df < 1:
         raise ValueError(f"degrees of freedom must be at least 1, got {df}")
+    from scipy import stats  # SciPy's import takes most of a second: paid by the reports that need it
+
     return float(stats.t.ppf(0.975, df))
 
 

@@ -103,7 +103,8 @@ class EpisodeModels:
         """Per conversation (its first message), the keys of the last call's messages and its reply."""
         self._step = StepCalls()
         self.before_call: Callable[[], None] | None = None
-        """Called as each model call begins (the episode runner gives back its start turn: no one waits on a model)."""
+        """Called as each model call begins (the episode runner gives back its start turn, so no one waits on a model,
+        and has the page, which waits from now on, drop its start garbage)."""
 
     def connect(self, spec: ModelSpec) -> ModelHandle:
         return _Handle(self, spec, self._client or shared_client(spec, self.policy))

@@ -62,6 +62,7 @@ from workers.editor import Editor
 from workers.kinds.tasks._contract import EpisodeSpec
 from workers.kinds.tasks._environment import CompositeEnvironment, Environment, PrimitiveEnvironment
 from workers.kinds.tasks._pace import Pace
+from workers.kinds.tasks._start_garbage import StartGarbage
 from workers.kinds.tasks._turns import Turn, Turns
 from workers.llm import ModelCache
 from workers.ocr import RegionOCR
@@ -159,8 +160,13 @@ class EpisodeRunner:
                 environment = await self._environment(spec, editor, pace)
                 await recording.start(editor, spec.record)
                 await pace.start()
-                await editor.collect_garbage()  # the start's garbage: the page waits with ~35 MB less
-                models.before_call = starting.release  # a model call in the agent's start waits for no one
+                garbage = StartGarbage(editor)
+
+                def before_model_call() -> None:
+                    starting.release()  # a model call in the agent's start waits for no one
+                    garbage.collect()  # the page waits now: it does so with ~35 MB less
+
+                models.before_call = before_model_call
                 context = _context(spec, task, agent, editor, environment, models, memory)
                 stop_reason = "internal_error"
                 self.browser.acting += 1
@@ -178,6 +184,7 @@ class EpisodeRunner:
                     stop_reason = "editor_failure"
                     raise
                 finally:
+                    await garbage.end()
                     await recording.stop()  # the video ends with the agent's last step
                     self.browser.acting -= 1
                     ended = agent.finish(EpisodeEnd(stop_reason=stop_reason, steps=len(steps)))
