@@ -2,7 +2,9 @@
 
 For each task of a suite (an upstream clone, or ours): a trajectory is planned from its initial and golden
 projects (``scratchworld oracle-plan``), replayed through the composite API, and acted out as real mouse and
-keyboard gestures by the primitive oracle (as primitive episodes get the page: small stage). Each result is
+keyboard gestures by the primitive oracle (as primitive episodes get the page: small stage), both on a sweep's
+episode clock (``--clock``, virtual by default as a sweep's episodes are: page time stands still between actions
+and moves around each, a drag's duration between its moves; ``real``: time runs on). Each result is
 compared with the golden by structure (scripts, fields, literals, variables; not ids or positions) and, when
 the suite has the task's evaluation script, evaluated under both profiles where the golden itself passes.
 
@@ -19,8 +21,8 @@ the GUI hands to the next project's sprites): which tasks a lane took before, an
 change an outcome.
 
 Run: ``.venv/bin/python benchmarks/upstream_oracle.py [SUITE_DIR] [--out DIR] [--tasks a,b] [--no-primitive]
-[--lanes K]`` (default ``../shared/scratchworld-upstream``; a clone without ``scratch-bench-api`` gets structure
-only).
+[--lanes K] [--clock virtual|real]`` (default ``../shared/scratchworld-upstream``; a clone without
+``scratch-bench-api`` gets structure only).
 """
 
 from __future__ import annotations
@@ -47,9 +49,19 @@ from scratchworld_dist.suites import Task
 from scratchworld_dist.suites._task import read_trajectory
 from workers import composite
 from workers.agents._primitive_oracle import OracleDivergenceError, OracleWaitError, PrimitiveOracle
-from workers.contract import BridgeError, CompositeAction, Done, EditorError, EvaluationProfile, PrimitiveAction
+from workers.contract import (
+    BridgeError,
+    CompositeAction,
+    Done,
+    EditorError,
+    EpisodeClock,
+    EvaluationProfile,
+    PrimitiveAction,
+    evaluation_seed,
+)
 from workers.editor import BrowserSession, Editor, EditorPool
 from workers.evaluation import Evaluator
+from workers.kinds.tasks._pace import Pace
 from workers.primitive import Gestures
 
 PAPER_MEAN = 9.14
@@ -102,26 +114,46 @@ class Lane:
             await self.editor.close()
 
 
-async def replay(editor: Editor, initial: bytes, actions: list[CompositeAction]) -> tuple[bytes, str]:
+async def started(editor: Editor, task_id: str, initial: bytes, clock: EpisodeClock, *, primitive: bool) -> Pace:
+    """``initial`` loaded as an episode's runner starts it (seed 0): random draws seeded, the primitive stage small,
+    the episode's page time begun."""
     await editor.load_project(initial)
+    await editor.seed_random(evaluation_seed(task_id, 0))
+    if primitive:
+        await editor.set_stage_size("small")
+    pace = Pace(editor, clock, stage_seen=primitive)  # the primitive oracle's eyedropper reads the stage
+    await pace.start()
+    return pace
+
+
+async def replay(
+    editor: Editor, task_id: str, initial: bytes, actions: list[CompositeAction], clock: EpisodeClock
+) -> tuple[bytes, str]:
+    """The composite API's calls, each with its page time around it as in an episode."""
+    pace = await started(editor, task_id, initial, clock, primitive=False)
     for action in actions:
+        await pace.before_action()
         envelope = await composite.execute(editor, action.api, action.args)
+        await pace.after_action()
         if not envelope.success:
             return await editor.save_project(), f"{action.api} refused: {envelope.error}"
     return await editor.save_project(), ""
 
 
-async def perform(editor: Editor, initial: bytes, actions: list[CompositeAction]) -> tuple[bytes, str]:
+async def perform(
+    editor: Editor, task_id: str, initial: bytes, actions: list[CompositeAction], clock: EpisodeClock
+) -> tuple[bytes, str]:
     """The primitive oracle's gestures, executed as an episode executes them, until it says done."""
-    await editor.load_project(initial)
-    await editor.set_stage_size("small")
+    pace = await started(editor, task_id, initial, clock, primitive=True)
     oracle = PrimitiveOracle(initial, actions)
-    gestures = Gestures(editor.page)
+    gestures = Gestures(editor.page, pace.pass_time if pace.virtual else None)
     try:
         await oracle.begin(editor)
         while not isinstance(action := await oracle.act(None), Done):
             assert isinstance(action, PrimitiveAction), action
+            await pace.before_action()
             envelope = await gestures.execute(action.api, action.args)
+            await pace.after_action()
             if not envelope.success:
                 return await editor.save_project(), f"gesture {action.api} failed: {envelope.error}"
     except OracleDivergenceError as exc:
@@ -153,7 +185,7 @@ async def outcome(
 
 
 async def check_task(
-    row: OracleRow, task: Task, plans: Path, primitive: bool, lane: Lane, evaluator: Evaluator
+    row: OracleRow, task: Task, plans: Path, primitive: bool, lane: Lane, evaluator: Evaluator, clock: EpisodeClock
 ) -> None:
     """The golden's verdicts, then the composite replay's and the primitive oracle's outcomes, into ``row``."""
     if row.plan.trajectory is None or task.golden_project is None:
@@ -166,17 +198,19 @@ async def check_task(
     if task.evaluation_script.is_file():
         row.golden = {p: (await evaluator.evaluate(golden_bytes, task.evaluation_spec(p))).success for p in PROFILES}
     started = time.monotonic()
-    project, problem = await replay(editor, initial, actions)
+    project, problem = await replay(editor, task.id, initial, actions, clock)
     row.composite = await outcome(editor, evaluator, task, project, problem, golden, started)
     if primitive:
         started = time.monotonic()
         editor = await lane.clean()
-        project, problem = await perform(editor, initial, actions)
+        project, problem = await perform(editor, task.id, initial, actions, clock)
         row.primitive = await outcome(editor, evaluator, task, project, problem, golden, started)
     print(line(row), flush=True)
 
 
-async def check(rows: list[OracleRow], tasks: dict[str, Task], plans: Path, primitive: bool, lanes: int) -> None:
+async def check(
+    rows: list[OracleRow], tasks: dict[str, Task], plans: Path, primitive: bool, lanes: int, clock: EpisodeClock
+) -> None:
     """Every row's task checked, ``lanes`` at a time: a lane takes the next task when it is done with one, the
     longest plans first."""
     waiting: asyncio.Queue[OracleRow] = asyncio.Queue()
@@ -187,7 +221,7 @@ async def check(rows: list[OracleRow], tasks: dict[str, Task], plans: Path, prim
         try:
             while not waiting.empty():
                 row = waiting.get_nowait()
-                await check_task(row, tasks[row.plan.task_id], plans, primitive, lane, evaluator)
+                await check_task(row, tasks[row.plan.task_id], plans, primitive, lane, evaluator, clock)
         finally:
             await lane.close()
 
@@ -264,6 +298,12 @@ def main() -> None:
         default=(os.cpu_count() or 1) + 1,
         help="tasks checked at once (default: cores + 1: the primitive oracle's gestures wait in real time)",
     )
+    parser.add_argument(
+        "--clock",
+        choices=["virtual", "real"],
+        default="virtual",
+        help="the episode clock of both runs (default: virtual, as a sweep's episodes)",
+    )
     args = parser.parse_args()
     if args.lanes < 1:
         parser.error("--lanes must be at least 1")
@@ -275,7 +315,11 @@ def main() -> None:
     print(f"planned {len(plans.tasks)} task(s) into {folder} in {time.monotonic() - started:.0f} s")
     print(f"{'task':<58} {'category':<8} {'calls':>5} {'mod':>5}  {'composite':<28} {'primitive':<28}")
     rows = [OracleRow(plan=record) for record in plans.tasks]
-    asyncio.run(check(rows, {t.id: t for t in tasks}, folder, primitive=not args.no_primitive, lanes=args.lanes))
+    clock = EpisodeClock(mode=args.clock)
+    print(f"episode clock: {clock.mode}")
+    asyncio.run(
+        check(rows, {t.id: t for t in tasks}, folder, primitive=not args.no_primitive, lanes=args.lanes, clock=clock)
+    )
     totals(rows)
     (folder / "oracle.json").write_text("[\n" + ",\n".join(r.model_dump_json() for r in rows) + "\n]\n")
     print(f"wall time {time.monotonic() - started:.0f} s; rows in {folder / 'oracle.json'}")

@@ -40,7 +40,7 @@ async def measure_editor_cost(clock: ClockMode, harness: str = "", editors: int 
             if clock == "virtual":  # as after an episode's start: paused until the next action
                 await page.start_episode_clock(EpisodeClock(mode="virtual"))
                 await page.advance_clock(EpisodeClock().start_ms)
-            await page.collect_garbage()  # as the episode runner does once its page has started
+            await page.collect_garbage()  # as the episode runner does once its page first waits for a model
         before, started = browser_usage(root), time.monotonic()
         await asyncio.sleep(CALIBRATION_WINDOW_S)  # a measurement window: the pages' CPU over time
         after = browser_usage(root)

@@ -10,9 +10,7 @@ it goes. So the collection begins with the episode's first model call and runs w
 from __future__ import annotations
 
 import asyncio
-import contextlib
 
-from workers.contract import EditorError
 from workers.editor import Editor
 
 
@@ -22,16 +20,24 @@ class StartGarbage:
     def __init__(self, editor: Editor) -> None:
         self.editor = editor
         self._collecting: asyncio.Task[None] | None = None
+        self._ended = False
 
     def collect(self) -> None:
-        """Begin the collection, the first time only; it runs while the model answers."""
-        if self._collecting is None:
+        """Begin the collection, the first time only and not after ``end`` (a call in the agent's finish); it runs
+        while the model answers."""
+        if self._collecting is None and not self._ended:
             self._collecting = asyncio.ensure_future(self.editor.collect_garbage())
 
     async def end(self) -> None:
-        """As the agent's part ends: wait for a collection under way. A page that crashed meanwhile is told by the
-        episode's next use of it (saving the project), so the collection's own error is dropped here."""
-        collecting, self._collecting = self._collecting, None
-        if collecting is not None:
-            with contextlib.suppress(EditorError):
-                await collecting
+        """As the agent's part ends: a collection still under way is stopped (the page no longer waits, and a page
+        stuck in a loop would hold it up). A page that crashed meanwhile is told by the episode's next use of it
+        (saving the project), so the collection's own error is dropped here."""
+        self._ended = True
+        collecting = self._collecting
+        if collecting is None:
+            return
+        if not collecting.done():
+            collecting.cancel()
+        await asyncio.wait([collecting])
+        if not collecting.cancelled():
+            collecting.exception()  # retrieved, so that asyncio does not report it as never seen
