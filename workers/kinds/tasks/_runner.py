@@ -184,7 +184,7 @@ class EpisodeRunner:
                     stop_reason = "editor_failure"
                     raise
                 finally:
-                    await garbage.end()
+                    garbage.end()
                     await recording.stop()  # the video ends with the agent's last step
                     self.browser.acting -= 1
                     ended = agent.finish(EpisodeEnd(stop_reason=stop_reason, steps=len(steps)))

@@ -13,6 +13,15 @@ import asyncio
 
 from workers.editor import Editor
 
+_stopping: set[asyncio.Task[None]] = set()
+"""Collections stopped as their episode's agent part ended, held until done (asyncio keeps tasks only weakly)."""
+
+
+def _stopped(collecting: asyncio.Task[None]) -> None:
+    _stopping.discard(collecting)
+    if not collecting.cancelled():
+        collecting.exception()  # retrieved: a crashed page is told by the episode's next use of it (saving the project)
+
 
 class StartGarbage:
     """Collects one page's start garbage at most once, beside whatever the episode does meanwhile."""
@@ -28,16 +37,12 @@ class StartGarbage:
         if self._collecting is None and not self._ended:
             self._collecting = asyncio.ensure_future(self.editor.collect_garbage())
 
-    async def end(self) -> None:
-        """As the agent's part ends: a collection still under way is stopped (the page no longer waits, and a page
-        stuck in a loop would hold it up). A page that crashed meanwhile is told by the episode's next use of it
-        (saving the project), so the collection's own error is dropped here."""
+    def end(self) -> None:
+        """As the agent's part ends: a collection still under way is stopped, not waited for (the page no longer
+        waits, and a page stuck in a loop would hold the episode up); its error, if any, is dropped."""
         self._ended = True
-        collecting = self._collecting
-        if collecting is None:
-            return
-        if not collecting.done():
-            collecting.cancel()
-        await asyncio.wait([collecting])
-        if not collecting.cancelled():
-            collecting.exception()  # retrieved, so that asyncio does not report it as never seen
+        collecting, self._collecting = self._collecting, None
+        if collecting is not None:
+            collecting.cancel()  # nothing, once it is done
+            _stopping.add(collecting)
+            collecting.add_done_callback(_stopped)
