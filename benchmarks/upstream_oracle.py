@@ -114,7 +114,7 @@ class Lane:
             await self.editor.close()
 
 
-async def started(editor: Editor, task_id: str, initial: bytes, clock: EpisodeClock, *, primitive: bool) -> Pace:
+async def start_episode(editor: Editor, task_id: str, initial: bytes, clock: EpisodeClock, *, primitive: bool) -> Pace:
     """``initial`` loaded as an episode's runner starts it (seed 0): random draws seeded, the primitive stage small,
     the episode's page time begun."""
     await editor.load_project(initial)
@@ -130,7 +130,7 @@ async def replay(
     editor: Editor, task_id: str, initial: bytes, actions: list[CompositeAction], clock: EpisodeClock
 ) -> tuple[bytes, str]:
     """The composite API's calls, each with its page time around it as in an episode."""
-    pace = await started(editor, task_id, initial, clock, primitive=False)
+    pace = await start_episode(editor, task_id, initial, clock, primitive=False)
     for action in actions:
         await pace.before_action()
         envelope = await composite.execute(editor, action.api, action.args)
@@ -144,7 +144,7 @@ async def perform(
     editor: Editor, task_id: str, initial: bytes, actions: list[CompositeAction], clock: EpisodeClock
 ) -> tuple[bytes, str]:
     """The primitive oracle's gestures, executed as an episode executes them, until it says done."""
-    pace = await started(editor, task_id, initial, clock, primitive=True)
+    pace = await start_episode(editor, task_id, initial, clock, primitive=True)
     oracle = PrimitiveOracle(initial, actions)
     gestures = Gestures(editor.page, pace.pass_time if pace.virtual else None)
     try:
