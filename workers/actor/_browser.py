@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import asyncio
 
-from workers.contract import EvalResult, EvaluationSpec, ProjectLimits
+from playwright.async_api import Error as PlaywrightError
+
+from workers.contract import EditorError, EvalResult, EvaluationSpec, ProjectLimits
 from workers.editor import BrowserSession, EditorPool
 from workers.evaluation import Evaluator
 
@@ -34,6 +36,7 @@ class WorkerBrowser:
         self._background: Evaluator | None = None
         self._background_opening = asyncio.Lock()
         self._background_turns = asyncio.Semaphore(EVALUATIONS_AT_ONCE)
+        self._background_start: asyncio.Future[None] | None = None
 
     async def evaluate_giving_way(self, project: bytes, spec: EvaluationSpec, limits: ProjectLimits) -> EvalResult:
         """The verdict on ``project``: in the idle-class browser while agents act and the clock is virtual (the
@@ -46,14 +49,26 @@ class WorkerBrowser:
             await background.session.keep_idle()
             return evaluation
 
-    async def start_background(self) -> None:
-        """Start the low-priority browser, with its bare evaluation pages, ahead of the first evaluation: started
-        while agents act, the browser (and its driver, and its pages' files served from this process, at normal
-        priority) held up their steps by seconds (measured with 16 episodes on 2 cores)."""
-        background = await self._background_evaluator()
-        if background.pool is not None:
-            await background.pool.fill(EVALUATIONS_AT_ONCE, "bare")
-            await background.session.keep_idle()
+    def start_background(self) -> asyncio.Future[None]:
+        """Begin starting the low-priority browser, with its bare evaluation pages, ahead of the first evaluation
+        (which waits for it if it comes first). A worker begins it as its first episodes start, while their first
+        steps wait on the model: awaited before them, after the editors' openings, it held the start of 32
+        episodes on 2 cores back by 3-5 s; begun with the openings, it slowed them as much. Begun later, while
+        agents act, the browser (and its driver, and its pages' files served from this process, at normal
+        priority) held up their steps by seconds (measured with 16 episodes on 2 cores). Answers the start, to
+        await when it must be over."""
+        if self._background_start is None:
+            self._background_start = asyncio.ensure_future(self._start_background())
+        return self._background_start
+
+    async def _start_background(self) -> None:
+        try:
+            background = await self._background_evaluator()
+            if background.pool is not None:
+                await background.pool.fill(EVALUATIONS_AT_ONCE, "bare")
+                await background.session.keep_idle()
+        except (EditorError, PlaywrightError):
+            pass  # the first evaluation that needs the browser starts it again, or reports why it cannot
 
     async def _background_evaluator(self) -> Evaluator:
         """The evaluator of the low-priority browser, started (again, if it died) on first use."""
@@ -84,5 +99,8 @@ class WorkerBrowser:
             await background.session.close()
 
     async def close(self) -> None:
-        """Close the background browser (the session and pool belong to whoever made them)."""
+        """Close the background browser (the session and pool belong to whoever made them), once a start of it
+        under way has ended (cut short, a browser being launched could be left behind)."""
+        if self._background_start is not None:
+            await self._background_start
         await self._close_background()

@@ -140,8 +140,10 @@ class JobWorker:
 
     async def warm(self, editors: int, calls_models: bool = False) -> WorkerInfo:
         """Start the browser and open ``editors`` editors ahead of the first jobs (they wait parked); with
-        ``calls_models``, import LiteLLM meanwhile. Answers where this worker is: the driver starts its jobs
-        only once no other worker of its node still opens editors, so it must know the node when this returns.
+        ``calls_models``, import LiteLLM meanwhile, and begin starting the browser that judges while agents
+        act (``WorkerBrowser.start_background``: it goes on as the first episodes wait on their models). Answers
+        where this worker is: the driver starts its jobs only once no other worker of its node still opens
+        editors, so it must know the node when this returns.
 
         Opened while this worker's episodes run, each editor would slow their steps for seconds; and the
         LiteLLM import (3-9 s of one core, holding the interpreter) at the first job held up every episode
@@ -161,7 +163,7 @@ class JobWorker:
                 if browser.pool is not None:
                     await browser.pool.fill(editors)
                 if calls_models and editors > 1:  # evaluations give way only to other agents of this worker
-                    await browser.start_background()
+                    browser.start_background()
             except (EditorError, PlaywrightError):
                 pass  # the first episode opens its own editor, or reports why it cannot
         if importing is not None:

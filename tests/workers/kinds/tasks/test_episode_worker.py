@@ -392,16 +392,20 @@ def thread_name(tid: int) -> str:
         return str(tid)
 
 
-async def test_a_worker_whose_agents_call_models_starts_its_low_priority_browser_before_its_jobs(
+async def test_a_worker_whose_agents_call_models_starts_its_low_priority_browser_with_its_jobs(
     worker: JobWorker,
 ) -> None:
-    """Warming for jobs that call models opens the agents' editors, and the idle-class browser with its bare
-    evaluation pages: started once agents act, it held up their steps by seconds."""
+    """Warming for jobs that call models opens the agents' editors, and begins starting the idle-class browser
+    with its bare evaluation pages (as the first steps wait on the model): started by the first evaluation, once
+    agents act, it held up their steps by seconds."""
     await worker.warm(1, calls_models=True)
     browser = worker._browser
     assert browser is not None and browser.background is None  # one page: no other agent to give way to
     await worker.warm(2, calls_models=True)
     assert browser.pool is not None and len(browser.pool._ready["editor"]) == 2
+    starting = browser._background_start
+    assert starting is not None and browser.start_background() is starting  # begun by warming, and only once
+    await starting
     background = browser.background
     assert background is not None and background.pool is not None
     assert len(background.pool._ready["bare"]) == EVALUATIONS_AT_ONCE
