@@ -50,13 +50,13 @@ class WorkerBrowser:
             return evaluation
 
     def start_background(self) -> asyncio.Future[None]:
-        """Begin starting the low-priority browser, with its bare evaluation pages, ahead of the first evaluation
-        (which waits for it if it comes first). A worker begins it as its first episodes start, while their first
-        steps wait on the model: awaited before them, after the editors' openings, it held the start of 32
-        episodes on 2 cores back by 3-5 s; begun with the openings, it slowed them as much. Begun later, while
-        agents act, the browser (and its driver, and its pages' files served from this process, at normal
-        priority) held up their steps by seconds (measured with 16 episodes on 2 cores). Answers the start, to
-        await when it must be over."""
+        """Begin starting the low-priority browser, with its bare evaluation pages, ahead of the first evaluation (one
+        that comes first waits for the browser's launch, not for its pages). A worker begins it as its first episodes
+        start, while their first steps wait on the model: awaited before them, after the editors' openings, it held the
+        start of 32 episodes on 2 cores back by 3-5 s; begun with the openings, it slowed them as much. Begun later,
+        while agents act, the browser (and its driver, and its pages' files served from this process, at normal
+        priority) held up their steps by seconds (measured with 16 episodes on 2 cores). Answers the start, to await
+        when it must be over."""
         if self._background_start is None:
             self._background_start = asyncio.ensure_future(self._start_background())
         return self._background_start
