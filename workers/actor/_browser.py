@@ -100,7 +100,8 @@ class WorkerBrowser:
 
     async def close(self) -> None:
         """Close the background browser (the session and pool belong to whoever made them), once a start of it
-        under way has ended (cut short, a browser being launched could be left behind)."""
+        under way has ended (cut short, a browser being launched could be left behind). A start that failed or
+        was cancelled stops nothing: whatever of the browser it had opened is closed all the same."""
         if self._background_start is not None:
-            await self._background_start
+            await asyncio.wait([self._background_start])  # its outcome is not this close's to raise
         await self._close_background()

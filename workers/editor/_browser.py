@@ -34,6 +34,7 @@ from playwright.async_api import Browser, BrowserContext, Page, Playwright, asyn
 from playwright.async_api import Error as PlaywrightError
 from pydantic import BaseModel, ConfigDict, Field
 
+from workers._held_tasks import hold
 from workers.contract import (
     ChromiumNotFoundError,
     EditorBundleMissingError,
@@ -124,8 +125,7 @@ async def _close_quietly(context: BrowserContext) -> None:
 
 def _close_orphan(opening: asyncio.Future[BrowserContext]) -> None:
     if not opening.cancelled() and opening.exception() is None:
-        _orphans.add(task := asyncio.ensure_future(_close_quietly(opening.result())))
-        task.add_done_callback(_orphans.discard)
+        hold(_close_quietly(opening.result()))
 
 
 def _release_orphan(
@@ -134,12 +134,7 @@ def _release_orphan(
     if opening.cancelled() or opening.exception() is not None:
         origins.release(origin, cleared=True)
     else:
-        _orphans.add(task := asyncio.ensure_future(release([opening.result()])))
-        task.add_done_callback(_orphans.discard)
-
-
-_orphans: set[asyncio.Future[None]] = set()
-"""Closes in progress of contexts whose opener was cancelled (kept referenced until done)."""
+        hold(release([opening.result()]))
 
 
 async def _bounded(step: Awaitable[None], doing: str) -> None:

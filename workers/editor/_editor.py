@@ -20,6 +20,7 @@ from playwright.async_api import TimeoutError as PlaywrightTimeoutError
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError
 from pydantic.alias_generators import to_camel
 
+from workers._held_tasks import hold
 from workers.contract import (
     BridgeError,
     EditorCrashedError,
@@ -137,9 +138,6 @@ class EvaluationRun(BaseModel):
 
 Release = Callable[[list[Page]], Awaitable[None]]
 """Closes an editor's pages in a shared context and clears its origin (``SharedContext.release``)."""
-
-_releasing: set[asyncio.Future[None]] = set()
-"""Releases in progress whose closer was cancelled (kept referenced until done)."""
 
 
 class Editor:
@@ -415,10 +413,7 @@ class Editor:
             release, self._release = self._release, None
             if release is None:  # closed already
                 return
-            task = asyncio.ensure_future(release([self.page, *self._popups]))
-            _releasing.add(task)
-            task.add_done_callback(_releasing.discard)
-            await asyncio.shield(task)
+            await asyncio.shield(hold(release([self.page, *self._popups])))  # held on if this close is cancelled
             return
         # A browser that is gone or wedged is noticed by the session on its next use.
         with contextlib.suppress(PlaywrightError, TimeoutError):

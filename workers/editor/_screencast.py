@@ -21,6 +21,7 @@ from typing import Any
 from playwright.async_api import CDPSession, Page
 from playwright.async_api import Error as PlaywrightError
 
+from workers._held_tasks import HeldTasks, hold
 from workers.contract import EditorCrashedError
 
 JPEG_QUALITY = 80
@@ -68,7 +69,7 @@ class Screencast:
         self.frames = 0
         """Frames handed to the sink so far."""
         self._session: CDPSession | None = None
-        self._acks: set[asyncio.Task[Any]] = set()
+        self._acks: HeldTasks = set()
 
     async def start(self) -> None:
         """Start receiving frames (the first one, the page as it is, arrives shortly after)."""
@@ -118,9 +119,7 @@ class Screencast:
         now = time.monotonic()
         delay = max(0.0, self._last_ack + self.min_gap_s - now)
         self._last_ack = now + delay
-        ack = asyncio.ensure_future(_ack(session, event["sessionId"], delay))
-        self._acks.add(ack)
-        ack.add_done_callback(_settled(self._acks))
+        hold(_ack(session, event["sessionId"], delay), self._acks)  # a page closing under it fails it, harmlessly
         metadata = event.get("metadata") or {}
         stamp = metadata.get("timestamp")
         frame = ScreencastFrame(
@@ -146,14 +145,3 @@ async def _ack(session: CDPSession, session_id: int, delay_s: float) -> None:
     if delay_s > 0:
         await asyncio.sleep(delay_s)
     await session.send("Page.screencastFrameAck", {"sessionId": session_id})
-
-
-def _settled(pending: set[asyncio.Task[Any]]) -> Callable[[asyncio.Task[Any]], None]:
-    """Forget a finished acknowledgement, reading its outcome (a page closing under it fails it, harmlessly)."""
-
-    def done(task: asyncio.Task[Any]) -> None:
-        pending.discard(task)
-        if not task.cancelled():
-            task.exception()
-
-    return done

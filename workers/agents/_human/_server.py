@@ -16,6 +16,7 @@ from typing import Any
 from aiohttp import WSMsgType, web
 from pydantic import BaseModel, TypeAdapter, ValidationError
 
+from workers._held_tasks import HeldTasks, hold
 from workers.agents._human._events import PageMessage, Progress, TaskShown
 
 log = logging.getLogger(__name__)
@@ -43,7 +44,7 @@ class PageServer:
         self.latest_frame: bytes | None = None
         self._sockets: dict[web.WebSocketResponse, asyncio.Task[Any] | None] = {}
         self._runner: web.AppRunner | None = None
-        self._sends: set[asyncio.Task[None]] = set()
+        self._sends: HeldTasks = set()
 
     @property
     def url(self) -> str:
@@ -82,9 +83,7 @@ class PageServer:
         if isinstance(message, Progress):
             self.status = message
         for socket in list(self._sockets):
-            sending = asyncio.ensure_future(self._send(socket, message.model_dump_json()))
-            self._sends.add(sending)
-            sending.add_done_callback(self._sends.discard)
+            hold(self._send(socket, message.model_dump_json()), self._sends)
 
     @staticmethod
     async def _send(socket: web.WebSocketResponse, data: bytes | str) -> None:

@@ -11,16 +11,8 @@ from __future__ import annotations
 
 import asyncio
 
+from workers._held_tasks import hold
 from workers.editor import Editor
-
-_stopping: set[asyncio.Task[None]] = set()
-"""Collections stopped as their episode's agent part ended, held until done (asyncio keeps tasks only weakly)."""
-
-
-def _stopped(collecting: asyncio.Task[None]) -> None:
-    _stopping.discard(collecting)
-    if not collecting.cancelled():
-        collecting.exception()  # retrieved: a crashed page is told by the episode's next use of it (saving the project)
 
 
 class StartGarbage:
@@ -28,7 +20,7 @@ class StartGarbage:
 
     def __init__(self, editor: Editor) -> None:
         self.editor = editor
-        self._collecting: asyncio.Task[None] | None = None
+        self._collecting: asyncio.Future[None] | None = None
         self._ended = False
 
     def collect(self) -> None:
@@ -44,5 +36,4 @@ class StartGarbage:
         collecting, self._collecting = self._collecting, None
         if collecting is not None:
             collecting.cancel()  # nothing, once it is done
-            _stopping.add(collecting)
-            collecting.add_done_callback(_stopped)
+            hold(collecting)  # until it ends; a crashed page is told by the episode's next use of it (its save)

@@ -414,6 +414,22 @@ async def test_a_worker_whose_agents_call_models_starts_its_low_priority_browser
     assert browser.editors_held == 2 + EVALUATIONS_AT_ONCE
 
 
+async def test_a_start_of_the_low_priority_browser_cut_short_still_closes_what_it_launched(
+    session: BrowserSession,
+) -> None:
+    """A worker shutting down may cancel the idle-class browser's start midway (launched, its pages opening):
+    closing is then no error, and the launched browser is closed, not left behind."""
+    browser = WorkerBrowser(session)
+    starting = browser.start_background()
+    while browser.background is None and not starting.done():  # launched; its bare pages open next, in round trips
+        await asyncio.wait([starting], timeout=0.01)
+    assert starting.cancel()  # still opening its pages
+    background = browser.background
+    await browser.close()
+    assert starting.cancelled() and browser.background is None
+    assert not background.session.connected
+
+
 async def test_an_evaluation_gives_way_to_episodes_still_acting(
     session: BrowserSession, contents: dict[str, TaskContent]
 ) -> None:
