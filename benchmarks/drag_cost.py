@@ -6,8 +6,9 @@ One editor on an episode's virtual clock (``Pace``, as a primitive episode has i
 the code area ``--drags`` times per row: the drag as episodes make it (``Gestures`` with the clock's advances
 between its moves and the block links read before and after), the same without the link reads, the moves alone
 (no clock: Playwright's interpolated moves), and the parts alone (15 clock advances, two link reads, an
-action's lead and settle). CPU is per drag, from the CPU seconds of this process ("python") and of every
-process below it, by kind (Chromium's by ``--type``, Playwright's driver), read before and after each row.
+action's lead and settle). CPU is per drag, from the CPU seconds of this process ("driver": Python) and of
+every process below it, by kind (``_process_sampler``: Chromium's by ``--type``, Playwright's driver), read
+before and after each row.
 """
 
 from __future__ import annotations
@@ -18,8 +19,7 @@ import time
 from collections.abc import Awaitable, Callable
 from pathlib import Path
 
-import psutil
-from _process_sampler import process_kind
+from _process_sampler import Sampler
 
 from workers.contract import EpisodeClock
 from workers.editor import BrowserSession
@@ -34,27 +34,16 @@ MOVES = 15
 """A drag's moves at its default half second (``DragArgs.duration``: 30 a second)."""
 
 
-def cpu_by_kind() -> dict[str, float]:
-    """CPU seconds so far of this process and of each kind of process below it."""
-    me = psutil.Process()
-    totals = {"python": sum(me.cpu_times()[:2])}
-    for process in me.children(recursive=True):
-        try:
-            kind, times = process_kind(process), process.cpu_times()
-        except psutil.Error:  # ended meanwhile
-            continue
-        totals[kind] = totals.get(kind, 0.0) + times.user + times.system
-    return totals
-
-
-async def measure(work: Callable[[], Awaitable[object]], count: int) -> tuple[float, dict[str, float]]:
-    """Wall ms per call of ``work``, and CPU ms per call by kind."""
-    before, started = cpu_by_kind(), time.perf_counter()
+async def measure(
+    sampler: Sampler, work: Callable[[], Awaitable[object]], count: int
+) -> tuple[float, dict[str, float]]:
+    """Wall ms per call of ``work``, and CPU ms per call by kind (``sampler`` read before and after, not threaded)."""
+    before, started = sampler.sample(), time.perf_counter()
     for _ in range(count):
         await work()
     wall_ms = (time.perf_counter() - started) / count * 1000
-    after = cpu_by_kind()
-    return wall_ms, {kind: (after[kind] - before.get(kind, 0.0)) / count * 1000 for kind in after}
+    after = sampler.sample()
+    return wall_ms, {kind: (after.by_kind[kind] - before.by_kind[kind]) / count * 1000 for kind in after.by_kind}
 
 
 async def main(project: bytes, drags: int, rounds: int) -> None:
@@ -91,10 +80,12 @@ async def main(project: bytes, drags: int, rounds: int) -> None:
             "2 link reads": two_link_reads,
             "an action's lead and settle": lead_and_settle,
         }
+        sampler = Sampler()
+        sampler.sample()  # from here on, each kind's CPU counts from this reading
         for round_index in range(rounds):
             print(f"round {round_index + 1} ({drags} per row; ms per call):")
             for name, work in rows.items():
-                wall_ms, cpu = await measure(work, drags)
+                wall_ms, cpu = await measure(sampler, work, drags)
                 by_cost = sorted(cpu.items(), key=lambda kind_ms: -kind_ms[1])
                 parts = "  ".join(f"{kind} {ms:.0f}" for kind, ms in by_cost if ms >= 1)
                 print(f"  {name:28s} wall {wall_ms:5.0f}  CPU {sum(cpu.values()):5.0f}:  {parts}")
