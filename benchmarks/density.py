@@ -60,7 +60,8 @@ step's latency.
   outcome is ``error`` (must be 0).
 
 Targets (issues 16 and 56): at every N above 1 the step overhead p50 within 2x of N = 1, the steady
-steps' p95 under 1 s, and no error, on each clock and mode (``--repeat`` runs each N that many times
+steps' p95 under 1 s (composite; primitive's is reported, issue 56 sets it no line), and no error, on each
+clock and mode (``--repeat`` runs each N that many times
 in a row: each run is checked); a waiting page costs at most 0.05 of a core on the virtual clock
 (checked at the largest N with at least 3 qualifying intervals, where the browsers' fixed costs are
 shared the most).
@@ -416,10 +417,17 @@ def density_verdicts(rows: list[Row]) -> list[str]:
             continue
         base = statistics.median(bases)
         for row in (row for row in here if row.n > 1):
-            met = row.overhead[0] <= 2 * base and row.steady[1] < 1.0 and row.errors == 0 and not row.problems
+            steady_line = mode != "primitive"
+            met = (
+                row.overhead[0] <= 2 * base
+                and (row.steady[1] < 1.0 or not steady_line)
+                and row.errors == 0
+                and not row.problems
+            )
+            steady = f"steady p95 {row.steady[1]:.2f} s" + (" < 1 s" if steady_line else " (reported)")
             verdicts.append(
                 f"{mode} {clock} N={row.n}: overhead p50 {row.overhead[0]:.2f} s vs 2 x {base:.2f} s at N=1, "
-                f"steady p95 {row.steady[1]:.2f} s < 1 s, {row.errors} error(s): {'met' if met else 'NOT met'}"
+                f"{steady}, {row.errors} error(s): {'met' if met else 'NOT met'}"
             )
     return verdicts
 

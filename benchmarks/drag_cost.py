@@ -4,11 +4,12 @@
 
 One editor on an episode's virtual clock (``Pace``, as a primitive episode has it) drags a palette block into
 the code area ``--drags`` times per row: the drag as episodes make it (``Gestures`` with the clock's advances
-between its moves and the block links read before and after), the same without the link reads, the moves alone
-(no clock: Playwright's interpolated moves), and the parts alone (15 clock advances, two link reads, an
-action's lead and settle). CPU is per drag, from the CPU seconds of this process ("driver": Python) and of
-every process below it, by kind (``_process_sampler``: Chromium's by ``--type``, Playwright's driver), read
-before and after each row.
+between its moves, its moves past Chromium's drag decision sent to the page directly, and the block links read
+before and after), the same without the link reads, the same with every move through Playwright's drag
+interception (``workers/primitive/_pressed_moves.py``), the moves alone (no clock: Playwright's interpolated
+moves), and the parts alone (15 clock advances, two link reads, an action's lead and settle). CPU is per
+drag, from the CPU seconds of this process ("driver": Python) and of every process below it, by kind
+(``_process_sampler``: Chromium's by ``--type``, Playwright's driver), read before and after each row.
 """
 
 from __future__ import annotations
@@ -56,8 +57,12 @@ async def main(project: bytes, drags: int, rounds: int) -> None:
         def links() -> Awaitable[object]:
             return editor.call("primitiveLinks")
 
-        as_episodes = Gestures(editor.page, pace.pass_time, links=links)
-        without_links = Gestures(editor.page, pace.pass_time)
+        def dragging() -> Awaitable[object]:
+            return editor.call("primitiveDragging")
+
+        as_episodes = Gestures(editor.page, pace.pass_time, links=links, dragging=dragging)
+        without_links = Gestures(editor.page, pace.pass_time, dragging=dragging)
+        intercepted = Gestures(editor.page, pace.pass_time)
         moves_alone = Gestures(editor.page, None)
 
         async def advances() -> None:
@@ -75,6 +80,7 @@ async def main(project: bytes, drags: int, rounds: int) -> None:
         rows: dict[str, Callable[[], Awaitable[object]]] = {
             "drag as episodes make it": lambda: as_episodes.execute("drag_and_drop", DRAG),
             "drag without link reads": lambda: without_links.execute("drag_and_drop", DRAG),
+            "every move intercepted": lambda: intercepted.execute("drag_and_drop", DRAG),
             "moves alone (no clock)": lambda: moves_alone.execute("drag_and_drop", DRAG),
             f"{MOVES} clock advances": advances,
             "2 link reads": two_link_reads,

@@ -146,7 +146,9 @@ async def perform(
     """The primitive oracle's gestures, executed as an episode executes them, until it says done."""
     pace = await start_episode(editor, task_id, initial, clock, primitive=True)
     oracle = PrimitiveOracle(initial, actions)
-    gestures = Gestures(editor.page, pace.pass_time if pace.virtual else None)
+    gestures = Gestures(
+        editor.page, pace.pass_time if pace.virtual else None, dragging=lambda: editor.call("primitiveDragging")
+    )
     try:
         await oracle.begin(editor)
         while not isinstance(action := await oracle.act(None), Done):

@@ -17,6 +17,7 @@ from playwright.async_api import Page
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError, model_validator
 
 from workers.contract import ActionEnvelope
+from workers.primitive._pressed_moves import PressedMoves, decided, html5_dragging
 
 PRIMITIVE_APIS = ("click", "double_click", "drag_and_drop", "scroll", "type", "key", "hotkey")
 """The gestures an agent may use besides ``done`` and ``failed``."""
@@ -143,14 +144,19 @@ class Gestures:
         page: Page,
         pass_time: Callable[[float], Awaitable[None]] | None = None,
         links: Callable[[], Awaitable[JsonValue]] | None = None,
+        dragging: Callable[[], Awaitable[JsonValue]] | None = None,
     ) -> None:
         """``pass_time(ms)``: let page time pass between a drag's moves (on an episode's virtual clock,
         where it would otherwise stand still through the whole gesture); None: it passes by itself.
         ``links()``: the workspace's block links (the bridge's ``primitiveLinks``), read around a drag
-        so its record says whether it snapped; None: drags are recorded without."""
+        so its record says whether it snapped; None: drags are recorded without.
+        ``dragging()``: whether the press started an HTML5 drag still under way (the bridge's
+        ``primitiveDragging``), read once in a drag on the virtual clock: with none, the drag's later moves
+        skip Playwright's drag interception (``_pressed_moves``); None: every move goes through it."""
         self.page = page
         self.pass_time = pass_time
         self.links = links
+        self.dragging = dragging
         self.elements: Sequence[Located] | None = None
         """The element list of the latest observation (None until the first one)."""
 
@@ -219,11 +225,7 @@ class Gestures:
         if self.pass_time is None:
             await mouse.move(*end, steps=steps)
         else:  # on an episode's virtual clock the gesture's duration goes by between its moves
-            for step in range(1, steps + 1):
-                await mouse.move(
-                    start[0] + (end[0] - start[0]) * step / steps, start[1] + (end[1] - start[1]) * step / steps
-                )
-                await self.pass_time(args.duration * 1000 / steps)
+            await self._moves_in_time(start, end, steps, args.duration * 1000 / steps, self.pass_time)
         await mouse.up()
         data: dict[str, JsonValue] = {"start": list(start), "end": list(end)}
         if before is not None and (after := await self._parents()) is not None:
@@ -234,6 +236,34 @@ class Gestures:
             )
             data.update(snapped=bool(attached), attached=list(attached))
         return data
+
+    async def _moves_in_time(
+        self,
+        start: tuple[float, float],
+        end: tuple[float, float],
+        steps: int,
+        step_ms: float,
+        pass_time: Callable[[float], Awaitable[None]],
+    ) -> None:
+        """A pressed drag's moves with page time passing after each; past Chromium's decision about an HTML5
+        drag and with none started, all but the last go to the page directly."""
+        direct: PressedMoves | None = None
+        undecided = self.dragging is not None
+        try:
+            for step in range(1, steps + 1):
+                point = (start[0] + (end[0] - start[0]) * step / steps, start[1] + (end[1] - start[1]) * step / steps)
+                if direct is not None and step < steps:
+                    await direct.move(*point)
+                else:
+                    await self.page.mouse.move(*point)
+                await pass_time(step_ms)
+                if undecided and self.dragging is not None and step < steps - 1 and decided(start, point):
+                    undecided = False
+                    if not html5_dragging(await self.dragging()):
+                        direct = await PressedMoves.open(self.page)
+        finally:
+            if direct is not None:
+                await direct.close()
 
     async def _parents(self) -> dict[str, tuple[str | None, str]] | None:
         """Each workspace block's (parent, opcode), or None when drags are recorded without links."""

@@ -66,7 +66,12 @@ class PrimitiveEnvironment:
         """``pass_time``: see ``Gestures`` (set on an episode's virtual clock)."""
         self.editor = editor
         self.observer = observer
-        self.gestures = Gestures(editor.page, pass_time, links=lambda: editor.call("primitiveLinks"))
+        self.gestures = Gestures(
+            editor.page,
+            pass_time,
+            links=lambda: editor.call("primitiveLinks"),
+            dragging=lambda: editor.call("primitiveDragging"),
+        )
 
     async def observe(self) -> PrimitiveObservation:
         observation = await self.observer.observe(self.editor)
