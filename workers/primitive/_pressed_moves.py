@@ -12,7 +12,10 @@ goes through Playwright's mouse again, so that it knows where the pointer is for
 
 from __future__ import annotations
 
+import contextlib
+
 from playwright.async_api import CDPSession, Page
+from playwright.async_api import Error as PlaywrightError
 from pydantic import JsonValue
 
 DECIDED_PX = 8.0
@@ -50,4 +53,6 @@ class PressedMoves:
         )
 
     async def close(self) -> None:
-        await self._session.detach()
+        """Detach; a page that went away meanwhile has nothing left to detach (the move that failed says so)."""
+        with contextlib.suppress(PlaywrightError):
+            await self._session.detach()
