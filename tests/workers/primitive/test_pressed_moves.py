@@ -41,7 +41,10 @@ HTML5_SOURCE_AND_TARGET = """() => {
   };
   window.__dragEvents = [];
   const source = box(200, true), target = box(600, false);
-  source.addEventListener('dragstart', (e) => { e.dataTransfer.setData('text/plain', 'x'); window.__dragEvents.push('dragstart'); });
+  source.addEventListener('dragstart', (e) => {
+    e.dataTransfer.setData('text/plain', 'x');
+    window.__dragEvents.push('dragstart');
+  });
   target.addEventListener('dragover', (e) => { e.preventDefault(); });
   target.addEventListener('drop', (e) => { e.preventDefault(); window.__dragEvents.push('drop'); });
   source.addEventListener('dragend', () => window.__dragEvents.push('dragend'));
