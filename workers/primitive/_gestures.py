@@ -247,8 +247,8 @@ class Gestures:
     ) -> None:
         """A pressed drag's moves with page time passing after each; past Chromium's decision about an HTML5
         drag and with none started, all but the last go to the page directly."""
+        dragging = self.dragging  # read once in a drag: None once read
         direct: PressedMoves | None = None
-        undecided = self.dragging is not None
         try:
             for step in range(1, steps + 1):
                 point = (start[0] + (end[0] - start[0]) * step / steps, start[1] + (end[1] - start[1]) * step / steps)
@@ -257,10 +257,10 @@ class Gestures:
                 else:
                     await self.page.mouse.move(*point)
                 await pass_time(step_ms)
-                if undecided and self.dragging is not None and step < steps - 1 and decided(start, point):
-                    undecided = False
-                    if not html5_dragging(await self.dragging()):
+                if dragging is not None and step < steps - 1 and decided(start, point):
+                    if not html5_dragging(await dragging()):
                         direct = await PressedMoves.open(self.page)
+                    dragging = None
         finally:
             if direct is not None:
                 await direct.close()
