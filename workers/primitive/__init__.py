@@ -3,6 +3,7 @@
 from workers.primitive._elements import LEGEND, fuse, render, settle
 from workers.primitive._gestures import PRIMITIVE_APIS, Gestures
 from workers.primitive._observation import PrimitiveObserver, region_ocr
+from workers.primitive._pressed_moves import pressed_moves
 
 __all__ = [
     "LEGEND",
@@ -10,6 +11,7 @@ __all__ = [
     "Gestures",
     "PrimitiveObserver",
     "fuse",
+    "pressed_moves",
     "region_ocr",
     "render",
     "settle",

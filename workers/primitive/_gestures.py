@@ -17,7 +17,7 @@ from playwright.async_api import Page
 from pydantic import BaseModel, ConfigDict, Field, JsonValue, ValidationError, model_validator
 
 from workers.contract import ActionEnvelope
-from workers.primitive._pressed_moves import PressedMoves, decided, html5_dragging
+from workers.primitive._pressed_moves import pressed_moves
 
 PRIMITIVE_APIS = ("click", "double_click", "drag_and_drop", "scroll", "type", "key", "hotkey")
 """The gestures an agent may use besides ``done`` and ``failed``."""
@@ -222,10 +222,12 @@ class Gestures:
         await mouse.down()
         # Scratch starts a drag and shows the snap preview only on real intermediate moves.
         steps = max(10, int(args.duration * 30))
-        if self.pass_time is None:
+        pass_time = self.pass_time
+        if pass_time is None:
             await mouse.move(*end, steps=steps)
         else:  # on an episode's virtual clock the gesture's duration goes by between its moves
-            await self._moves_in_time(start, end, steps, args.duration * 1000 / steps, self.pass_time)
+            step_ms = args.duration * 1000 / steps
+            await pressed_moves(self.page, start, end, steps, lambda: pass_time(step_ms), self.dragging)
         await mouse.up()
         data: dict[str, JsonValue] = {"start": list(start), "end": list(end)}
         if before is not None and (after := await self._parents()) is not None:
@@ -236,34 +238,6 @@ class Gestures:
             )
             data.update(snapped=bool(attached), attached=list(attached))
         return data
-
-    async def _moves_in_time(
-        self,
-        start: tuple[float, float],
-        end: tuple[float, float],
-        steps: int,
-        step_ms: float,
-        pass_time: Callable[[float], Awaitable[None]],
-    ) -> None:
-        """A pressed drag's moves with page time passing after each; past Chromium's decision about an HTML5
-        drag and with none started, all but the last go to the page directly."""
-        dragging = self.dragging  # read once in a drag: None once read
-        direct: PressedMoves | None = None
-        try:
-            for step in range(1, steps + 1):
-                point = (start[0] + (end[0] - start[0]) * step / steps, start[1] + (end[1] - start[1]) * step / steps)
-                if direct is not None and step < steps:
-                    await direct.move(*point)
-                else:
-                    await self.page.mouse.move(*point)
-                await pass_time(step_ms)
-                if dragging is not None and step < steps - 1 and decided(start, point):
-                    if not html5_dragging(await dragging()):
-                        direct = await PressedMoves.open(self.page)
-                    dragging = None
-        finally:
-            if direct is not None:
-                await direct.close()
 
     async def _parents(self) -> dict[str, tuple[str | None, str]] | None:
         """Each workspace block's (parent, opcode), or None when drags are recorded without links."""

@@ -8,11 +8,14 @@ first move past its drag threshold (4 px), and never later in that press; so onc
 well past it and the page reports no HTML5 drag under way, the rest of its moves cannot start one and
 go to the page as the very ``Input.dispatchMouseEvent`` Playwright would send. A drag's last move
 goes through Playwright's mouse again, so that it knows where the pointer is for the release.
+
+``pressed_moves`` is that loop, shared by an episode's drags (``Gestures``) and the drag benchmark's.
 """
 
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Awaitable, Callable
 
 from playwright.async_api import CDPSession, Page
 from playwright.async_api import Error as PlaywrightError
@@ -56,3 +59,36 @@ class PressedMoves:
         """Detach; a page that went away meanwhile has nothing left to detach (the move that failed says so)."""
         with contextlib.suppress(PlaywrightError):
             await self._session.detach()
+
+
+async def pressed_moves(
+    page: Page,
+    start: tuple[float, float],
+    end: tuple[float, float],
+    steps: int,
+    after_move: Callable[[], Awaitable[object]],
+    dragging: Callable[[], Awaitable[JsonValue]] | None,
+) -> None:
+    """A pressed drag's ``steps`` interpolated moves from ``start`` to ``end``, awaiting ``after_move`` after
+    each (page time passing, or a frame drawn).
+
+    ``dragging()`` (the bridge's ``primitiveDragging``) is read once, at the first move past the decision:
+    with no HTML5 drag under way, the moves after it but the last go to the page directly. None: every
+    move goes through Playwright's mouse.
+    """
+    direct: PressedMoves | None = None
+    try:
+        for step in range(1, steps + 1):
+            point = (start[0] + (end[0] - start[0]) * step / steps, start[1] + (end[1] - start[1]) * step / steps)
+            if direct is not None and step < steps:
+                await direct.move(*point)
+            else:
+                await page.mouse.move(*point)
+            await after_move()
+            if dragging is not None and step < steps - 1 and decided(start, point):
+                if not html5_dragging(await dragging()):
+                    direct = await PressedMoves.open(page)
+                dragging = None  # Chromium decides once a press
+    finally:
+        if direct is not None:
+            await direct.close()

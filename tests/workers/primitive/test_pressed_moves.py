@@ -12,6 +12,7 @@ from playwright.async_api import Page
 from tests.conftest import SUITE_DIR, primitive_editor
 from workers.contract import EpisodeClock
 from workers.editor import Editor, EditorPool
+from workers.kinds.drag import _page as drag_page
 from workers.kinds.tasks._pace import Pace
 from workers.primitive import Gestures
 from workers.primitive._pressed_moves import PressedMoves, decided, html5_dragging
@@ -109,6 +110,22 @@ async def test_direct_moves_are_the_pointer_events_playwright_would_make(
     assert len(sent) == 13  # the first move decides, the last goes through Playwright's mouse again
     assert seen[0] == seen[1]
     assert len(seen[1]) == 16 and all(move[2:] == [1, 0.5, "mouse"] for move in seen[1][1:])
+
+
+@pytest.mark.browser
+async def test_the_drag_benchmarks_drags_go_direct_too(
+    shared_pool: EditorPool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    sent = counting_direct_moves(monkeypatch)
+    async with primitive_editor(shared_pool, QUIZ.read_bytes()) as editor:
+        await editor.page.evaluate(RECORD_POINTER_MOVES)
+        await drag_page.drag(editor, (60, 250), (500, 300))
+        moves = await pointer_moves(editor.page)
+    assert len(sent) == drag_page.DRAG_STEPS - 2
+    along = [coord for step in range(1, 16) for coord in (60 + 440 * step / 15, 250 + 50 * step / 15)]
+    seen = [coord for move in moves[-drag_page.DRAG_STEPS :] for coord in move[:2]]
+    assert seen == pytest.approx(along, abs=0.01)
+    assert all(move[2:] == [1, 0.5, "mouse"] for move in moves[-drag_page.DRAG_STEPS :])
 
 
 @pytest.mark.browser

@@ -13,7 +13,7 @@ from pydantic import BaseModel, ConfigDict
 from workers.contract import DragRegions, DragView, EditorError, ProjectLimits, Region
 from workers.editor import Editor
 from workers.kinds.drag._contract import DragPayload
-from workers.primitive import settle
+from workers.primitive import pressed_moves, settle
 
 SETTLE_MS = 3000
 VIEW_TRIES = 3
@@ -132,13 +132,14 @@ async def drag(editor: Editor, start: tuple[float, float], end: tuple[float, flo
     Each move is drawn before the next (as by hand, where moves are frames apart): Blockly draws a
     connection preview on the frame after a move, and what it pushes aside decides the next move's
     candidate, so moves sent faster than frames would make the outcome depend on the machine's speed.
+    The moves past Chromium's HTML5-drag decision skip Playwright's drag interception, as an episode's do.
     """
     mouse = editor.page.mouse
     await mouse.move(*start)
     await mouse.down()
-    for step in range(1, steps + 1):
-        await mouse.move(start[0] + (end[0] - start[0]) * step / steps, start[1] + (end[1] - start[1]) * step / steps)
-        await editor.call("dragRendered")
+    await pressed_moves(
+        editor.page, start, end, steps, lambda: editor.call("dragRendered"), lambda: editor.call("primitiveDragging")
+    )
     await mouse.up()
     await settle(editor, SETTLE_MS)
 
