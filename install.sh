@@ -8,7 +8,8 @@
 #     package-lock.json and checked against the lock's integrity; its ~740 dependencies are built
 #     into the bundle's dist already, so `npm ci` (1.1 GB, 24 s) would fetch them for nothing,
 #   - the bare evaluation page's packages (scratch-gui/bare, its own lock) and its scratch-audio build,
-#   - the editor bundle re-encoded to ASCII by the bare page's esbuild (a waiting editor's memory).
+#   - the editor bundle re-encoded to ASCII by the bare page's esbuild (a waiting editor's memory), and its
+#     translations but English's built on first use (workers/node/_lazy_locales.py).
 # Safe to re-run: steps that are already done are skipped.
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -85,5 +86,13 @@ if [ ! -f "$ascii_stamp" ]; then
     --outfile="$bundle.ascii"
   mv "$bundle.ascii" "$bundle"
   touch "$ascii_stamp"
+fi
+# Every language of the editor bundle but English built on first use, in place (see the module): an
+# opening neither reads 80 languages' messages from V8's code cache nor builds them.
+lazy_stamp=scratch-gui/node_modules/.lazy-locales-$(sha256sum workers/node/_lazy_locales.py | cut -c1-16)
+if [ ! -f "$lazy_stamp" ]; then
+  say "the editor bundle's languages but English built on first use"
+  .venv/bin/python -m workers.node._lazy_locales "$bundle"
+  rm -f scratch-gui/node_modules/.lazy-locales-* && touch "$lazy_stamp"
 fi
 say "done: chromium $(/usr/bin/chromium --version 2>/dev/null | awk '{print $2}'), $(.venv/bin/python --version)"

@@ -14,7 +14,8 @@ REPO_DIR = Path(__file__).resolve().parents[2]
 
 BUNDLE_PACKAGE = "@scratch/scratch-gui-standalone"
 BUNDLE_FILE = "scratch-gui-standalone.js"
-"""The editor bundle, as ``install.sh`` leaves it: re-encoded to ASCII (a waiting editor's memory; see there)."""
+"""The editor bundle, as ``install.sh`` leaves it: re-encoded to ASCII and its languages but English built on
+first use (a waiting editor's memory; see there)."""
 
 EDITOR_PAGE = "index.html"
 """The Scratch editor (agents' episodes; the reference page for evaluations)."""
