@@ -52,7 +52,7 @@ def _literal_end(text: str, start: int) -> int:
         char = text[index]
         if char in "\"'`":
             index += 1
-            while text[index] != char:
+            while index < len(text) and text[index] != char:
                 index += 2 if text[index] == "\\" else 1
         elif char == "{":
             depth += 1

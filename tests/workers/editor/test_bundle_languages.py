@@ -59,6 +59,11 @@ def test_a_bundle_without_either_message_set_is_refused(broken: str) -> None:
         rewrite(broken)
 
 
+def test_a_cut_off_message_set_is_refused() -> None:
+    with pytest.raises(LazyLocalesError, match="does not end"):
+        rewrite(GUI[: GUI.index("en:")])
+
+
 def test_the_installed_bundle_builds_its_languages_on_first_use() -> None:
     bundle = EditorAssets().dist_dir / BUNDLE_FILE
     result = rewrite(bundle.read_text(encoding="utf-8"))
