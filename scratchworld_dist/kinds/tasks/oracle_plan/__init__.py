@@ -13,7 +13,9 @@ from scratchworld_dist.kinds.tasks.oracle_plan._suite import (
     TaskPlanRecord,
     plan_folder,
     plan_suite,
+    plan_task,
     planning_suite,
+    write_plans,
 )
 
 __all__ = [
@@ -26,7 +28,9 @@ __all__ = [
     "plan_folder",
     "plan_project",
     "plan_suite",
+    "plan_task",
     "planning_suite",
     "project_differences",
     "read_state",
+    "write_plans",
 ]

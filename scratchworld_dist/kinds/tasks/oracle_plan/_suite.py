@@ -90,15 +90,22 @@ async def plan_suite(
             return await plan_suite(suite, tasks, out, on_task, own)
     plans = SuitePlans(suite=suite.name, root=str(suite.root), tasks=[])
     for task in tasks:
-        record = await _plan_task(editor, task, out)
+        record = await plan_task(editor, task, out)
         plans = plans.model_copy(update={"tasks": [*plans.tasks, record]})
-        write_atomic(out / PLANS_FILE, plans.model_dump_json(indent=2).encode())
+        write_plans(out, plans)
         if on_task is not None:
             on_task(record)
     return plans
 
 
-async def _plan_task(editor: Editor, task: Task, out: Path) -> TaskPlanRecord:
+def write_plans(out: Path, plans: SuitePlans) -> None:
+    """``out/plans.json``, replaced whole (a reader never sees half of it)."""
+    write_atomic(out / PLANS_FILE, plans.model_dump_json(indent=2).encode())
+
+
+async def plan_task(editor: Editor, task: Task, out: Path) -> TaskPlanRecord:
+    """Plan and replay one task in ``editor`` (whatever it holds: the task loads its own projects) and write
+    its trajectory as ``out/<task_id>.json``; a task whose files or page fail gets a record with the error."""
     started = time.monotonic()
     base = {"task_id": task.id, "category": task.category}
     if task.golden_project is None:
