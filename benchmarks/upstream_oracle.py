@@ -114,8 +114,8 @@ class Lane:
                 pass
             self.replaced += 1
             await self.editor.close()
-        self.editor = await self.session.open_editor()
-        return self.editor
+            self.editor = None
+        return await self.current()
 
     async def current(self) -> Editor:
         """The editor as the last task left it: enough for planning, which loads the projects it reads."""
