@@ -5,12 +5,13 @@ machine; on the real clock they do not."""
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import json
 import re
 import subprocess
 import sys
 from collections.abc import Callable, Iterator
-from typing import Any
+from typing import Any, NamedTuple
 
 import pytest
 
@@ -21,7 +22,7 @@ from tests.conftest import SUITE_DIR, pooled_editor, primitive_editor
 from tests.support.openai_server import Behaviour, OpenAIServer
 from workers.actor import WorkerBrowser
 from workers.agents import LLMAgent, OracleAgent
-from workers.contract import BridgeError, EpisodeClock, ModelSpec, ObservationSettings, RetryPolicy
+from workers.contract import BridgeError, EpisodeClock, ModelSpec, ObservationSettings, RetryPolicy, check_project
 from workers.editor import BrowserSession, EditorPool
 from workers.kinds.tasks import EpisodeRunner
 from workers.kinds.tasks._pace import Pace
@@ -78,9 +79,22 @@ def click_the_script_then_wait(delay_s: float) -> Callable[[dict[str, Any]], Beh
     return respond
 
 
-async def screenshots_seen(
-    runner: EpisodeRunner, content: TaskContent, clock: EpisodeClock, delay_s: float
-) -> list[str]:
+class Seen(NamedTuple):
+    """What one primitive episode showed its model, and where it left the ball. A digest per screenshot keeps a
+    failure's message readable; the ball's place (from the saved project) tells a VM that ran differently from
+    a page that was only drawn differently."""
+
+    pictures: list[str]
+    ball: tuple[float, float]
+
+
+def ball_position(sb3: bytes | None) -> tuple[float, float]:
+    assert sb3 is not None
+    (ball,) = [t for t in check_project(sb3)["targets"] if t.get("name") == "Ball"]
+    return ball["x"], ball["y"]
+
+
+async def screenshots_seen(runner: EpisodeRunner, content: TaskContent, clock: EpisodeClock, delay_s: float) -> Seen:
     """The screenshots the model was sent, in order, for one primitive episode."""
     with OpenAIServer(responder=click_the_script_then_wait(delay_s)) as server:
         model = ModelSpec(name="m", model="openai/gpt-4o-mini", api_base=server.url, api_key_env=KEY_ENV)
@@ -101,12 +115,13 @@ async def screenshots_seen(
         result = await runner.run(spec, content.payload, LLMAgent())
         assert [step.action for step in result.steps] == ["click", "click", "click", "done"], result.error_message
         assert all(step.ok for step in result.steps)
-        return [
-            part["image_url"]["url"]
+        pictures = [
+            hashlib.sha256(part["image_url"]["url"].encode()).hexdigest()[:16]
             for request in server.requests
             for part in request.body["messages"][-1]["content"]
             if part["type"] == "image_url"
         ]
+        return Seen(pictures, ball_position(result.final_project))
 
 
 VIRTUAL = EpisodeClock(mode="virtual", settle_ms=300)
@@ -117,8 +132,8 @@ async def test_a_slow_model_sees_what_a_fast_one_sees_on_the_virtual_clock(
 ) -> None:
     fast = await screenshots_seen(episode_runner, content, VIRTUAL, delay_s=0)
     slow = await screenshots_seen(episode_runner, content, VIRTUAL, delay_s=SLOW_MODEL_S)
-    assert len(fast) == 4
-    assert len(set(fast)) == 4  # the ball moved between the screenshots: they show time passing
+    assert len(fast.pictures) == 4
+    assert len(set(fast.pictures)) == 4  # the ball moved between the screenshots: they show time passing
     assert slow == fast
 
 
@@ -133,7 +148,8 @@ async def test_a_loaded_machine_and_a_recycled_editor_see_the_same_pages(
                 EpisodeRunner(WorkerBrowser(session, pool)), content, VIRTUAL, delay_s=0
             )  # recycled
             assert pool.reused >= 1
-    assert first == idle and again == idle
+    assert first == idle  # a loaded machine
+    assert again == idle  # and a recycled editor
 
 
 async def test_on_the_real_clock_the_model_s_latency_shows_on_the_stage(
@@ -144,8 +160,8 @@ async def test_on_the_real_clock_the_model_s_latency_shows_on_the_stage(
     next targets update, after the first look)."""
     fast = await screenshots_seen(episode_runner, content, EpisodeClock(mode="real"), delay_s=0)
     slow = await screenshots_seen(episode_runner, content, EpisodeClock(mode="real"), delay_s=SLOW_MODEL_S)
-    assert fast[0] == slow[0]  # nothing runs before the first click
-    assert fast[1:] != slow[1:]  # the ball went on moving while the slow model thought
+    assert fast.pictures[0] == slow.pictures[0]  # nothing runs before the first click
+    assert fast.pictures[1:] != slow.pictures[1:]  # the ball went on moving while the slow model thought
 
 
 async def gesture_pictures(
