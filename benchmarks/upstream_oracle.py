@@ -18,10 +18,11 @@ with the other lanes' checks instead of running alone first. The largest tasks g
 their initial and golden projects differ: a plan's length is known only once it is planned); the
 evaluations borrow recycled pages from one pool, as a sweep's worker does (a page is verified as good as fresh
 before it is reused), instead of opening a page for each of a task's six. A lane's editor is recycled before
-each task (its golden's read, then the composite replay) and again before its primitive run, as an episode's
-page is, so no task starts from what the one before it left in the GUI (the workspace's zoom and scroll, which
-the GUI hands to the next project's sprites): which tasks a lane took before, an accident of timing, cannot
-change an outcome.
+each task's composite replay and again before its primitive run, as an episode's page is, so no task starts
+from what the one before it left in the GUI (the workspace's zoom and scroll, which the GUI hands to the next
+project's sprites): which tasks a lane took before, an accident of timing, cannot change an outcome. The
+composite replay is also the plan's own (``scratchworld oracle-plan`` replays each plan once more after
+planning it; here that replay is this one, and the golden's state is the one planning read).
 
 Run: ``.venv/bin/python benchmarks/upstream_oracle.py [SUITE_DIR] [--out DIR] [--tasks a,b] [--no-primitive]
 [--lanes K] [--clock virtual|real]`` (default ``../shared/scratchworld-upstream``; a clone without
@@ -43,6 +44,7 @@ from pydantic import BaseModel
 from scratchworld_dist.kinds.tasks.oracle_plan import (
     ProjectState,
     SuitePlans,
+    TaskPlan,
     TaskPlanRecord,
     plan_folder,
     plan_task,
@@ -201,21 +203,31 @@ async def outcome(
 
 
 async def check_task(
-    row: OracleRow, task: Task, plans: Path, primitive: bool, lane: Lane, evaluator: Evaluator, clock: EpisodeClock
+    row: OracleRow,
+    task: Task,
+    planning: TaskPlan,
+    plans: Path,
+    primitive: bool,
+    lane: Lane,
+    evaluator: Evaluator,
+    clock: EpisodeClock,
 ) -> None:
-    """The golden's verdicts, then the composite replay's and the primitive oracle's outcomes, into ``row``."""
-    if row.plan.trajectory is None or task.golden_project is None:
+    """The golden's verdicts, then the composite replay's and the primitive oracle's outcomes, into ``row``. The
+    composite replay is also the plan's (``planning`` left it to this one): ``replayed`` says whether it was
+    accepted call by call and ended where planning ended."""
+    golden, planned = planning.golden, planning.planned
+    if row.plan.trajectory is None or task.golden_project is None or golden is None or planned is None:
         return
     actions = read_trajectory(plans / row.plan.trajectory)
     initial, golden_bytes = task.initial_project.read_bytes(), task.golden_project.read_bytes()
-    editor = await lane.clean()
-    await editor.load_project(golden_bytes)
-    golden = await read_state(editor)
     if task.evaluation_script.is_file():
         row.golden = {p: (await evaluator.evaluate(golden_bytes, task.evaluation_spec(p))).success for p in PROFILES}
     started = time.monotonic()
+    editor = await lane.clean()
     project, problem = await replay(editor, task.id, initial, actions, clock)
     row.composite = await outcome(editor, evaluator, task, project, problem, golden, started)
+    replayed = row.composite.completed and not project_differences(planned, await read_state(editor))
+    row.plan = row.plan.model_copy(update={"replayed": replayed})
     if primitive:
         started = time.monotonic()
         editor = await lane.clean()
@@ -268,8 +280,9 @@ async def check(
         try:
             while not waiting.empty():
                 task = waiting.get_nowait()
-                row = rows[task.id] = OracleRow(plan=await plan_task(await lane.current(), task, plans))
-                await check_task(row, task, plans, primitive, lane, evaluator, clock)
+                planning = await plan_task(await lane.current(), task, plans, replay=False)
+                row = rows[task.id] = OracleRow(plan=planning.record)
+                await check_task(row, task, planning, plans, primitive, lane, evaluator, clock)
         finally:
             await lane.close()
 

@@ -10,6 +10,7 @@ from scratchworld_dist.kinds.tasks.oracle_plan._state import ProjectState, read_
 from scratchworld_dist.kinds.tasks.oracle_plan._suite import (
     PLANS_FILE,
     SuitePlans,
+    TaskPlan,
     TaskPlanRecord,
     plan_folder,
     plan_suite,
@@ -24,6 +25,7 @@ __all__ = [
     "ProjectPlan",
     "ProjectState",
     "SuitePlans",
+    "TaskPlan",
     "TaskPlanRecord",
     "plan_folder",
     "plan_project",

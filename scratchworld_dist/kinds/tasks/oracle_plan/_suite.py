@@ -11,6 +11,7 @@ import json
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import NamedTuple
 
 from pydantic import BaseModel, ConfigDict
 
@@ -48,6 +49,17 @@ class TaskPlanRecord(BaseModel):
 
     error: str | None = None
     seconds: float = 0.0
+
+
+class TaskPlan(NamedTuple):
+    """What ``plan_task`` gives: the record, and the states planning read (None where it did not get that far)."""
+
+    record: TaskPlanRecord
+    golden: ProjectState | None = None
+    """The golden project's scripts and variables, which planning aimed at."""
+
+    planned: ProjectState | None = None
+    """Where planning ended (a replay of the trajectory must end there too)."""
 
 
 class SuitePlans(BaseModel):
@@ -90,7 +102,7 @@ async def plan_suite(
             return await plan_suite(suite, tasks, out, on_task, own)
     plans = SuitePlans(suite=suite.name, root=str(suite.root), tasks=[])
     for task in tasks:
-        record = await plan_task(editor, task, out)
+        record = (await plan_task(editor, task, out)).record
         plans = plans.model_copy(update={"tasks": [*plans.tasks, record]})
         write_plans(out, plans)
         if on_task is not None:
@@ -103,26 +115,30 @@ def write_plans(out: Path, plans: SuitePlans) -> None:
     write_atomic(out / PLANS_FILE, plans.model_dump_json(indent=2).encode())
 
 
-async def plan_task(editor: Editor, task: Task, out: Path) -> TaskPlanRecord:
+async def plan_task(editor: Editor, task: Task, out: Path, *, replay: bool = True) -> TaskPlan:
     """Plan and replay one task in ``editor`` (whatever it holds: the task loads its own projects) and write
-    its trajectory as ``out/<task_id>.json``; a task whose files or page fail gets a record with the error."""
+    its trajectory as ``out/<task_id>.json``; a task whose files or page fail gets a record with the error.
+    ``replay=False`` leaves the replay to the caller (the oracle benchmark replays every plan as an episode
+    does, and sets ``replayed`` from that): the record's ``replayed`` stays False."""
     started = time.monotonic()
     base = {"task_id": task.id, "category": task.category}
     if task.golden_project is None:
-        return TaskPlanRecord(**base, error="the task has no golden project")
+        return TaskPlan(TaskPlanRecord(**base, error="the task has no golden project"))
     try:
         initial, golden_bytes = _read(task.initial_project), _read(task.golden_project)
         await editor.load_project(golden_bytes)
         golden = await read_state(editor)
         await editor.load_project(initial)
         plan = await plan_project(editor, golden)
-        replayed = await _replays(editor, initial, plan.actions, await read_state(editor))
+        planned = await read_state(editor)
+        replayed = replay and await _replays(editor, initial, plan.actions, planned)
     except (OSError, ProjectFormatError, BridgeError) as exc:  # this task's files or page; the next may be fine
-        return TaskPlanRecord(**base, error=f"{type(exc).__name__}: {exc}", seconds=time.monotonic() - started)
+        error = f"{type(exc).__name__}: {exc}"
+        return TaskPlan(TaskPlanRecord(**base, error=error, seconds=time.monotonic() - started))
     name = f"{task.id}.json"
     lines = ",\n".join("  " + json.dumps({"api": a.api, "args": a.args}, sort_keys=True) for a in plan.actions)
     write_atomic(out / name, f"[\n{lines}\n]\n".encode() if lines else b"[]\n")
-    return TaskPlanRecord(
+    record = TaskPlanRecord(
         **base,
         actions=len(plan.actions),
         modified_blocks=plan.modified_blocks,
@@ -132,6 +148,7 @@ async def plan_task(editor: Editor, task: Task, out: Path) -> TaskPlanRecord:
         trajectory=name,
         seconds=time.monotonic() - started,
     )
+    return TaskPlan(record, golden, planned)
 
 
 def _read(path: Path) -> bytes:
