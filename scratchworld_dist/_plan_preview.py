@@ -41,7 +41,7 @@ class ModelSettings(BaseModel):
     """Whether the agent calls it (a scripted agent's jobs only carry its name)."""
 
     probed: bool
-    """Whether ``run`` calls it once before any editor opens (``probe``; default: when it names ``api_key_env``)."""
+    """Whether ``run`` calls it once before any job starts (``probe``; default: when it names ``api_key_env``)."""
 
     price: ModelPrice | None
     """LiteLLM's prices and limits of the model (None: not looked up, since no job calls it)."""

@@ -9,12 +9,10 @@ from __future__ import annotations
 
 import contextlib
 import os
-import threading
 from collections.abc import Callable
-from concurrent.futures import Future
 from functools import partial
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
 import ray
 from ray.exceptions import RayError
@@ -24,6 +22,7 @@ from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ConfigError, RunDirError
 from scratchworld_dist._run_events import SweepWatcher
 from scratchworld_dist._run_spans import JobSpans
+from scratchworld_dist._run_start import sized_pool, start_beside_preflight
 from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds import job_kind
@@ -45,20 +44,14 @@ from scratchworld_dist.results import (
 from scratchworld_dist.results.remote._sync import RemoteRun, open_remote
 from scratchworld_dist.scheduling import (
     ProgressOptions,
-    RayUnavailableError,
     Scheduler,
     WorkerPool,
     admitted_slots,
     agreed_harness,
-    broken_by_settings,
-    exclusive,
     inspect_nodes,
     live_progress,
-    most_slots,
-    pages_per_worker,
     ray_runtime,
     refuse_broken,
-    run_preflight,
     settle,
     shown_mode,
     worker_logs_dir,
@@ -66,18 +59,14 @@ from scratchworld_dist.scheduling import (
 from scratchworld_dist.sweep import JobSpec, RunPlan, SuiteInfo, SweepConfig, plan_run, worker_job
 from scratchworld_dist.trackers import TrackerFeed, configured_trackers, run_files, start_trackers
 from workers.contract import (
-    MIB,
     JobResult,
     ModelSpec,
     NodeReport,
-    Preflight,
     WorkerJob,
 )
 from workers.llm import RayLimiterHandle, get_or_create_limiter, model_key
 from workers.node import describe_node, harness_fingerprint
 from workers.tracing import TracingConfigError, tracing_active
-
-_T = TypeVar("_T")
 
 
 class AttemptRecorder:
@@ -127,8 +116,8 @@ def run_sweep(
     progress: ProgressOptions | None = None,
 ) -> RunSummary:
     """Run or resume the sweep. On a cluster, its nodes are checked first (the driver's code, one editor
-    and one browser among them) and the jobs are planned under their environment. Before any editor
-    opens, the models the jobs to run call are checked (``PreflightError`` names the broken ones, unless
+    and one browser among them) and the jobs are planned under their environment. Before any job
+    starts, the models the jobs to run call are checked (``PreflightError`` names the broken ones, unless
     ``skip_broken_models`` leaves their jobs out). ``progress``: how progress is shown (default: live on a
     terminal, plain lines elsewhere); every attempt is also an event in the run directory's ``events.jsonl``."""
     console = console or make_console(stderr=True)
@@ -188,7 +177,8 @@ def _run_in(
         _open_model_cache(config.model_cache.dir)
     # Before the run directory is touched: a broken model stops the run leaving nothing behind.
     undecided_jobs = [job for job, _ in store.undecided(plan.jobs)]
-    preflight, ray_started = _preflight_beside_ray(plan, undecided_jobs, nodes, ray_scope)
+    start = start_beside_preflight(plan, undecided_jobs, nodes, ray_scope)
+    preflight, early = start.preflight, start.workers
     refuse_broken(preflight, skip_broken_models)
     store.open_for_writing()
     feed: TrackerFeed | None = None
@@ -201,11 +191,18 @@ def _run_in(
         feed = start_trackers(plan, manifest, run_dir, partial(console.print, markup=False, highlight=False))
         undecided = store.undecided(plan.jobs)
         todo = settle(preflight, plan, undecided, console)
+        if early is not None and not early.serve([job for job, _ in todo]):
+            early.pool.close()  # sized for jobs the preflight left out
+            early = None
         local_slots = None
         if config.ray.address is None:  # admission on this machine, measured only when there is work
-            local_slots = admitted_slots(
-                config.limits, [job for job, _ in todo], nodes[0].harness.digest, console.print
-            )
+            if early is not None:
+                local_slots = early.slots
+                for line in early.admission:
+                    console.print(line)
+            else:
+                todo_jobs = [job for job, _ in todo]
+                local_slots = admitted_slots(config.limits, todo_jobs, nodes[0].harness.digest, console.print)
             nodes = [nodes[0].model_copy(update={"browser_slots": local_slots})]
         session = Session.begin(len(todo), [node.summary() for node in nodes])
         session.preflight = preflight
@@ -245,10 +242,11 @@ def _run_in(
             sends = spans.sends if spans is not None else worker_job
             runtime = (
                 contextlib.nullcontext(local_slots)
-                if ray_started and local_slots is not None
+                if start.ray_started and local_slots is not None
                 else ray_runtime(config.ray.address, local_slots, config.ray.connect_timeout_s)
             )
-            summary = _execute(plan, manifest, store, todo, runtime, console, summary, watcher, progress, sends)
+            pool = early.pool if early is not None else None
+            summary = _execute(plan, manifest, store, todo, runtime, console, summary, watcher, progress, sends, pool)
         session.finished_at = now()
         session.submitted = summary.sent
         session.budget_stop = summary.budget_stop
@@ -295,46 +293,6 @@ def _finish_trackers(
             _save_manifest(run_dir, manifest, remote)
 
 
-def _preflight_beside_ray(
-    plan: RunPlan, jobs: list[JobSpec], nodes: list[NodeReport], ray_scope: contextlib.ExitStack
-) -> tuple[Preflight | None, bool]:
-    """The preflight of ``jobs``' models, and whether a private Ray was started meanwhile (into ``ray_scope``).
-
-    A probe waits on LiteLLM's import and the providers (2-3 s, a few more for a slow model), a private Ray on
-    its own processes (3-4 s): one after the other they were 7-12 s of every sweep's start, with the cores
-    mostly idle. So the probe runs in a thread while this one starts the Ray, offering the most slots admission
-    may give (it decides them once the jobs are settled). No worker and no editor start before the preflight
-    has answered, and a broken model still stops the sweep: its Ray is shut down with ``ray_scope``. The
-    preflight runs alone on a cluster (Ray is joined already), with a Ray this process started itself, and when
-    a model's settings alone show it broken (no call needed: the sweep stops at once, starting nothing).
-    """
-    config = plan.config
-    if config.ray.address is not None or not jobs or ray.is_initialized() or broken_by_settings(plan, jobs):
-        on_node = None if config.ray.address is None else nodes[0]  # a cluster: where the workers' environment is
-        return run_preflight(plan, jobs, on_node), False
-    checking = _in_thread(partial(run_preflight, plan, jobs, None))
-    try:
-        ray_scope.enter_context(ray_runtime(None, most_slots(config.limits, os.cpu_count() or 1)))
-    except RayUnavailableError:
-        refuse_broken(checking.result(), skip_broken=False)  # a broken model is the first thing to say
-        raise
-    return checking.result(), True
-
-
-def _in_thread(work: Callable[[], _T]) -> Future[_T]:
-    """``work``'s outcome, run in a daemon thread (an interrupted sweep does not wait for it to end)."""
-    outcome: Future[_T] = Future()
-
-    def run() -> None:
-        try:
-            outcome.set_result(work())
-        except BaseException as exc:  # handed to whoever waits on the outcome
-            outcome.set_exception(exc)
-
-    threading.Thread(target=run, name="preflight", daemon=True).start()
-    return outcome
-
-
 def _execute(
     plan: RunPlan,
     manifest: RunManifest,
@@ -346,10 +304,11 @@ def _execute(
     watcher: SweepWatcher,
     progress: ProgressOptions,
     sends: Callable[[JobSpec, int, float], WorkerJob],
+    pool: WorkerPool | None = None,
 ) -> RunSummary:
     """Run ``todo`` on Ray, within ``runtime`` (which yields the browser slots: a private Ray's admitted ones, or
     the configured cluster's); ``sends`` makes each attempt's worker job (``worker_job``, with its span's
-    ``traceparent`` while tracing)."""
+    ``traceparent`` while tracing); ``pool``: workers started for ``todo`` already (beside the preflight)."""
     config = plan.config
     needed = {job.task_id for job, _ in todo}
     local = config.ray.address is None
@@ -364,10 +323,8 @@ def _execute(
         cores = os.cpu_count() or 1
         if not local:  # a cluster: the cores of all its nodes
             cores = int(ray.cluster_resources().get("CPU", cores))
-        one_at_a_time = local and exclusive([job for job, _ in todo])  # a person on each job
-        pages = 1 if one_at_a_time else pages_per_worker(config.limits, slots, cores)
-        at_once = min(len(todo), config.limits.max_in_flight or len(todo))
-        pool = WorkerPool(slots, pages, plan.synthetic, config.limits.memory_reserve_mb * MIB, at_once)
+        if pool is None:
+            pool = sized_pool(plan, [job for job, _ in todo], slots, cores, local=local)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
         job_kind(config.benchmark, KindRows).store_shared(store, [c for c in plan.contents if c.task.id in needed])
         scheduler = Scheduler(

@@ -33,7 +33,7 @@ EXIT_ERRORS = 1
 @click.option(
     "--probe/--no-probe",
     default=None,
-    help="Call each model once before any editor opens (overrides probe; default: when a model names api_key_env).",
+    help="Call each model once before any job starts (overrides probe; default: when a model names api_key_env).",
 )
 @click.option(
     "--skip-broken-models",
@@ -76,7 +76,7 @@ def run_command(
 ) -> None:
     """Run the sweep in CONFIG_FILE; run it again to resume.
 
-    Before any editor opens, every model the jobs call is checked (its key and base URL set; by default
+    Before any job starts, every model the jobs call is checked (its key and base URL set; by default
     one smallest call): a broken one stops the run, one line per model, with exit status 2. Prints the
     report (also saved as RUN_DIR/report.md) after the most frequent error message per class and model.
     Exits 1 when jobs are left without a verdict (errors after all retries; running again retries them).

@@ -43,7 +43,7 @@ class Session(BaseModel):
     """The nodes with browsers this session ran on (checked to run the run's harness)."""
 
     preflight: Preflight | None = None
-    """What the models its jobs call answered before any editor opened (None: they call none)."""
+    """What the models its jobs call answered before any job started (None: they call none)."""
 
     @classmethod
     def begin(cls, planned: int, nodes: list[NodeSummary]) -> Session:

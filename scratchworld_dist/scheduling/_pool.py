@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import ray
+from ray import ObjectRef
 from ray.actor import ActorHandle
 
 from scratchworld_dist.scheduling._ray_runtime import BROWSER_RESOURCE, RayUnavailableError
@@ -78,9 +80,34 @@ class WorkerPool:
         self.handles: list[ActorHandle] = kept[:count] + [
             actor_class.remote(index, synthetic, memory_reserve_bytes) for index in range(self.reused, count)
         ]
+        self._ahead: dict[int, ObjectRef] = {}
+        """Warm calls made by ``warm_ahead``, for the scheduler's first ``warm`` to take over."""
 
     def __len__(self) -> int:
         return len(self.handles)
+
+    def capacity(self, max_in_flight: int | None) -> int:
+        """The most jobs the pool runs at once: a page each, and no more than ``max_in_flight``."""
+        return min(max_in_flight or len(self) * self.pages, len(self) * self.pages)
+
+    def warm(
+        self, workers: Iterable[int], jobs: int, capacity: int, open_editors: bool, calls_models: bool
+    ) -> dict[int, ObjectRef]:
+        """Have each of ``workers`` open the editors for its share of ``jobs`` (of which ``capacity`` run at
+        once) before its first job, and import LiteLLM when jobs call models (``JobWorker.warm``); a worker
+        whose warm call ``warm_ahead`` made already keeps that one. Answers each worker's call."""
+        editors = min(self.pages, math.ceil(min(jobs, capacity) / len(self))) if open_editors else 0
+        calls: dict[int, ObjectRef] = {}
+        for worker in workers:
+            ahead = self._ahead.pop(worker, None)
+            calls[worker] = ahead if ahead is not None else self.handles[worker].warm.remote(editors, calls_models)
+        return calls
+
+    def warm_ahead(self, jobs: int, max_in_flight: int | None, open_editors: bool, calls_models: bool) -> None:
+        """Start every worker's ``warm`` now, before the scheduler that will run ``jobs`` exists (a sweep's
+        workers open their editors while its preflight waits on a model); that scheduler's first ``warm``,
+        asked for the same jobs, takes these calls over instead of making its own."""
+        self._ahead = self.warm(range(len(self)), jobs, self.capacity(max_in_flight), open_editors, calls_models)
 
     def describe(self, browser_slots: int) -> str:
         """The line a run prints about its workers."""

@@ -1,5 +1,5 @@
 """Preflight: every model a sweep calls is checked (its key and base URL set, and by default one smallest call
-made) where the workers run, before any editor opens, so a wrong key stops the run in seconds, naming the model
+made) where the workers run, before any job starts, so a wrong key stops the run in seconds, naming the model
 (one line per broken one); or, when asked, the run goes on without their jobs.
 
 Workers read keys and base URLs from their own environment: with a private local Ray that is the driver's,

@@ -26,7 +26,6 @@ editors gets no job until every other worker of its node has too (or has taken a
 
 from __future__ import annotations
 
-import math
 import time
 from collections import deque
 from collections.abc import Callable, Iterable
@@ -181,7 +180,7 @@ class Scheduler(Generic[J]):
         self.on_result = on_result
         self.sends = sends
         """What a worker is sent for an attempt of a job within a timeout (for a sweep: ``sweep.worker_job``)."""
-        self.capacity = min(max_in_flight or len(pool) * pool.pages, len(pool) * pool.pages)
+        self.capacity = pool.capacity(max_in_flight)
         self.stats = SchedulerStats()
         self.budget_usd = budget_usd
         self.spent_usd = spent_usd
@@ -245,13 +244,11 @@ class Scheduler(Generic[J]):
 
     def _warm(self, jobs: int) -> None:
         """Have every idle worker open the editors for its share of ``jobs`` (and import LiteLLM, when jobs call
-        models) before it gets one."""
-        editors = min(self.pool.pages, math.ceil(min(jobs, self.capacity) / len(self.pool)))
-        editors = editors if self.open_editors else 0
-        for worker in range(len(self.pool)):
-            if worker not in self._down and self._load[worker] == 0:
-                warming = self.pool.handles[worker].warm.remote(editors, self.calls_models)
-                self._down[worker] = _Down(warming, time.monotonic(), True)
+        models) before it gets one; a worker the pool warmed ahead for these jobs goes on with that call."""
+        idle = [worker for worker in range(len(self.pool)) if worker not in self._down and self._load[worker] == 0]
+        calls = self.pool.warm(idle, jobs, self.capacity, self.open_editors, self.calls_models)
+        for worker, warming in calls.items():
+            self._down[worker] = _Down(warming, time.monotonic(), True)
         self.stats.warming = sum(down.warming for down in self._down.values())
 
     @property

@@ -217,7 +217,7 @@ class SweepConfig(BaseModel):
         return value
 
     probe: bool | None = None
-    """Before any editor opens, call each model the jobs call once (one short message, ``max_tokens`` 1); default:
+    """Before any job starts, call each model the jobs call once (one short message, ``max_tokens`` 1); default:
     when a model names ``api_key_env``. Keys and base URLs are checked either way (not part of job identity)."""
 
     @model_validator(mode="wrap")

@@ -1,9 +1,10 @@
-"""The preflight refuses a sweep with a broken model before any Ray worker or editor starts, one line per model.
+"""The preflight refuses a sweep with a broken model before any job starts, one line per model.
 
 A real local OpenAI-compatible server answers the probes (404 for an unknown model, 401 for a refused key,
 scripted 5xx/429/400 for the retry and fallback cases) and real LiteLLM makes them; the sweeps are of the
-perception benchmark (no browser). A sweep whose probe is refused has started its private Ray meanwhile (no
-worker, no editor) and shuts it down; one whose settings are wrong stops before that.
+perception benchmark (no browser). A sweep whose probe is refused has started its private Ray meanwhile (and
+its workers: ``test_preflight_beside_workers.py``) and shuts it down; one whose settings are wrong stops before
+that.
 """
 
 from __future__ import annotations
