@@ -24,12 +24,14 @@ from workers.node._usage import NodeMemory
 CPU_FLOOR_CORES = 0.01
 """The least CPU a waiting episode is assumed to cost: its worker's own bookkeeping, timers, I/O."""
 
-DELIVERED_PER_CORE = 16
+DELIVERED_PER_CORE = 32
 """Episodes per core a node holds with their steps undelayed, as ``benchmarks/density.py`` measured them on
-2 cores (2026-12-02; virtual clock, a model answering after 5 s, 6 steps): at N = 32 the step overhead p50 was
-0.08 s against 0.07 s alone, the steady steps' p95 0.19 s; at N = 64 the p50 was 0.28 s and the steady p95
-2.0 s (its episodes' ends, 64 within half a minute, crowd the steps of the others). Past it the agents' own work, not
-their waiting pages, binds the node; ``limits.browser_slots`` sets more where a node was measured to hold them."""
+2 cores (virtual clock, a model answering after 5 s, 20 steps, ``--n 1,64 --repeat 3``): at N = 64 the step
+overhead p50 was 0.07-0.09 s against 0.07 s alone and the steady steps' p95 0.12-0.74 s, 0 errors, three or four
+runs in a row on each of the machine's hosts, the faster (2026-12-05), the slower (2026-12-06) and the slowest
+(2026-12-07, an editor's opening 1.8-2.2 CPU-s). It was 16 until then: on 2026-12-02 N = 64 had a p50 of 0.28 s
+and a steady p95 of 2.0 s. Past it the agents' own work, not their waiting pages, binds the node;
+``limits.browser_slots`` sets more where a node was measured to hold them."""
 
 PRIMITIVE_DELIVERED_PER_CORE = 2
 """The same for primitive-mode episodes, whose every step takes a screenshot, reads the element list (OCR where
