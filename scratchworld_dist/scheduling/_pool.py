@@ -105,8 +105,9 @@ class WorkerPool:
 
     def warm_ahead(self, jobs: int, max_in_flight: int | None, open_editors: bool, calls_models: bool) -> None:
         """Start every worker's ``warm`` now, before the scheduler that will run ``jobs`` exists (a sweep's
-        workers open their editors while its preflight waits on a model); that scheduler's first ``warm``,
-        asked for the same jobs, takes these calls over instead of making its own."""
+        workers open their editors while its preflight waits on a model); that scheduler's first ``warm`` takes
+        these calls over instead of making its own (in a sweep of memory waves they open the editors for all its
+        jobs, not only the first wave's; the later waves use the rest)."""
         self._ahead = self.warm(range(len(self)), jobs, self.capacity(max_in_flight), open_editors, calls_models)
 
     def describe(self, browser_slots: int) -> str:
