@@ -22,7 +22,7 @@ from scratchworld_dist._console import make_console
 from scratchworld_dist._errors import ConfigError, RunDirError
 from scratchworld_dist._run_events import SweepWatcher
 from scratchworld_dist._run_spans import JobSpans
-from scratchworld_dist._run_start import sized_pool, start_beside_preflight
+from scratchworld_dist._run_start import sized_pool, start_beside_preflight, warm_needs
 from scratchworld_dist._run_summary import RunSummary
 from scratchworld_dist._sweep_manifest import checked_manifest
 from scratchworld_dist.kinds import job_kind
@@ -323,8 +323,10 @@ def _execute(
         cores = os.cpu_count() or 1
         if not local:  # a cluster: the cores of all its nodes
             cores = int(ray.cluster_resources().get("CPU", cores))
+        jobs = [job for job, _ in todo]
+        needs = warm_needs(jobs)
         if pool is None:
-            pool = sized_pool(plan, [job for job, _ in todo], slots, cores, local=local)
+            pool = sized_pool(plan, jobs, slots, cores, local=local)
         payloads = {c.task.id: ray.put(c.payload) for c in plan.contents if c.task.id in needed}
         job_kind(config.benchmark, KindRows).store_shared(store, [c for c in plan.contents if c.task.id in needed])
         scheduler = Scheduler(
@@ -337,8 +339,8 @@ def _execute(
             max_in_flight=config.limits.max_in_flight,
             budget_usd=config.limits.budget_usd,
             spent_usd=store.cost_usd() if config.limits.budget_usd is not None else 0.0,
-            open_editors=any(job.needs_browser for job, _ in todo),
-            calls_models=any(job.model is not None for job, _ in todo),
+            open_editors=needs.open_editors,
+            calls_models=needs.calls_models,
             watcher=watcher,
         )
         console.print(pool.describe(slots))

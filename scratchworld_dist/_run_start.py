@@ -17,7 +17,7 @@ from collections.abc import Callable
 from concurrent.futures import Future
 from dataclasses import dataclass
 from functools import partial
-from typing import TypeVar
+from typing import NamedTuple, TypeVar
 
 import ray
 
@@ -87,14 +87,22 @@ def start_beside_preflight(
         said: list[str] = []
         slots = admitted_slots(config.limits, jobs, nodes[0].harness.digest, said.append)
         pool = sized_pool(plan, jobs, slots, os.cpu_count() or 1, local=True)
-        pool.warm_ahead(
-            len(jobs),
-            config.limits.max_in_flight,
-            open_editors=any(job.needs_browser for job in jobs),
-            calls_models=any(job.model is not None for job in jobs),
-        )
+        needs = warm_needs(jobs)
+        pool.warm_ahead(len(jobs), config.limits.max_in_flight, needs.open_editors, needs.calls_models)
         workers = EarlyWorkers(pool, slots, said, [job.job_id for job in jobs])
     return SweepStart(checking.result(), True, workers)
+
+
+class WarmNeeds(NamedTuple):
+    """What a sweep's workers do before their first job: open editors (some job needs one) and import LiteLLM
+    (some job calls a model). The early workers and the scheduler must agree on it."""
+
+    open_editors: bool
+    calls_models: bool
+
+
+def warm_needs(jobs: list[JobSpec]) -> WarmNeeds:
+    return WarmNeeds(any(job.needs_browser for job in jobs), any(job.model is not None for job in jobs))
 
 
 def sized_pool(plan: RunPlan, jobs: list[JobSpec], slots: int, cores: int, *, local: bool) -> WorkerPool:
