@@ -14,6 +14,7 @@ import pytest
 
 from workers.contract import OCRError
 from workers.ocr import PaddleOCRBackend, RapidOCRBackend, Region, RegionOCR, TextBox, ocr_backend
+from workers.ocr._backend import box_from_quad
 from workers.ocr._paddle import boxes_from_paddle
 
 FONT = cv2.FONT_HERSHEY_SIMPLEX
@@ -130,6 +131,41 @@ def test_rapid_scales_a_small_crop_up_at_most_five_times_and_still_reads_it(rapi
     short = min(crop.shape[:2])
     assert detector.limit_side_len == 5 * short < 736
     assert min(detector.get_preprocess().resize(crop).shape[:2]) == round(5 * short / 32) * 32
+
+
+def test_rapid_reads_through_sessions_that_do_not_spin_and_finds_what_rapidocr_alone_finds(
+    rapid: RapidOCRBackend,
+) -> None:
+    from rapidocr import RapidOCR
+
+    image, _ = render(LINES, (191, 90, 76), (255, 255, 255))
+    boxes = rapid.recognize(image)
+    engine = rapid._engine  # both models have read by now: the detector, and the recognizer on the lines found
+    for model in (engine.text_det, engine.text_rec):
+        options = model.session.session.get_session_options()
+        assert options.get_session_config_entry("session.intra_op.allow_spinning") == "0"
+        assert (options.intra_op_num_threads, options.inter_op_num_threads) == (2, 1)
+    # rapidocr with the sessions it builds itself (which spin), the same models and threads, the same boxes
+    own = RapidOCR(
+        params={
+            "Global.use_cls": False,
+            "Global.log_level": "error",
+            "Det.model_path": str(rapid._det_model),
+            "Rec.model_path": str(rapid._rec_model),
+            "Det.limit_side_len": rapid.detection_side(image),
+            "EngineConfig.onnxruntime.intra_op_num_threads": 2,
+            "EngineConfig.onnxruntime.inter_op_num_threads": 1,
+        }
+    )
+    found = own(image)
+    with pytest.raises(RuntimeError, match="allow_spinning"):  # unset: onnxruntime's default, threads that spin
+        own.text_det.session.session.get_session_options().get_session_config_entry("session.intra_op.allow_spinning")
+    assert len(boxes) == len(LINES)
+    assert boxes == [
+        box_from_quad(text, score, quad, image.shape)
+        for quad, text, score in zip(found.boxes, found.txts, found.scores, strict=True)
+        if score >= rapid.min_score and text.strip()
+    ]
 
 
 def test_rapid_refuses_a_detection_scale_below_one() -> None:
