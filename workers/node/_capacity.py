@@ -33,13 +33,11 @@ runs in a row on each of the machine's hosts, the faster (2026-12-05), the slowe
 and a steady p95 of 2.0 s. Past it the agents' own work, not their waiting pages, binds the node;
 ``limits.browser_slots`` sets more where a node was measured to hold them."""
 
-PRIMITIVE_DELIVERED_PER_CORE = 4
+PRIMITIVE_DELIVERED_PER_CORE = 2
 """The same for primitive-mode episodes, whose every step takes a screenshot, reads the element list (OCR where
-the DOM has no text) and moves a real mouse through a drag's frames, 0.4-0.5 CPU-s per step against a composite
-step's few hundredths (``benchmarks/density.py --mode primitive --n 1,8,16``, 2 cores): at N = 8 the step overhead
-p50 stayed within 2x of one episode's alone in every run since 2026-12-06, on the machine's slower and slowest
-hosts (0.44-0.65 s against 0.39-0.47 s). It was 2 until then: on 2026-12-02 N = 4 had 1.58 s against 0.84 s alone
-and N = 8 2.29 s. Sixteen held in most runs (0.54-0.79 s) but not in all (0.99 and 1.60 s)."""
+the DOM has no text) and moves a real mouse through a drag's frames, about 0.8 CPU-s of the browser's per step
+against a composite step's few hundredths (``benchmarks/density.py --mode primitive``, 2026-12-02, 2 cores): at N = 4
+the step overhead p50 was 1.58 s against 0.84 s alone, at N = 8 2.29 s and at N = 16 4-6 s."""
 
 
 def delivered_per_core(mode: Mode) -> int:
